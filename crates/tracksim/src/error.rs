@@ -1,0 +1,79 @@
+//! Error types. User mistakes become [`Error`] values that name the file, the key and the fix;
+//! nothing in the library panics on bad input.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// One problem found in an input file, with the key path that holds it
+/// (for example `tracks[1].path.pulleys[0].radius_m`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecIssue {
+    /// Key path inside the file.
+    pub key: String,
+    /// What is wrong and how to fix it.
+    pub message: String,
+}
+
+impl SpecIssue {
+    /// Creates an issue at `key`.
+    pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
+        SpecIssue {
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for SpecIssue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.key.is_empty() {
+            write!(f, "{}", self.message)
+        } else {
+            write!(f, "{}: {}", self.key, self.message)
+        }
+    }
+}
+
+/// Everything that can go wrong in tracksim.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// A file is not valid TOML, has a wrong type, or an unknown key.
+    #[error("{}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// The parser's message (with line, column and key).
+        message: String,
+    },
+    /// A file parsed but its values are wrong; every problem is listed.
+    #[error("{}: {} problem(s):\n{}", path.display(), issues.len(), issues.iter().map(|i| format!("  - {i}")).collect::<Vec<_>>().join("\n"))]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Each problem with its key path.
+        issues: Vec<SpecIssue>,
+    },
+    /// The simulation became unstable (non-finite state or a body flying off).
+    #[error(
+        "simulation unstable at t = {time_s:.4} s: {body} {what}; try a smaller dt, more solver iterations, or check masses and friction"
+    )]
+    Unstable {
+        /// Simulated time when detected, s.
+        time_s: f64,
+        /// Which body.
+        body: String,
+        /// What was seen.
+        what: String,
+    },
+}
+
+/// Shorthand result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

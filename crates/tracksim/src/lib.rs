@@ -1,0 +1,26 @@
+//! # tracksim
+//!
+//! Real-time simulation of non-deformable continuous tracks with grousers, after Okada, Kojima,
+//! Ohno and Tadokoro, "Real-time Simulation of Non-Deformable Continuous Tracks with Explicit
+//! Consideration of Friction and Grouser Geometry" (ICRA 2020), on the Rapier physics engine.
+//!
+//! Layers, from file to running world:
+//! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
+//! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
+//! - [`model`]: the compiled, checked, immutable vehicle and scenario (SI units);
+//! - [`sim`]: the running Rapier world and the per-step track update (rollback);
+//! - [`run`]: running a scenario to the end and writing its outputs.
+//!
+//! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
+
+pub mod error;
+pub mod geometry;
+pub mod model;
+pub mod run;
+pub mod sim;
+pub mod spec;
+
+pub use error::{Error, Result, SpecIssue};
+pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};
+pub use run::{RunResult, Summary, run_scenario};
+pub use sim::Simulation;

@@ -1,0 +1,854 @@
+//! The running state (MuJoCo's `mjData` idea): a Rapier world holding one vehicle built from a
+//! [`VehicleModel`] by the paper's method, advanced by [`Simulation::step`].
+//!
+//! # How a track is built (paper Sec. III)
+//! Each included segment of a track's loop becomes one dynamic rigid body (a *segment link*)
+//! whose frame coincides with its parent's frame at rest. A straight link carries a thin cuboid
+//! belt and is joined to the parent by a prismatic joint along the segment; an arc link carries
+//! a cylinder of the loop radius and is joined by a revolute joint on the pulley axis. Each link
+//! also carries, as separate colliders, the grousers whose footprints lie on its segment at rest.
+//! Joint velocity motors (velocity-only, effectively unlimited force) move every link at belt
+//! speed: `v` along straights, `v / r` about arcs.
+//!
+//! # Rollback
+//! The belt position `s` is integrated from the command and kept unwrapped (`f64`). With
+//! grousers of pitch `p = L / N`, the phase is `phi = s - p * round(s / p)`, in `[-p/2, p/2)`.
+//! After every physics step each link is put exactly at `parent * shift(phi)` with the velocity
+//! the joint kinematics give it. Between wraps that only removes the solver's joint error (a few
+//! micrometres, reported as `max_link_error_*`); when `s` crosses a half pitch the phase wraps and
+//! every link jumps back by exactly one pitch, which leaves the grouser pattern where it was, so
+//! the track's shape is exact forever. Without grousers `phi = 0`: links are restored every step.
+//! When a track has several grouser shapes in turn, the colliders' shapes are re-assigned on each
+//! wrap so the pattern travels with the belt.
+//!
+//! # Choices (and why)
+//! - Link mass: the belt's real mass split by segment length, but at least
+//!   [`MIN_LINK_MASS_KG`]; much lighter links under a heavy body hop with impulse joints
+//!   (measured in the Rapier trial).
+//! - Belt and grousers are separate colliders (not one compound), with Rapier's contact
+//!   clustering off by default: clustering merged grouser contacts and let them sink mm deep.
+//! - Belt links never collide with their own vehicle (collision groups); they collide with the
+//!   world and other vehicles. Belt friction combines with `min` unless the file says otherwise.
+
+use crate::error::{Error, Result};
+use crate::model::*;
+use glam::{DQuat, DVec3};
+use rapier3d::prelude::*;
+
+/// Smallest mass given to a segment link, kg (see the module docs).
+pub const MIN_LINK_MASS_KG: f64 = 0.5;
+/// Damping gain of the belt velocity motors (acceleration-based: constraint compliance
+/// 1 / (dt * gain), i.e. 1e-3 at 1 ms: a hard velocity constraint).
+pub const BELT_MOTOR_GAIN: f32 = 1.0e6;
+/// Clearance between the vehicle's lowest point and the ground at start, m.
+pub const START_CLEARANCE_M: f64 = 0.001;
+/// Linear speed above which a body is declared to have blown up, m/s.
+pub const MAX_SPEED_MPS: f32 = 50.0;
+
+const WORLD_GROUP: Group = Group::GROUP_1;
+const VEHICLE_GROUP: Group = Group::GROUP_2;
+
+fn f(v: DVec3) -> Vector {
+    Vector::new(v.x as f32, v.y as f32, v.z as f32)
+}
+fn q(r: DQuat) -> Rotation {
+    Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32).normalize()
+}
+
+/// How a link moves relative to its parent.
+#[derive(Clone, Copy, Debug)]
+enum LinkKind {
+    /// Translation along a unit direction (parent frame).
+    Slide { dir: DVec3 },
+    /// Rotation about an axis through `centre`; `v / radius` rad/s per m/s of belt.
+    Turn {
+        centre: DVec3,
+        axis: DVec3,
+        radius: f64,
+    },
+}
+
+impl LinkKind {
+    /// Pose of the link relative to its parent when the belt has moved by `phi` m.
+    fn shift(&self, phi: f64) -> Pose {
+        match *self {
+            LinkKind::Slide { dir } => Pose::from_translation(f(dir * phi)),
+            LinkKind::Turn {
+                centre,
+                axis,
+                radius,
+            } => {
+                let r = DQuat::from_axis_angle(axis, phi / radius);
+                Pose::from_parts(f(centre - r * centre), q(r))
+            }
+        }
+    }
+    fn motor_axis(&self) -> JointAxis {
+        match self {
+            LinkKind::Slide { .. } => JointAxis::LinX,
+            LinkKind::Turn { .. } => JointAxis::AngX,
+        }
+    }
+    fn motor_target(&self, v: f64) -> f32 {
+        match *self {
+            LinkKind::Slide { .. } => v as f32,
+            LinkKind::Turn { radius, .. } => (v / radius) as f32,
+        }
+    }
+}
+
+#[derive(Debug)]
+struct LinkRt {
+    body: RigidBodyHandle,
+    joint: ImpulseJointHandle,
+    kind: LinkKind,
+    local_com: Vector,
+    /// Grouser colliders with their slot index k on the loop.
+    grousers: Vec<(ColliderHandle, usize)>,
+}
+
+#[derive(Debug)]
+struct TrackRt {
+    parent: RigidBodyHandle,
+    links: Vec<LinkRt>,
+    pitch: Option<f64>,
+    shapes: Vec<SharedShape>,
+    /// Unwrapped belt position, m.
+    position: f64,
+    /// Commanded belt speed, m/s.
+    speed_cmd: f64,
+    /// Belt speed measured from the links' joint velocities before the snap, m/s.
+    speed_measured: f64,
+    wraps: i64,
+}
+
+impl TrackRt {
+    fn phase(&self) -> (f64, i64) {
+        match self.pitch {
+            Some(p) => {
+                let w = (self.position / p).round();
+                (self.position - w * p, w as i64)
+            }
+            None => (0.0, 0),
+        }
+    }
+}
+
+#[derive(Debug)]
+struct FlipperRt {
+    body: RigidBodyHandle,
+    joint: ImpulseJointHandle,
+    axis: DVec3,
+    target: f64,
+    stiffness: f32,
+    damping: f32,
+}
+
+/// Pose of a body as REP 103 position and roll/pitch/yaw (Z-Y-X), m and rad.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PoseRpy {
+    /// m.
+    pub x: f64,
+    /// m.
+    pub y: f64,
+    /// m.
+    pub z: f64,
+    /// rad, about x.
+    pub roll: f64,
+    /// rad, about y.
+    pub pitch: f64,
+    /// rad, about z.
+    pub yaw: f64,
+}
+
+impl PoseRpy {
+    /// Converts a Rapier pose.
+    pub fn from_pose(p: &Pose) -> Self {
+        let r = p.rotation;
+        let (w, x, y, z) = (r.w as f64, r.x as f64, r.y as f64, r.z as f64);
+        PoseRpy {
+            x: p.translation.x as f64,
+            y: p.translation.y as f64,
+            z: p.translation.z as f64,
+            roll: (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y)),
+            pitch: (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin(),
+            yaw: (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z)),
+        }
+    }
+}
+
+/// One recorded instant of the vehicle's state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// Simulated time, s.
+    pub t: f64,
+    /// Body pose.
+    pub pose: PoseRpy,
+    /// Body linear velocity (world), m/s.
+    pub linvel: [f64; 3],
+    /// Body angular velocity (world), rad/s.
+    pub angvel: [f64; 3],
+    /// Measured belt speed per track, m/s.
+    pub belt_speed: Vec<f64>,
+    /// Belt phase per track, m.
+    pub belt_phase: Vec<f64>,
+    /// Flipper angle per flipper, rad.
+    pub flipper_angle: Vec<f64>,
+    /// Active contact points in the world.
+    pub contacts: usize,
+}
+
+/// A vehicle on a terrain in a Rapier world, advanced one step at a time.
+pub struct Simulation {
+    /// The Rapier world; public for inspection (and for advanced users).
+    pub world: PhysicsWorld,
+    body: RigidBodyHandle,
+    tracks: Vec<TrackRt>,
+    flippers: Vec<FlipperRt>,
+    commands: Vec<Command>,
+    next_command: usize,
+    time: f64,
+    steps: u64,
+    max_link_error_m: f64,
+    max_link_error_rad: f64,
+    track_names: Vec<String>,
+    flipper_names: Vec<String>,
+}
+
+fn groups(g: Group) -> InteractionGroups {
+    InteractionGroups::new(g, Group::ALL, InteractionTestMode::And)
+}
+
+fn vehicle_groups() -> InteractionGroups {
+    InteractionGroups::new(
+        VEHICLE_GROUP,
+        Group::ALL.difference(VEHICLE_GROUP),
+        InteractionTestMode::And,
+    )
+}
+
+fn shape_collider(shape: &CollisionShape) -> Result<ColliderBuilder> {
+    match shape {
+        CollisionShape::Box { half, centre } => {
+            Ok(ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
+                .translation(f(*centre)))
+        }
+        CollisionShape::Convex(pts) => {
+            let p: Vec<Vector> = pts.iter().map(|p| f(*p)).collect();
+            ColliderBuilder::convex_hull(&p).ok_or_else(|| Error::Unstable {
+                time_s: 0.0,
+                body: "vehicle".into(),
+                what: "has a convex shape whose hull could not be computed".into(),
+            })
+        }
+    }
+}
+
+/// Mass properties of a segment link: the belt's mass spread along the segment and across its
+/// width (sampled: mass properties only, not geometry), kg and kg m^2.
+fn link_mass_properties(
+    track: &TrackModel,
+    seg: usize,
+    mass: f64,
+    lateral: DVec3,
+) -> MassProperties {
+    let s = &track.path.segments()[seg];
+    let n = 64;
+    let len = s.length();
+    let pts: Vec<DVec3> = (0..n)
+        .map(|i| s.point_tangent(len * (i as f64 + 0.5) / n as f64).0)
+        .collect();
+    let com = pts.iter().sum::<DVec3>() / n as f64;
+    let m = mass / n as f64;
+    let mut inertia = glam::DMat3::ZERO;
+    for p in &pts {
+        let r = *p - com;
+        inertia += (glam::DMat3::IDENTITY * r.length_squared()
+            - glam::DMat3::from_cols(r * r.x, r * r.y, r * r.z))
+            * m;
+    }
+    // Spread across the width and through the thickness (a thin plate, not a wire).
+    let w2 = track.width * track.width / 12.0;
+    let t2 = track.belt_thickness * track.belt_thickness / 12.0;
+    inertia += (glam::DMat3::IDENTITY * (w2 + t2)
+        - glam::DMat3::from_cols(lateral * lateral.x, lateral * lateral.y, lateral * lateral.z)
+            * w2)
+        * mass;
+    let mat = glam::Mat3::from_cols(
+        f(inertia.x_axis),
+        f(inertia.y_axis),
+        f(inertia.z_axis),
+    );
+    MassProperties::with_inertia_matrix(f(com), mass as f32, mat)
+}
+
+impl Simulation {
+    /// Builds the world for a scenario: terrain, then the vehicle at its start pose.
+    pub fn new(sc: &Scenario) -> Result<Self> {
+        let mut world = PhysicsWorld::new();
+        world.gravity = Vector::new(0.0, 0.0, -9.81);
+        let ip = &mut world.integration_parameters;
+        ip.dt = sc.solver.dt as f32;
+        ip.num_solver_iterations = sc.solver.iterations;
+        ip.contact_clustering = sc.solver.contact_clustering;
+
+        // Terrain.
+        let ground_z = sc.terrain.ground.map(|g| g.0).unwrap_or(0.0);
+        let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
+        if let Some((z, mu)) = sc.terrain.ground {
+            let c = ColliderBuilder::new(SharedShape::halfspace(Vector::Z))
+                .translation(Vector::new(0.0, 0.0, z as f32))
+                .friction(mu as f32)
+                .collision_groups(groups(WORLD_GROUP));
+            world
+                .colliders
+                .insert_with_parent(c, fixed, &mut world.bodies);
+        }
+        for b in &sc.terrain.boxes {
+            let rot = DQuat::from_rotation_z(b.yaw) * DQuat::from_rotation_y(b.pitch);
+            let c = ColliderBuilder::cuboid(b.half.x as f32, b.half.y as f32, b.half.z as f32)
+                .position(Pose::from_parts(f(b.centre), q(rot)))
+                .friction(b.friction as f32)
+                .collision_groups(groups(WORLD_GROUP));
+            world
+                .colliders
+                .insert_with_parent(c, fixed, &mut world.bodies);
+        }
+
+        // Vehicle, first at z = 0, then lifted to rest on the ground.
+        let v = &sc.vehicle;
+        let start_rot = DQuat::from_rotation_z(sc.start_yaw) * DQuat::from_rotation_y(sc.start_pitch);
+        let start = Pose::from_parts(
+            Vector::new(sc.start_xy.0 as f32, sc.start_xy.1 as f32, 0.0),
+            q(start_rot),
+        );
+        let body = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(start)
+                .additional_mass_properties(MassProperties::new(
+                    f(v.body.com),
+                    v.body.mass as f32,
+                    f(v.body.inertia),
+                ))
+                .can_sleep(false),
+        );
+        let c = shape_collider(&v.body.shape)?
+            .density(0.0)
+            .friction(v.body.friction as f32)
+            .collision_groups(vehicle_groups());
+        world
+            .colliders
+            .insert_with_parent(c, body, &mut world.bodies);
+
+        // Flippers.
+        let mut flippers = Vec::new();
+        for fl in &v.flippers {
+            let rot = DQuat::from_axis_angle(fl.axis, fl.initial_angle);
+            let rel = Pose::from_parts(f(fl.pivot - rot * fl.pivot), q(rot));
+            let h = world.bodies.insert(
+                RigidBodyBuilder::dynamic()
+                    .pose(start * rel)
+                    .additional_mass_properties(MassProperties::new(
+                        f(fl.com),
+                        fl.mass as f32,
+                        f(fl.inertia),
+                    ))
+                    .can_sleep(false),
+            );
+            if let Some(s) = &fl.shape {
+                let c = shape_collider(s)?
+                    .density(0.0)
+                    .friction(v.body.friction as f32)
+                    .collision_groups(vehicle_groups());
+                world.colliders.insert_with_parent(c, h, &mut world.bodies);
+            }
+            let joint = RevoluteJointBuilder::new(f(fl.axis))
+                .local_anchor1(f(fl.pivot))
+                .local_anchor2(f(fl.pivot))
+                .contacts_enabled(false)
+                .motor_model(MotorModel::ForceBased)
+                .motor_position(
+                    fl.initial_angle as f32,
+                    fl.stiffness as f32,
+                    fl.damping as f32,
+                )
+                .motor_max_force(fl.max_torque as f32);
+            let j = world.impulse_joints.insert(body, h, joint, true);
+            flippers.push(FlipperRt {
+                body: h,
+                joint: j,
+                axis: fl.axis,
+                target: fl.initial_angle,
+                stiffness: fl.stiffness as f32,
+                damping: fl.damping as f32,
+            });
+        }
+
+        // Tracks.
+        let mut tracks = Vec::new();
+        for t in &v.tracks {
+            let parent = match t.parent {
+                Parent::Body => body,
+                Parent::Flipper(i) => flippers[i].body,
+            };
+            let parent_pose = *world.bodies[parent].position();
+            let path = &t.path;
+            let lateral = path.axis();
+            let shapes: Vec<SharedShape> = match &t.grousers {
+                None => Vec::new(),
+                Some(g) => g
+                    .shapes
+                    .iter()
+                    .map(|s| match s {
+                        GrouserShape::Box { half, .. } => Some(SharedShape::cuboid(
+                            half.x as f32,
+                            half.y as f32,
+                            half.z as f32,
+                        )),
+                        GrouserShape::Convex(pts) => SharedShape::convex_hull(
+                            &pts.iter().map(|p| f(*p)).collect::<Vec<_>>(),
+                        ),
+                    })
+                    .collect::<Option<Vec<_>>>()
+                    .ok_or_else(|| Error::Unstable {
+                        time_s: 0.0,
+                        body: format!("track {}", t.name),
+                        what: "has a grouser shape whose convex hull could not be computed"
+                            .into(),
+                    })?,
+            };
+            let footprints = t
+                .grousers
+                .as_ref()
+                .map(|g| g.layout.footprints(path))
+                .unwrap_or_default();
+            let mut links = Vec::new();
+            for (si, seg) in path.segments().iter().enumerate() {
+                if !t.included[si] {
+                    continue;
+                }
+                let mass = (t.belt_mass * seg.length() / path.length()).max(MIN_LINK_MASS_KG);
+                let mprops = link_mass_properties(t, si, mass, lateral);
+                let h = world.bodies.insert(
+                    RigidBodyBuilder::dynamic()
+                        .pose(parent_pose)
+                        .additional_mass_properties(mprops)
+                        .can_sleep(false),
+                );
+                let base = |b: ColliderBuilder| {
+                    b.density(0.0)
+                        .friction(t.friction as f32)
+                        .friction_combine_rule(t.combine)
+                        .collision_groups(vehicle_groups())
+                };
+                // Belt shape.
+                let (kind, belt) = match *seg {
+                    crate::geometry::Segment::Straight {
+                        start,
+                        direction,
+                        length,
+                    } => {
+                        let normal = direction.cross(lateral);
+                        let centre = start + direction * (length / 2.0)
+                            - normal * (t.belt_thickness / 2.0);
+                        let rot = DQuat::from_mat3(&glam::DMat3::from_cols(
+                            direction, lateral, normal,
+                        ));
+                        (
+                            LinkKind::Slide { dir: direction },
+                            ColliderBuilder::cuboid(
+                                (length / 2.0) as f32,
+                                (t.width / 2.0) as f32,
+                                (t.belt_thickness / 2.0) as f32,
+                            )
+                            .position(Pose::from_parts(f(centre), q(rot))),
+                        )
+                    }
+                    crate::geometry::Segment::Arc { axis, angle, .. } => {
+                        let centre = seg.arc_centre().unwrap_or_default();
+                        let radius = seg.radius().unwrap_or_default();
+                        let rot = DQuat::from_rotation_arc(DVec3::Y, lateral);
+                        (
+                            LinkKind::Turn {
+                                centre,
+                                axis: axis * angle.signum(),
+                                radius,
+                            },
+                            ColliderBuilder::cylinder((t.width / 2.0) as f32, radius as f32)
+                                .position(Pose::from_parts(f(centre), q(rot))),
+                        )
+                    }
+                };
+                world
+                    .colliders
+                    .insert_with_parent(base(belt), h, &mut world.bodies);
+                // Grousers whose footprint lies on this segment at rest.
+                let mut grousers = Vec::new();
+                if let Some(g) = &t.grousers {
+                    for (k, (gs, frame)) in footprints.iter().enumerate() {
+                        if *gs != si {
+                            continue;
+                        }
+                        let shape_i = k % g.shapes.len();
+                        let centre = match &g.shapes[shape_i] {
+                            GrouserShape::Box { centre, .. } => *centre,
+                            GrouserShape::Convex(_) => DVec3::ZERO,
+                        };
+                        let pose =
+                            Pose::from_parts(f(frame.to_track(centre)), q(frame.rotation()));
+                        let c = base(ColliderBuilder::new(shapes[shape_i].clone()).position(pose));
+                        let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
+                        grousers.push((ch, k));
+                    }
+                }
+                let joint: GenericJoint = match kind {
+                    LinkKind::Slide { dir } => PrismaticJointBuilder::new(f(dir))
+                        .local_anchor1(f(seg.start()))
+                        .local_anchor2(f(seg.start()))
+                        .contacts_enabled(false)
+                        .motor_velocity(0.0, BELT_MOTOR_GAIN)
+                        .into(),
+                    LinkKind::Turn { centre, axis, .. } => RevoluteJointBuilder::new(f(axis))
+                        .local_anchor1(f(centre))
+                        .local_anchor2(f(centre))
+                        .contacts_enabled(false)
+                        .motor_velocity(0.0, BELT_MOTOR_GAIN)
+                        .into(),
+                };
+                let j = world.impulse_joints.insert(parent, h, joint, true);
+                links.push(LinkRt {
+                    body: h,
+                    joint: j,
+                    kind,
+                    local_com: mprops.local_com,
+                    grousers,
+                });
+            }
+            tracks.push(TrackRt {
+                parent,
+                links,
+                pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
+                shapes,
+                position: 0.0,
+                speed_cmd: 0.0,
+                speed_measured: 0.0,
+                wraps: 0,
+            });
+        }
+
+        let mut sim = Simulation {
+            world,
+            body,
+            tracks,
+            flippers,
+            commands: sc.commands.clone(),
+            next_command: 0,
+            time: 0.0,
+            steps: 0,
+            max_link_error_m: 0.0,
+            max_link_error_rad: 0.0,
+            track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
+            flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
+        };
+        // Lift the vehicle so its lowest point is just above the ground.
+        let dz = match sc.start_z {
+            Some(z) => z,
+            None => {
+                let min_z = sim
+                    .vehicle_bodies()
+                    .flat_map(|h| sim.world.bodies[h].colliders().to_vec())
+                    .map(|c| {
+                        let col = &sim.world.colliders[c];
+                        let pose = sim.world.bodies[col.parent().unwrap_or(body)].position()
+                            * col.position_wrt_parent().copied().unwrap_or_default();
+                        col.shape().compute_aabb(&pose).mins.z as f64
+                    })
+                    .fold(f64::MAX, f64::min);
+                ground_z + START_CLEARANCE_M - min_z
+            }
+        };
+        let handles: Vec<_> = sim.vehicle_bodies().collect();
+        for h in handles {
+            let b = &mut sim.world.bodies[h];
+            let mut p = *b.position();
+            p.translation.z += dz as f32;
+            b.set_position(p, true);
+        }
+        sim.apply_commands();
+        Ok(sim)
+    }
+
+    fn vehicle_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
+        std::iter::once(self.body)
+            .chain(self.flippers.iter().map(|f| f.body))
+            .chain(self.tracks.iter().flat_map(|t| t.links.iter().map(|l| l.body)))
+    }
+
+    /// Applies every command whose time has come.
+    fn apply_commands(&mut self) {
+        while self.next_command < self.commands.len()
+            && self.commands[self.next_command].t <= self.time + 1e-9
+        {
+            let cmd = self.commands[self.next_command].clone();
+            for (i, v) in cmd.belt_speed.iter().enumerate() {
+                if let Some(v) = v {
+                    self.set_belt_speed(i, *v);
+                }
+            }
+            for (i, a) in cmd.flipper_angle.iter().enumerate() {
+                if let Some(a) = a {
+                    self.set_flipper_angle(i, *a);
+                }
+            }
+            self.next_command += 1;
+        }
+    }
+
+    /// Sets the belt speed of track `i`, m/s (positive drives forwards).
+    pub fn set_belt_speed(&mut self, i: usize, v: f64) {
+        let t = &mut self.tracks[i];
+        t.speed_cmd = v;
+        for l in &t.links {
+            if let Some(j) = self.world.impulse_joints.get_mut(l.joint, true) {
+                j.data
+                    .set_motor_velocity(l.kind.motor_axis(), l.kind.motor_target(v), BELT_MOTOR_GAIN);
+            }
+        }
+    }
+
+    /// Sets the target angle of flipper `i`, rad.
+    pub fn set_flipper_angle(&mut self, i: usize, a: f64) {
+        let fl = &mut self.flippers[i];
+        fl.target = a;
+        if let Some(j) = self.world.impulse_joints.get_mut(fl.joint, true) {
+            j.data
+                .set_motor_position(JointAxis::AngX, a as f32, fl.stiffness, fl.damping);
+        }
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Track names in output order.
+    pub fn track_names(&self) -> &[String] {
+        &self.track_names
+    }
+
+    /// Flipper names in output order.
+    pub fn flipper_names(&self) -> &[String] {
+        &self.flipper_names
+    }
+
+    /// Largest distance, m, and angle, rad, seen between a link's pose after a physics step and
+    /// its exact pose `parent * shift(phase)`, over all links and steps so far.
+    pub fn max_link_error(&self) -> (f64, f64) {
+        (self.max_link_error_m, self.max_link_error_rad)
+    }
+
+    /// Handle of the chassis body.
+    pub fn body_handle(&self) -> RigidBodyHandle {
+        self.body
+    }
+
+    /// Unwrapped belt position of track `i`, m.
+    pub fn belt_position(&self, i: usize) -> f64 {
+        self.tracks[i].position
+    }
+
+    /// For track `i`: each link's pose relative to its parent and the pose it must have
+    /// (`shift(phase)`). After a step both are equal up to float rounding.
+    pub fn link_relative_poses(&self, i: usize) -> Vec<(Pose, Pose)> {
+        let t = &self.tracks[i];
+        let (phi, _) = t.phase();
+        let parent = *self.world.bodies[t.parent].position();
+        t.links
+            .iter()
+            .map(|l| {
+                let rel = parent.inv_mul(self.world.bodies[l.body].position());
+                (rel, l.kind.shift(phi))
+            })
+            .collect()
+    }
+
+    /// Advances the simulation by one time step.
+    pub fn step(&mut self) -> Result<()> {
+        self.apply_commands();
+        self.world.step();
+        let dt = self.world.integration_parameters.dt as f64;
+        self.steps += 1;
+        self.time = self.steps as f64 * dt;
+        for ti in 0..self.tracks.len() {
+            self.update_track(ti, dt);
+        }
+        self.check_stability()
+    }
+
+    /// Integrates the belt position, measures, rolls back and snaps the links of track `ti`.
+    fn update_track(&mut self, ti: usize, dt: f64) {
+        let t = &mut self.tracks[ti];
+        t.position += t.speed_cmd * dt;
+        let (phi, wraps) = t.phase();
+        let bodies = &mut self.world.bodies;
+        let parent = &bodies[t.parent];
+        let parent_pose = *parent.position();
+        let parent_linvel = parent.linvel();
+        let parent_angvel = parent.angvel();
+        let parent_com = parent.center_of_mass();
+        let mut measured = 0.0;
+        for l in &t.links {
+            let shift = l.kind.shift(phi);
+            let expected = parent_pose * shift;
+            let link = &bodies[l.body];
+            let actual = *link.position();
+            // Joint error before the snap.
+            let com_err = (actual.transform_point(l.local_com)
+                - expected.transform_point(l.local_com))
+            .length() as f64;
+            let rot_err = (expected.rotation.inverse() * actual.rotation)
+                .normalize()
+                .to_axis_angle()
+                .1
+                .abs() as f64;
+            let rot_err = rot_err.min(std::f64::consts::TAU - rot_err);
+            self.max_link_error_m = self.max_link_error_m.max(com_err);
+            self.max_link_error_rad = self.max_link_error_rad.max(rot_err);
+            // Relative velocity along the joint, as belt speed.
+            let com_w = actual.transform_point(l.local_com);
+            let carried = parent_linvel + parent_angvel.cross(com_w - parent_com);
+            measured += match l.kind {
+                LinkKind::Slide { dir } => {
+                    ((link.linvel() - carried).dot(parent_pose.rotation * f(dir))) as f64
+                }
+                LinkKind::Turn { axis, radius, .. } => {
+                    ((link.angvel() - parent_angvel).dot(parent_pose.rotation * f(axis))) as f64
+                        * radius
+                }
+            };
+            // Snap: exact pose and the velocity the joint kinematics give.
+            let com_new = expected.transform_point(l.local_com);
+            let (lin_rel, ang_rel) = match l.kind {
+                LinkKind::Slide { dir } => (
+                    parent_pose.rotation * f(dir * t.speed_cmd),
+                    Vector::ZERO,
+                ),
+                LinkKind::Turn {
+                    centre,
+                    axis,
+                    radius,
+                } => {
+                    let w = parent_pose.rotation * f(axis * (t.speed_cmd / radius));
+                    let c = parent_pose.transform_point(f(centre));
+                    (w.cross(com_new - c), w)
+                }
+            };
+            let linvel = parent_linvel + parent_angvel.cross(com_new - parent_com) + lin_rel;
+            let angvel = parent_angvel + ang_rel;
+            let link = &mut bodies[l.body];
+            link.set_position(expected, false);
+            link.set_linvel(linvel, false);
+            link.set_angvel(angvel, false);
+        }
+        if !t.links.is_empty() {
+            t.speed_measured = measured / t.links.len() as f64;
+        }
+        // Several grouser shapes in turn: re-assign them so the pattern moves with the belt.
+        if wraps != t.wraps && t.shapes.len() > 1 {
+            let m = t.shapes.len() as i64;
+            for l in &t.links {
+                for &(ch, k) in &l.grousers {
+                    let idx = (k as i64 - wraps).rem_euclid(m) as usize;
+                    if let Some(c) = self.world.colliders.get_mut(ch) {
+                        c.set_shape(t.shapes[idx].clone());
+                    }
+                }
+            }
+        }
+        t.wraps = wraps;
+    }
+
+    fn check_stability(&self) -> Result<()> {
+        let names = std::iter::once("body".to_string())
+            .chain(self.flipper_names.iter().map(|n| format!("flipper {n}")));
+        let handles = std::iter::once(self.body).chain(self.flippers.iter().map(|f| f.body));
+        for (name, h) in names.zip(handles) {
+            let b = &self.world.bodies[h];
+            let p = b.position();
+            let v = b.linvel();
+            let bad = if !p.is_finite() || !v.is_finite() || !b.angvel().is_finite() {
+                Some("has a non-finite position or velocity (NaN)".to_string())
+            } else if v.length() > MAX_SPEED_MPS {
+                Some(format!(
+                    "moves at {:.1} m/s (limit {MAX_SPEED_MPS} m/s): it was flung off",
+                    v.length()
+                ))
+            } else if p.translation.z < -100.0 {
+                Some("fell below z = -100 m: it left the world".to_string())
+            } else {
+                None
+            };
+            if let Some(what) = bad {
+                return Err(Error::Unstable {
+                    time_s: self.time,
+                    body: name,
+                    what,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Pose of the chassis.
+    pub fn body_pose(&self) -> PoseRpy {
+        PoseRpy::from_pose(self.world.bodies[self.body].position())
+    }
+
+    /// Number of active solver contact points in the world.
+    pub fn contact_count(&self) -> usize {
+        self.world
+            .narrow_phase
+            .contact_pairs()
+            .map(|p| {
+                p.manifolds()
+                    .iter()
+                    .map(|m| m.data.solver_contacts.len())
+                    .sum::<usize>()
+            })
+            .sum()
+    }
+
+    /// Angle of flipper `i` relative to the body, rad.
+    pub fn flipper_angle(&self, i: usize) -> f64 {
+        let fl = &self.flippers[i];
+        let pb = self.world.bodies[self.body].position();
+        let pf = self.world.bodies[fl.body].position();
+        let r = (pb.rotation.inverse() * pf.rotation).normalize();
+        let v = DVec3::new(r.x as f64, r.y as f64, r.z as f64);
+        2.0 * v.dot(fl.axis).atan2(r.w as f64)
+    }
+
+    /// Current state as a sample.
+    pub fn sample(&self) -> Sample {
+        let b = &self.world.bodies[self.body];
+        let lv = b.linvel();
+        let av = b.angvel();
+        Sample {
+            t: self.time,
+            pose: self.body_pose(),
+            linvel: [lv.x as f64, lv.y as f64, lv.z as f64],
+            angvel: [av.x as f64, av.y as f64, av.z as f64],
+            belt_speed: self.tracks.iter().map(|t| t.speed_measured).collect(),
+            belt_phase: self.tracks.iter().map(|t| t.phase().0).collect(),
+            flipper_angle: (0..self.flippers.len())
+                .map(|i| self.flipper_angle(i))
+                .collect(),
+            contacts: self.contact_count(),
+        }
+    }
+}

@@ -1,0 +1,434 @@
+//! What the files say: serde structs for vehicle and scenario files (TOML). Unknown keys are
+//! rejected. Units are SI unless the key name says otherwise (`angle_deg`).
+//!
+//! These structs are only a description; [`crate::model`] checks and compiles them.
+
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A vehicle file (`vehicles/*.toml`).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSpec {
+    /// Display name.
+    pub name: String,
+    /// One-line description.
+    #[serde(default)]
+    pub description: String,
+    /// The chassis.
+    pub body: BodySpec,
+    /// Flipper arms carrying sub-tracks.
+    #[serde(default)]
+    pub flippers: Vec<FlipperSpec>,
+    /// Tracks, on the body or on flippers.
+    pub tracks: Vec<TrackSpec>,
+}
+
+/// A collision shape.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A box of full sizes `size_m` = [x, y, z] centred at `centre_m`.
+    Box {
+        /// Full sizes along x, y, z, m.
+        size_m: [f64; 3],
+        /// Centre, m.
+        #[serde(default)]
+        centre_m: [f64; 3],
+    },
+    /// The convex hull of points, m.
+    Convex {
+        /// Points, m.
+        points_m: Vec<[f64; 3]>,
+    },
+}
+
+/// The vehicle body (chassis).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Centre of mass in the body frame, m.
+    #[serde(default)]
+    pub centre_of_mass_m: [f64; 3],
+    /// Principal moments of inertia about the centre of mass along the body axes, kg m^2.
+    /// Default: those of a solid box filling the shape's bounding box.
+    #[serde(default)]
+    pub inertia_kgm2: Option<[f64; 3]>,
+    /// Collision shape.
+    pub shape: ShapeSpec,
+    /// Friction coefficient of the body's own surface.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+}
+
+/// A flipper arm on a position-controlled revolute joint.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlipperSpec {
+    /// Name, used by tracks (`parent`) and commands.
+    pub name: String,
+    /// Joint position in the body frame, m.
+    pub pivot_m: [f64; 3],
+    /// Joint axis in the body frame; a positive angle turns the arm about it (right-hand rule).
+    #[serde(default = "default_axis")]
+    pub axis: [f64; 3],
+    /// Mass of the arm (without its track belt), kg.
+    pub mass_kg: f64,
+    /// Centre of mass in the body frame at angle 0, m. Default: the pivot.
+    #[serde(default)]
+    pub centre_of_mass_m: Option<[f64; 3]>,
+    /// Principal moments of inertia, kg m^2. Default: a slender arm's.
+    #[serde(default)]
+    pub inertia_kgm2: Option<[f64; 3]>,
+    /// Optional collision shape of the arm itself, in the body frame at angle 0.
+    #[serde(default)]
+    pub shape: Option<ShapeSpec>,
+    /// Angle at the start, degrees.
+    #[serde(default)]
+    pub initial_angle_deg: f64,
+    /// Torque limit of the joint motor, N m.
+    pub max_torque_nm: f64,
+    /// Position gain, N m / rad.
+    #[serde(default = "default_flipper_stiffness")]
+    pub stiffness_nm_per_rad: f64,
+    /// Velocity gain, N m s / rad.
+    #[serde(default = "default_flipper_damping")]
+    pub damping_nms_per_rad: f64,
+}
+
+/// One continuous track.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackSpec {
+    /// Name, used by commands and outputs.
+    pub name: String,
+    /// If set, a mirror image of this track (y -> -y) is added under this name.
+    #[serde(default)]
+    pub mirror: Option<String>,
+    /// What the track hangs on: "body" (default) or a flipper's name.
+    #[serde(default = "default_parent")]
+    pub parent: String,
+    /// Belt width across the track, m.
+    pub width_m: f64,
+    /// Belt thickness (inwards from the path), m.
+    #[serde(default = "default_belt_thickness")]
+    pub belt_thickness_m: f64,
+    /// Mass of the whole belt with its grousers, split over the segment links by length, kg.
+    pub belt_mass_kg: f64,
+    /// Friction coefficient of the belt and grousers.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    /// How belt friction combines with the other surface's: "min" (default, as in Gazebo/ODE),
+    /// "average", "multiply", "max".
+    #[serde(default = "default_combine")]
+    pub friction_combine: String,
+    /// Sprocket pitch radius, m, for commands given as sprocket angular speed.
+    #[serde(default)]
+    pub sprocket_pitch_radius_m: Option<f64>,
+    /// Indices of segments that never touch anything and need no link (e.g. the top run).
+    #[serde(default)]
+    pub omit_segments: Vec<usize>,
+    /// The loop.
+    pub path: PathSpec,
+    /// Grousers; none if absent.
+    #[serde(default)]
+    pub grousers: Option<GrouserSpec>,
+}
+
+/// A track path, either as pulleys or as explicit segments (exactly one of the two).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PathSpec {
+    /// y of the track's mid-plane in the parent frame (pulley form only), m.
+    #[serde(default)]
+    pub plane_y_m: Option<f64>,
+    /// Pulleys the belt wraps, in order around the loop (either sense).
+    #[serde(default)]
+    pub pulleys: Option<Vec<PulleySpec>>,
+    /// Explicit segments in order of belt travel (paper Sec. III-A).
+    #[serde(default)]
+    pub segments: Option<Vec<SegmentSpec>>,
+}
+
+/// A pulley in the track's x-z plane.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PulleySpec {
+    /// Centre x, m.
+    pub x_m: f64,
+    /// Centre z, m.
+    pub z_m: f64,
+    /// Radius to the belt's outer surface (grouser footprints), m.
+    pub radius_m: f64,
+}
+
+/// An explicit path segment.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SegmentSpec {
+    /// Straight: start point, direction, length.
+    Straight {
+        /// Start, m.
+        start_m: [f64; 3],
+        /// Direction of belt travel (any length).
+        direction: [f64; 3],
+        /// Length, m.
+        length_m: f64,
+    },
+    /// Arc: start point rotated about the axis through `centre_m` by `angle_deg`.
+    Arc {
+        /// Start, m.
+        start_m: [f64; 3],
+        /// A point on the axis, m.
+        centre_m: [f64; 3],
+        /// Rotation axis (right-hand rule).
+        axis: [f64; 3],
+        /// Rotation angle, degrees.
+        angle_deg: f64,
+    },
+}
+
+/// The grouser pattern.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GrouserSpec {
+    /// Number of grousers on the loop.
+    pub count: usize,
+    /// Arc length from the loop start to grouser 0's footprint, m.
+    #[serde(default)]
+    pub offset_m: f64,
+    /// Shapes, used in turn around the belt (grouser k gets shape k mod len).
+    pub shapes: Vec<GrouserShapeSpec>,
+}
+
+/// A grouser shape, in its footprint frame: x along the belt, y across, z outwards.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum GrouserShapeSpec {
+    /// A cuboid standing on the belt.
+    Box {
+        /// Along the belt, m.
+        length_m: f64,
+        /// Outwards from the belt, m.
+        height_m: f64,
+        /// Across the belt, m (default: the track width).
+        #[serde(default)]
+        width_m: Option<f64>,
+        /// Shift of the footprint centre along the belt, m.
+        #[serde(default)]
+        shift_m: f64,
+    },
+    /// A trapezoidal prism (cross-section in the x-z plane) extruded across the belt.
+    Trapezoid {
+        /// Base on the belt, m.
+        bottom_m: f64,
+        /// Top (outer) base, m.
+        top_m: f64,
+        /// Height, m.
+        height_m: f64,
+        /// Across the belt, m (default: the track width).
+        #[serde(default)]
+        width_m: Option<f64>,
+        /// Shift along the belt, m.
+        #[serde(default)]
+        shift_m: f64,
+    },
+    /// The convex hull of points given in the footprint frame, m.
+    Convex {
+        /// Points, m.
+        points_m: Vec<[f64; 3]>,
+    },
+}
+
+fn default_friction() -> f64 {
+    0.6
+}
+fn default_axis() -> [f64; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_parent() -> String {
+    "body".into()
+}
+fn default_combine() -> String {
+    "min".into()
+}
+fn default_belt_thickness() -> f64 {
+    0.01
+}
+fn default_flipper_stiffness() -> f64 {
+    2000.0
+}
+fn default_flipper_damping() -> f64 {
+    50.0
+}
+
+/// A scenario file (`scenarios/*.toml`).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioSpec {
+    /// One-line description.
+    #[serde(default)]
+    pub description: String,
+    /// Which vehicle, and where it starts.
+    pub vehicle: VehicleRefSpec,
+    /// The world.
+    #[serde(default)]
+    pub terrain: TerrainSpec,
+    /// Time stepping and solver.
+    #[serde(default)]
+    pub simulation: SimulationSpec,
+    /// Timed drive commands; each holds until the next.
+    #[serde(default)]
+    pub commands: Vec<CommandSpec>,
+}
+
+/// The vehicle of a scenario.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleRefSpec {
+    /// Vehicle file, relative to the scenario file.
+    pub file: String,
+    /// Start x, m.
+    #[serde(default)]
+    pub x_m: f64,
+    /// Start y, m.
+    #[serde(default)]
+    pub y_m: f64,
+    /// Start height of the body frame, m. Default: lowest point 1 mm above the ground.
+    #[serde(default)]
+    pub z_m: Option<f64>,
+    /// Start heading, degrees.
+    #[serde(default)]
+    pub yaw_deg: f64,
+    /// Start pitch, degrees (positive: nose down, REP 103).
+    #[serde(default)]
+    pub pitch_deg: f64,
+    /// Override the friction of every track.
+    #[serde(default)]
+    pub track_friction: Option<f64>,
+    /// Override the grouser count of every track that has grousers (0 removes them).
+    #[serde(default)]
+    pub grouser_count: Option<usize>,
+}
+
+/// The terrain.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct TerrainSpec {
+    /// A flat ground plane.
+    #[serde(default)]
+    pub ground: Option<GroundSpec>,
+    /// Boxes: steps, walls, bumps.
+    #[serde(default)]
+    pub boxes: Vec<BoxSpec>,
+}
+
+/// Flat ground.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroundSpec {
+    /// Friction coefficient.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+    /// Height of the surface, m.
+    #[serde(default)]
+    pub z_m: f64,
+}
+
+/// A box obstacle.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSpec {
+    /// Centre, m.
+    pub centre_m: [f64; 3],
+    /// Full sizes, m.
+    pub size_m: [f64; 3],
+    /// Rotation about z, degrees.
+    #[serde(default)]
+    pub yaw_deg: f64,
+    /// Rotation about y, degrees (for ramps).
+    #[serde(default)]
+    pub pitch_deg: f64,
+    /// Friction coefficient.
+    #[serde(default = "default_friction")]
+    pub friction: f64,
+}
+
+/// Time stepping and the solver settings that matter.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Time step, s.
+    #[serde(default = "default_dt")]
+    pub dt_s: f64,
+    /// Simulated duration, s.
+    #[serde(default = "default_duration")]
+    pub duration_s: f64,
+    /// Interval between trajectory rows, s.
+    #[serde(default = "default_output_interval")]
+    pub output_interval_s: f64,
+    /// Solver iterations per step.
+    #[serde(default = "default_iterations")]
+    pub solver_iterations: usize,
+    /// Rapier contact clustering (merges coplanar contacts of compound shapes).
+    #[serde(default)]
+    pub contact_clustering: bool,
+}
+
+impl Default for SimulationSpec {
+    fn default() -> Self {
+        SimulationSpec {
+            dt_s: default_dt(),
+            duration_s: default_duration(),
+            output_interval_s: default_output_interval(),
+            solver_iterations: default_iterations(),
+            contact_clustering: false,
+        }
+    }
+}
+
+fn default_dt() -> f64 {
+    0.001
+}
+fn default_duration() -> f64 {
+    10.0
+}
+fn default_output_interval() -> f64 {
+    0.01
+}
+fn default_iterations() -> usize {
+    4
+}
+
+/// Per-track values: one number for every track, or a table by track name.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(
+    untagged,
+    expecting = "a number (the same for every track) or a table of track name = number"
+)]
+pub enum PerTrack {
+    /// The same value for every track.
+    All(f64),
+    /// Values by track name.
+    ByName(BTreeMap<String, f64>),
+}
+
+/// A drive command that starts at `t_s` and holds until the next one.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CommandSpec {
+    /// Start time, s.
+    #[serde(default)]
+    pub t_s: f64,
+    /// Belt speeds, m/s (positive drives forwards).
+    #[serde(default)]
+    pub belt_speed_mps: Option<PerTrack>,
+    /// Sprocket angular speeds, rad/s (needs `sprocket_pitch_radius_m` on the track).
+    #[serde(default)]
+    pub sprocket_rad_s: Option<PerTrack>,
+    /// Flipper target angles by flipper name, degrees.
+    #[serde(default)]
+    pub flipper_angle_deg: BTreeMap<String, f64>,
+}
