@@ -1,0 +1,39 @@
+//! Shared helpers: the bundled PackBot scenario, modified in code.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use tracksim::Simulation;
+use tracksim::model::{Scenario, compile_scenario, load_vehicle, read_toml};
+use tracksim::spec::ScenarioSpec;
+
+/// Repository root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The bundled flat-ground PackBot scenario, with `edit` applied to its spec and `vehicle_edit`
+/// to the compiled vehicle.
+pub fn packbot(
+    edit: impl FnOnce(&mut ScenarioSpec),
+    vehicle_edit: impl FnOnce(&mut tracksim::VehicleModel),
+) -> Scenario {
+    let path = root().join("scenarios/packbot_flat.toml");
+    let mut spec: ScenarioSpec = read_toml(&path).expect("bundled scenario parses");
+    edit(&mut spec);
+    let mut vehicle = load_vehicle(&root().join("vehicles/packbot510.toml")).expect("vehicle");
+    vehicle_edit(&mut vehicle);
+    compile_scenario(&spec, vehicle).expect("scenario compiles")
+}
+
+/// Runs `sim` until time `t`, s.
+pub fn run_until(sim: &mut Simulation, t: f64) {
+    while sim.time() < t - 1e-9 {
+        sim.step().expect("stable");
+    }
+}
+
+/// Body position (x, y, z), m.
+pub fn pos(sim: &Simulation) -> (f64, f64, f64) {
+    let p = sim.body_pose();
+    (p.x, p.y, p.z)
+}
