@@ -37,7 +37,10 @@ fn run(file: PathBuf, out: PathBuf, quiet: bool, json: bool) -> Result<(), track
     result.write(&out)?;
     let s = &result.summary;
     if json {
-        println!("{}", serde_json::to_string_pretty(s).expect("summary serialises"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(s).expect("summary serialises")
+        );
     } else if !quiet {
         let p = &s.final_pose;
         println!("scenario   {}", file.display());
@@ -46,7 +49,10 @@ fn run(file: PathBuf, out: PathBuf, quiet: bool, json: bool) -> Result<(), track
             "simulated  {:.3} s in {:.3} s wall: real-time factor {:.1}",
             s.sim_time_s, s.wall_time_s, s.real_time_factor
         );
-        println!("mean speed {:.4} m/s, distance {:.3} m", s.mean_speed_mps, s.distance_m);
+        println!(
+            "mean speed {:.4} m/s, distance {:.3} m",
+            s.mean_speed_mps, s.distance_m
+        );
         println!(
             "final pose x {:.4} y {:.4} z {:.4} m, roll {:.2} pitch {:.2} yaw {:.2} deg",
             p.x,

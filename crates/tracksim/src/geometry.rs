@@ -220,7 +220,10 @@ impl fmt::Display for PathError {
             TooFewSegments(n) => write!(f, "a track loop needs at least 2 segments, got {n}"),
             NotFinite { segment } => write!(f, "segment {segment}: a value is not finite"),
             NonPositiveLength { segment, length } => {
-                write!(f, "segment {segment}: straight length must be > 0 m, got {length}")
+                write!(
+                    f,
+                    "segment {segment}: straight length must be > 0 m, got {length}"
+                )
             }
             ZeroVector { segment, what } => {
                 write!(f, "segment {segment}: {what} must not be the zero vector")

@@ -325,17 +325,31 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
     for (i, f) in spec.flippers.iter().enumerate() {
         let k = format!("flippers[{i}]");
         if f.name.trim().is_empty() || f.name == "body" {
-            c.push(format!("{k}.name"), "must be a non-empty name other than \"body\"");
+            c.push(
+                format!("{k}.name"),
+                "must be a non-empty name other than \"body\"",
+            );
         }
         if spec.flippers[..i].iter().any(|g| g.name == f.name) {
-            c.push(format!("{k}.name"), format!("duplicate flipper name \"{}\"", f.name));
+            c.push(
+                format!("{k}.name"),
+                format!("duplicate flipper name \"{}\"", f.name),
+            );
         }
         c.finite(&format!("{k}.pivot_m"), &f.pivot_m);
         let axis = c.unit_vector(&format!("{k}.axis"), f.axis);
         c.positive(&format!("{k}.mass_kg"), f.mass_kg, "kg");
         c.positive(&format!("{k}.max_torque_nm"), f.max_torque_nm, "N m");
-        c.positive(&format!("{k}.stiffness_nm_per_rad"), f.stiffness_nm_per_rad, "N m/rad");
-        c.non_negative(&format!("{k}.damping_nms_per_rad"), f.damping_nms_per_rad, "N m s/rad");
+        c.positive(
+            &format!("{k}.stiffness_nm_per_rad"),
+            f.stiffness_nm_per_rad,
+            "N m/rad",
+        );
+        c.non_negative(
+            &format!("{k}.damping_nms_per_rad"),
+            f.damping_nms_per_rad,
+            "N m s/rad",
+        );
         c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
         let shape = f.shape.as_ref().map(|s| c.shape(&format!("{k}.shape"), s));
         let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
@@ -375,20 +389,32 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
     }
     for (i, t) in spec.tracks.iter().enumerate() {
         let k = format!("tracks[{i}]");
-        let parent = if t.parent == "body" {
-            Parent::Body
-        } else if let Some(j) = spec.flippers.iter().position(|f| f.name == t.parent) {
-            Parent::Flipper(j)
-        } else {
-            c.push(
-                format!("{k}.parent"),
-                format!(
-                    "no flipper called \"{}\"; use \"body\" or one of the names under [[flippers]]",
-                    t.parent
-                ),
-            );
-            Parent::Body
+        let mut resolve = |key: String, name: &str| {
+            if name == "body" {
+                Parent::Body
+            } else if let Some(j) = spec.flippers.iter().position(|f| f.name == name) {
+                Parent::Flipper(j)
+            } else {
+                c.push(
+                    key,
+                    format!(
+                        "no flipper called \"{name}\"; use \"body\" or one of the names under [[flippers]]"
+                    ),
+                );
+                Parent::Body
+            }
         };
+        let parent = resolve(format!("{k}.parent"), &t.parent);
+        let mirror_parent = match &t.mirror_parent {
+            Some(p) => resolve(format!("{k}.mirror_parent"), p),
+            None => parent,
+        };
+        if t.mirror_parent.is_some() && t.mirror.is_none() {
+            c.push(
+                format!("{k}.mirror_parent"),
+                "only used together with `mirror`",
+            );
+        }
         c.positive(&format!("{k}.width_m"), t.width_m, "m");
         c.positive(&format!("{k}.belt_thickness_m"), t.belt_thickness_m, "m");
         c.positive(&format!("{k}.belt_mass_kg"), t.belt_mass_kg, "kg");
@@ -485,7 +511,10 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             if o >= n {
                 c.push(
                     format!("{k}.omit_segments[{j}]"),
-                    format!("segment {o} does not exist; the loop has segments 0..{}", n - 1),
+                    format!(
+                        "segment {o} does not exist; the loop has segments 0..{}",
+                        n - 1
+                    ),
                 );
             } else {
                 included[o] = false;
@@ -577,7 +606,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
                     };
                     shapes.push(shape);
                 }
-                (g.count > 0).then(|| GrouserModel {
+                (g.count > 0).then_some(GrouserModel {
                     layout: GrouserLayout {
                         count: g.count,
                         offset: g.offset_m,
@@ -603,6 +632,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         if let Some(m) = &t.mirror {
             let mut mirrored = model.clone();
             mirrored.name = m.clone();
+            mirrored.parent = mirror_parent;
             mirrored.path = model.path.mirrored_y();
             tracks.push(model);
             tracks.push(mirrored);
@@ -616,7 +646,10 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         } else if tracks[..i].iter().any(|u| u.name == t.name) {
             c.push(
                 "tracks",
-                format!("duplicate track name \"{}\" (check `name` and `mirror`)", t.name),
+                format!(
+                    "duplicate track name \"{}\" (check `name` and `mirror`)",
+                    t.name
+                ),
             );
         }
     }
@@ -687,6 +720,8 @@ pub struct SolverSettings {
     pub iterations: usize,
     /// Contact clustering on or off.
     pub contact_clustering: bool,
+    /// Smallest segment link mass, kg.
+    pub min_link_mass: f64,
 }
 
 impl Default for SolverSettings {
@@ -695,6 +730,7 @@ impl Default for SolverSettings {
             dt: 0.001,
             iterations: 4,
             contact_clustering: false,
+            min_link_mass: crate::sim::MIN_LINK_MASS_KG,
         }
     }
 }
@@ -765,7 +801,10 @@ pub fn compile_scenario(
                 if n % g.shapes.len() != 0 {
                     c.push(
                         "vehicle.grouser_count",
-                        format!("must be a multiple of the {} grouser shapes", g.shapes.len()),
+                        format!(
+                            "must be a multiple of the {} grouser shapes",
+                            g.shapes.len()
+                        ),
                     );
                 }
                 g.layout.count = n;
@@ -814,6 +853,7 @@ pub fn compile_scenario(
     }
     c.positive("simulation.duration_s", s.duration_s, "s");
     c.positive("simulation.output_interval_s", s.output_interval_s, "s");
+    c.non_negative("simulation.min_link_mass_kg", s.min_link_mass_kg, "kg");
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -827,7 +867,10 @@ pub fn compile_scenario(
     for (i, cmd) in spec.commands.iter().enumerate() {
         let k = format!("commands[{i}]");
         if !(cmd.t_s.is_finite() && cmd.t_s >= 0.0) {
-            c.push(format!("{k}.t_s"), format!("must be >= 0 s, got {}", cmd.t_s));
+            c.push(
+                format!("{k}.t_s"),
+                format!("must be >= 0 s, got {}", cmd.t_s),
+            );
         } else if cmd.t_s < last_t {
             c.push(
                 format!("{k}.t_s"),
@@ -926,6 +969,7 @@ pub fn compile_scenario(
             dt: s.dt_s,
             iterations: s.solver_iterations,
             contact_clustering: s.contact_clustering,
+            min_link_mass: s.min_link_mass_kg,
         },
         duration: s.duration_s,
         output_interval: s.output_interval_s,

@@ -112,8 +112,19 @@ impl RunResult {
     /// The CSV header of `trajectory.csv`.
     pub fn csv_header(&self) -> Vec<String> {
         let mut h: Vec<String> = [
-            "t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "vx_mps", "vy_mps",
-            "vz_mps", "wx_rad_s", "wy_rad_s", "wz_rad_s",
+            "t_s",
+            "x_m",
+            "y_m",
+            "z_m",
+            "roll_rad",
+            "pitch_rad",
+            "yaw_rad",
+            "vx_mps",
+            "vy_mps",
+            "vz_mps",
+            "wx_rad_s",
+            "wy_rad_s",
+            "wz_rad_s",
         ]
         .iter()
         .map(|s| s.to_string())
@@ -148,8 +159,19 @@ impl RunResult {
         for s in &self.samples {
             let p = &s.pose;
             let mut row = vec![
-                s.t, p.x, p.y, p.z, p.roll, p.pitch, p.yaw, s.linvel[0], s.linvel[1],
-                s.linvel[2], s.angvel[0], s.angvel[1], s.angvel[2],
+                s.t,
+                p.x,
+                p.y,
+                p.z,
+                p.roll,
+                p.pitch,
+                p.yaw,
+                s.linvel[0],
+                s.linvel[1],
+                s.linvel[2],
+                s.angvel[0],
+                s.angvel[1],
+                s.angvel[2],
             ];
             row.extend(&s.belt_speed);
             row.extend(&s.belt_phase);

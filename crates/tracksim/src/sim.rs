@@ -23,7 +23,7 @@
 //!
 //! # Choices (and why)
 //! - Link mass: the belt's real mass split by segment length, but at least
-//!   [`MIN_LINK_MASS_KG`]; much lighter links under a heavy body hop with impulse joints
+//!   [`MIN_LINK_MASS_KG`] by default (`simulation.min_link_mass_kg`); much lighter links under a heavy body hop with impulse joints
 //!   (measured in the Rapier trial).
 //! - Belt and grousers are separate colliders (not one compound), with Rapier's contact
 //!   clustering off by default: clustering merged grouser contacts and let them sink mm deep.
@@ -35,7 +35,7 @@ use crate::model::*;
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 
-/// Smallest mass given to a segment link, kg (see the module docs).
+/// Default smallest mass given to a segment link, kg (see the module docs).
 pub const MIN_LINK_MASS_KG: f64 = 0.5;
 /// Damping gain of the belt velocity motors (acceleration-based: constraint compliance
 /// 1 / (dt * gain), i.e. 1e-3 at 1 ms: a hard velocity constraint).
@@ -231,8 +231,10 @@ fn vehicle_groups() -> InteractionGroups {
 fn shape_collider(shape: &CollisionShape) -> Result<ColliderBuilder> {
     match shape {
         CollisionShape::Box { half, centre } => {
-            Ok(ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
-                .translation(f(*centre)))
+            Ok(
+                ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
+                    .translation(f(*centre)),
+            )
         }
         CollisionShape::Convex(pts) => {
             let p: Vec<Vector> = pts.iter().map(|p| f(*p)).collect();
@@ -272,14 +274,13 @@ fn link_mass_properties(
     let w2 = track.width * track.width / 12.0;
     let t2 = track.belt_thickness * track.belt_thickness / 12.0;
     inertia += (glam::DMat3::IDENTITY * (w2 + t2)
-        - glam::DMat3::from_cols(lateral * lateral.x, lateral * lateral.y, lateral * lateral.z)
-            * w2)
+        - glam::DMat3::from_cols(
+            lateral * lateral.x,
+            lateral * lateral.y,
+            lateral * lateral.z,
+        ) * w2)
         * mass;
-    let mat = glam::Mat3::from_cols(
-        f(inertia.x_axis),
-        f(inertia.y_axis),
-        f(inertia.z_axis),
-    );
+    let mat = glam::Mat3::from_cols(f(inertia.x_axis), f(inertia.y_axis), f(inertia.z_axis));
     MassProperties::with_inertia_matrix(f(com), mass as f32, mat)
 }
 
@@ -318,7 +319,8 @@ impl Simulation {
 
         // Vehicle, first at z = 0, then lifted to rest on the ground.
         let v = &sc.vehicle;
-        let start_rot = DQuat::from_rotation_z(sc.start_yaw) * DQuat::from_rotation_y(sc.start_pitch);
+        let start_rot =
+            DQuat::from_rotation_z(sc.start_yaw) * DQuat::from_rotation_y(sc.start_pitch);
         let start = Pose::from_parts(
             Vector::new(sc.start_xy.0 as f32, sc.start_xy.1 as f32, 0.0),
             q(start_rot),
@@ -406,16 +408,15 @@ impl Simulation {
                             half.y as f32,
                             half.z as f32,
                         )),
-                        GrouserShape::Convex(pts) => SharedShape::convex_hull(
-                            &pts.iter().map(|p| f(*p)).collect::<Vec<_>>(),
-                        ),
+                        GrouserShape::Convex(pts) => {
+                            SharedShape::convex_hull(&pts.iter().map(|p| f(*p)).collect::<Vec<_>>())
+                        }
                     })
                     .collect::<Option<Vec<_>>>()
                     .ok_or_else(|| Error::Unstable {
                         time_s: 0.0,
                         body: format!("track {}", t.name),
-                        what: "has a grouser shape whose convex hull could not be computed"
-                            .into(),
+                        what: "has a grouser shape whose convex hull could not be computed".into(),
                     })?,
             };
             let footprints = t
@@ -428,7 +429,7 @@ impl Simulation {
                 if !t.included[si] {
                     continue;
                 }
-                let mass = (t.belt_mass * seg.length() / path.length()).max(MIN_LINK_MASS_KG);
+                let mass = (t.belt_mass * seg.length() / path.length()).max(sc.solver.min_link_mass);
                 let mprops = link_mass_properties(t, si, mass, lateral);
                 let h = world.bodies.insert(
                     RigidBodyBuilder::dynamic()
@@ -450,11 +451,10 @@ impl Simulation {
                         length,
                     } => {
                         let normal = direction.cross(lateral);
-                        let centre = start + direction * (length / 2.0)
-                            - normal * (t.belt_thickness / 2.0);
-                        let rot = DQuat::from_mat3(&glam::DMat3::from_cols(
-                            direction, lateral, normal,
-                        ));
+                        let centre =
+                            start + direction * (length / 2.0) - normal * (t.belt_thickness / 2.0);
+                        let rot =
+                            DQuat::from_mat3(&glam::DMat3::from_cols(direction, lateral, normal));
                         (
                             LinkKind::Slide { dir: direction },
                             ColliderBuilder::cuboid(
@@ -495,8 +495,7 @@ impl Simulation {
                             GrouserShape::Box { centre, .. } => *centre,
                             GrouserShape::Convex(_) => DVec3::ZERO,
                         };
-                        let pose =
-                            Pose::from_parts(f(frame.to_track(centre)), q(frame.rotation()));
+                        let pose = Pose::from_parts(f(frame.to_track(centre)), q(frame.rotation()));
                         let c = base(ColliderBuilder::new(shapes[shape_i].clone()).position(pose));
                         let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
                         grousers.push((ch, k));
@@ -583,7 +582,11 @@ impl Simulation {
     fn vehicle_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
         std::iter::once(self.body)
             .chain(self.flippers.iter().map(|f| f.body))
-            .chain(self.tracks.iter().flat_map(|t| t.links.iter().map(|l| l.body)))
+            .chain(
+                self.tracks
+                    .iter()
+                    .flat_map(|t| t.links.iter().map(|l| l.body)),
+            )
     }
 
     /// Applies every command whose time has come.
@@ -612,8 +615,11 @@ impl Simulation {
         t.speed_cmd = v;
         for l in &t.links {
             if let Some(j) = self.world.impulse_joints.get_mut(l.joint, true) {
-                j.data
-                    .set_motor_velocity(l.kind.motor_axis(), l.kind.motor_target(v), BELT_MOTOR_GAIN);
+                j.data.set_motor_velocity(
+                    l.kind.motor_axis(),
+                    l.kind.motor_target(v),
+                    BELT_MOTOR_GAIN,
+                );
             }
         }
     }

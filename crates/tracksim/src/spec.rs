@@ -107,6 +107,9 @@ pub struct TrackSpec {
     /// If set, a mirror image of this track (y -> -y) is added under this name.
     #[serde(default)]
     pub mirror: Option<String>,
+    /// What the mirrored copy hangs on (default: the same as `parent`).
+    #[serde(default)]
+    pub mirror_parent: Option<String>,
     /// What the track hangs on: "body" (default) or a flipper's name.
     #[serde(default = "default_parent")]
     pub parent: String,
@@ -375,6 +378,9 @@ pub struct SimulationSpec {
     /// Rapier contact clustering (merges coplanar contacts of compound shapes).
     #[serde(default)]
     pub contact_clustering: bool,
+    /// Smallest mass of a track segment link, kg (light links hop under a heavy body).
+    #[serde(default = "default_min_link_mass")]
+    pub min_link_mass_kg: f64,
 }
 
 impl Default for SimulationSpec {
@@ -385,8 +391,13 @@ impl Default for SimulationSpec {
             output_interval_s: default_output_interval(),
             solver_iterations: default_iterations(),
             contact_clustering: false,
+            min_link_mass_kg: default_min_link_mass(),
         }
     }
+}
+
+fn default_min_link_mass() -> f64 {
+    0.5
 }
 
 fn default_dt() -> f64 {

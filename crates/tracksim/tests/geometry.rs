@@ -49,20 +49,33 @@ fn unequal_pulleys_close_with_the_exact_length() {
     let (r1, r2, d) = (0.10, 0.05, 0.40);
     let p = TrackPath::from_pulleys(&[pulley(0.0, 0.0, r1), pulley(d, 0.0, r2)], 0.0).unwrap();
     let a = ((r1 - r2) / d).asin();
-    let expected = 2.0 * (d * d - (r1 - r2).powi(2)).sqrt() + r1 * (PI + 2.0 * a) + r2 * (PI - 2.0 * a);
-    assert!((p.length() - expected).abs() < 1e-12, "{} vs {expected}", p.length());
+    let expected =
+        2.0 * (d * d - (r1 - r2).powi(2)).sqrt() + r1 * (PI + 2.0 * a) + r2 * (PI - 2.0 * a);
+    assert!(
+        (p.length() - expected).abs() < 1e-12,
+        "{} vs {expected}",
+        p.length()
+    );
     assert_eq!(p.segments().len(), 4);
 }
 
 #[test]
 fn triangle_and_trapezoid_close() {
     let r = 0.05;
-    let tri = [pulley(-0.3, 0.0, r), pulley(0.3, 0.0, r), pulley(0.0, 0.3, r)];
+    let tri = [
+        pulley(-0.3, 0.0, r),
+        pulley(0.3, 0.0, r),
+        pulley(0.0, 0.3, r),
+    ];
     let p = TrackPath::from_pulleys(&tri, 0.1).unwrap();
     let perimeter = 0.6 + 2.0 * (0.3f64.powi(2) + 0.3f64.powi(2)).sqrt();
     assert!((p.length() - (perimeter + TAU * r)).abs() < 1e-12);
     assert_eq!(p.segments().len(), 6);
-    assert!(p.segments().iter().all(|s| (s.start().y - 0.1).abs() < 1e-15));
+    assert!(
+        p.segments()
+            .iter()
+            .all(|s| (s.start().y - 0.1).abs() < 1e-15)
+    );
     // Listing the pulleys the other way round gives the same loop (same length, same sense).
     let rev: Vec<_> = tri.iter().rev().copied().collect();
     let q = TrackPath::from_pulleys(&rev, 0.1).unwrap();
@@ -139,7 +152,8 @@ proptest! {
 }
 
 fn names_segment(errs: &[PathError], i: usize) -> bool {
-    errs.iter().any(|e| e.to_string().contains(&format!("segment {i}")))
+    errs.iter()
+        .any(|e| e.to_string().contains(&format!("segment {i}")))
 }
 
 #[test]
@@ -149,7 +163,17 @@ fn a_gap_is_rejected_naming_the_segment() {
         *length -= 0.003;
     }
     let e = TrackPath::new(s).unwrap_err();
-    assert!(matches!(e[0], PathError::Gap { segment: 2, next: 3, .. }), "{e:?}");
+    assert!(
+        matches!(
+            e[0],
+            PathError::Gap {
+                segment: 2,
+                next: 3,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
     assert!(e[0].to_string().contains("0.003"), "{}", e[0]);
     assert!(names_segment(&e, 2));
 }
@@ -161,7 +185,13 @@ fn a_kink_is_rejected_naming_the_segment() {
         *direction = DVec3::new(1.0, 0.0, 0.01);
     }
     let e = TrackPath::new(s).unwrap_err();
-    assert!(e.iter().any(|e| matches!(e, PathError::Kink { segment: 0, .. } | PathError::Kink { next: 0, .. })), "{e:?}");
+    assert!(
+        e.iter().any(|e| matches!(
+            e,
+            PathError::Kink { segment: 0, .. } | PathError::Kink { next: 0, .. }
+        )),
+        "{e:?}"
+    );
     assert!(names_segment(&e, 0));
 }
 
@@ -175,7 +205,10 @@ fn full_circle_arcs_are_rejected() {
         }
     }
     let e = TrackPath::new(s).unwrap_err();
-    assert!(matches!(e[0], PathError::BadArcAngle { segment: 1, .. }), "{e:?}");
+    assert!(
+        matches!(e[0], PathError::BadArcAngle { segment: 1, .. }),
+        "{e:?}"
+    );
     assert!(names_segment(&e, 1) && names_segment(&e, 3));
     // Overlapping arcs short of a full turn still fail: the loop turns more than once.
     let mut s = oval_segments(0.5, 0.08);
@@ -183,7 +216,11 @@ fn full_circle_arcs_are_rejected() {
         *angle = PI + TAU * 0.9;
     }
     let e = TrackPath::new(s).unwrap_err();
-    assert!(e.iter().any(|e| matches!(e, PathError::BadArcAngle { segment: 1, .. })), "{e:?}");
+    assert!(
+        e.iter()
+            .any(|e| matches!(e, PathError::BadArcAngle { segment: 1, .. })),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -196,11 +233,21 @@ fn non_positive_radius_and_length_are_rejected() {
         *length = -0.5;
     }
     let e = TrackPath::new(s).unwrap_err();
-    assert!(e.iter().any(|e| matches!(e, PathError::NonPositiveRadius { segment: 3, .. })), "{e:?}");
-    assert!(e.iter().any(|e| matches!(e, PathError::NonPositiveLength { segment: 0, .. })), "{e:?}");
-    let e = TrackPath::from_pulleys(&[pulley(0.0, 0.0, 0.1), pulley(0.5, 0.0, 0.0)], 0.0).unwrap_err();
+    assert!(
+        e.iter()
+            .any(|e| matches!(e, PathError::NonPositiveRadius { segment: 3, .. })),
+        "{e:?}"
+    );
+    assert!(
+        e.iter()
+            .any(|e| matches!(e, PathError::NonPositiveLength { segment: 0, .. })),
+        "{e:?}"
+    );
+    let e =
+        TrackPath::from_pulleys(&[pulley(0.0, 0.0, 0.1), pulley(0.5, 0.0, 0.0)], 0.0).unwrap_err();
     assert!(e[0].to_string().contains("pulley 1"), "{}", e[0]);
-    let e = TrackPath::from_pulleys(&[pulley(0.0, 0.0, 0.1), pulley(0.02, 0.0, 0.05)], 0.0).unwrap_err();
+    let e = TrackPath::from_pulleys(&[pulley(0.0, 0.0, 0.1), pulley(0.02, 0.0, 0.05)], 0.0)
+        .unwrap_err();
     assert!(matches!(e[0], PathError::PulleysOverlap { .. }), "{e:?}");
 }
 
@@ -208,21 +255,35 @@ fn non_positive_radius_and_length_are_rejected() {
 fn pulleys_out_of_convex_order_are_rejected() {
     // A pulley inside the loop: the belt would have to bend inwards.
     let e = TrackPath::from_pulleys(
-        &[pulley(-0.3, 0.0, 0.05), pulley(0.0, 0.2, 0.05), pulley(0.3, 0.0, 0.05), pulley(0.0, 0.1, 0.05)],
+        &[
+            pulley(-0.3, 0.0, 0.05),
+            pulley(0.0, 0.2, 0.05),
+            pulley(0.3, 0.0, 0.05),
+            pulley(0.0, 0.1, 0.05),
+        ],
         0.0,
     )
     .unwrap_err();
-    assert!(e.iter().any(|e| matches!(e, PathError::Turning { .. })), "{e:?}");
+    assert!(
+        e.iter().any(|e| matches!(e, PathError::Turning { .. })),
+        "{e:?}"
+    );
 }
 
 #[test]
 fn zero_grousers_is_rejected_with_its_key() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../vehicles/packbot510.toml")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../vehicles/packbot510.toml"
+    ))
+    .unwrap();
     let text = text.replace("count = 40", "count = 0");
     let spec: tracksim::spec::VehicleSpec = toml::from_str(&text).unwrap();
     let issues = tracksim::model::compile_vehicle(&spec).unwrap_err();
     assert!(
-        issues.iter().any(|i| i.key == "tracks[0].grousers.count" && i.message.contains(">= 1")),
+        issues
+            .iter()
+            .any(|i| i.key == "tracks[0].grousers.count" && i.message.contains(">= 1")),
         "{issues:?}"
     );
 }

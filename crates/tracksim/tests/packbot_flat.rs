@@ -69,9 +69,15 @@ fn opposite_belt_speeds_turn_in_place_to_the_left() {
     // No-slip bound 2v/B with gauge B = 0.325 m: 1.23 rad/s. Skid steering turns slower, but
     // with a length/gauge ratio of ~2 it must still turn at a good fraction of it.
     let bound = 2.0 * 0.2 / 0.325;
-    assert!(rate > 0.15 * bound && rate < bound, "yaw rate {rate} rad/s (bound {bound})");
+    assert!(
+        rate > 0.15 * bound && rate < bound,
+        "yaw rate {rate} rad/s (bound {bound})"
+    );
     let (x, y, _) = pos(&sim);
-    assert!((x * x + y * y).sqrt() < 0.05, "centre wandered to ({x}, {y})");
+    assert!(
+        (x * x + y * y).sqrt() < 0.05,
+        "centre wandered to ({x}, {y})"
+    );
 }
 
 #[test]
@@ -85,7 +91,9 @@ fn track_shape_is_kept_after_a_minute() {
     for track in 0..2 {
         for (actual, expected) in sim.link_relative_poses(track) {
             let dp = (actual.translation - expected.translation).length();
-            let da = (expected.rotation.inverse() * actual.rotation).to_axis_angle().1;
+            let da = (expected.rotation.inverse() * actual.rotation)
+                .to_axis_angle()
+                .1;
             let da = da.min(std::f32::consts::TAU - da);
             assert!(dp < 1e-4, "link offset {dp} m");
             assert!(da < 1e-4, "link rotation {da} rad");
@@ -109,10 +117,17 @@ fn without_friction_the_belts_run_but_the_body_stays() {
     run_until(&mut sim, 3.0);
     let (x1, y1, _) = pos(&sim);
     let s = sim.sample();
-    assert!((s.belt_speed[0] - 0.3).abs() < 0.01, "belt {}", s.belt_speed[0]);
+    assert!(
+        (s.belt_speed[0] - 0.3).abs() < 0.01,
+        "belt {}",
+        s.belt_speed[0]
+    );
     let moved = ((x1 - x0).powi(2) + (y1 - y0).powi(2)).sqrt();
     // Grousers push against nothing but a frictionless plane: no net traction.
-    assert!(moved < 0.002, "body moved {moved} m in 2.5 s (0.75 m with traction)");
+    assert!(
+        moved < 0.002,
+        "body moved {moved} m in 2.5 s (0.75 m with traction)"
+    );
 }
 
 #[test]

@@ -41,8 +41,14 @@ fn climbs(h: f64, grousers: bool) -> bool {
 fn step_above_the_pulley_centre_is_climbed_with_grousers_only() {
     let h = 0.10;
     assert!(h > PULLEY_CENTRE_M && h < PULLEY_TOP_PLUS_GROUSER_M);
-    assert!(climbs(h, true), "with grousers the {h} m step must be climbed");
-    assert!(!climbs(h, false), "without grousers the {h} m step must not be climbed");
+    assert!(
+        climbs(h, true),
+        "with grousers the {h} m step must be climbed"
+    );
+    assert!(
+        !climbs(h, false),
+        "without grousers the {h} m step must not be climbed"
+    );
 }
 
 #[test]

@@ -17,10 +17,19 @@ pub fn packbot(
     edit: impl FnOnce(&mut ScenarioSpec),
     vehicle_edit: impl FnOnce(&mut tracksim::VehicleModel),
 ) -> Scenario {
+    with_vehicle("vehicles/packbot510.toml", edit, vehicle_edit)
+}
+
+/// The bundled flat-ground scenario with another vehicle file (relative to the repository).
+pub fn with_vehicle(
+    vehicle_file: &str,
+    edit: impl FnOnce(&mut ScenarioSpec),
+    vehicle_edit: impl FnOnce(&mut tracksim::VehicleModel),
+) -> Scenario {
     let path = root().join("scenarios/packbot_flat.toml");
     let mut spec: ScenarioSpec = read_toml(&path).expect("bundled scenario parses");
     edit(&mut spec);
-    let mut vehicle = load_vehicle(&root().join("vehicles/packbot510.toml")).expect("vehicle");
+    let mut vehicle = load_vehicle(&root().join(vehicle_file)).expect("vehicle");
     vehicle_edit(&mut vehicle);
     compile_scenario(&spec, vehicle).expect("scenario compiles")
 }
