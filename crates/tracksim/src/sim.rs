@@ -429,7 +429,8 @@ impl Simulation {
                 if !t.included[si] {
                     continue;
                 }
-                let mass = (t.belt_mass * seg.length() / path.length()).max(sc.solver.min_link_mass);
+                let mass =
+                    (t.belt_mass * seg.length() / path.length()).max(sc.solver.min_link_mass);
                 let mprops = link_mass_properties(t, si, mass, lateral);
                 let h = world.bodies.insert(
                     RigidBodyBuilder::dynamic()
@@ -847,5 +848,64 @@ impl Simulation {
                 .collect(),
             contacts: self.contact_count(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{compile_scenario, load_vehicle, read_toml};
+    use std::path::Path;
+
+    /// With two grouser shapes in turn, the shape found at a given place on the loop follows
+    /// the belt: after the belt has moved by `w` pitches, slot `k` shows shape `(k - w) mod 2`.
+    #[test]
+    fn alternating_grouser_shapes_travel_with_the_belt() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let spec: crate::spec::ScenarioSpec =
+            read_toml(&root.join("scenarios/packbot_flat.toml")).unwrap();
+        let mut v = load_vehicle(&root.join("vehicles/packbot510.toml")).unwrap();
+        for t in &mut v.tracks {
+            let g = t.grousers.as_mut().unwrap();
+            let tall = GrouserShape::Box {
+                half: DVec3::new(0.0025, 0.0375, 0.008),
+                centre: DVec3::new(0.0, 0.0, 0.008),
+            };
+            g.shapes.push(tall);
+        }
+        let sc = compile_scenario(&spec, v).unwrap();
+        let mut sim = Simulation::new(&sc).unwrap();
+        let tall_slots = |sim: &Simulation| -> Vec<usize> {
+            let mut v: Vec<usize> = sim.tracks[0]
+                .links
+                .iter()
+                .flat_map(|l| l.grousers.iter())
+                .filter(|(h, _)| {
+                    sim.world.colliders[*h]
+                        .shape()
+                        .as_cuboid()
+                        .unwrap()
+                        .half_extents
+                        .z
+                        > 0.006
+                })
+                .map(|(_, k)| *k)
+                .collect();
+            v.sort();
+            v
+        };
+        assert!(tall_slots(&sim).iter().all(|k| k % 2 == 1));
+        let pitch = sim.tracks[0].pitch.unwrap();
+        // Drive until the belt has wrapped once (moved by about one pitch).
+        while sim.tracks[0].wraps == 0 {
+            sim.step().unwrap();
+        }
+        assert!((sim.belt_position(0) - pitch / 2.0).abs() < 0.001);
+        assert!(
+            tall_slots(&sim).iter().all(|k| k % 2 == 0),
+            "{:?}",
+            tall_slots(&sim)
+        );
+        assert_eq!(tall_slots(&sim).len(), 20);
     }
 }

@@ -155,3 +155,28 @@ fn a_fixed_scenario_is_bit_identical_twice() {
     // The turn actually happened, so the comparison is not of two idle runs.
     assert!(a.samples.last().unwrap().pose.yaw.abs() > 0.05);
 }
+
+#[test]
+fn sprocket_speed_and_an_omitted_top_run_drive_the_same() {
+    // 0.3 m/s as sprocket speed: 0.3 / 0.082 rad/s; the top runs (segment 0) get no link.
+    let sc = packbot(
+        |s| {
+            s.commands[0].belt_speed_mps = None;
+            s.commands[0].sprocket_rad_s = Some(PerTrack::All(0.3 / 0.082));
+            s.simulation.duration_s = 4.0;
+        },
+        |v| {
+            for t in &mut v.tracks {
+                t.included[0] = false;
+            }
+        },
+    );
+    let mut sim = Simulation::new(&sc).unwrap();
+    // 1 body + 2 tracks x 3 links (+ the fixed ground body).
+    assert_eq!(sim.world.bodies.len(), 1 + 1 + 6);
+    run_until(&mut sim, 1.0);
+    let x1 = sim.body_pose().x;
+    run_until(&mut sim, 4.0);
+    let v = (sim.body_pose().x - x1) / 3.0;
+    assert!((v - 0.3).abs() < 0.009, "speed {v}");
+}
