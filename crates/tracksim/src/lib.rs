@@ -7,18 +7,21 @@
 //! Layers, from file to running world:
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
+//! - [`terrain`]: terrain description, compiled form and insertion into Rapier;
 //! - [`model`]: the compiled, checked, immutable vehicle and scenario (SI units);
 //! - [`sim`]: the running Rapier world and the per-step track update (rollback);
 //! - [`run`]: running a scenario to the end and writing its outputs.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
+pub(crate) mod check;
 pub mod error;
 pub mod geometry;
 pub mod model;
 pub mod run;
 pub mod sim;
 pub mod spec;
+pub mod terrain;
 
 pub use error::{Error, Result, SpecIssue};
 pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};

@@ -4,6 +4,7 @@
 use crate::error::{Error, Result, SpecIssue};
 use crate::geometry::{GrouserLayout, PathError, Pulley, Segment, TrackPath};
 use crate::spec::*;
+use crate::terrain::TerrainModel;
 use glam::DVec3;
 use rapier3d::prelude::CoefficientCombineRule;
 use std::path::{Path, PathBuf};
@@ -164,94 +165,7 @@ impl VehicleModel {
     }
 }
 
-fn v3(a: [f64; 3]) -> DVec3 {
-    DVec3::from_array(a)
-}
-
-/// Collects issues with key paths.
-#[derive(Default)]
-struct Checker {
-    issues: Vec<SpecIssue>,
-}
-
-impl Checker {
-    fn push(&mut self, key: impl Into<String>, msg: impl Into<String>) {
-        self.issues.push(SpecIssue::new(key, msg));
-    }
-    fn positive(&mut self, key: &str, v: f64, unit: &str) {
-        if !(v.is_finite() && v > 0.0) {
-            self.push(key, format!("must be a finite number > 0 {unit}, got {v}"));
-        }
-    }
-    fn non_negative(&mut self, key: &str, v: f64, unit: &str) {
-        if !(v.is_finite() && v >= 0.0) {
-            self.push(key, format!("must be a finite number >= 0 {unit}, got {v}"));
-        }
-    }
-    fn finite(&mut self, key: &str, v: &[f64]) {
-        if v.iter().any(|x| !x.is_finite()) {
-            self.push(key, format!("must be finite numbers, got {v:?}"));
-        }
-    }
-    fn unit_vector(&mut self, key: &str, v: [f64; 3]) -> DVec3 {
-        self.finite(key, &v);
-        let d = v3(v);
-        if d.length() < 1e-9 || !d.is_finite() {
-            self.push(key, "must be a non-zero direction, e.g. [0, 1, 0]");
-            DVec3::Y
-        } else {
-            d.normalize()
-        }
-    }
-    fn shape(&mut self, key: &str, s: &ShapeSpec) -> CollisionShape {
-        match s {
-            ShapeSpec::Box { size_m, centre_m } => {
-                for (i, v) in size_m.iter().enumerate() {
-                    self.positive(&format!("{key}.size_m[{i}]"), *v, "m");
-                }
-                self.finite(&format!("{key}.centre_m"), centre_m);
-                CollisionShape::Box {
-                    half: v3(*size_m) * 0.5,
-                    centre: v3(*centre_m),
-                }
-            }
-            ShapeSpec::Convex { points_m } => {
-                let pts = self.points(&format!("{key}.points_m"), points_m);
-                CollisionShape::Convex(pts)
-            }
-        }
-    }
-    fn points(&mut self, key: &str, points: &[[f64; 3]]) -> Vec<DVec3> {
-        if points.len() < 4 {
-            self.push(
-                key,
-                format!(
-                    "a convex hull needs at least 4 points that are not coplanar, got {}",
-                    points.len()
-                ),
-            );
-        }
-        for (i, p) in points.iter().enumerate() {
-            self.finite(&format!("{key}[{i}]"), p);
-        }
-        let pts: Vec<DVec3> = points.iter().map(|p| v3(*p)).collect();
-        if pts.len() >= 4 && pts.iter().all(|p| p.is_finite()) {
-            let p0 = pts[0];
-            let mut max_vol: f64 = 0.0;
-            for a in &pts[1..] {
-                for b in &pts[1..] {
-                    for c in &pts[1..] {
-                        max_vol = max_vol.max((*a - p0).dot((*b - p0).cross(*c - p0)).abs());
-                    }
-                }
-            }
-            if max_vol < 1e-15 {
-                self.push(key, "points are coplanar: the hull has no volume");
-            }
-        }
-        pts
-    }
-}
+use crate::check::{Checker, v3};
 
 fn box_inertia(mass: f64, size: DVec3) -> DVec3 {
     DVec3::new(
@@ -687,30 +601,6 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleModel> {
     })
 }
 
-/// A box obstacle, compiled.
-#[derive(Clone, Debug)]
-pub struct BoxModel {
-    /// Centre, m.
-    pub centre: DVec3,
-    /// Half extents, m.
-    pub half: DVec3,
-    /// Yaw, rad.
-    pub yaw: f64,
-    /// Pitch, rad.
-    pub pitch: f64,
-    /// Friction coefficient.
-    pub friction: f64,
-}
-
-/// The terrain, compiled.
-#[derive(Clone, Debug, Default)]
-pub struct TerrainModel {
-    /// Flat ground: (surface height m, friction).
-    pub ground: Option<(f64, f64)>,
-    /// Boxes.
-    pub boxes: Vec<BoxModel>,
-}
-
 /// Solver settings.
 #[derive(Clone, Debug)]
 pub struct SolverSettings {
@@ -780,6 +670,7 @@ pub struct Scenario {
 pub fn compile_scenario(
     spec: &ScenarioSpec,
     mut vehicle: VehicleModel,
+    base_dir: &Path,
 ) -> Result<Scenario, Vec<SpecIssue>> {
     let mut c = Checker::default();
     let v = &spec.vehicle;
@@ -812,34 +703,7 @@ pub fn compile_scenario(
         }
     }
     // Terrain.
-    let mut terrain = TerrainModel::default();
-    if let Some(g) = &spec.terrain.ground {
-        c.non_negative("terrain.ground.friction", g.friction, "");
-        c.finite("terrain.ground.z_m", &[g.z_m]);
-        terrain.ground = Some((g.z_m, g.friction));
-    }
-    for (i, b) in spec.terrain.boxes.iter().enumerate() {
-        let k = format!("terrain.boxes[{i}]");
-        c.finite(&format!("{k}.centre_m"), &b.centre_m);
-        for (j, s) in b.size_m.iter().enumerate() {
-            c.positive(&format!("{k}.size_m[{j}]"), *s, "m");
-        }
-        c.finite(&format!("{k}.yaw_deg"), &[b.yaw_deg, b.pitch_deg]);
-        c.non_negative(&format!("{k}.friction"), b.friction, "");
-        terrain.boxes.push(BoxModel {
-            centre: v3(b.centre_m),
-            half: v3(b.size_m) * 0.5,
-            yaw: b.yaw_deg.to_radians(),
-            pitch: b.pitch_deg.to_radians(),
-            friction: b.friction,
-        });
-    }
-    if terrain.ground.is_none() && terrain.boxes.is_empty() {
-        c.push(
-            "terrain",
-            "nothing to drive on: add [terrain.ground] (flat ground) or [[terrain.boxes]]",
-        );
-    }
+    let terrain = crate::terrain::compile_terrain(&spec.terrain, base_dir, &mut c.issues);
     // Simulation.
     let s = &spec.simulation;
     if !(s.dt_s.is_finite() && s.dt_s > 0.0 && s.dt_s <= 0.01) {
@@ -995,7 +859,7 @@ pub fn load_scenario(path: &Path) -> Result<Scenario> {
         });
     }
     let vehicle = load_vehicle(&vpath)?;
-    let mut sc = compile_scenario(&spec, vehicle).map_err(|issues| Error::Invalid {
+    let mut sc = compile_scenario(&spec, vehicle, dir).map_err(|issues| Error::Invalid {
         path: path.to_path_buf(),
         issues,
     })?;

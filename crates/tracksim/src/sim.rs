@@ -296,26 +296,7 @@ impl Simulation {
 
         // Terrain.
         let ground_z = sc.terrain.ground.map(|g| g.0).unwrap_or(0.0);
-        let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
-        if let Some((z, mu)) = sc.terrain.ground {
-            let c = ColliderBuilder::new(SharedShape::halfspace(Vector::Z))
-                .translation(Vector::new(0.0, 0.0, z as f32))
-                .friction(mu as f32)
-                .collision_groups(groups(WORLD_GROUP));
-            world
-                .colliders
-                .insert_with_parent(c, fixed, &mut world.bodies);
-        }
-        for b in &sc.terrain.boxes {
-            let rot = DQuat::from_rotation_z(b.yaw) * DQuat::from_rotation_y(b.pitch);
-            let c = ColliderBuilder::cuboid(b.half.x as f32, b.half.y as f32, b.half.z as f32)
-                .position(Pose::from_parts(f(b.centre), q(rot)))
-                .friction(b.friction as f32)
-                .collision_groups(groups(WORLD_GROUP));
-            world
-                .colliders
-                .insert_with_parent(c, fixed, &mut world.bodies);
-        }
+        sc.terrain.insert_into(&mut world, groups(WORLD_GROUP));
 
         // Vehicle, first at z = 0, then lifted to rest on the ground.
         let v = &sc.vehicle;
@@ -873,7 +854,7 @@ mod tests {
             };
             g.shapes.push(tall);
         }
-        let sc = compile_scenario(&spec, v).unwrap();
+        let sc = compile_scenario(&spec, v, &root).unwrap();
         let mut sim = Simulation::new(&sc).unwrap();
         let tall_slots = |sim: &Simulation| -> Vec<usize> {
             let mut v: Vec<usize> = sim.tracks[0]

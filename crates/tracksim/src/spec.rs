@@ -6,6 +6,8 @@
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+pub use crate::terrain::{BoxSpec, GroundSpec, TerrainSpec};
+
 /// A vehicle file (`vehicles/*.toml`).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -314,49 +316,6 @@ pub struct VehicleRefSpec {
     /// Override the grouser count of every track that has grousers (0 removes them).
     #[serde(default)]
     pub grouser_count: Option<usize>,
-}
-
-/// The terrain.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct TerrainSpec {
-    /// A flat ground plane.
-    #[serde(default)]
-    pub ground: Option<GroundSpec>,
-    /// Boxes: steps, walls, bumps.
-    #[serde(default)]
-    pub boxes: Vec<BoxSpec>,
-}
-
-/// Flat ground.
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct GroundSpec {
-    /// Friction coefficient.
-    #[serde(default = "default_friction")]
-    pub friction: f64,
-    /// Height of the surface, m.
-    #[serde(default)]
-    pub z_m: f64,
-}
-
-/// A box obstacle.
-#[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoxSpec {
-    /// Centre, m.
-    pub centre_m: [f64; 3],
-    /// Full sizes, m.
-    pub size_m: [f64; 3],
-    /// Rotation about z, degrees.
-    #[serde(default)]
-    pub yaw_deg: f64,
-    /// Rotation about y, degrees (for ramps).
-    #[serde(default)]
-    pub pitch_deg: f64,
-    /// Friction coefficient.
-    #[serde(default = "default_friction")]
-    pub friction: f64,
 }
 
 /// Time stepping and the solver settings that matter.

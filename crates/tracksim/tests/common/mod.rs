@@ -31,7 +31,7 @@ pub fn with_vehicle(
     edit(&mut spec);
     let mut vehicle = load_vehicle(&root().join(vehicle_file)).expect("vehicle");
     vehicle_edit(&mut vehicle);
-    compile_scenario(&spec, vehicle).expect("scenario compiles")
+    compile_scenario(&spec, vehicle, &root().join("scenarios")).expect("scenario compiles")
 }
 
 /// Runs `sim` until time `t`, s.
