@@ -1,9 +1,13 @@
 //! The `tracksim` command: a thin layer over the `tracksim` library.
+//!
+//! Exit codes: 0 success, 1 the scenario's outcome was failure (with `--strict`), 2 bad input,
+//! 3 the simulation went unstable.
 
-use anyhow::Result;
 use clap::{Parser, Subcommand};
-use std::path::PathBuf;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use tracksim::{Error, Outcome, RunOptions};
 
 /// Real-time simulation of tracked robots with grousers (Okada et al., ICRA 2020) on Rapier.
 #[derive(Parser)]
@@ -15,36 +19,151 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Run a scenario file; write summary.json and trajectory.csv into --out.
+    /// Run a scenario file; write summary.json, trajectory.csv and plots into --out.
     Run {
         /// Scenario file (TOML).
         file: PathBuf,
         /// Output folder.
         #[arg(long, default_value = "out")]
         out: PathBuf,
-        /// Print nothing but errors.
+        /// Print nothing but errors (no progress bar, no summary).
         #[arg(long)]
         quiet: bool,
         /// Print the summary as JSON on standard output.
         #[arg(long)]
         json: bool,
+        /// Pace the simulation to the wall clock (for watching or driving it live).
+        #[arg(long)]
+        realtime: bool,
+        /// Exit with code 1 when the scenario's outcome is failure.
+        #[arg(long)]
+        strict: bool,
+        /// Track method, overriding the scenario's `simulation.method`.
+        #[arg(long)]
+        method: Option<String>,
+        /// Override the simulated duration, s.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Do not write the plot files.
+        #[arg(long)]
+        no_plot: bool,
+    },
+    /// Check vehicle and scenario files without running them; print every problem.
+    Check {
+        /// Files to check (vehicle or scenario files, told apart by their keys).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+    },
+    /// List the bundled vehicles and scenarios with one-line descriptions.
+    List {
+        /// Folder holding `vehicles/` and `scenarios/` (default: the current folder, then the
+        /// source tree this binary was built from).
+        #[arg(long)]
+        dir: Option<PathBuf>,
     },
 }
 
-fn run(file: PathBuf, out: PathBuf, quiet: bool, json: bool) -> Result<(), tracksim::Error> {
-    let sc = tracksim::load_scenario(&file)?;
-    let result = tracksim::run_scenario(&sc, |_, _| {})?;
-    result.write(&out)?;
+/// Why the command failed, mapped to an exit code.
+enum Failure {
+    Outcome,
+    Sim(Error),
+}
+
+impl From<Error> for Failure {
+    fn from(e: Error) -> Self {
+        Failure::Sim(e)
+    }
+}
+
+struct RunArgs {
+    file: PathBuf,
+    out: PathBuf,
+    quiet: bool,
+    json: bool,
+    realtime: bool,
+    strict: bool,
+    method: Option<String>,
+    duration: Option<f64>,
+    no_plot: bool,
+}
+
+fn run(a: RunArgs) -> Result<(), Failure> {
+    let mut sc = tracksim::load_scenario(&a.file)?;
+    if let Some(m) = &a.method {
+        sc.method = tracksim::model::TrackMethod::from_name(m).ok_or_else(|| Error::Invalid {
+            path: "--method".into(),
+            issues: vec![tracksim::SpecIssue::new(
+                "",
+                format!(
+                    "unknown track method \"{m}\"; use one of {}",
+                    tracksim::model::TrackMethod::ALL
+                        .iter()
+                        .map(|(n, _)| *n)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )],
+        })?;
+    }
+    if let Some(d) = a.duration {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(Error::Invalid {
+                path: "--duration".into(),
+                issues: vec![tracksim::SpecIssue::new(
+                    "",
+                    format!("must be a number of seconds > 0, got {d}"),
+                )],
+            }
+            .into());
+        }
+        sc.duration = d;
+    }
+    let show_bar = !a.quiet && !a.json && std::io::stderr().is_terminal();
+    let bar = show_bar.then(|| {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {msg} (elapsed {elapsed}, eta {eta})",
+            )
+            .expect("valid template"),
+        );
+        b
+    });
+    let wall = std::time::Instant::now();
+    let result = tracksim::run_scenario_with(
+        &sc,
+        RunOptions {
+            realtime: a.realtime,
+        },
+        |t, total| {
+            if let Some(b) = &bar {
+                b.set_position((1000.0 * t / total) as u64);
+                b.set_message(format!(
+                    "t = {t:.2} / {total:.2} s, real-time factor {:.1}",
+                    t / wall.elapsed().as_secs_f64().max(1e-9)
+                ));
+            }
+        },
+    );
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let result = result?;
+    result.write(&a.out)?;
+    let mut written = vec![a.out.join("summary.json"), a.out.join("trajectory.csv")];
+    if !a.no_plot {
+        written.extend(Vec::<PathBuf>::new()); // PLOT-PENDING
+    }
     let s = &result.summary;
-    if json {
+    if a.json {
         println!(
             "{}",
             serde_json::to_string_pretty(s).expect("summary serialises")
         );
-    } else if !quiet {
+    } else if !a.quiet {
         let p = &s.final_pose;
-        println!("scenario   {}", file.display());
-        println!("vehicle    {}", s.vehicle);
+        println!("scenario   {}", a.file.display());
+        println!("vehicle    {} (method {})", s.vehicle, s.method);
         println!(
             "simulated  {:.3} s in {:.3} s wall: real-time factor {:.1}",
             s.sim_time_s, s.wall_time_s, s.real_time_factor
@@ -62,7 +181,113 @@ fn run(file: PathBuf, out: PathBuf, quiet: bool, json: bool) -> Result<(), track
             p.pitch.to_degrees(),
             p.yaw.to_degrees()
         );
-        println!("outputs    {}", out.display());
+        println!(
+            "outcome    {}: {} (t = {:.3} s)",
+            s.outcome, s.outcome_reason, s.outcome_time_s
+        );
+        for w in &written {
+            println!("wrote      {}", w.display());
+        }
+    }
+    if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
+        return Err(Failure::Outcome);
+    }
+    Ok(())
+}
+
+/// Tells a vehicle file from a scenario file by its top-level keys.
+fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let table: toml_table::Table = text.parse().map_err(|e: toml_table::de::Error| Error::Parse {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    Ok(table.contains_key("body") || table.contains_key("tracks"))
+}
+
+// `toml` is reached through the library's re-export to keep one version.
+use tracksim::toml as toml_table;
+
+fn check(files: &[PathBuf]) -> Result<(), Failure> {
+    let mut failed = None;
+    for f in files {
+        let r = is_vehicle_file(f).and_then(|vehicle| {
+            if vehicle {
+                tracksim::load_vehicle(f).map(|v| format!("vehicle \"{}\"", v.name))
+            } else {
+                tracksim::load_scenario(f).map(|s| {
+                    format!(
+                        "scenario with vehicle \"{}\", {:.1} s",
+                        s.vehicle.name, s.duration
+                    )
+                })
+            }
+        });
+        match r {
+            Ok(what) => println!("ok     {}: {what}", f.display()),
+            Err(e) => {
+                println!("error  {e}");
+                failed = Some(e);
+            }
+        }
+    }
+    match failed {
+        Some(e) => Err(Failure::Sim(e)),
+        None => Ok(()),
+    }
+}
+
+fn description(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    text.parse::<toml_table::Table>()
+        .ok()
+        .and_then(|t| {
+            t.get("description")
+                .and_then(|d| d.as_str())
+                .map(str::to_string)
+        })
+        .unwrap_or_default()
+}
+
+fn list(dir: Option<PathBuf>) -> Result<(), Failure> {
+    let candidates = match dir {
+        Some(d) => vec![d],
+        None => vec![
+            PathBuf::from("."),
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."),
+        ],
+    };
+    let Some(root) = candidates
+        .iter()
+        .find(|d| d.join("vehicles").is_dir() || d.join("scenarios").is_dir())
+    else {
+        return Err(Error::Invalid {
+            path: candidates[0].clone(),
+            issues: vec![tracksim::SpecIssue::new(
+                "",
+                "no vehicles/ or scenarios/ folder here; pass --dir with the tracksim source folder",
+            )],
+        }
+        .into());
+    };
+    for sub in ["vehicles", "scenarios"] {
+        println!("{sub}:");
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(root.join(sub))
+            .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
+            .unwrap_or_default();
+        entries.retain(|p| p.extension().is_some_and(|e| e == "toml"));
+        entries.sort();
+        for p in entries {
+            let name = p
+                .strip_prefix(root)
+                .unwrap_or(&p)
+                .display()
+                .to_string();
+            println!("  {name:<40} {}", description(&p));
+        }
     }
     Ok(())
 }
@@ -75,14 +300,32 @@ fn main() -> ExitCode {
             out,
             quiet,
             json,
-        } => run(file, out, quiet, json),
+            realtime,
+            strict,
+            method,
+            duration,
+            no_plot,
+        } => run(RunArgs {
+            file,
+            out,
+            quiet,
+            json,
+            realtime,
+            strict,
+            method,
+            duration,
+            no_plot,
+        }),
+        Cmd::Check { files } => check(&files),
+        Cmd::List { dir } => list(dir),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+        Err(Failure::Outcome) => ExitCode::from(1),
+        Err(Failure::Sim(e)) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {
-                tracksim::Error::Unstable { .. } => 3,
+                Error::Unstable { .. } => 3,
                 _ => 2,
             })
         }

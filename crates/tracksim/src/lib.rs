@@ -18,12 +18,14 @@ pub(crate) mod check;
 pub mod error;
 pub mod geometry;
 pub mod model;
+pub mod plot;
 pub mod run;
 pub mod sim;
 pub mod spec;
 pub mod terrain;
 
 pub use error::{Error, Result, SpecIssue};
+pub use toml;
 pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};
-pub use run::{RunResult, Summary, run_scenario};
+pub use run::{Outcome, RunOptions, RunResult, Summary, run_scenario, run_scenario_with};
 pub use sim::Simulation;

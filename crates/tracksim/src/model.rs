@@ -154,6 +154,14 @@ pub struct VehicleModel {
     pub tracks: Vec<TrackModel>,
 }
 
+impl TrackModel {
+    /// Lateral position (y) of the track's mid-plane in its parent frame, m.
+    pub fn lateral_offset(&self) -> f64 {
+        let segs = self.path.segments();
+        segs.iter().map(|s| s.start().y).sum::<f64>() / segs.len() as f64
+    }
+}
+
 impl VehicleModel {
     /// Index of the track called `name`.
     pub fn track_index(&self, name: &str) -> Option<usize> {
@@ -636,6 +644,48 @@ pub struct Command {
     pub flipper_angle: Vec<Option<f64>>,
 }
 
+/// Track methods (how tracks are modelled).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TrackMethod {
+    /// The paper's segment links with grousers (Okada et al. 2020).
+    Okada2020,
+}
+
+impl TrackMethod {
+    /// All methods, by name.
+    pub const ALL: &'static [(&'static str, TrackMethod)] = &[("okada2020", TrackMethod::Okada2020)];
+
+    /// Parses a method name.
+    pub fn from_name(name: &str) -> Option<TrackMethod> {
+        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, m)| *m)
+    }
+
+    /// The method's name.
+    pub fn name(&self) -> &'static str {
+        Self::ALL
+            .iter()
+            .find(|(_, m)| m == self)
+            .map(|(n, _)| *n)
+            .unwrap_or("?")
+    }
+}
+
+/// Success and failure conditions, compiled.
+#[derive(Clone, Debug)]
+pub struct OutcomeModel {
+    /// Success when body x passes this, m.
+    pub success_x: Option<f64>,
+    /// Success when body z reaches this, m.
+    pub success_z: Option<f64>,
+    /// Tip-over limit on |roll| and |pitch|, rad.
+    pub max_tilt: f64,
+    /// Fail when leaving a bounded terrain.
+    pub fail_off_terrain: bool,
+    /// Stop when decided.
+    pub stop: bool,
+}
+
 /// A compiled scenario.
 #[derive(Clone, Debug)]
 pub struct Scenario {
@@ -663,6 +713,12 @@ pub struct Scenario {
     pub output_interval: f64,
     /// Commands, sorted by time.
     pub commands: Vec<Command>,
+    /// Outcome conditions.
+    pub outcome: OutcomeModel,
+    /// Track method.
+    pub method: TrackMethod,
+    /// Seed.
+    pub seed: u64,
 }
 
 /// Compiles a scenario whose vehicle is already loaded. `vehicle_file_issue` lets the caller
@@ -682,6 +738,17 @@ pub fn compile_scenario(
         c.non_negative("vehicle.track_friction", f, "");
         for t in &mut vehicle.tracks {
             t.friction = f;
+        }
+    }
+    if let Some(m) = v.body_mass_kg {
+        c.positive("vehicle.body_mass_kg", m, "kg");
+        vehicle.body.inertia *= m / vehicle.body.mass;
+        vehicle.body.mass = m;
+    }
+    if let Some(m) = v.belt_mass_kg {
+        c.positive("vehicle.belt_mass_kg", m, "kg");
+        for t in &mut vehicle.tracks {
+            t.belt_mass = m;
         }
     }
     if let Some(n) = v.grouser_count {
@@ -797,6 +864,26 @@ pub fn compile_scenario(
                 }
             }
         }
+        match (cmd.forward_mps, cmd.yaw_rate_rad_s) {
+            (None, None) => {}
+            (v_fwd, w) => {
+                let (v_fwd, w) = (v_fwd.unwrap_or(0.0), w.unwrap_or(0.0));
+                if cmd.belt_speed_mps.is_some() || cmd.sprocket_rad_s.is_some() {
+                    c.push(
+                        k.clone(),
+                        "give forward_mps/yaw_rate_rad_s or per-track speeds, not both",
+                    );
+                }
+                if !(v_fwd.is_finite() && w.is_finite()) {
+                    c.push(k.clone(), "forward_mps and yaw_rate_rad_s must be finite");
+                }
+                // Skid steering without slip: each belt runs at the speed of the ground under
+                // its track's mid-plane for a body turning at w about its origin.
+                for (j, t) in vehicle.tracks.iter().enumerate() {
+                    belt[j] = Some(v_fwd - w * t.lateral_offset());
+                }
+            }
+        }
         let mut flip = vec![None; vehicle.flippers.len()];
         for (name, a) in &cmd.flipper_angle_deg {
             match vehicle.flipper_index(name) {
@@ -817,10 +904,47 @@ pub fn compile_scenario(
             flipper_angle: flip,
         });
     }
+    let method = TrackMethod::from_name(&s.method).unwrap_or_else(|| {
+        c.push(
+            "simulation.method",
+            format!(
+                "unknown track method \"{}\"; use one of {}",
+                s.method,
+                TrackMethod::ALL
+                    .iter()
+                    .map(|(n, _)| format!("\"{n}\""))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        );
+        TrackMethod::Okada2020
+    });
+    let o = &spec.outcome;
+    if let Some(x) = o.success_x_m {
+        c.finite("outcome.success_x_m", &[x]);
+    }
+    if let Some(z) = o.success_z_m {
+        c.finite("outcome.success_z_m", &[z]);
+    }
+    if !(o.max_tilt_deg.is_finite() && o.max_tilt_deg > 0.0 && o.max_tilt_deg <= 180.0) {
+        c.push(
+            "outcome.max_tilt_deg",
+            format!("must be in (0, 180] degrees, got {}", o.max_tilt_deg),
+        );
+    }
     if !c.issues.is_empty() {
         return Err(c.issues);
     }
     Ok(Scenario {
+        outcome: OutcomeModel {
+            success_x: o.success_x_m,
+            success_z: o.success_z_m,
+            max_tilt: o.max_tilt_deg.to_radians(),
+            fail_off_terrain: o.fail_off_terrain,
+            stop: o.stop,
+        },
+        method,
+        seed: s.seed,
         source: None,
         description: spec.description.clone(),
         vehicle,
@@ -845,24 +969,40 @@ pub fn compile_scenario(
 pub fn load_scenario(path: &Path) -> Result<Scenario> {
     let spec: ScenarioSpec = read_toml(path)?;
     let dir = path.parent().unwrap_or(Path::new("."));
-    let vpath = dir.join(&spec.vehicle.file);
-    if !vpath.is_file() {
-        return Err(Error::Invalid {
-            path: path.to_path_buf(),
-            issues: vec![SpecIssue::new(
-                "vehicle.file",
-                format!(
-                    "vehicle file {} not found (paths are relative to the scenario file's folder)",
-                    vpath.display()
-                ),
-            )],
-        });
-    }
-    let vehicle = load_vehicle(&vpath)?;
-    let mut sc = compile_scenario(&spec, vehicle, dir).map_err(|issues| Error::Invalid {
+    let invalid = |issues| Error::Invalid {
         path: path.to_path_buf(),
         issues,
-    })?;
+    };
+    let vehicle = match (&spec.vehicle.file, &spec.vehicle.inline) {
+        (Some(file), None) => {
+            let vpath = dir.join(file);
+            if !vpath.is_file() {
+                return Err(invalid(vec![SpecIssue::new(
+                    "vehicle.file",
+                    format!(
+                        "vehicle file {} not found (paths are relative to the scenario file's folder)",
+                        vpath.display()
+                    ),
+                )]));
+            }
+            load_vehicle(&vpath)?
+        }
+        (None, Some(inline)) => compile_vehicle(inline).map_err(|issues| {
+            invalid(
+                issues
+                    .into_iter()
+                    .map(|i| SpecIssue::new(format!("vehicle.inline.{}", i.key), i.message))
+                    .collect(),
+            )
+        })?,
+        _ => {
+            return Err(invalid(vec![SpecIssue::new(
+                "vehicle",
+                "give exactly one of `file` (a vehicle file) or `[vehicle.inline]`",
+            )]));
+        }
+    };
+    let mut sc = compile_scenario(&spec, vehicle, dir).map_err(invalid)?;
     sc.source = Some(path.to_path_buf());
     Ok(sc)
 }

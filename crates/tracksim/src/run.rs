@@ -1,7 +1,7 @@
 //! Running a scenario to the end: trajectory, summary, and the files `tracksim run` writes.
 
 use crate::error::{Error, Result};
-use crate::model::Scenario;
+use crate::model::{OutcomeModel, Scenario};
 use crate::sim::{PoseRpy, Sample, Simulation};
 use serde::Serialize;
 use std::io::Write;
@@ -19,6 +19,8 @@ pub struct RunResult {
     pub flipper_names: Vec<String>,
     /// Summary numbers.
     pub summary: Summary,
+    /// How it ended.
+    pub outcome: Outcome,
 }
 
 /// The numbers `summary.json` holds.
@@ -48,15 +50,106 @@ pub struct Summary {
     pub initial_pose: PoseRpy,
     /// Pose at the end.
     pub final_pose: PoseRpy,
+    /// "success", "failure" or "completed" (no success condition was set and nothing failed).
+    pub outcome: String,
+    /// Why.
+    pub outcome_reason: String,
+    /// When the outcome was decided, s.
+    pub outcome_time_s: f64,
+    /// Solver settings that change the physics.
+    pub solver: SolverSummary,
+    /// Seed of the scenario.
+    pub seed: u64,
     /// Largest link deviation from its exact pose after a physics step (joint error), m.
     pub max_link_error_m: f64,
     /// Same, as an angle, rad.
     pub max_link_error_rad: f64,
 }
 
-/// Runs a scenario for its duration. `progress` is called after every output sample with
-/// (simulated time, duration) in seconds.
-pub fn run_scenario(sc: &Scenario, mut progress: impl FnMut(f64, f64)) -> Result<RunResult> {
+/// Solver settings reported with every run.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverSummary {
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Solver iterations.
+    pub iterations: usize,
+    /// Contact clustering.
+    pub contact_clustering: bool,
+    /// Smallest segment link mass, kg.
+    pub min_link_mass_kg: f64,
+}
+
+/// How a run ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Outcome {
+    /// A success condition was met.
+    Success(String),
+    /// A failure condition was met (tip-over, off the terrain, timeout).
+    Failure(String),
+    /// Ran to the end; no success condition was set.
+    Completed,
+}
+
+impl Outcome {
+    /// "success", "failure" or "completed".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Outcome::Success(_) => "success",
+            Outcome::Failure(_) => "failure",
+            Outcome::Completed => "completed",
+        }
+    }
+}
+
+/// Checks the outcome conditions at the current state; `None` while undecided.
+pub fn check_outcome(o: &OutcomeModel, sim: &Simulation) -> Option<Outcome> {
+    let p = sim.body_pose();
+    if p.roll.abs() > o.max_tilt || p.pitch.abs() > o.max_tilt {
+        return Some(Outcome::Failure(format!(
+            "tipped over (roll {:.1} deg, pitch {:.1} deg, limit {:.1} deg)",
+            p.roll.to_degrees(),
+            p.pitch.to_degrees(),
+            o.max_tilt.to_degrees()
+        )));
+    }
+    if let Some(x) = o.success_x {
+        if p.x >= x {
+            return Some(Outcome::Success(format!("body passed x = {x} m")));
+        }
+    }
+    if let Some(z) = o.success_z {
+        if p.z >= z {
+            return Some(Outcome::Success(format!("body reached z = {z} m")));
+        }
+    }
+    if o.fail_off_terrain && sim.terrain_below(p.x, p.y).is_none() {
+        return Some(Outcome::Failure(format!(
+            "left the terrain at x = {:.3} m, y = {:.3} m",
+            p.x, p.y
+        )));
+    }
+    None
+}
+
+/// Options of a run.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RunOptions {
+    /// Pace the simulation to the wall clock (never faster than real time).
+    pub realtime: bool,
+}
+
+/// Runs a scenario for its duration (or until its outcome is decided, if it says to stop).
+/// `progress` is called after every output sample with (simulated time, duration) in seconds.
+pub fn run_scenario(sc: &Scenario, progress: impl FnMut(f64, f64)) -> Result<RunResult> {
+    run_scenario_with(sc, RunOptions::default(), progress)
+}
+
+/// [`run_scenario`] with options.
+pub fn run_scenario_with(
+    sc: &Scenario,
+    opts: RunOptions,
+    mut progress: impl FnMut(f64, f64),
+) -> Result<RunResult> {
     let mut sim = Simulation::new(sc)?;
     let dt = sc.solver.dt;
     let steps = (sc.duration / dt).round().max(1.0) as u64;
@@ -64,16 +157,41 @@ pub fn run_scenario(sc: &Scenario, mut progress: impl FnMut(f64, f64)) -> Result
     let mut samples = vec![sim.sample()];
     let wall = Instant::now();
     let mut stepping = 0.0;
+    let mut outcome = None;
+    let mut outcome_time = 0.0;
     for i in 1..=steps {
         let t0 = Instant::now();
         sim.step()?;
         stepping += t0.elapsed().as_secs_f64();
-        if i % every == 0 || i == steps {
+        let sample_now = i % every == 0 || i == steps;
+        if outcome.is_none() && sample_now {
+            outcome = check_outcome(&sc.outcome, &sim);
+            outcome_time = sim.time();
+        }
+        if sample_now || (outcome.is_some() && sc.outcome.stop) {
             samples.push(sim.sample());
             progress(sim.time(), sc.duration);
         }
+        if outcome.is_some() && sc.outcome.stop {
+            break;
+        }
+        if opts.realtime {
+            let ahead = sim.time() - wall.elapsed().as_secs_f64();
+            if ahead > 0.002 {
+                std::thread::sleep(std::time::Duration::from_secs_f64(ahead));
+            }
+        }
     }
-    let _ = wall;
+    let outcome = outcome.unwrap_or_else(|| {
+        outcome_time = sim.time();
+        match (sc.outcome.success_x, sc.outcome.success_z) {
+            (None, None) => Outcome::Completed,
+            _ => Outcome::Failure(format!(
+                "timeout: no success condition met in {:.3} s",
+                sim.time()
+            )),
+        }
+    });
     let first = samples[0].pose;
     let last = samples.last().map(|s| s.pose).unwrap_or(first);
     let (c, s) = (first.yaw.cos(), first.yaw.sin());
@@ -87,9 +205,9 @@ pub fn run_scenario(sc: &Scenario, mut progress: impl FnMut(f64, f64)) -> Result
     let summary = Summary {
         scenario: sc.source.as_ref().map(|p| p.display().to_string()),
         vehicle: sc.vehicle.name.clone(),
-        method: "okada2020".into(),
+        method: sc.method.name().into(),
         dt_s: dt,
-        steps,
+        steps: sim.steps(),
         sim_time_s: sim_time,
         wall_time_s: stepping,
         real_time_factor: sim_time / stepping.max(1e-12),
@@ -97,6 +215,19 @@ pub fn run_scenario(sc: &Scenario, mut progress: impl FnMut(f64, f64)) -> Result
         distance_m: distance,
         initial_pose: first,
         final_pose: last,
+        outcome: outcome.name().to_string(),
+        outcome_reason: match &outcome {
+            Outcome::Success(r) | Outcome::Failure(r) => r.clone(),
+            Outcome::Completed => "ran to the end".into(),
+        },
+        outcome_time_s: outcome_time,
+        solver: SolverSummary {
+            dt_s: dt,
+            iterations: sc.solver.iterations,
+            contact_clustering: sc.solver.contact_clustering,
+            min_link_mass_kg: sc.solver.min_link_mass,
+        },
+        seed: sc.seed,
         max_link_error_m: err_m,
         max_link_error_rad: err_rad,
     };
@@ -105,6 +236,7 @@ pub fn run_scenario(sc: &Scenario, mut progress: impl FnMut(f64, f64)) -> Result
         track_names: sim.track_names().to_vec(),
         flipper_names: sim.flipper_names().to_vec(),
         summary,
+        outcome,
     })
 }
 

@@ -783,6 +783,21 @@ impl Simulation {
         Ok(())
     }
 
+    /// Height of the terrain surface below (x, y), m, by a downward ray that sees only the
+    /// terrain; `None` if there is no terrain there (off the edge).
+    pub fn terrain_below(&self, x: f64, y: f64) -> Option<f64> {
+        let top = 1000.0f32;
+        let ray = Ray::new(Vector::new(x as f32, y as f32, top), Vector::NEG_Z);
+        let filter = QueryFilter::default().groups(InteractionGroups::new(
+            Group::ALL,
+            WORLD_GROUP,
+            InteractionTestMode::And,
+        ));
+        self.world
+            .cast_ray(&ray, 2.0 * top, true, filter)
+            .map(|(_, toi)| (top - toi) as f64)
+    }
+
     /// Pose of the chassis.
     pub fn body_pose(&self) -> PoseRpy {
         PoseRpy::from_pose(self.world.bodies[self.body].position())

@@ -287,14 +287,21 @@ pub struct ScenarioSpec {
     /// Timed drive commands; each holds until the next.
     #[serde(default)]
     pub commands: Vec<CommandSpec>,
+    /// Success and failure conditions.
+    #[serde(default)]
+    pub outcome: OutcomeSpec,
 }
 
 /// The vehicle of a scenario.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleRefSpec {
-    /// Vehicle file, relative to the scenario file.
-    pub file: String,
+    /// Vehicle file, relative to the scenario file (give this or `inline`).
+    #[serde(default)]
+    pub file: Option<String>,
+    /// The vehicle described in the scenario itself (same keys as a vehicle file).
+    #[serde(default)]
+    pub inline: Option<Box<VehicleSpec>>,
     /// Start x, m.
     #[serde(default)]
     pub x_m: f64,
@@ -316,6 +323,52 @@ pub struct VehicleRefSpec {
     /// Override the grouser count of every track that has grousers (0 removes them).
     #[serde(default)]
     pub grouser_count: Option<usize>,
+    /// Override the body mass, kg.
+    #[serde(default)]
+    pub body_mass_kg: Option<f64>,
+    /// Override the belt mass of every track, kg.
+    #[serde(default)]
+    pub belt_mass_kg: Option<f64>,
+}
+
+/// When a run counts as a success or a failure, and whether it stops there.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutcomeSpec {
+    /// Success when the body's x passes this value, m.
+    #[serde(default)]
+    pub success_x_m: Option<f64>,
+    /// Success when the body's z reaches this value, m.
+    #[serde(default)]
+    pub success_z_m: Option<f64>,
+    /// Failure (tip-over) when |roll| or |pitch| exceeds this, degrees.
+    #[serde(default = "default_max_tilt")]
+    pub max_tilt_deg: f64,
+    /// Failure when the body leaves the terrain's extent (only for bounded terrains).
+    #[serde(default = "default_true")]
+    pub fail_off_terrain: bool,
+    /// Stop the run as soon as the outcome is decided.
+    #[serde(default = "default_true")]
+    pub stop: bool,
+}
+
+impl Default for OutcomeSpec {
+    fn default() -> Self {
+        OutcomeSpec {
+            success_x_m: None,
+            success_z_m: None,
+            max_tilt_deg: default_max_tilt(),
+            fail_off_terrain: true,
+            stop: true,
+        }
+    }
+}
+
+fn default_max_tilt() -> f64 {
+    75.0
+}
+fn default_true() -> bool {
+    true
 }
 
 /// Time stepping and the solver settings that matter.
@@ -340,6 +393,16 @@ pub struct SimulationSpec {
     /// Smallest mass of a track segment link, kg (light links hop under a heavy body).
     #[serde(default = "default_min_link_mass")]
     pub min_link_mass_kg: f64,
+    /// Track method: "okada2020" (the paper's segment links with grousers).
+    #[serde(default = "default_method")]
+    pub method: String,
+    /// Seed for anything random in the scenario (random terrain pieces without their own seed).
+    #[serde(default)]
+    pub seed: u64,
+}
+
+fn default_method() -> String {
+    "okada2020".into()
 }
 
 impl Default for SimulationSpec {
@@ -351,6 +414,8 @@ impl Default for SimulationSpec {
             solver_iterations: default_iterations(),
             contact_clustering: false,
             min_link_mass_kg: default_min_link_mass(),
+            method: default_method(),
+            seed: 0,
         }
     }
 }
@@ -386,7 +451,7 @@ pub enum PerTrack {
 }
 
 /// A drive command that starts at `t_s` and holds until the next one.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommandSpec {
     /// Start time, s.
@@ -401,4 +466,11 @@ pub struct CommandSpec {
     /// Flipper target angles by flipper name, degrees.
     #[serde(default)]
     pub flipper_angle_deg: BTreeMap<String, f64>,
+    /// Body-level command: forward speed, m/s (with `yaw_rate_rad_s`, turned into belt speeds
+    /// by skid-steer kinematics: v_track = v - yaw_rate * y_track).
+    #[serde(default)]
+    pub forward_mps: Option<f64>,
+    /// Body-level command: yaw rate, rad/s (positive turns left).
+    #[serde(default)]
+    pub yaw_rate_rad_s: Option<f64>,
 }

@@ -141,7 +141,7 @@ fn a_fixed_scenario_is_bit_identical_twice() {
                     [("left".to_string(), 0.1), ("right".to_string(), 0.4)].into(),
                 )),
                 sprocket_rad_s: None,
-                flipper_angle_deg: Default::default(),
+                ..Default::default()
             });
         },
         |_| {},

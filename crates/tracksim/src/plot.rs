@@ -1,0 +1,671 @@
+//! Plots of finished runs: side view (x-z) over the terrain, top view (x-y) and pitch/roll
+//! against time, written as PNG and SVG.
+//!
+//! Text is drawn with DejaVu Sans embedded at compile time (crate `dejavu`), so plotting needs
+//! no system fonts and no fontconfig.
+
+use crate::error::{Error, Result};
+use crate::run::RunResult;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// One run to draw, with a label for the legend.
+pub struct PlotRun<'a> {
+    /// Legend label.
+    pub label: &'a str,
+    /// The run.
+    pub result: &'a RunResult,
+}
+
+/// What to draw.
+pub struct PlotInput<'a> {
+    /// Figure title.
+    pub title: &'a str,
+    /// Runs, drawn in this order (colours follow the order).
+    pub runs: &'a [PlotRun<'a>],
+    /// Terrain height profile under the first run's path as (x m, z m) pairs, drawn as a filled
+    /// ground in the side view; may be empty.
+    pub ground_profile: &'a [(f64, f64)],
+    /// Optional extra outlines to draw in the side view, e.g. a step as a polygon (x, z) -- may
+    /// be empty.
+    pub outlines: &'a [Vec<(f64, f64)>],
+}
+
+/// Figure size in pixels.
+const SIZE: (u32, u32) = (1200, 900);
+/// Font family the embedded font is registered under.
+const FONT: &str = "sans-serif";
+/// Margin around each chart, px.
+const MARGIN: u32 = 8;
+/// Largest vertical exaggeration the side view may use to keep climbs visible on long runs.
+const MAX_EXAGGERATION: f64 = 4.0;
+
+/// Run colours (Tableau 10).
+const COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+const GROUND_FILL: RGBColor = RGBColor(222, 205, 170);
+const GROUND_LINE: RGBColor = RGBColor(120, 95, 60);
+const OUTLINE: RGBColor = RGBColor(70, 70, 70);
+
+fn colour(i: usize) -> RGBColor {
+    COLOURS[i % COLOURS.len()]
+}
+
+/// Registers the embedded font once; false if the bytes were rejected.
+fn ensure_font() -> bool {
+    static DONE: OnceLock<bool> = OnceLock::new();
+    *DONE.get_or_init(|| {
+        register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
+            && register_font(FONT, FontStyle::Bold, dejavu::sans::bold()).is_ok()
+    })
+}
+
+fn io_error(path: &Path, message: impl std::fmt::Display) -> Error {
+    Error::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(message.to_string()),
+    }
+}
+
+/// Writes `<stem>.png` and `<stem>.svg` into `dir` (created if needed); returns the paths
+/// written.
+pub fn write_plots(input: &PlotInput, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::Io {
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    let png = dir.join(format!("{stem}.png"));
+    let svg = dir.join(format!("{stem}.svg"));
+    if !ensure_font() {
+        return Err(io_error(
+            &png,
+            "the embedded DejaVu Sans font could not be loaded",
+        ));
+    }
+    {
+        let root = BitMapBackend::new(&png, SIZE).into_drawing_area();
+        draw_figure(&root, input).map_err(|e| io_error(&png, format!("drawing failed: {e}")))?;
+        root.present().map_err(|e| io_error(&png, e))?;
+    }
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
+        draw_figure(&root, input).map_err(|e| io_error(&svg, format!("drawing failed: {e}")))?;
+        root.present().map_err(|e| io_error(&svg, e))?;
+    }
+    std::fs::write(&svg, text).map_err(|source| Error::Io {
+        path: svg.clone(),
+        source,
+    })?;
+    Ok(vec![png, svg])
+}
+
+type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+/// Finite points of one run, mapped by `f`.
+fn points(result: &RunResult, f: impl Fn(&crate::sim::Sample) -> (f64, f64)) -> Vec<(f64, f64)> {
+    result
+        .samples
+        .iter()
+        .map(f)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .collect()
+}
+
+/// Smallest interval holding every finite value, or None.
+fn bounds(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
+    values
+        .into_iter()
+        .filter(|v| v.is_finite())
+        .fold(None, |acc, v| match acc {
+            None => Some((v, v)),
+            Some((lo, hi)) => Some((lo.min(v), hi.max(v))),
+        })
+}
+
+/// `b` padded by `frac` of its span (at least `min_pad`), widened about its centre to at least
+/// `min_span`; `default` when there is no data.
+fn padded(
+    b: Option<(f64, f64)>,
+    frac: f64,
+    min_pad: f64,
+    min_span: f64,
+    default: (f64, f64),
+) -> (f64, f64) {
+    let Some((lo, hi)) = b else { return default };
+    let pad = ((hi - lo) * frac).max(min_pad);
+    let (mut lo, mut hi) = (lo - pad, hi + pad);
+    if hi - lo < min_span {
+        let c = 0.5 * (lo + hi);
+        lo = c - 0.5 * min_span;
+        hi = c + 0.5 * min_span;
+    }
+    if !(lo.is_finite() && hi.is_finite() && hi > lo) {
+        return default;
+    }
+    (lo, hi)
+}
+
+/// Widens `(lo, hi)` about its centre to `span` if it is narrower.
+fn widen(r: (f64, f64), span: f64) -> (f64, f64) {
+    if r.1 - r.0 >= span {
+        return r;
+    }
+    let c = 0.5 * (r.0 + r.1);
+    (c - 0.5 * span, c + 0.5 * span)
+}
+
+/// Plotting-area size in pixels of a chart on `area` with the given label areas.
+fn plot_px<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    y_label: u32,
+    x_label: u32,
+) -> (f64, f64) {
+    let (w, h) = area.dim_in_pixel();
+    let w = w.saturating_sub(2 * MARGIN + y_label).max(10);
+    let h = h.saturating_sub(2 * MARGIN + x_label).max(10);
+    (w as f64, h as f64)
+}
+
+fn draw_figure<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, input: &PlotInput) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
+    let body = root.titled(input.title, (FONT, 26).into_font().style(FontStyle::Bold))?;
+    let (_, h) = body.dim_in_pixel();
+    let (side, bottom) = body.split_vertically((h as f64 * 0.44) as u32);
+    let (top, right) = bottom.split_horizontally(560);
+    let (pitch, roll) = right.split_vertically(right.dim_in_pixel().1 / 2);
+    draw_side(&side, input)?;
+    draw_top(&top, input)?;
+    draw_angle(&pitch, input, "pitch", |s| s.pose.pitch)?;
+    draw_angle(&roll, input, "roll", |s| s.pose.roll)?;
+    Ok(())
+}
+
+fn caption_style() -> TextStyle<'static> {
+    (FONT, 18).into_font().into()
+}
+
+fn draw_side<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, input: &PlotInput) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let area = area.titled("Side view (body centre over the terrain)", caption_style())?;
+    let (y_label, x_label) = (70, 45);
+    let (pw, ph) = plot_px(&area, y_label, x_label);
+    let runs: Vec<Vec<(f64, f64)>> = input
+        .runs
+        .iter()
+        .map(|r| points(r.result, |s| (s.pose.x, s.pose.z)))
+        .collect();
+    let all = || {
+        runs.iter()
+            .flatten()
+            .chain(input.ground_profile.iter())
+            .chain(input.outlines.iter().flatten())
+            .copied()
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+    };
+    let mut xr = padded(bounds(all().map(|p| p.0)), 0.03, 0.02, 0.5, (0.0, 1.0));
+    let zb = bounds(all().map(|p| p.1));
+    let (zlo, zhi) = padded(zb, 0.15, 0.03, 0.1, (0.0, 0.5));
+    // Equal aspect: the z span that makes a metre as tall as it is wide.
+    let equal = (xr.1 - xr.0) * ph / pw;
+    let dz = zhi - zlo;
+    let mut exaggeration = 1.0;
+    let zr = if dz <= equal {
+        // Too flat at equal aspect: exaggerate (up to a limit) so the data fill a quarter of the
+        // height, and put the spare room mostly above the data (room for the legend).
+        exaggeration = (0.25 * equal / dz).clamp(1.0, MAX_EXAGGERATION);
+        let span = equal / exaggeration;
+        let extra = span - dz;
+        (zlo - 0.3 * extra, zhi + 0.7 * extra)
+    } else {
+        // Too tall (short runs): widen x instead.
+        xr = widen(xr, dz * pw / ph);
+        (zlo, zhi)
+    };
+    let z_desc = if exaggeration > 1.001 {
+        format!("z (m), vertical ×{exaggeration:.1}")
+    } else {
+        "z (m)".to_string()
+    };
+    let mut chart = ChartBuilder::on(&area)
+        .margin(MARGIN)
+        .x_label_area_size(x_label)
+        .y_label_area_size(y_label)
+        .build_cartesian_2d(xr.0..xr.1, zr.0..zr.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("x (m)")
+        .y_desc(z_desc)
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .light_line_style(RGBColor(235, 235, 235))
+        .x_labels(12)
+        .y_labels(6)
+        .draw()?;
+    let profile: Vec<(f64, f64)> = input
+        .ground_profile
+        .iter()
+        .copied()
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .collect();
+    if let (Some(first), Some(last)) = (profile.first(), profile.last()) {
+        let mut poly = vec![(first.0, zr.0)];
+        poly.extend(profile.iter().copied());
+        poly.push((last.0, zr.0));
+        chart.draw_series(std::iter::once(Polygon::new(poly, GROUND_FILL.filled())))?;
+        chart.draw_series(std::iter::once(PathElement::new(
+            profile.clone(),
+            GROUND_LINE.stroke_width(2),
+        )))?;
+    }
+    for outline in input.outlines {
+        let mut pts: Vec<(f64, f64)> = outline
+            .iter()
+            .copied()
+            .filter(|(a, b)| a.is_finite() && b.is_finite())
+            .collect();
+        if pts.len() >= 3 {
+            chart.draw_series(std::iter::once(Polygon::new(
+                pts.clone(),
+                OUTLINE.mix(0.12).filled(),
+            )))?;
+        }
+        if let Some(&p0) = pts.first() {
+            pts.push(p0);
+            chart.draw_series(std::iter::once(PathElement::new(
+                pts,
+                OUTLINE.stroke_width(2),
+            )))?;
+        }
+    }
+    for (i, (run, pts)) in input.runs.iter().zip(&runs).enumerate() {
+        let c = colour(i);
+        let series = chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+        if input.runs.len() > 1 {
+            series.label(run.label).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
+            });
+        }
+        if let Some(&p) = pts.first() {
+            chart.draw_series(std::iter::once(Circle::new(p, 4, c.filled())))?;
+        }
+        if let Some(&p) = pts.last() {
+            chart.draw_series(std::iter::once(Cross::new(p, 5, c.stroke_width(2))))?;
+        }
+    }
+    if input.runs.len() > 1 {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font((FONT, 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .draw()?;
+    }
+    Ok(())
+}
+
+fn draw_top<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, input: &PlotInput) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let area = area.titled("Top view (● start, × end)", caption_style())?;
+    let (y_label, x_label) = (70, 45);
+    let (pw, ph) = plot_px(&area, y_label, x_label);
+    let runs: Vec<Vec<(f64, f64)>> = input
+        .runs
+        .iter()
+        .map(|r| points(r.result, |s| (s.pose.x, s.pose.y)))
+        .collect();
+    let xr = padded(
+        bounds(runs.iter().flatten().map(|p| p.0)),
+        0.05,
+        0.05,
+        0.5,
+        (0.0, 1.0),
+    );
+    let yr = padded(
+        bounds(runs.iter().flatten().map(|p| p.1)),
+        0.05,
+        0.05,
+        0.5,
+        (-0.5, 0.5),
+    );
+    // Equal aspect: the same metres per pixel on both axes.
+    let m_per_px = ((xr.1 - xr.0) / pw).max((yr.1 - yr.0) / ph);
+    let xr = widen(xr, m_per_px * pw);
+    let yr = widen(yr, m_per_px * ph);
+    let mut chart = ChartBuilder::on(&area)
+        .margin(MARGIN)
+        .x_label_area_size(x_label)
+        .y_label_area_size(y_label)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    for (i, pts) in runs.iter().enumerate() {
+        let c = colour(i);
+        chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+        if let Some(&p) = pts.first() {
+            chart.draw_series(std::iter::once(Circle::new(p, 4, c.filled())))?;
+        }
+        if let Some(&p) = pts.last() {
+            chart.draw_series(std::iter::once(Cross::new(p, 5, c.stroke_width(2))))?;
+        }
+    }
+    Ok(())
+}
+
+fn draw_angle<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    input: &PlotInput,
+    name: &str,
+    angle: impl Fn(&crate::sim::Sample) -> f64,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let (y_label, x_label) = (70, 40);
+    let runs: Vec<Vec<(f64, f64)>> = input
+        .runs
+        .iter()
+        .map(|r| points(r.result, |s| (s.t, angle(s).to_degrees())))
+        .collect();
+    let tb = bounds(runs.iter().flatten().map(|p| p.0));
+    let tr = match tb {
+        Some((lo, hi)) if hi > lo => (lo, hi),
+        Some((lo, _)) => (lo, lo + 1.0),
+        None => (0.0, 1.0),
+    };
+    let ar = padded(
+        bounds(runs.iter().flatten().map(|p| p.1)),
+        0.1,
+        0.5,
+        2.0,
+        (-1.0, 1.0),
+    );
+    let mut chart = ChartBuilder::on(area)
+        .margin(MARGIN)
+        .x_label_area_size(x_label)
+        .y_label_area_size(y_label)
+        .build_cartesian_2d(tr.0..tr.1, ar.0..ar.1)?;
+    chart
+        .configure_mesh()
+        .x_desc("t (s)")
+        .y_desc(format!("{name} (°)"))
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 16))
+        .light_line_style(RGBColor(235, 235, 235))
+        .draw()?;
+    if ar.0 < 0.0 && ar.1 > 0.0 {
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(tr.0, 0.0), (tr.1, 0.0)],
+            BLACK.mix(0.35).stroke_width(1),
+        )))?;
+    }
+    for (i, pts) in runs.iter().enumerate() {
+        chart.draw_series(LineSeries::new(
+            pts.iter().copied(),
+            colour(i).stroke_width(2),
+        ))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::{Outcome, SolverSummary, Summary};
+    use crate::sim::{PoseRpy, Sample};
+
+    fn sample(t: f64, x: f64, y: f64, z: f64, roll: f64, pitch: f64) -> Sample {
+        Sample {
+            t,
+            pose: PoseRpy {
+                x,
+                y,
+                z,
+                roll,
+                pitch,
+                yaw: 0.0,
+            },
+            linvel: [0.3, 0.0, 0.0],
+            angvel: [0.0; 3],
+            belt_speed: vec![0.3, 0.3],
+            belt_phase: vec![0.3 * t, 0.3 * t],
+            flipper_angle: vec![],
+            contacts: 12,
+        }
+    }
+
+    fn result(samples: Vec<Sample>) -> RunResult {
+        let first = samples.first().map(|s| s.pose).unwrap_or_default();
+        let last = samples.last().map(|s| s.pose).unwrap_or(first);
+        let sim_time = samples.last().map(|s| s.t).unwrap_or(0.0);
+        RunResult {
+            summary: Summary {
+                scenario: Some("scenarios/packbot_step.toml".into()),
+                vehicle: "PackBot 510".into(),
+                method: "okada2020".into(),
+                dt_s: 0.001,
+                steps: (sim_time / 0.001).round() as u64,
+                sim_time_s: sim_time,
+                wall_time_s: sim_time / 5.0,
+                real_time_factor: 5.0,
+                mean_speed_mps: if sim_time > 0.0 {
+                    (last.x - first.x) / sim_time
+                } else {
+                    0.0
+                },
+                distance_m: (last.x - first.x).abs(),
+                initial_pose: first,
+                final_pose: last,
+                outcome: "completed".into(),
+                outcome_reason: "ran to the end".into(),
+                outcome_time_s: sim_time,
+                solver: SolverSummary {
+                    dt_s: 0.001,
+                    iterations: 4,
+                    contact_clustering: false,
+                    min_link_mass_kg: 0.02,
+                },
+                seed: 0,
+                max_link_error_m: 1e-4,
+                max_link_error_rad: 1e-3,
+            },
+            samples,
+            track_names: vec!["left".into(), "right".into()],
+            flipper_names: vec![],
+            outcome: Outcome::Completed,
+        }
+    }
+
+    fn smoothstep(u: f64) -> f64 {
+        let u = u.clamp(0.0, 1.0);
+        u * u * (3.0 - 2.0 * u)
+    }
+
+    /// A robot driving at 0.3 m/s onto a 0.1 m step at x = 1 m (front of the track reaches
+    /// it at x = 0.66 m); `stall` stops it at the step edge with the nose up.
+    fn climb(stall: bool) -> RunResult {
+        let h0 = 0.09;
+        let samples = (0..=1000)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                let mut x = 0.3 * t;
+                if stall {
+                    x = x.min(0.8 + 0.02 * (t - 2.67).max(0.0).sin());
+                }
+                let u = (x - 0.66) / 0.7;
+                let z = h0 + 0.1 * smoothstep(u);
+                // Nose up (negative pitch, REP 103) while climbing, a little nose down after.
+                let pitch = -0.35 * (std::f64::consts::PI * u.clamp(0.0, 1.0)).sin()
+                    + 0.05 * (std::f64::consts::PI * ((u - 1.0) / 0.3).clamp(0.0, 1.0)).sin();
+                let roll = 0.02 * (2.0 * t).sin();
+                let y = if stall {
+                    -0.01 * x
+                } else {
+                    0.03 * (x / 1.5).sin()
+                };
+                sample(t, x, y, z, roll, pitch)
+            })
+            .collect();
+        result(samples)
+    }
+
+    fn temp_dir(name: &str) -> PathBuf {
+        std::env::temp_dir().join(format!("tracksim-plot-{}-{name}", std::process::id()))
+    }
+
+    fn png_size(bytes: &[u8]) -> (u32, u32) {
+        assert!(bytes.len() > 24, "PNG too short");
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "PNG signature");
+        assert_eq!(&bytes[12..16], b"IHDR", "first chunk is IHDR");
+        let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+        (w, h)
+    }
+
+    fn step_profile() -> Vec<(f64, f64)> {
+        vec![(-0.3, 0.0), (1.0, 0.0), (1.0, 0.1), (3.3, 0.1)]
+    }
+
+    #[test]
+    fn plot_step_climb_writes_png_and_svg() {
+        let climbed = climb(false);
+        let stalled = climb(true);
+        let runs = [
+            PlotRun {
+                label: "friction 0.6 (climbs)",
+                result: &climbed,
+            },
+            PlotRun {
+                label: "friction 0.3 (stalls)",
+                result: &stalled,
+            },
+        ];
+        let profile = step_profile();
+        let outlines = vec![vec![(1.0, 0.0), (1.0, 0.1), (3.3, 0.1), (3.3, 0.0)]];
+        let input = PlotInput {
+            title: "PackBot 510 on a 0.1 m step",
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &outlines,
+        };
+        // Set TRACKSIM_PLOT_DIR to keep the figure for a look.
+        let keep = std::env::var_os("TRACKSIM_PLOT_DIR").map(PathBuf::from);
+        let dir = keep.clone().unwrap_or_else(|| temp_dir("step"));
+        let written = write_plots(&input, &dir, "step").expect("plots written");
+        assert_eq!(written, vec![dir.join("step.png"), dir.join("step.svg")]);
+        let png = std::fs::read(&written[0]).expect("png exists");
+        assert_eq!(png_size(&png), SIZE);
+        let svg = std::fs::read_to_string(&written[1]).expect("svg exists");
+        assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(80)]);
+        for label in [
+            "x (m)",
+            "z (m)",
+            "y (m)",
+            "t (s)",
+            "pitch (°)",
+            "roll (°)",
+            "friction 0.6 (climbs)",
+            "friction 0.3 (stalls)",
+            "PackBot 510 on a 0.1 m step",
+        ] {
+            assert!(svg.contains(label), "SVG lacks {label:?}");
+        }
+        if keep.is_none() {
+            std::fs::remove_dir_all(&dir).ok();
+        }
+    }
+
+    #[test]
+    fn plot_degenerate_inputs_do_not_panic() {
+        let empty = result(vec![]);
+        let single = result(vec![sample(0.0, 0.5, 0.0, 0.1, 0.0, 0.0)]);
+        // All x (and everything else) equal over time.
+        let still = result(
+            (0..50)
+                .map(|i| sample(i as f64 * 0.1, 0.0, 0.0, 0.1, 0.0, 0.0))
+                .collect(),
+        );
+        let dir = temp_dir("degenerate");
+        let cases: Vec<Vec<PlotRun>> = vec![
+            vec![],
+            vec![PlotRun {
+                label: "empty",
+                result: &empty,
+            }],
+            vec![PlotRun {
+                label: "single",
+                result: &single,
+            }],
+            vec![
+                PlotRun {
+                    label: "still",
+                    result: &still,
+                },
+                PlotRun {
+                    label: "single",
+                    result: &single,
+                },
+                PlotRun {
+                    label: "empty",
+                    result: &empty,
+                },
+            ],
+        ];
+        for (i, runs) in cases.iter().enumerate() {
+            let input = PlotInput {
+                title: "degenerate",
+                runs,
+                ground_profile: &[],
+                outlines: &[],
+            };
+            let written = write_plots(&input, &dir, &format!("case{i}")).expect("plots written");
+            let png = std::fs::read(&written[0]).expect("png exists");
+            assert_eq!(png_size(&png), SIZE);
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn plot_into_a_file_is_an_io_error() {
+        let dir = temp_dir("not-a-dir");
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("file");
+        std::fs::write(&file, b"x").unwrap();
+        let input = PlotInput {
+            title: "x",
+            runs: &[],
+            ground_profile: &[],
+            outlines: &[],
+        };
+        let err = write_plots(&input, &file, "p").expect_err("a file is not a directory");
+        assert!(matches!(err, Error::Io { .. }), "{err}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}
