@@ -40,6 +40,8 @@ const SIZE: (u32, u32) = (1200, 900);
 const FONT: &str = "sans-serif";
 /// Margin around each chart, px.
 const MARGIN: u32 = 8;
+/// Right margin, px: room for the last x tick label.
+const MARGIN_RIGHT: u32 = 24;
 /// Largest vertical exaggeration the side view may use to keep climbs visible on long runs.
 const MAX_EXAGGERATION: f64 = 4.0;
 
@@ -175,7 +177,7 @@ fn plot_px<DB: DrawingBackend>(
     x_label: u32,
 ) -> (f64, f64) {
     let (w, h) = area.dim_in_pixel();
-    let w = w.saturating_sub(2 * MARGIN + y_label).max(10);
+    let w = w.saturating_sub(MARGIN + MARGIN_RIGHT + y_label).max(10);
     let h = h.saturating_sub(2 * MARGIN + x_label).max(10);
     (w as f64, h as f64)
 }
@@ -189,12 +191,29 @@ where
     let (_, h) = body.dim_in_pixel();
     let (side, bottom) = body.split_vertically((h as f64 * 0.44) as u32);
     let (top, right) = bottom.split_horizontally(560);
+    let right = right.titled(
+        "Attitude (REP 103: pitch > 0 is nose down)",
+        caption_style(),
+    )?;
     let (pitch, roll) = right.split_vertically(right.dim_in_pixel().1 / 2);
     draw_side(&side, input)?;
     draw_top(&top, input)?;
     draw_angle(&pitch, input, "pitch", |s| s.pose.pitch)?;
     draw_angle(&roll, input, "roll", |s| s.pose.roll)?;
     Ok(())
+}
+
+/// Tick label formatter for an axis spanning `span`: as many decimals as the ticks need, and
+/// no "-0".
+fn ticks(span: f64) -> impl Fn(&f64) -> String {
+    let decimals = (-(span / 8.0).log10()).ceil().clamp(0.0, 6.0) as usize;
+    move |v: &f64| {
+        let s = format!("{v:.decimals$}");
+        match s.strip_prefix('-') {
+            Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
+            _ => s,
+        }
+    }
 }
 
 fn caption_style() -> TextStyle<'static> {
@@ -231,7 +250,10 @@ where
     let zr = if dz <= equal {
         // Too flat at equal aspect: exaggerate (up to a limit) so the data fill a quarter of the
         // height, and put the spare room mostly above the data (room for the legend).
-        exaggeration = (0.25 * equal / dz).clamp(1.0, MAX_EXAGGERATION);
+        let e = (0.25 * equal / dz).min(MAX_EXAGGERATION);
+        if e >= 1.5 {
+            exaggeration = (e * 2.0).round() / 2.0;
+        }
         let span = equal / exaggeration;
         let extra = span - dz;
         (zlo - 0.3 * extra, zhi + 0.7 * extra)
@@ -240,13 +262,14 @@ where
         xr = widen(xr, dz * pw / ph);
         (zlo, zhi)
     };
-    let z_desc = if exaggeration > 1.001 {
+    let z_desc = if exaggeration > 1.0 {
         format!("z (m), vertical ×{exaggeration:.1}")
     } else {
         "z (m)".to_string()
     };
     let mut chart = ChartBuilder::on(&area)
         .margin(MARGIN)
+        .margin_right(MARGIN_RIGHT)
         .x_label_area_size(x_label)
         .y_label_area_size(y_label)
         .build_cartesian_2d(xr.0..xr.1, zr.0..zr.1)?;
@@ -254,6 +277,8 @@ where
         .configure_mesh()
         .x_desc("x (m)")
         .y_desc(z_desc)
+        .x_label_formatter(&ticks(xr.1 - xr.0))
+        .y_label_formatter(&ticks(zr.1 - zr.0))
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .light_line_style(RGBColor(235, 235, 235))
@@ -355,6 +380,7 @@ where
     let yr = widen(yr, m_per_px * ph);
     let mut chart = ChartBuilder::on(&area)
         .margin(MARGIN)
+        .margin_right(MARGIN_RIGHT)
         .x_label_area_size(x_label)
         .y_label_area_size(y_label)
         .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)?;
@@ -362,6 +388,8 @@ where
         .configure_mesh()
         .x_desc("x (m)")
         .y_desc("y (m)")
+        .x_label_formatter(&ticks(xr.1 - xr.0))
+        .y_label_formatter(&ticks(yr.1 - yr.0))
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .light_line_style(RGBColor(235, 235, 235))
@@ -409,6 +437,7 @@ where
     );
     let mut chart = ChartBuilder::on(area)
         .margin(MARGIN)
+        .margin_right(MARGIN_RIGHT)
         .x_label_area_size(x_label)
         .y_label_area_size(y_label)
         .build_cartesian_2d(tr.0..tr.1, ar.0..ar.1)?;
@@ -416,6 +445,8 @@ where
         .configure_mesh()
         .x_desc("t (s)")
         .y_desc(format!("{name} (°)"))
+        .x_label_formatter(&ticks(tr.1 - tr.0))
+        .y_label_formatter(&ticks(ar.1 - ar.0))
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 16))
         .light_line_style(RGBColor(235, 235, 235))
@@ -524,7 +555,11 @@ mod tests {
                 // Nose up (negative pitch, REP 103) while climbing, a little nose down after.
                 let pitch = -0.35 * (std::f64::consts::PI * u.clamp(0.0, 1.0)).sin()
                     + 0.05 * (std::f64::consts::PI * ((u - 1.0) / 0.3).clamp(0.0, 1.0)).sin();
-                let roll = 0.02 * (2.0 * t).sin();
+                let roll = if stall {
+                    0.03 * (1.3 * t).cos()
+                } else {
+                    0.02 * (2.0 * t).sin()
+                };
                 let y = if stall {
                     -0.01 * x
                 } else {
@@ -612,7 +647,8 @@ mod tests {
                 .map(|i| sample(i as f64 * 0.1, 0.0, 0.0, 0.1, 0.0, 0.0))
                 .collect(),
         );
-        let dir = temp_dir("degenerate");
+        let keep = std::env::var_os("TRACKSIM_PLOT_DIR").map(PathBuf::from);
+        let dir = keep.clone().unwrap_or_else(|| temp_dir("degenerate"));
         let cases: Vec<Vec<PlotRun>> = vec![
             vec![],
             vec![PlotRun {
@@ -649,7 +685,9 @@ mod tests {
             let png = std::fs::read(&written[0]).expect("png exists");
             assert_eq!(png_size(&png), SIZE);
         }
-        std::fs::remove_dir_all(&dir).ok();
+        if keep.is_none() {
+            std::fs::remove_dir_all(&dir).ok();
+        }
     }
 
     #[test]
@@ -667,5 +705,43 @@ mod tests {
         let err = write_plots(&input, &file, "p").expect_err("a file is not a directory");
         assert!(matches!(err, Error::Io { .. }), "{err}");
         std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
+    fn plot_long_run_exaggerates_height_and_says_so() {
+        // 12 m at 0.3 m/s over a 0.1 m step at x = 6 m.
+        let samples = (0..=400)
+            .map(|i| {
+                let t = i as f64 * 0.1;
+                let x = 0.3 * t;
+                let z = 0.09 + 0.1 * smoothstep((x - 5.66) / 0.7);
+                sample(t, x, 0.0, z, 0.0, 0.0)
+            })
+            .collect();
+        let run = result(samples);
+        let runs = [PlotRun {
+            label: "long",
+            result: &run,
+        }];
+        let profile = vec![(0.0, 0.0), (6.0, 0.0), (6.0, 0.1), (12.0, 0.1)];
+        let input = PlotInput {
+            title: "12 m run over a 0.1 m step",
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &[],
+        };
+        let keep = std::env::var_os("TRACKSIM_PLOT_DIR").map(PathBuf::from);
+        let dir = keep.clone().unwrap_or_else(|| temp_dir("long"));
+        let written = write_plots(&input, &dir, "long").expect("plots written");
+        let svg = std::fs::read_to_string(&written[1]).expect("svg exists");
+        assert!(
+            svg.contains("z (m), vertical ×"),
+            "the exaggeration is labelled"
+        );
+        // A single run needs no legend.
+        assert!(!svg.contains(">long<"));
+        if keep.is_none() {
+            std::fs::remove_dir_all(&dir).ok();
+        }
     }
 }

@@ -144,6 +144,39 @@ struct FlipperRt {
     damping: f32,
 }
 
+/// Points of a shape (local frame) whose lowest one is the shape's lowest point, up to the
+/// sampling of round shapes.
+fn shape_points(shape: &dyn rapier3d::parry::shape::Shape) -> Vec<Vector> {
+    if let Some(c) = shape.as_cuboid() {
+        let h = c.half_extents;
+        let mut v = Vec::with_capacity(8);
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    v.push(Vector::new(sx * h.x, sy * h.y, sz * h.z));
+                }
+            }
+        }
+        v
+    } else if let Some(c) = shape.as_cylinder() {
+        (0..64)
+            .flat_map(|i| {
+                let a = i as f32 * std::f32::consts::TAU / 64.0;
+                let (x, z) = (c.radius * a.cos(), c.radius * a.sin());
+                [
+                    Vector::new(x, c.half_height, z),
+                    Vector::new(x, -c.half_height, z),
+                ]
+            })
+            .collect()
+    } else if let Some(c) = shape.as_convex_polyhedron() {
+        c.points().to_vec()
+    } else {
+        let a = shape.compute_local_aabb();
+        vec![a.mins, a.maxs, Vector::new(a.mins.x, a.maxs.y, a.mins.z)]
+    }
+}
+
 /// Pose of a body as REP 103 position and roll/pitch/yaw (Z-Y-X), m and rad.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct PoseRpy {
@@ -533,21 +566,29 @@ impl Simulation {
             track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
             flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         };
-        // Lift the vehicle so its lowest point is just above the ground.
+        // Lift the vehicle so that every point of it is just above the terrain below it
+        // (exact for boxes, hulls and grousers; cylinders sampled every 360/64 deg).
         let dz = match sc.start_z {
             Some(z) => z,
             None => {
-                let min_z = sim
+                sim.refresh_queries();
+                let mut dz = f64::MIN;
+                let colliders: Vec<ColliderHandle> = sim
                     .vehicle_bodies()
                     .flat_map(|h| sim.world.bodies[h].colliders().to_vec())
-                    .map(|c| {
-                        let col = &sim.world.colliders[c];
-                        let pose = sim.world.bodies[col.parent().unwrap_or(body)].position()
-                            * col.position_wrt_parent().copied().unwrap_or_default();
-                        col.shape().compute_aabb(&pose).mins.z as f64
-                    })
-                    .fold(f64::MAX, f64::min);
-                ground_z + START_CLEARANCE_M - min_z
+                    .collect();
+                for c in colliders {
+                    let col = &sim.world.colliders[c];
+                    let pose = *col.position();
+                    for p in shape_points(col.shape()) {
+                        let w = pose.transform_point(p);
+                        let below = sim
+                            .terrain_below(w.x as f64, w.y as f64)
+                            .unwrap_or(ground_z);
+                        dz = dz.max(below + START_CLEARANCE_M - w.z as f64);
+                    }
+                }
+                dz
             }
         };
         let handles: Vec<_> = sim.vehicle_bodies().collect();
@@ -559,6 +600,14 @@ impl Simulation {
         }
         sim.apply_commands();
         Ok(sim)
+    }
+
+    /// Updates collider poses and the scene-query structures without advancing time.
+    fn refresh_queries(&mut self) {
+        let dt = self.world.integration_parameters.dt;
+        self.world.integration_parameters.dt = 0.0;
+        self.world.step();
+        self.world.integration_parameters.dt = dt;
     }
 
     fn vehicle_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
