@@ -66,6 +66,8 @@ enum Cmd {
 /// Why the command failed, mapped to an exit code.
 enum Failure {
     Outcome,
+    /// Already reported on standard output (by `check`); exit 2.
+    Reported,
     Sim(Error),
 }
 
@@ -152,7 +154,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     result.write(&a.out)?;
     let mut written = vec![a.out.join("summary.json"), a.out.join("trajectory.csv")];
     if !a.no_plot {
-        written.extend(Vec::<PathBuf>::new()); // PLOT-PENDING
+        written.extend(tracksim::run::write_run_plots(&sc, &result, &a.out)?);
     }
     let s = &result.summary;
     if a.json {
@@ -201,10 +203,12 @@ fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
         path: path.to_path_buf(),
         source,
     })?;
-    let table: toml_table::Table = text.parse().map_err(|e: toml_table::de::Error| Error::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })?;
+    let table: toml_table::Table =
+        text.parse()
+            .map_err(|e: toml_table::de::Error| Error::Parse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
     Ok(table.contains_key("body") || table.contains_key("tracks"))
 }
 
@@ -235,7 +239,7 @@ fn check(files: &[PathBuf]) -> Result<(), Failure> {
         }
     }
     match failed {
-        Some(e) => Err(Failure::Sim(e)),
+        Some(_) => Err(Failure::Reported),
         None => Ok(()),
     }
 }
@@ -281,11 +285,7 @@ fn list(dir: Option<PathBuf>) -> Result<(), Failure> {
         entries.retain(|p| p.extension().is_some_and(|e| e == "toml"));
         entries.sort();
         for p in entries {
-            let name = p
-                .strip_prefix(root)
-                .unwrap_or(&p)
-                .display()
-                .to_string();
+            let name = p.strip_prefix(root).unwrap_or(&p).display().to_string();
             println!("  {name:<40} {}", description(&p));
         }
     }
@@ -322,6 +322,7 @@ fn main() -> ExitCode {
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Outcome) => ExitCode::from(1),
+        Err(Failure::Reported) => ExitCode::from(2),
         Err(Failure::Sim(e)) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {

@@ -25,7 +25,7 @@ pub mod spec;
 pub mod terrain;
 
 pub use error::{Error, Result, SpecIssue};
-pub use toml;
 pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};
 pub use run::{Outcome, RunOptions, RunResult, Summary, run_scenario, run_scenario_with};
 pub use sim::Simulation;
+pub use toml;

@@ -354,97 +354,6 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         if let Some(r) = t.sprocket_pitch_radius_m {
             c.positive(&format!("{k}.sprocket_pitch_radius_m"), r, "m");
         }
-        // Path.
-        let pk = format!("{k}.path");
-        let path = match (&t.path.pulleys, &t.path.segments) {
-            (Some(p), None) => {
-                let y = t.path.plane_y_m.unwrap_or(0.0);
-                c.finite(&format!("{pk}.plane_y_m"), &[y]);
-                let pulleys: Vec<Pulley> = p
-                    .iter()
-                    .map(|q| Pulley {
-                        x: q.x_m,
-                        z: q.z_m,
-                        radius: q.radius_m,
-                    })
-                    .collect();
-                TrackPath::from_pulleys(&pulleys, y)
-            }
-            (None, Some(s)) => {
-                if t.path.plane_y_m.is_some() {
-                    c.push(
-                        format!("{pk}.plane_y_m"),
-                        "only used with pulleys; explicit segments carry their own y",
-                    );
-                }
-                let segs = s
-                    .iter()
-                    .map(|s| match *s {
-                        SegmentSpec::Straight {
-                            start_m,
-                            direction,
-                            length_m,
-                        } => Segment::Straight {
-                            start: v3(start_m),
-                            direction: v3(direction),
-                            length: length_m,
-                        },
-                        SegmentSpec::Arc {
-                            start_m,
-                            centre_m,
-                            axis,
-                            angle_deg,
-                        } => Segment::Arc {
-                            start: v3(start_m),
-                            centre: v3(centre_m),
-                            axis: v3(axis),
-                            angle: angle_deg.to_radians(),
-                        },
-                    })
-                    .collect();
-                TrackPath::new(segs)
-            }
-            _ => {
-                c.push(
-                    pk.clone(),
-                    "give exactly one of `pulleys` (list of {x_m, z_m, radius_m}) or `segments`",
-                );
-                continue;
-            }
-        };
-        let path = match path {
-            Ok(p) => p,
-            Err(errs) => {
-                for e in &errs {
-                    c.issues.push(path_issue(&pk, e));
-                }
-                continue;
-            }
-        };
-        if path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
-            c.push(
-                pk.clone(),
-                "the loop must lie in an x-z plane and turn about +y (lower run moving backwards for a positive belt speed); reverse the segment order",
-            );
-        }
-        let n = path.segments().len();
-        let mut included = vec![true; n];
-        for (j, &o) in t.omit_segments.iter().enumerate() {
-            if o >= n {
-                c.push(
-                    format!("{k}.omit_segments[{j}]"),
-                    format!(
-                        "segment {o} does not exist; the loop has segments 0..{}",
-                        n - 1
-                    ),
-                );
-            } else {
-                included[o] = false;
-            }
-        }
-        if included.iter().all(|x| !x) {
-            c.push(format!("{k}.omit_segments"), "cannot omit every segment");
-        }
         // Grousers.
         let grousers = match &t.grousers {
             None => None,
@@ -538,6 +447,97 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
                 })
             }
         };
+        // Path.
+        let pk = format!("{k}.path");
+        let path = match (&t.path.pulleys, &t.path.segments) {
+            (Some(p), None) => {
+                let y = t.path.plane_y_m.unwrap_or(0.0);
+                c.finite(&format!("{pk}.plane_y_m"), &[y]);
+                let pulleys: Vec<Pulley> = p
+                    .iter()
+                    .map(|q| Pulley {
+                        x: q.x_m,
+                        z: q.z_m,
+                        radius: q.radius_m,
+                    })
+                    .collect();
+                TrackPath::from_pulleys(&pulleys, y)
+            }
+            (None, Some(s)) => {
+                if t.path.plane_y_m.is_some() {
+                    c.push(
+                        format!("{pk}.plane_y_m"),
+                        "only used with pulleys; explicit segments carry their own y",
+                    );
+                }
+                let segs = s
+                    .iter()
+                    .map(|s| match *s {
+                        SegmentSpec::Straight {
+                            start_m,
+                            direction,
+                            length_m,
+                        } => Segment::Straight {
+                            start: v3(start_m),
+                            direction: v3(direction),
+                            length: length_m,
+                        },
+                        SegmentSpec::Arc {
+                            start_m,
+                            centre_m,
+                            axis,
+                            angle_deg,
+                        } => Segment::Arc {
+                            start: v3(start_m),
+                            centre: v3(centre_m),
+                            axis: v3(axis),
+                            angle: angle_deg.to_radians(),
+                        },
+                    })
+                    .collect();
+                TrackPath::new(segs)
+            }
+            _ => {
+                c.push(
+                    pk.clone(),
+                    "give exactly one of `pulleys` (list of {x_m, z_m, radius_m}) or `segments`",
+                );
+                continue;
+            }
+        };
+        let path = match path {
+            Ok(p) => p,
+            Err(errs) => {
+                for e in &errs {
+                    c.issues.push(path_issue(&pk, e));
+                }
+                continue;
+            }
+        };
+        if path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
+            c.push(
+                pk.clone(),
+                "the loop must lie in an x-z plane and turn about +y (lower run moving backwards for a positive belt speed); reverse the segment order",
+            );
+        }
+        let n = path.segments().len();
+        let mut included = vec![true; n];
+        for (j, &o) in t.omit_segments.iter().enumerate() {
+            if o >= n {
+                c.push(
+                    format!("{k}.omit_segments[{j}]"),
+                    format!(
+                        "segment {o} does not exist; the loop has segments 0..{}",
+                        n - 1
+                    ),
+                );
+            } else {
+                included[o] = false;
+            }
+        }
+        if included.iter().all(|x| !x) {
+            c.push(format!("{k}.omit_segments"), "cannot omit every segment");
+        }
         let model = TrackModel {
             name: t.name.clone(),
             parent,
@@ -654,7 +654,8 @@ pub enum TrackMethod {
 
 impl TrackMethod {
     /// All methods, by name.
-    pub const ALL: &'static [(&'static str, TrackMethod)] = &[("okada2020", TrackMethod::Okada2020)];
+    pub const ALL: &'static [(&'static str, TrackMethod)] =
+        &[("okada2020", TrackMethod::Okada2020)];
 
     /// Parses a method name.
     pub fn from_name(name: &str) -> Option<TrackMethod> {

@@ -112,15 +112,11 @@ pub fn check_outcome(o: &OutcomeModel, sim: &Simulation) -> Option<Outcome> {
             o.max_tilt.to_degrees()
         )));
     }
-    if let Some(x) = o.success_x {
-        if p.x >= x {
-            return Some(Outcome::Success(format!("body passed x = {x} m")));
-        }
+    if let Some(x) = o.success_x.filter(|x| p.x >= *x) {
+        return Some(Outcome::Success(format!("body passed x = {x} m")));
     }
-    if let Some(z) = o.success_z {
-        if p.z >= z {
-            return Some(Outcome::Success(format!("body reached z = {z} m")));
-        }
+    if let Some(z) = o.success_z.filter(|z| p.z >= *z) {
+        return Some(Outcome::Success(format!("body reached z = {z} m")));
     }
     if o.fail_off_terrain && sim.terrain_below(p.x, p.y).is_none() {
         return Some(Outcome::Failure(format!(
@@ -320,4 +316,83 @@ impl RunResult {
         out.flush().map_err(io(&tp))?;
         Ok(())
     }
+}
+
+/// The terrain under runs as drawn in the side view: the height profile along the first run's
+/// path (x, z) and the side outlines (x, z) of the terrain's boxes, m.
+pub fn side_view_terrain(
+    sc: &Scenario,
+    runs: &[&RunResult],
+) -> (Vec<(f64, f64)>, Vec<Vec<(f64, f64)>>) {
+    let samples: Vec<&Sample> = runs.iter().flat_map(|r| r.samples.iter()).collect();
+    if samples.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let (lo, hi) = samples.iter().fold((f64::MAX, f64::MIN), |(lo, hi), s| {
+        (lo.min(s.pose.x), hi.max(s.pose.x))
+    });
+    let (lo, hi) = (lo - 0.5, hi + 0.5);
+    let n = 400;
+    let first = &runs[0].samples;
+    let y_at = |x: f64| {
+        first
+            .iter()
+            .min_by(|a, b| (a.pose.x - x).abs().total_cmp(&(b.pose.x - x).abs()))
+            .map(|s| s.pose.y)
+            .unwrap_or(0.0)
+    };
+    let xs: Vec<f64> = (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect();
+    let pts: Vec<(f64, f64)> = xs.iter().map(|&x| (x, y_at(x))).collect();
+    let profile = xs
+        .iter()
+        .zip(sc.terrain.heights_at(&pts))
+        .filter_map(|(&x, z)| z.map(|z| (x, z)))
+        .collect();
+    let outlines = sc
+        .terrain
+        .boxes
+        .iter()
+        .map(|b| {
+            let r = b.rotation();
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .iter()
+                .map(|(sx, sz)| {
+                    let p = b.centre + r * glam::DVec3::new(sx * b.half.x, 0.0, sz * b.half.z);
+                    (p.x, p.z)
+                })
+                .collect()
+        })
+        .collect();
+    (profile, outlines)
+}
+
+/// Writes `plot.png` and `plot.svg` for one run into `dir`: side view over the terrain, top
+/// view, pitch and roll against time.
+pub fn write_run_plots(
+    sc: &Scenario,
+    result: &RunResult,
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    let (profile, outlines) = side_view_terrain(sc, &[result]);
+    let title = if sc.description.is_empty() {
+        result.summary.vehicle.clone()
+    } else {
+        sc.description.clone()
+    };
+    let runs = [crate::plot::PlotRun {
+        label: &result.summary.method,
+        result,
+    }];
+    crate::plot::write_plots(
+        &crate::plot::PlotInput {
+            title: &title,
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &outlines,
+        },
+        dir,
+        "plot",
+    )
 }

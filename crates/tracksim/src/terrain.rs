@@ -1614,6 +1614,11 @@ impl TerrainModel {
         if self.ground.is_some() {
             return None;
         }
+        self.finite_extent()
+    }
+
+    /// The extent of the finite surfaces (everything but the ground plane), m.
+    fn finite_extent(&self) -> Option<(DVec3, DVec3)> {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         let mut grow = |p: DVec3| {
@@ -1666,8 +1671,8 @@ impl TerrainModel {
         lo.is_finite().then_some((lo, hi))
     }
 
-    /// Height of the highest terrain surface at (x, y), m, found by a downward ray from far
-    /// above; `None` where there is nothing (off the terrain).
+    /// Height of the highest terrain surface at (x, y), m, found by a downward ray from just
+    /// above the highest surface; `None` where there is nothing (off the terrain).
     pub fn height_at(&self, x: f64, y: f64) -> Option<f64> {
         self.heights_at(&[(x, y)])[0]
     }
@@ -1677,14 +1682,26 @@ impl TerrainModel {
         let mut world = PhysicsWorld::new();
         self.insert_into(&mut world, InteractionGroups::all());
         world.step_with_events(&(), &()); // no dynamic bodies: only updates the query structures
-        let top = 1000.0;
+        // Rays start just above the highest surface: from far above, f32 rounding of the
+        // shapes' rotations would be magnified by the distance.
+        let (mut lo, mut hi) = self
+            .finite_extent()
+            .map_or((f64::INFINITY, f64::NEG_INFINITY), |(l, h)| (l.z, h.z));
+        if let Some((z, _)) = self.ground {
+            (lo, hi) = (lo.min(z), hi.max(z));
+        }
+        if !(lo.is_finite() && hi.is_finite()) {
+            return vec![None; points.len()];
+        }
+        let top = hi + 1.0;
+        let reach = (top - lo + 1.0) as f32;
         points
             .iter()
             .map(|&(x, y)| {
-                let ray = Ray::new(Vector::new(x as f32, y as f32, top), Vector::NEG_Z);
+                let ray = Ray::new(f(DVec3::new(x, y, top)), Vector::NEG_Z);
                 world
-                    .cast_ray(&ray, 2.0 * top, true, QueryFilter::default())
-                    .map(|(_, toi)| top as f64 - toi as f64)
+                    .cast_ray(&ray, reach, true, QueryFilter::default())
+                    .map(|(_, toi)| top - toi as f64)
             })
             .collect()
     }

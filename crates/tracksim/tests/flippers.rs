@@ -16,6 +16,7 @@ fn flipper_cmd(t: f64, deg: f64, belt: f64) -> CommandSpec {
             ("front_right".to_string(), deg),
         ]
         .into(),
+        ..Default::default()
     }
 }
 

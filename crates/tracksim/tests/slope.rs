@@ -17,11 +17,7 @@ fn speed_along_slope(deg: f64) -> f64 {
             s.terrain.ground = None;
             // A 20 m x 4 m plate whose top surface passes through the origin.
             s.terrain.boxes.push(BoxSpec {
-                centre_m: [
-                    half_thickness * th.sin(),
-                    0.0,
-                    -half_thickness * th.cos(),
-                ],
+                centre_m: [half_thickness * th.sin(), 0.0, -half_thickness * th.cos()],
                 size_m: [20.0, 4.0, 2.0 * half_thickness],
                 yaw_deg: 0.0,
                 pitch_deg: -deg,

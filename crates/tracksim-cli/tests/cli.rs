@@ -1,0 +1,326 @@
+//! The `tracksim` binary as a user runs it (issue 3): each subcommand, each output file and its
+//! columns, each exit code, and the message every kind of bad input gets.
+
+use assert_cmd::Command;
+use std::path::{Path, PathBuf};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tracksim() -> Command {
+    let mut c = Command::cargo_bin("tracksim").unwrap();
+    c.current_dir(root());
+    c
+}
+
+/// Writes a scenario into a temp dir, its vehicle path made absolute.
+fn scenario(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let vehicles = root().join("vehicles").canonicalize().unwrap();
+    let text = text.replace("VEHICLES", &vehicles.display().to_string());
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const FLAT: &str = r#"
+[vehicle]
+file = "VEHICLES/packbot510.toml"
+[terrain.ground]
+friction = 0.6
+[simulation]
+duration_s = 0.3
+[[commands]]
+belt_speed_mps = 0.3
+"#;
+
+struct Out {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn run(args: &[&str]) -> Out {
+    let o = tracksim().args(args).output().unwrap();
+    Out {
+        code: o.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&o.stdout).into(),
+        stderr: String::from_utf8_lossy(&o.stderr).into(),
+    }
+}
+
+#[test]
+fn run_writes_summary_and_trajectory_with_their_columns() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = run(&[
+        "run",
+        "scenarios/packbot_flat.toml",
+        "--duration",
+        "0.5",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("real-time factor"), "{}", o.stdout);
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    for k in [
+        "sim_time_s",
+        "wall_time_s",
+        "real_time_factor",
+        "mean_speed_mps",
+        "outcome",
+    ] {
+        assert!(s.get(k).is_some(), "summary lacks {k}: {s}");
+    }
+    for k in ["x", "y", "z", "roll", "pitch", "yaw"] {
+        assert!(s["final_pose"][k].is_f64(), "final_pose.{k}");
+    }
+    assert!((s["sim_time_s"].as_f64().unwrap() - 0.5).abs() < 1e-9);
+    assert!(s["final_pose"]["x"].as_f64().unwrap() > 0.1, "it drove");
+    let csv = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    for c in [
+        "t_s",
+        "x_m",
+        "y_m",
+        "z_m",
+        "roll_rad",
+        "pitch_rad",
+        "yaw_rad",
+        "vx_mps",
+        "vy_mps",
+        "vz_mps",
+        "wx_rad_s",
+        "wy_rad_s",
+        "wz_rad_s",
+        "belt_speed_left_mps",
+        "belt_speed_right_mps",
+        "belt_phase_left_m",
+        "belt_phase_right_m",
+        "contacts",
+    ] {
+        assert!(header.contains(&c), "missing column {c} in {header:?}");
+    }
+    let rows: Vec<&str> = lines.collect();
+    // 0.5 s at the default 10 ms interval, plus the row at t = 0.
+    assert_eq!(rows.len(), 51);
+    assert!(rows.iter().all(|r| r.split(',').count() == header.len()));
+    for f in ["plot.png", "plot.svg"] {
+        assert!(out.join(f).is_file(), "{f} not written");
+    }
+}
+
+#[test]
+fn run_json_prints_the_summary() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = scenario(tmp.path(), "s.toml", FLAT);
+    let o = run(&[
+        "run",
+        f.to_str().unwrap(),
+        "--json",
+        "--no-plot",
+        "--out",
+        tmp.path().join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let s: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(s["outcome"], "completed");
+    assert_eq!(s["method"], "okada2020");
+}
+
+#[test]
+fn strict_exits_1_when_the_outcome_is_failure() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = format!("{FLAT}\n[outcome]\nsuccess_x_m = 5.0\n");
+    let f = scenario(tmp.path(), "s.toml", &text);
+    let out = tmp.path().join("o");
+    let args = ["run", f.to_str().unwrap(), "--quiet", "--no-plot", "--out"];
+    let o = run(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert_eq!(
+        o.code, 0,
+        "without --strict a failed outcome is still a run"
+    );
+    let o = run(&[&args[..], &[out.to_str().unwrap(), "--strict"]].concat());
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    let s = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(s.contains("\"failure\"") && s.contains("timeout"), "{s}");
+}
+
+#[test]
+fn an_exploding_simulation_exits_3_saying_when_and_which_body() {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = scenario(
+        tmp.path(),
+        "s.toml",
+        &FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = 500.0"),
+    );
+    let o = run(&[
+        "run",
+        f.to_str().unwrap(),
+        "--no-plot",
+        "--out",
+        tmp.path().join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 3, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("unstable at t = ") && o.stderr.contains("body"),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
+fn check_accepts_every_bundled_file() {
+    let mut files: Vec<String> = Vec::new();
+    for d in ["vehicles", "scenarios"] {
+        for e in std::fs::read_dir(root().join(d)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|e| e == "toml") {
+                files.push(format!("{d}/{}", p.file_name().unwrap().to_str().unwrap()));
+            }
+        }
+    }
+    assert!(files.len() >= 5);
+    let mut args = vec!["check".to_string()];
+    args.extend(files.iter().cloned());
+    let args: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
+    let o = run(&args);
+    assert_eq!(o.code, 0, "{}{}", o.stdout, o.stderr);
+    assert_eq!(o.stdout.matches("ok ").count(), files.len(), "{}", o.stdout);
+}
+
+#[test]
+fn list_names_bundled_files_with_descriptions() {
+    let o = run(&["list"]);
+    assert_eq!(o.code, 0);
+    assert!(o.stdout.contains("vehicles/packbot510.toml"));
+    assert!(o.stdout.contains("scenarios/packbot_flat.toml"));
+    assert!(
+        o.stdout.contains("Table II"),
+        "descriptions shown: {}",
+        o.stdout
+    );
+}
+
+/// Runs `check` on a scenario text and returns (exit code, everything printed).
+fn check_text(text: &str) -> (i32, String) {
+    let tmp = tempfile::tempdir().unwrap();
+    let f = scenario(tmp.path(), "bad.toml", text);
+    let o = run(&["check", f.to_str().unwrap()]);
+    (o.code, format!("{}{}", o.stdout, o.stderr))
+}
+
+/// The bad-input table (docs/ERRORS.md lists the same cases with their messages).
+#[test]
+fn bad_inputs_exit_2_naming_the_file_the_key_and_the_fix() {
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        (
+            "wrong type",
+            FLAT.replace("duration_s = 0.3", "duration_s = \"long\""),
+            vec!["bad.toml", "duration_s", "invalid type"],
+        ),
+        (
+            "unknown key",
+            FLAT.replace("friction = 0.6", "friction = 0.6\nfrcition = 0.5"),
+            vec![
+                "bad.toml",
+                "line 6",
+                "unknown field `frcition`",
+                "expected `friction`",
+            ],
+        ),
+        (
+            "negative size",
+            format!("{FLAT}\n[[terrain.boxes]]\ncentre_m = [1, 0, 0]\nsize_m = [1, -2, 0.1]\n"),
+            vec!["bad.toml", "terrain.boxes[0].size_m[1]", "> 0"],
+        ),
+        (
+            "NaN",
+            FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = nan"),
+            vec!["bad.toml", "commands[0].belt_speed_mps", "finite"],
+        ),
+        (
+            "huge dt",
+            FLAT.replace("duration_s = 0.3", "duration_s = 0.3\ndt_s = 0.5"),
+            vec!["bad.toml", "simulation.dt_s", "at most 0.01"],
+        ),
+        (
+            "zero duration",
+            FLAT.replace("duration_s = 0.3", "duration_s = 0.0"),
+            vec!["bad.toml", "simulation.duration_s", "> 0"],
+        ),
+        (
+            "missing vehicle",
+            FLAT.replace("packbot510.toml", "nosuch.toml"),
+            vec!["bad.toml", "vehicle.file", "nosuch.toml", "not found"],
+        ),
+        (
+            "unknown track in a command",
+            FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = { lft = 0.3 }"),
+            vec![
+                "commands[0].belt_speed_mps.lft",
+                "no track called",
+                "\"left\"",
+            ],
+        ),
+        (
+            "not TOML",
+            "this is [not toml".to_string(),
+            vec!["bad.toml", "TOML parse error"],
+        ),
+    ];
+    for (what, text, needles) in cases {
+        let (code, out) = check_text(&text);
+        assert_eq!(code, 2, "{what}: exit code, output:\n{out}");
+        for n in needles {
+            assert!(out.contains(n), "{what}: message lacks {n:?}:\n{out}");
+        }
+        assert!(!out.contains("panicked"), "{what}: {out}");
+    }
+}
+
+#[test]
+fn a_missing_file_exits_2() {
+    let o = run(&[
+        "run",
+        "scenarios/nosuch.toml",
+        "--out",
+        "/tmp/tracksim-never",
+    ]);
+    assert_eq!(o.code, 2);
+    assert!(
+        o.stderr.contains("scenarios/nosuch.toml") && o.stderr.contains("No such file"),
+        "{}",
+        o.stderr
+    );
+    let o = run(&["check", "nosuch.toml"]);
+    assert_eq!(o.code, 2);
+}
+
+#[test]
+fn a_broken_vehicle_lists_every_problem_with_its_key() {
+    let text = std::fs::read_to_string(root().join("vehicles/packbot510.toml")).unwrap();
+    let text = text
+        .replace("mass_kg = 11.0", "mass_kg = -11.0")
+        .replace(
+            "{ x_m = 0.255, z_m = 0.0, radius_m = 0.082 }",
+            "{ x_m = 0.255, z_m = 0.0, radius_m = 0.0 }",
+        )
+        .replace("count = 40", "count = 0");
+    let tmp = tempfile::tempdir().unwrap();
+    let f = tmp.path().join("v.toml");
+    std::fs::write(&f, text).unwrap();
+    let o = run(&["check", f.to_str().unwrap()]);
+    assert_eq!(o.code, 2);
+    for n in [
+        "body.mass_kg",
+        "tracks[0].path.pulleys[1]",
+        "radius",
+        "tracks[0].grousers.count",
+    ] {
+        assert!(o.stdout.contains(n), "lacks {n}: {}", o.stdout);
+    }
+}
