@@ -1,0 +1,33 @@
+//! Every bundled scenario loads and runs (shortened to at most 2 s simulated) without becoming
+//! unstable, and the vehicle stays on its terrain at a plausible height (issue 3).
+
+mod common;
+use common::root;
+
+#[test]
+fn every_bundled_scenario_runs() {
+    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 4, "{files:?}");
+    for f in files {
+        let mut sc = tracksim::load_scenario(&f).unwrap_or_else(|e| panic!("{e}"));
+        sc.duration = sc.duration.min(2.0);
+        let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let first = r.samples.first().unwrap().pose;
+        let last = r.samples.last().unwrap().pose;
+        // Never more than 1 m above where it started, nor sunk 0.5 m below it.
+        assert!(
+            last.z < first.z + 1.0 && last.z > first.z - 0.5,
+            "{}: z {} -> {}",
+            f.display(),
+            first.z,
+            last.z
+        );
+        assert!(r.summary.outcome != "failure" || r.summary.outcome_reason.starts_with("timeout"),
+            "{}: {}", f.display(), r.summary.outcome_reason);
+    }
+}
