@@ -208,6 +208,9 @@ fn list_names_bundled_files_with_descriptions() {
 /// Runs `check` on a scenario text and returns (exit code, everything printed).
 fn check_text(text: &str) -> (i32, String) {
     let tmp = tempfile::tempdir().unwrap();
+    // Files some cases point at: a "PNG" that is text, and a mesh with vertices but no faces.
+    std::fs::write(tmp.path().join("notapng.png"), "hello").unwrap();
+    std::fs::write(tmp.path().join("empty.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
     let f = scenario(tmp.path(), "bad.toml", text);
     let o = run(&["check", f.to_str().unwrap()]);
     (o.code, format!("{}{}", o.stdout, o.stderr))
@@ -264,6 +267,23 @@ fn bad_inputs_exit_2_naming_the_file_the_key_and_the_fix() {
                 "commands[0].belt_speed_mps.lft",
                 "no track called",
                 "\"left\"",
+            ],
+        ),
+        (
+            "unreadable PNG",
+            format!(
+                "{FLAT}\n[[terrain.heightfields]]\nfile = \"notapng.png\"\nsize_x_m = 2.0\nsize_y_m = 2.0\nmin_z_m = 0.0\nmax_z_m = 0.1\n"
+            ),
+            vec!["bad.toml", "terrain.heightfields[0].file", "notapng.png"],
+        ),
+        (
+            "mesh with no triangles",
+            format!("{FLAT}\n[[terrain.meshes]]\nfile = \"empty.obj\"\n"),
+            vec![
+                "bad.toml",
+                "terrain.meshes[0].file",
+                "empty.obj",
+                "no triangles",
             ],
         ),
         (

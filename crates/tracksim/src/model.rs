@@ -934,6 +934,13 @@ pub fn compile_scenario(
         );
     }
     if !c.issues.is_empty() {
+        // One line per problem even where a value applies to every track.
+        let mut seen = Vec::new();
+        c.issues.retain(|i| {
+            let new = !seen.contains(i);
+            seen.push(i.clone());
+            new
+        });
         return Err(c.issues);
     }
     Ok(Scenario {

@@ -318,12 +318,12 @@ impl RunResult {
     }
 }
 
+/// A polyline in the side view: (x, z) points, m.
+pub type SideLine = Vec<(f64, f64)>;
+
 /// The terrain under runs as drawn in the side view: the height profile along the first run's
 /// path (x, z) and the side outlines (x, z) of the terrain's boxes, m.
-pub fn side_view_terrain(
-    sc: &Scenario,
-    runs: &[&RunResult],
-) -> (Vec<(f64, f64)>, Vec<Vec<(f64, f64)>>) {
+pub fn side_view_terrain(sc: &Scenario, runs: &[&RunResult]) -> (SideLine, Vec<SideLine>) {
     let samples: Vec<&Sample> = runs.iter().flat_map(|r| r.samples.iter()).collect();
     if samples.is_empty() {
         return (Vec::new(), Vec::new());

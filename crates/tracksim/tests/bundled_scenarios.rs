@@ -16,7 +16,8 @@ fn every_bundled_scenario_runs() {
     for f in files {
         let mut sc = tracksim::load_scenario(&f).unwrap_or_else(|e| panic!("{e}"));
         sc.duration = sc.duration.min(2.0);
-        let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        let r = tracksim::run_scenario(&sc, |_, _| {})
+            .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
         let first = r.samples.first().unwrap().pose;
         let last = r.samples.last().unwrap().pose;
         // Never more than 1 m above where it started, nor sunk 0.5 m below it.
@@ -27,7 +28,11 @@ fn every_bundled_scenario_runs() {
             first.z,
             last.z
         );
-        assert!(r.summary.outcome != "failure" || r.summary.outcome_reason.starts_with("timeout"),
-            "{}: {}", f.display(), r.summary.outcome_reason);
+        assert!(
+            r.summary.outcome != "failure" || r.summary.outcome_reason.starts_with("timeout"),
+            "{}: {}",
+            f.display(),
+            r.summary.outcome_reason
+        );
     }
 }
