@@ -98,11 +98,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
                 "",
                 format!(
                     "unknown track method \"{m}\"; use one of {}",
-                    tracksim::model::TrackMethod::ALL
-                        .iter()
-                        .map(|(n, _)| *n)
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    tracksim::model::TrackMethod::NAMES
                 ),
             )],
         })?;

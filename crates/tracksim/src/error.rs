@@ -61,6 +61,9 @@ pub enum Error {
         /// Each problem with its key path.
         issues: Vec<SpecIssue>,
     },
+    /// The vehicle cannot be built with the chosen track method.
+    #[error("cannot build the vehicle: {0}")]
+    Build(String),
     /// The simulation became unstable (non-finite state or a body flying off).
     #[error(
         "simulation unstable at t = {time_s:.4} s: {body} {what}; try a smaller dt, more solver iterations, or check masses and friction"

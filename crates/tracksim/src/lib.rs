@@ -14,10 +14,12 @@
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
+pub(crate) mod baselines;
 pub(crate) mod check;
 pub mod error;
 pub mod geometry;
 pub mod model;
+pub(crate) mod plates;
 pub mod plot;
 pub mod run;
 pub mod sim;

@@ -644,31 +644,63 @@ pub struct Command {
     pub flipper_angle: Vec<Option<f64>>,
 }
 
-/// Track methods (how tracks are modelled).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
+/// Track methods (how tracks are modelled), all built from the same vehicle description.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TrackMethod {
-    /// The paper's segment links with grousers (Okada et al. 2020).
+    /// The paper's segment links with grousers (Okada et al. 2020): `okada2020`.
     Okada2020,
+    /// The paper's method without grousers, links restored every step: `okada2020_no_grousers`.
+    Okada2020NoGrousers,
+    /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
+    /// (e.g. `wheels4`, `wheels13`).
+    Wheels(usize),
+    /// One rigid outline per track whose contacts get the belt's surface velocity (Pecka et al.
+    /// 2017, Gazebo's TrackController): `constraint_to_ground`.
+    ConstraintToGround,
+    /// A closed chain of plates on hinges around sprocket and idler: `plates`.
+    Plates,
 }
 
 impl TrackMethod {
-    /// All methods, by name.
-    pub const ALL: &'static [(&'static str, TrackMethod)] =
-        &[("okada2020", TrackMethod::Okada2020)];
+    /// The methods `tracksim compare` runs, in table order.
+    pub const COMPARED: &'static [TrackMethod] = &[
+        TrackMethod::Okada2020,
+        TrackMethod::Okada2020NoGrousers,
+        TrackMethod::Wheels(4),
+        TrackMethod::Wheels(13),
+        TrackMethod::ConstraintToGround,
+        TrackMethod::Plates,
+    ];
+
+    /// Names accepted by [`Self::from_name`], for messages.
+    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
 
     /// Parses a method name.
     pub fn from_name(name: &str) -> Option<TrackMethod> {
-        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, m)| *m)
+        Some(match name {
+            "okada2020" => TrackMethod::Okada2020,
+            "okada2020_no_grousers" => TrackMethod::Okada2020NoGrousers,
+            "constraint_to_ground" => TrackMethod::ConstraintToGround,
+            "plates" => TrackMethod::Plates,
+            _ => {
+                let k: usize = name.strip_prefix("wheels")?.parse().ok()?;
+                if !(1..=100).contains(&k) {
+                    return None;
+                }
+                TrackMethod::Wheels(k)
+            }
+        })
     }
 
     /// The method's name.
-    pub fn name(&self) -> &'static str {
-        Self::ALL
-            .iter()
-            .find(|(_, m)| m == self)
-            .map(|(n, _)| *n)
-            .unwrap_or("?")
+    pub fn name(&self) -> String {
+        match self {
+            TrackMethod::Okada2020 => "okada2020".into(),
+            TrackMethod::Okada2020NoGrousers => "okada2020_no_grousers".into(),
+            TrackMethod::Wheels(k) => format!("wheels{k}"),
+            TrackMethod::ConstraintToGround => "constraint_to_ground".into(),
+            TrackMethod::Plates => "plates".into(),
+        }
     }
 }
 
@@ -911,11 +943,7 @@ pub fn compile_scenario(
             format!(
                 "unknown track method \"{}\"; use one of {}",
                 s.method,
-                TrackMethod::ALL
-                    .iter()
-                    .map(|(n, _)| format!("\"{n}\""))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                TrackMethod::NAMES
             ),
         );
         TrackMethod::Okada2020

@@ -201,7 +201,7 @@ pub fn run_scenario_with(
     let summary = Summary {
         scenario: sc.source.as_ref().map(|p| p.display().to_string()),
         vehicle: sc.vehicle.name.clone(),
-        method: sc.method.name().into(),
+        method: sc.method.name(),
         dt_s: dt,
         steps: sim.steps(),
         sim_time_s: sim_time,

@@ -107,8 +107,27 @@ struct LinkRt {
     grousers: Vec<(ColliderHandle, usize)>,
 }
 
+/// What a track is made of besides segment links (other track methods).
+#[derive(Debug)]
+enum Extra {
+    /// Segment links only (the paper's method).
+    None,
+    /// Multiple wheels.
+    Wheels(Vec<crate::baselines::WheelRt>),
+    /// Constraint to ground: the outline is on the parent; belt speed goes to the hooks.
+    Surface,
+    /// Multiple plates.
+    Plates(Box<crate::plates::PlateTrack>),
+}
+
+/// Friction of the constraint-to-ground track outline: Gazebo's TrackController example gives
+/// the track mu2 = 150 along the belt ("set a very high mu for the track links" instead of
+/// grousers); Rapier's friction is isotropic, and with the min rule the other surface decides.
+pub const SURFACE_TRACK_FRICTION: f64 = 150.0;
+
 #[derive(Debug)]
 struct TrackRt {
+    extra: Extra,
     parent: RigidBodyHandle,
     links: Vec<LinkRt>,
     pitch: Option<f64>,
@@ -235,6 +254,7 @@ pub struct Sample {
 pub struct Simulation {
     /// The Rapier world; public for inspection (and for advanced users).
     pub world: PhysicsWorld,
+    hooks: crate::baselines::SurfaceHooks,
     body: RigidBodyHandle,
     tracks: Vec<TrackRt>,
     flippers: Vec<FlipperRt>,
@@ -403,7 +423,26 @@ impl Simulation {
 
         // Tracks.
         let mut tracks = Vec::new();
-        for t in &v.tracks {
+        let mut hooks = crate::baselines::SurfaceHooks::default();
+        let method = sc.method;
+        let segments_method = matches!(
+            method,
+            TrackMethod::Okada2020 | TrackMethod::Okada2020NoGrousers
+        );
+        for (ti, t) in v.tracks.iter().enumerate() {
+            let grouser_height = t.grousers.as_ref().map(|g| g.height).unwrap_or(0.0);
+            let stripped;
+            let t = if method == TrackMethod::Okada2020 {
+                t
+            } else {
+                // Only the paper's method carries grousers.
+                stripped = TrackModel {
+                    grousers: None,
+                    ..t.clone()
+                };
+                &stripped
+            };
+            hooks.tracks.push((0.0, t.path.axis()));
             let parent = match t.parent {
                 Parent::Body => body,
                 Parent::Flipper(i) => flippers[i].body,
@@ -440,7 +479,7 @@ impl Simulation {
                 .unwrap_or_default();
             let mut links = Vec::new();
             for (si, seg) in path.segments().iter().enumerate() {
-                if !t.included[si] {
+                if !t.included[si] || !segments_method {
                     continue;
                 }
                 let mass =
@@ -539,7 +578,46 @@ impl Simulation {
                     grousers,
                 });
             }
+            let extra = match method {
+                TrackMethod::Okada2020 | TrackMethod::Okada2020NoGrousers => Extra::None,
+                TrackMethod::Wheels(k) => Extra::Wheels(
+                    crate::baselines::build_wheels(
+                        &mut world,
+                        t,
+                        grouser_height,
+                        k,
+                        parent,
+                        vehicle_groups(),
+                        sc.solver.min_link_mass,
+                        BELT_MOTOR_GAIN,
+                    )
+                    .map_err(Error::Build)?,
+                ),
+                TrackMethod::ConstraintToGround => {
+                    crate::baselines::build_surface(
+                        &mut world,
+                        t,
+                        ti,
+                        parent,
+                        vehicle_groups(),
+                        SURFACE_TRACK_FRICTION,
+                    )
+                    .map_err(Error::Build)?;
+                    Extra::Surface
+                }
+                TrackMethod::Plates => Extra::Plates(Box::new(
+                    crate::plates::build_plates(
+                        &mut world,
+                        t,
+                        parent,
+                        vehicle_groups(),
+                        sc.solver.min_link_mass,
+                    )
+                    .map_err(Error::Build)?,
+                )),
+            };
             tracks.push(TrackRt {
+                extra,
                 parent,
                 links,
                 pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
@@ -553,6 +631,7 @@ impl Simulation {
 
         let mut sim = Simulation {
             world,
+            hooks,
             body,
             tracks,
             flippers,
@@ -613,11 +692,14 @@ impl Simulation {
     fn vehicle_bodies(&self) -> impl Iterator<Item = RigidBodyHandle> + '_ {
         std::iter::once(self.body)
             .chain(self.flippers.iter().map(|f| f.body))
-            .chain(
-                self.tracks
-                    .iter()
-                    .flat_map(|t| t.links.iter().map(|l| l.body)),
-            )
+            .chain(self.tracks.iter().flat_map(|t| {
+                let extra: Vec<RigidBodyHandle> = match &t.extra {
+                    Extra::Wheels(w) => w.iter().map(|w| w.body).collect(),
+                    Extra::Plates(p) => p.bodies.clone(),
+                    Extra::None | Extra::Surface => Vec::new(),
+                };
+                t.links.iter().map(|l| l.body).chain(extra)
+            }))
     }
 
     /// Applies every command whose time has come.
@@ -644,6 +726,22 @@ impl Simulation {
     pub fn set_belt_speed(&mut self, i: usize, v: f64) {
         let t = &mut self.tracks[i];
         t.speed_cmd = v;
+        self.hooks.tracks[i].0 = v;
+        match &mut t.extra {
+            Extra::Wheels(wheels) => {
+                for w in wheels.iter() {
+                    if let Some(j) = self.world.impulse_joints.get_mut(w.joint, true) {
+                        j.data.set_motor_velocity(
+                            JointAxis::AngX,
+                            (v / w.radius) as f32,
+                            BELT_MOTOR_GAIN,
+                        );
+                    }
+                }
+            }
+            Extra::Plates(p) => p.set_speed(&mut self.world, v),
+            Extra::None | Extra::Surface => {}
+        }
         for l in &t.links {
             if let Some(j) = self.world.impulse_joints.get_mut(l.joint, true) {
                 j.data.set_motor_velocity(
@@ -725,7 +823,7 @@ impl Simulation {
     /// Advances the simulation by one time step.
     pub fn step(&mut self) -> Result<()> {
         self.apply_commands();
-        self.world.step();
+        self.world.step_with_events(&self.hooks, &());
         let dt = self.dt;
         self.steps += 1;
         self.time = self.steps as f64 * dt;
@@ -739,6 +837,27 @@ impl Simulation {
     fn update_track(&mut self, ti: usize, dt: f64) {
         let t = &mut self.tracks[ti];
         t.position += t.speed_cmd * dt;
+        match &mut t.extra {
+            Extra::None => {}
+            Extra::Surface => t.speed_measured = t.speed_cmd,
+            Extra::Plates(p) => {
+                p.after_step(&mut self.world, dt);
+                t.speed_measured = p.measured_speed(&self.world);
+            }
+            Extra::Wheels(wheels) => {
+                let parent = &self.world.bodies[t.parent];
+                let (rot, w_parent) = (parent.rotation(), parent.angvel());
+                let sum: f64 = wheels
+                    .iter()
+                    .map(|w| {
+                        let axis =
+                            rot * Vector::new(w.axis.x as f32, w.axis.y as f32, w.axis.z as f32);
+                        (self.world.bodies[w.body].angvel() - w_parent).dot(axis) as f64 * w.radius
+                    })
+                    .sum();
+                t.speed_measured = sum / wheels.len().max(1) as f64;
+            }
+        }
         let (phi, wraps) = t.phase();
         // Where the links should be before any wrap: the old wrap count's phase.
         let phi_unwrapped = phi + (wraps - t.wraps) as f64 * t.pitch.unwrap_or(0.0);
