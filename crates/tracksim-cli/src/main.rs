@@ -48,6 +48,23 @@ enum Cmd {
         #[arg(long)]
         no_plot: bool,
     },
+    /// Run one scenario with every track method; print a table and write a combined plot.
+    Compare {
+        /// Scenario file (TOML).
+        file: PathBuf,
+        /// Output folder (compare.csv, compare.png, compare.svg, one subfolder per method).
+        #[arg(long, default_value = "out/compare")]
+        out: PathBuf,
+        /// Methods to run, comma-separated (default: all).
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+        /// Override the simulated duration, s.
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Print the table as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Check vehicle and scenario files without running them; print every problem.
     Check {
         /// Files to check (vehicle or scenario files, told apart by their keys).
@@ -193,6 +210,138 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     Ok(())
 }
 
+fn bad_arg(arg: &str, message: String) -> Failure {
+    Failure::Sim(Error::Invalid {
+        path: arg.into(),
+        issues: vec![tracksim::SpecIssue::new("", message)],
+    })
+}
+
+fn compare(
+    file: &Path,
+    out: &Path,
+    methods: &[String],
+    duration: Option<f64>,
+    json: bool,
+) -> Result<(), Failure> {
+    use tracksim::model::TrackMethod;
+    let mut sc = tracksim::load_scenario(file)?;
+    if let Some(d) = duration {
+        if !(d.is_finite() && d > 0.0) {
+            return Err(bad_arg(
+                "--duration",
+                format!("must be a number of seconds > 0, got {d}"),
+            ));
+        }
+        sc.duration = d;
+    }
+    let methods: Vec<TrackMethod> = if methods.is_empty() {
+        TrackMethod::COMPARED.to_vec()
+    } else {
+        methods
+            .iter()
+            .map(|m| {
+                TrackMethod::from_name(m).ok_or_else(|| {
+                    bad_arg(
+                        "--methods",
+                        format!(
+                            "unknown track method \"{m}\"; use one of {}",
+                            TrackMethod::NAMES
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let mut rows = Vec::new();
+    let mut done = Vec::new();
+    for m in &methods {
+        sc.method = *m;
+        if !json {
+            eprintln!("running {} ...", m.name());
+        }
+        match tracksim::run_scenario(&sc, |_, _| {}) {
+            Ok(r) => {
+                r.write(&out.join(m.name()))?;
+                let s = &r.summary;
+                rows.push(serde_json::json!({
+                    "method": m.name(),
+                    "outcome": s.outcome,
+                    "reason": s.outcome_reason,
+                    "distance_m": s.distance_m,
+                    "mean_speed_mps": s.mean_speed_mps,
+                    "real_time_factor": s.real_time_factor,
+                    "final_z_m": s.final_pose.z,
+                }));
+                done.push((m.name(), r));
+            }
+            Err(e) => rows.push(serde_json::json!({
+                "method": m.name(),
+                "outcome": "error",
+                "reason": e.to_string(),
+            })),
+        }
+    }
+    let runs: Vec<(String, &tracksim::RunResult)> =
+        done.iter().map(|(n, r)| (n.clone(), r)).collect();
+    let plots = tracksim::run::write_compare_plots(&sc, &runs, out)?;
+    let mut csv = String::from(
+        "method,outcome,distance_m,mean_speed_mps,real_time_factor,final_z_m,reason\n",
+    );
+    for r in &rows {
+        let num = |k: &str| r[k].as_f64().map(|v| format!("{v:.4}")).unwrap_or_default();
+        csv.push_str(&format!(
+            "{},{},{},{},{},{},\"{}\"\n",
+            r["method"].as_str().unwrap_or(""),
+            r["outcome"].as_str().unwrap_or(""),
+            num("distance_m"),
+            num("mean_speed_mps"),
+            num("real_time_factor"),
+            num("final_z_m"),
+            r["reason"].as_str().unwrap_or("").replace('"', "'")
+        ));
+    }
+    let csv_path = out.join("compare.csv");
+    std::fs::write(&csv_path, csv).map_err(|source| Error::Io {
+        path: csv_path.clone(),
+        source,
+    })?;
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({ "methods": rows }))
+                .expect("serialises")
+        );
+        return Ok(());
+    }
+    println!("scenario {}", file.display());
+    println!(
+        "{:<24} {:<10} {:>10} {:>12} {:>8}  reason",
+        "method", "outcome", "distance m", "speed m/s", "RTF"
+    );
+    for r in &rows {
+        let num = |k: &str, p: usize| {
+            r[k].as_f64()
+                .map(|v| format!("{v:.p$}"))
+                .unwrap_or_else(|| "-".into())
+        };
+        println!(
+            "{:<24} {:<10} {:>10} {:>12} {:>8}  {}",
+            r["method"].as_str().unwrap_or(""),
+            r["outcome"].as_str().unwrap_or(""),
+            num("distance_m", 3),
+            num("mean_speed_mps", 4),
+            num("real_time_factor", 1),
+            r["reason"].as_str().unwrap_or("")
+        );
+    }
+    println!("wrote {}", csv_path.display());
+    for p in plots {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
 /// Tells a vehicle file from a scenario file by its top-level keys.
 fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
@@ -313,6 +462,13 @@ fn main() -> ExitCode {
             no_plot,
         }),
         Cmd::Check { files } => check(&files),
+        Cmd::Compare {
+            file,
+            out,
+            methods,
+            duration,
+            json,
+        } => compare(&file, &out, &methods, duration, json),
         Cmd::List { dir } => list(dir),
     };
     match r {

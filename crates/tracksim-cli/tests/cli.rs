@@ -344,3 +344,62 @@ fn a_broken_vehicle_lists_every_problem_with_its_key() {
         assert!(o.stdout.contains(n), "lacks {n}: {}", o.stdout);
     }
 }
+
+#[test]
+fn compare_runs_the_methods_and_writes_a_table_and_a_plot() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cmp");
+    let o = run(&[
+        "compare",
+        "scenarios/packbot_flat.toml",
+        "--duration",
+        "0.3",
+        "--methods",
+        "okada2020,wheels4,constraint_to_ground",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    for m in ["okada2020", "wheels4", "constraint_to_ground"] {
+        assert!(o.stdout.contains(m), "{}", o.stdout);
+        assert!(out.join(m).join("trajectory.csv").is_file());
+    }
+    let csv = std::fs::read_to_string(out.join("compare.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    assert!(out.join("compare.png").is_file() && out.join("compare.svg").is_file());
+    let o = run(&[
+        "compare",
+        "scenarios/packbot_flat.toml",
+        "--methods",
+        "tank",
+    ]);
+    assert_eq!(o.code, 2);
+    assert!(
+        o.stderr.contains("unknown track method \"tank\""),
+        "{}",
+        o.stderr
+    );
+}
+
+#[test]
+fn run_accepts_a_method_and_rejects_an_unknown_one() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("o");
+    let o = run(&[
+        "run",
+        "scenarios/packbot_flat.toml",
+        "--method",
+        "wheels13",
+        "--duration",
+        "0.2",
+        "--json",
+        "--no-plot",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let s: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(s["method"], "wheels13");
+    let o = run(&["run", "scenarios/packbot_flat.toml", "--method", "wheels0"]);
+    assert_eq!(o.code, 2);
+}

@@ -121,7 +121,7 @@ pub(crate) fn build_wheels(
 }
 
 /// Marks track colliders of the constraint-to-ground model: `user_data` = this tag | index.
-pub(crate) const SURFACE_TAG: u128 = 0x5452_4143_4b << 64; // "TRACK"
+pub(crate) const SURFACE_TAG: u128 = 0x0054_5241_434b << 64; // "TRACK"
 
 /// Builds the constraint-to-ground track: one rigid outline (the convex hull of the loop swept
 /// across the belt width) fixed to the parent, whose contacts get the belt's surface velocity in

@@ -396,3 +396,34 @@ pub fn write_run_plots(
         "plot",
     )
 }
+
+/// Writes `compare.png` and `compare.svg`: every successful run of a comparison in one figure.
+pub fn write_compare_plots(
+    sc: &Scenario,
+    results: &[(String, &RunResult)],
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    let runs_only: Vec<&RunResult> = results.iter().map(|(_, r)| *r).collect();
+    if runs_only.is_empty() {
+        return Ok(Vec::new());
+    }
+    let (profile, outlines) = side_view_terrain(sc, &runs_only);
+    let runs: Vec<crate::plot::PlotRun> = results
+        .iter()
+        .map(|(label, r)| crate::plot::PlotRun {
+            label: label.as_str(),
+            result: r,
+        })
+        .collect();
+    let title = format!("{} (track methods compared)", sc.description);
+    crate::plot::write_plots(
+        &crate::plot::PlotInput {
+            title: &title,
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &outlines,
+        },
+        dir,
+        "compare",
+    )
+}
