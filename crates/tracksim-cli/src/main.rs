@@ -65,6 +65,31 @@ enum Cmd {
         #[arg(long)]
         json: bool,
     },
+    /// Benchmark every track method on the paper's Table II case (and Quince and rough cases).
+    Bench {
+        /// Runs per method (interleaved).
+        #[arg(long, default_value_t = 5)]
+        repeat: usize,
+        /// Simulated seconds per run (default: the paper's 10 s).
+        #[arg(long, default_value_t = 10.0)]
+        duration: f64,
+        /// Print the results as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Write bench.csv and bench.md into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Methods, comma-separated (default: all).
+        #[arg(long, value_delimiter = ',')]
+        methods: Vec<String>,
+        /// Cases, comma-separated: packbot, quince, rough (default: all).
+        #[arg(long, value_delimiter = ',')]
+        cases: Vec<String>,
+        /// Batch mode: run many independent PackBot simulations on this many threads and
+        /// report the throughput per core.
+        #[arg(long)]
+        jobs: Option<usize>,
+    },
     /// Check vehicle and scenario files without running them; print every problem.
     Check {
         /// Files to check (vehicle or scenario files, told apart by their keys).
@@ -342,6 +367,170 @@ fn compare(
     Ok(())
 }
 
+struct BenchArgs {
+    repeat: usize,
+    duration: f64,
+    json: bool,
+    out: Option<PathBuf>,
+    methods: Vec<String>,
+    cases: Vec<String>,
+    jobs: Option<usize>,
+}
+
+/// The folder holding `vehicles/` and `scenarios/`: the current folder or the source tree.
+fn data_root() -> PathBuf {
+    let here = PathBuf::from(".");
+    if here.join("scenarios").is_dir() {
+        here
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+    }
+}
+
+fn bench(a: BenchArgs) -> Result<(), Failure> {
+    use tracksim::model::TrackMethod;
+    if a.repeat == 0 {
+        return Err(bad_arg("--repeat", "must be at least 1".into()));
+    }
+    if !(a.duration.is_finite() && a.duration > 0.0) {
+        return Err(bad_arg(
+            "--duration",
+            format!("must be a number of seconds > 0, got {}", a.duration),
+        ));
+    }
+    let methods: Vec<TrackMethod> = if a.methods.is_empty() {
+        TrackMethod::COMPARED.to_vec()
+    } else {
+        a.methods
+            .iter()
+            .map(|m| {
+                TrackMethod::from_name(m).ok_or_else(|| {
+                    bad_arg(
+                        "--methods",
+                        format!(
+                            "unknown track method \"{m}\"; use one of {}",
+                            TrackMethod::NAMES
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<_, _>>()?
+    };
+    let root = data_root();
+    let all_cases = [
+        ("packbot", "scenarios/packbot_flat.toml"),
+        ("quince", "scenarios/quince_flat.toml"),
+        ("rough", "scenarios/packbot_rough.toml"),
+    ];
+    for c in &a.cases {
+        if !all_cases.iter().any(|(n, _)| n == c) {
+            return Err(bad_arg(
+                "--cases",
+                format!("unknown case \"{c}\"; use packbot, quince or rough"),
+            ));
+        }
+    }
+    let quiet = a.json;
+    if let Some(jobs) = a.jobs {
+        let mut sc = tracksim::load_scenario(&root.join(all_cases[0].1))?;
+        sc.duration = a.duration;
+        let runs = jobs * a.repeat;
+        if !quiet {
+            eprintln!(
+                "batch: {runs} PackBot runs of {} s on {jobs} threads ...",
+                a.duration
+            );
+        }
+        let b = tracksim::bench::batch(&sc, jobs, runs)?;
+        if a.json {
+            println!("{}", serde_json::to_string_pretty(&b).expect("serialises"));
+        } else {
+            println!(
+                "batch: {} runs, {:.1} simulated s in {:.2} wall s on {} threads: {:.1} sim s per wall s, {:.1} per core",
+                b.runs,
+                b.simulated_s,
+                b.wall_s,
+                b.jobs,
+                b.sim_s_per_wall_s,
+                b.sim_s_per_wall_s_per_core
+            );
+        }
+        return Ok(());
+    }
+    let mut results = Vec::new();
+    for (name, file) in all_cases {
+        if !a.cases.is_empty() && !a.cases.iter().any(|c| c == name) {
+            continue;
+        }
+        let path = root.join(file);
+        if !path.is_file() {
+            if !quiet {
+                eprintln!("skipping case {name}: {} not found", path.display());
+            }
+            continue;
+        }
+        let mut sc = tracksim::load_scenario(&path)?;
+        sc.duration = a.duration;
+        // The benchmark measures stepping, not a mission: never stop early.
+        sc.outcome.stop = false;
+        let r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
+            if !quiet {
+                eprintln!("{m}");
+            }
+        });
+        if !quiet {
+            println!("{}", r.to_markdown());
+        }
+        results.push(r);
+    }
+    if a.json {
+        let cases: Vec<serde_json::Value> = results
+            .iter()
+            .map(|r| serde_json::to_value(r).expect("serialises"))
+            .collect();
+        let first = cases.first().cloned().unwrap_or_default();
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&serde_json::json!({
+                "methods": first["methods"],
+                "settings": first["settings"],
+                "cases": cases,
+            }))
+            .expect("serialises")
+        );
+    }
+    if let Some(dir) = &a.out {
+        let io = |p: &Path| {
+            let p = p.to_path_buf();
+            move |source| Error::Io { path: p, source }
+        };
+        std::fs::create_dir_all(dir).map_err(io(dir))?;
+        let csv: String = results
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let c = r.to_csv();
+                if i == 0 {
+                    c
+                } else {
+                    c.lines().skip(1).map(|l| format!("{l}\n")).collect()
+                }
+            })
+            .collect();
+        let md: String = results.iter().map(|r| r.to_markdown() + "\n").collect();
+        std::fs::write(dir.join("bench.csv"), csv).map_err(io(&dir.join("bench.csv")))?;
+        std::fs::write(dir.join("bench.md"), md).map_err(io(&dir.join("bench.md")))?;
+        if !quiet {
+            println!(
+                "wrote {} and {}",
+                dir.join("bench.csv").display(),
+                dir.join("bench.md").display()
+            );
+        }
+    }
+    Ok(())
+}
+
 /// Tells a vehicle file from a scenario file by its top-level keys.
 fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
@@ -462,6 +651,23 @@ fn main() -> ExitCode {
             no_plot,
         }),
         Cmd::Check { files } => check(&files),
+        Cmd::Bench {
+            repeat,
+            duration,
+            json,
+            out,
+            methods,
+            cases,
+            jobs,
+        } => bench(BenchArgs {
+            repeat,
+            duration,
+            json,
+            out,
+            methods,
+            cases,
+            jobs,
+        }),
         Cmd::Compare {
             file,
             out,

@@ -15,6 +15,7 @@
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
 pub(crate) mod baselines;
+pub mod bench;
 pub(crate) mod check;
 pub mod error;
 pub mod geometry;
@@ -25,6 +26,7 @@ pub mod run;
 pub mod sim;
 pub mod spec;
 pub mod terrain;
+pub mod validate;
 
 pub use error::{Error, Result, SpecIssue};
 pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};

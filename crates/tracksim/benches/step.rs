@@ -1,0 +1,28 @@
+//! One physics step of the PackBot 510 Table II scene (flat ground, 0.3 m/s, dt 1 ms) for each
+//! track method, after 0.5 s of driving. `cargo bench -p tracksim`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use tracksim::Simulation;
+use tracksim::model::TrackMethod;
+
+fn step(c: &mut Criterion) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let sc = tracksim::load_scenario(&root.join("scenarios/packbot_flat.toml"))
+        .expect("bundled scenario");
+    let mut group = c.benchmark_group("packbot_flat_step");
+    for m in TrackMethod::COMPARED {
+        let mut sc = sc.clone();
+        sc.method = *m;
+        let Ok(mut sim) = Simulation::new(&sc) else {
+            continue;
+        };
+        for _ in 0..500 {
+            sim.step().expect("stable");
+        }
+        group.bench_function(m.name(), |b| b.iter(|| sim.step().expect("stable")));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, step);
+criterion_main!(benches);

@@ -1,0 +1,297 @@
+//! `tracksim bench`: the paper's Table II case (and others) for every track method, repeated
+//! and interleaved so that machine noise hits all methods alike.
+
+use crate::error::Result;
+use crate::model::{Scenario, TrackMethod};
+use crate::sim::Simulation;
+use serde::Serialize;
+use std::time::Instant;
+
+/// The paper's Table II real-time factors (Gazebo 7 + ODE, dt 1 ms, i7-6500U), if it has one.
+pub fn paper_rtf(m: TrackMethod) -> Option<f64> {
+    match m {
+        TrackMethod::Okada2020 => Some(2.79),
+        TrackMethod::Okada2020NoGrousers => Some(3.96),
+        TrackMethod::Wheels(4) => Some(4.86),
+        TrackMethod::Wheels(13) => Some(1.79),
+        TrackMethod::ConstraintToGround => Some(5.93),
+        _ => None,
+    }
+}
+
+/// One method's figures in one benchmark case.
+#[derive(Clone, Debug, Serialize)]
+pub struct MethodResult {
+    /// Method name.
+    pub name: String,
+    /// Median real-time factor over the repeats (simulated s / wall s, stepping only).
+    pub rtf_median: f64,
+    /// Smallest real-time factor.
+    pub rtf_min: f64,
+    /// Largest real-time factor.
+    pub rtf_max: f64,
+    /// Median wall time per step, microseconds.
+    pub us_per_step: f64,
+    /// Mean number of solver contact points per step (sampled every 10 steps).
+    pub contacts_per_step: f64,
+    /// rtf_median / the 4-wheel model's rtf_median in the same run.
+    pub ratio_to_4_wheels: Option<f64>,
+    /// The paper's Table II figure.
+    pub paper_rtf: Option<f64>,
+    /// Every repeat's real-time factor, in run order.
+    pub rtf_runs: Vec<f64>,
+    /// Why the method could not run, if it could not.
+    pub error: Option<String>,
+}
+
+/// The settings that change physics, reported with every benchmark.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchSettings {
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Simulated time per run, s.
+    pub duration_s: f64,
+    /// Solver iterations.
+    pub solver_iterations: usize,
+    /// Contact clustering.
+    pub contact_clustering: bool,
+    /// Smallest segment link mass, kg.
+    pub min_link_mass_kg: f64,
+    /// Repeats per method.
+    pub repeat: usize,
+}
+
+/// One benchmark case.
+#[derive(Clone, Debug, Serialize)]
+pub struct CaseResult {
+    /// Case name.
+    pub case: String,
+    /// Settings.
+    pub settings: BenchSettings,
+    /// Per method.
+    pub methods: Vec<MethodResult>,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        s[n / 2]
+    } else {
+        0.5 * (s[n / 2 - 1] + s[n / 2])
+    }
+}
+
+/// Runs `sc` once with `method`: (real-time factor, us per step, contacts per step).
+pub fn time_one(sc: &Scenario, method: TrackMethod) -> Result<(f64, f64, f64)> {
+    let mut sc = sc.clone();
+    sc.method = method;
+    let mut sim = Simulation::new(&sc)?;
+    let steps = (sc.duration / sc.solver.dt).round().max(1.0) as u64;
+    let mut stepping = 0.0;
+    let (mut contacts, mut samples) = (0usize, 0usize);
+    for i in 0..steps {
+        let t0 = Instant::now();
+        sim.step()?;
+        stepping += t0.elapsed().as_secs_f64();
+        if i % 10 == 9 {
+            contacts += sim.contact_count();
+            samples += 1;
+        }
+    }
+    Ok((
+        sim.time() / stepping,
+        stepping * 1e6 / steps as f64,
+        contacts as f64 / samples.max(1) as f64,
+    ))
+}
+
+/// Benchmarks `methods` on `sc`, each `repeat` times, interleaved (m1, m2, ..., m1, m2, ...).
+pub fn bench_case(
+    case: &str,
+    sc: &Scenario,
+    methods: &[TrackMethod],
+    repeat: usize,
+    mut progress: impl FnMut(&str),
+) -> CaseResult {
+    let mut runs: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); methods.len()];
+    let mut errors: Vec<Option<String>> = vec![None; methods.len()];
+    for r in 0..repeat {
+        for (i, m) in methods.iter().enumerate() {
+            if errors[i].is_some() {
+                continue;
+            }
+            progress(&format!("{case}: {} run {}/{repeat}", m.name(), r + 1));
+            match time_one(sc, *m) {
+                Ok(x) => runs[i].push(x),
+                Err(e) => errors[i] = Some(e.to_string()),
+            }
+        }
+    }
+    let wheels4 = methods
+        .iter()
+        .position(|m| *m == TrackMethod::Wheels(4))
+        .filter(|&i| !runs[i].is_empty())
+        .map(|i| median(&runs[i].iter().map(|r| r.0).collect::<Vec<_>>()));
+    let methods = methods
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let rtf: Vec<f64> = runs[i].iter().map(|r| r.0).collect();
+            let us: Vec<f64> = runs[i].iter().map(|r| r.1).collect();
+            let contacts = runs[i].iter().map(|r| r.2).sum::<f64>() / runs[i].len().max(1) as f64;
+            let med = median(&rtf);
+            MethodResult {
+                name: m.name(),
+                rtf_median: med,
+                rtf_min: rtf.iter().copied().fold(f64::INFINITY, f64::min),
+                rtf_max: rtf.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+                us_per_step: median(&us),
+                contacts_per_step: contacts,
+                ratio_to_4_wheels: wheels4.filter(|_| !rtf.is_empty()).map(|w| med / w),
+                paper_rtf: paper_rtf(*m),
+                rtf_runs: rtf,
+                error: errors[i].clone(),
+            }
+        })
+        .collect();
+    CaseResult {
+        case: case.to_string(),
+        settings: BenchSettings {
+            dt_s: sc.solver.dt,
+            duration_s: sc.duration,
+            solver_iterations: sc.solver.iterations,
+            contact_clustering: sc.solver.contact_clustering,
+            min_link_mass_kg: sc.solver.min_link_mass,
+            repeat,
+        },
+        methods,
+    }
+}
+
+impl CaseResult {
+    /// The table as markdown.
+    pub fn to_markdown(&self) -> String {
+        let s = &self.settings;
+        let mut out = format!(
+            "### {}\n\ndt {} s, {} s simulated per run, {} solver iterations, contact clustering {}, min link mass {} kg, {} repeats (interleaved)\n\n",
+            self.case,
+            s.dt_s,
+            s.duration_s,
+            s.solver_iterations,
+            if s.contact_clustering { "on" } else { "off" },
+            s.min_link_mass_kg,
+            s.repeat
+        );
+        out.push_str("| method | RTF median | RTF min-max | us/step | contacts/step | ratio to 4 wheels | paper RTF |\n|---|---:|---:|---:|---:|---:|---:|\n");
+        for m in &self.methods {
+            if let Some(e) = &m.error {
+                out.push_str(&format!("| {} | error: {e} | | | | | |\n", m.name));
+                continue;
+            }
+            out.push_str(&format!(
+                "| {} | {:.1} | {:.1}-{:.1} | {:.1} | {:.0} | {} | {} |\n",
+                m.name,
+                m.rtf_median,
+                m.rtf_min,
+                m.rtf_max,
+                m.us_per_step,
+                m.contacts_per_step,
+                m.ratio_to_4_wheels
+                    .map(|r| format!("{r:.2}"))
+                    .unwrap_or_else(|| "-".into()),
+                m.paper_rtf
+                    .map(|r| format!("{r:.2}"))
+                    .unwrap_or_else(|| "-".into()),
+            ));
+        }
+        out
+    }
+
+    /// The table as CSV.
+    pub fn to_csv(&self) -> String {
+        let mut out = String::from(
+            "case,method,rtf_median,rtf_min,rtf_max,us_per_step,contacts_per_step,ratio_to_4_wheels,paper_rtf,error\n",
+        );
+        for m in &self.methods {
+            let opt = |x: Option<f64>| x.map(|v| format!("{v:.4}")).unwrap_or_default();
+            out.push_str(&format!(
+                "{},{},{:.4},{:.4},{:.4},{:.3},{:.1},{},{},\"{}\"\n",
+                self.case,
+                m.name,
+                m.rtf_median,
+                m.rtf_min,
+                m.rtf_max,
+                m.us_per_step,
+                m.contacts_per_step,
+                opt(m.ratio_to_4_wheels),
+                opt(m.paper_rtf),
+                m.error.clone().unwrap_or_default().replace('"', "'")
+            ));
+        }
+        out
+    }
+}
+
+/// Throughput of many independent simulations on `jobs` threads.
+#[derive(Clone, Debug, Serialize)]
+pub struct BatchResult {
+    /// Threads.
+    pub jobs: usize,
+    /// Simulations run.
+    pub runs: usize,
+    /// Total simulated time, s.
+    pub simulated_s: f64,
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Simulated seconds per wall second.
+    pub sim_s_per_wall_s: f64,
+    /// Simulated seconds per wall second per core (per job).
+    pub sim_s_per_wall_s_per_core: f64,
+}
+
+/// Runs `runs` independent copies of `sc` on `jobs` threads (the model is shared, each thread
+/// owns its worlds).
+pub fn batch(sc: &Scenario, jobs: usize, runs: usize) -> Result<BatchResult> {
+    let jobs = jobs.max(1);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let t0 = Instant::now();
+    let results: Vec<Result<f64>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..jobs)
+            .map(|_| {
+                s.spawn(|| -> Result<f64> {
+                    let mut simulated = 0.0;
+                    while next.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < runs {
+                        let mut sim = Simulation::new(sc)?;
+                        let steps = (sc.duration / sc.solver.dt).round() as u64;
+                        for _ in 0..steps {
+                            sim.step()?;
+                        }
+                        simulated += sim.time();
+                    }
+                    Ok(simulated)
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| h.join().expect("benchmark thread panicked"))
+            .collect()
+    });
+    let wall = t0.elapsed().as_secs_f64();
+    let mut simulated = 0.0;
+    for r in results {
+        simulated += r?;
+    }
+    Ok(BatchResult {
+        jobs,
+        runs,
+        simulated_s: simulated,
+        wall_s: wall,
+        sim_s_per_wall_s: simulated / wall,
+        sim_s_per_wall_s_per_core: simulated / wall / jobs as f64,
+    })
+}
