@@ -89,6 +89,9 @@ enum Cmd {
         /// report the throughput per core.
         #[arg(long)]
         jobs: Option<usize>,
+        /// Override the solver iterations (changes physics; reported in the output).
+        #[arg(long)]
+        solver_iterations: Option<usize>,
     },
     /// Check vehicle and scenario files without running them; print every problem.
     Check {
@@ -375,6 +378,7 @@ struct BenchArgs {
     methods: Vec<String>,
     cases: Vec<String>,
     jobs: Option<usize>,
+    solver_iterations: Option<usize>,
 }
 
 /// The folder holding `vehicles/` and `scenarios/`: the current folder or the source tree.
@@ -391,6 +395,9 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
     use tracksim::model::TrackMethod;
     if a.repeat == 0 {
         return Err(bad_arg("--repeat", "must be at least 1".into()));
+    }
+    if a.solver_iterations.is_some_and(|n| n == 0 || n > 100) {
+        return Err(bad_arg("--solver-iterations", "must be between 1 and 100".into()));
     }
     if !(a.duration.is_finite() && a.duration > 0.0) {
         return Err(bad_arg(
@@ -434,6 +441,9 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
     if let Some(jobs) = a.jobs {
         let mut sc = tracksim::load_scenario(&root.join(all_cases[0].1))?;
         sc.duration = a.duration;
+        if let Some(n) = a.solver_iterations {
+            sc.solver.iterations = n;
+        }
         let runs = jobs * a.repeat;
         if !quiet {
             eprintln!(
@@ -471,6 +481,9 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
         }
         let mut sc = tracksim::load_scenario(&path)?;
         sc.duration = a.duration;
+        if let Some(n) = a.solver_iterations {
+            sc.solver.iterations = n;
+        }
         // The benchmark measures stepping, not a mission: never stop early.
         sc.outcome.stop = false;
         let r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
@@ -659,6 +672,7 @@ fn main() -> ExitCode {
             methods,
             cases,
             jobs,
+            solver_iterations,
         } => bench(BenchArgs {
             repeat,
             duration,
@@ -667,6 +681,7 @@ fn main() -> ExitCode {
             methods,
             cases,
             jobs,
+            solver_iterations,
         }),
         Cmd::Compare {
             file,
