@@ -93,6 +93,19 @@ enum Cmd {
         #[arg(long)]
         solver_iterations: Option<usize>,
     },
+    /// Reproduce the paper's Table IV (Quince steps) and run the physics checks (slope limit,
+    /// skid-steer turning, Fig. 2 and Fig. 3); exits 1 if a case fails.
+    Validate {
+        /// Print the report as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Write report.md and one plot per case into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Track method under test.
+        #[arg(long, default_value = "okada2020")]
+        method: String,
+    },
     /// Check vehicle and scenario files without running them; print every problem.
     Check {
         /// Files to check (vehicle or scenario files, told apart by their keys).
@@ -370,6 +383,44 @@ fn compare(
     Ok(())
 }
 
+fn validate(json: bool, out: Option<PathBuf>, method: &str) -> Result<(), Failure> {
+    use tracksim::model::TrackMethod;
+    let m = TrackMethod::from_name(method).ok_or_else(|| {
+        bad_arg(
+            "--method",
+            format!(
+                "unknown track method \"{method}\"; use one of {}",
+                TrackMethod::NAMES
+            ),
+        )
+    })?;
+    let report = tracksim::validate::run_validation(&data_root(), m, |line| {
+        if !json {
+            eprintln!("{line}");
+        }
+    })?;
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("serialises")
+        );
+    } else {
+        println!("{}", report.to_markdown());
+    }
+    if let Some(dir) = out {
+        for p in report.write(&dir)? {
+            if !json {
+                println!("wrote {}", p.display());
+            }
+        }
+    }
+    if report.passed() {
+        Ok(())
+    } else {
+        Err(Failure::Outcome)
+    }
+}
+
 struct BenchArgs {
     repeat: usize,
     duration: f64,
@@ -397,7 +448,10 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
         return Err(bad_arg("--repeat", "must be at least 1".into()));
     }
     if a.solver_iterations.is_some_and(|n| n == 0 || n > 100) {
-        return Err(bad_arg("--solver-iterations", "must be between 1 and 100".into()));
+        return Err(bad_arg(
+            "--solver-iterations",
+            "must be between 1 and 100".into(),
+        ));
     }
     if !(a.duration.is_finite() && a.duration > 0.0) {
         return Err(bad_arg(
@@ -664,6 +718,7 @@ fn main() -> ExitCode {
             no_plot,
         }),
         Cmd::Check { files } => check(&files),
+        Cmd::Validate { json, out, method } => validate(json, out, &method),
         Cmd::Bench {
             repeat,
             duration,

@@ -369,7 +369,8 @@ pub fn run_validation(
     }
 
     let results = run_parallel(&jobs, &mut progress);
-    let mut results: Vec<Option<(Result<RunResult>, f64)>> = results.into_iter().map(Some).collect();
+    let mut results: Vec<Option<(Result<RunResult>, f64)>> =
+        results.into_iter().map(Some).collect();
     let mut take = |i: usize| results[i].take().expect("each result is used once");
 
     let mut report = ValidationReport {
@@ -391,7 +392,10 @@ pub fn run_validation(
         let stem = format!("table_iv_{a:02.0}deg_{h:03.0}mm");
         let mut runs = Vec::new();
         if let Ok(r) = rg {
-            runs.push((format!("{} (grousers): {}", method.name(), with_grousers.result), r));
+            runs.push((
+                format!("{} (grousers): {}", method.name(), with_grousers.result),
+                r,
+            ));
         }
         if let Ok(r) = rn {
             runs.push((format!("no grousers: {}", without_grousers.result), r));
@@ -542,13 +546,17 @@ pub fn run_validation(
             });
             report.plots.push(PlotJob {
                 stem: "turning_spin".into(),
-                title: format!("PackBot 510 spinning on the spot: {ratio:.2} x the no-slip yaw rate"),
+                title: format!(
+                    "PackBot 510 spinning on the spot: {ratio:.2} x the no-slip yaw rate"
+                ),
                 runs: vec![(method.name(), r.clone())],
                 profile: Vec::new(),
                 outlines: Vec::new(),
             });
         }
-        Err(e) => report.cases.push(error_case("turning", "PackBot spin (belts +-v)", e)),
+        Err(e) => report
+            .cases
+            .push(error_case("turning", "PackBot spin (belts +-v)", e)),
     }
     match &straight {
         Ok(r) => {
@@ -577,7 +585,9 @@ pub fn run_validation(
                 outlines: Vec::new(),
             });
         }
-        Err(e) => report.cases.push(error_case("turning", "PackBot straight-line slip", e)),
+        Err(e) => report
+            .cases
+            .push(error_case("turning", "PackBot straight-line slip", e)),
     }
 
     // Paper figures.
@@ -587,7 +597,10 @@ pub fn run_validation(
         let (rw, _) = take(idx + 1);
         let sc = &jobs[fig_jobs[0]].1;
         let mut runs = Vec::new();
-        for (r, label, expect_success) in [(rt, method.name(), true), (rw, "wheels4".to_string(), false)] {
+        for (r, label, expect_success) in [
+            (rt, method.name(), true),
+            (rw, "wheels4".to_string(), false),
+        ] {
             let name = format!("Fig. 2 bump: {label}");
             match r {
                 Ok(r) => {
@@ -680,7 +693,11 @@ fn error_case(group: &str, name: &str, e: &Error) -> Case {
 fn step_label(a: f64, h: f64, grousers: bool) -> String {
     format!(
         "Table IV {a:.0} deg {h:.0} mm {}",
-        if grousers { "with grousers" } else { "without grousers" }
+        if grousers {
+            "with grousers"
+        } else {
+            "without grousers"
+        }
     )
 }
 
@@ -702,10 +719,9 @@ fn step_run(r: &Result<RunResult>, wall: f64, h: f64) -> StepRun {
             let on_top = last.z - h >= STEP_ON_TOP_Z_M;
             let success = matches!(r.outcome, Outcome::Success(_)) && on_top;
             let reason = match &r.outcome {
-                Outcome::Success(_) if !on_top => format!(
-                    "passed x but only {:.3} m above the step top",
-                    last.z - h
-                ),
+                Outcome::Success(_) if !on_top => {
+                    format!("passed x but only {:.3} m above the step top", last.z - h)
+                }
                 Outcome::Success(s) | Outcome::Failure(s) => s.clone(),
                 Outcome::Completed => "ran to the end".into(),
             };
@@ -825,7 +841,11 @@ pub fn quince_step_scenario(
         .flippers
         .iter()
         .map(|f| {
-            let a = if f.name.starts_with("front") { front_deg } else { 0.0 };
+            let a = if f.name.starts_with("front") {
+                front_deg
+            } else {
+                0.0
+            };
             format!("{} = {a}", f.name)
         })
         .collect();
@@ -919,7 +939,11 @@ fn flat_scenario(
         .tracks
         .iter()
         .map(|t| {
-            let v = if t.lateral_offset() > 0.0 { left } else { PACKBOT_SPEED_MPS };
+            let v = if t.lateral_offset() > 0.0 {
+                left
+            } else {
+                PACKBOT_SPEED_MPS
+            };
             format!("{} = {v}", t.name)
         })
         .collect();
