@@ -432,10 +432,10 @@ impl Simulation {
         for (ti, t) in v.tracks.iter().enumerate() {
             let grouser_height = t.grousers.as_ref().map(|g| g.height).unwrap_or(0.0);
             let stripped;
-            let t = if method == TrackMethod::Okada2020 {
+            let t = if matches!(method, TrackMethod::Okada2020 | TrackMethod::Plates) {
                 t
             } else {
-                // Only the paper's method carries grousers.
+                // Only the paper's method and the plate chain (cleats) carry grousers.
                 stripped = TrackModel {
                     grousers: None,
                     ..t.clone()

@@ -39,8 +39,11 @@ pub const STEP_SUCCESS_MARGIN_M: f64 = 0.40;
 /// height there is 0.075 + 0.016 = 0.091 m with grousers, 0.075 m without).
 pub const STEP_ON_TOP_Z_M: f64 = 0.05;
 /// Simulated time allowed for one step attempt, s. Driving the 1.4 m from the start to
-/// success at 0.1 m/s takes 14 s without any slip; 30 s allows for slipping phases.
-pub const STEP_DURATION_S: f64 = 30.0;
+/// success at 0.1 m/s takes 14 s without any slip. The real test was teleoperated and the
+/// paper gives no time limit; an operator keeps driving while the robot works at the edge, so
+/// the allowance is generous: 60 s, four times the no-slip time. (With 30 s the 45 deg cases
+/// that hang on the edge for 15-20 s before getting over were cut off; see VALIDATION.md.)
+pub const STEP_DURATION_S: f64 = 60.0;
 /// Smallest segment-link mass in the Quince runs, kg: below Quince's lightest link
 /// (0.5 kg sub-track belt x 0.195 / 0.861 m = 0.113 kg), so the simulated robot weighs the
 /// 33 kg of the paper (the default 0.5 kg would add 7 kg to the sub-tracks).
@@ -75,8 +78,8 @@ pub struct StepCase {
     pub paper: String,
     /// This simulator, with grousers (the method under test): "S" or "F" (or "error").
     pub with_grousers: StepRun,
-    /// This simulator without grousers (reported, not asserted).
-    pub without_grousers: StepRun,
+    /// This simulator without grousers (reported, not asserted); `None` if not run.
+    pub without_grousers: Option<StepRun>,
     /// `with_grousers` agrees with reality.
     pub passed: bool,
     /// Plot file stem.
@@ -194,15 +197,17 @@ impl ValidationReport {
         s += "|---|---|---|---|---|---|---|---|\n";
         for c in &self.table_iv {
             s += &format!(
-                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} ({}) | {} | [{}.png]({}.png) |\n",
+                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} | {} | [{}.png]({}.png) |\n",
                 c.front_angle_deg,
                 c.step_height_mm,
                 c.reality,
                 c.paper,
                 c.with_grousers.result,
                 run_words(&c.with_grousers),
-                c.without_grousers.result,
-                run_words(&c.without_grousers),
+                c.without_grousers
+                    .as_ref()
+                    .map(|w| format!("{} ({})", w.result, run_words(w)))
+                    .unwrap_or_else(|| "not run".into()),
                 if c.passed { "yes" } else { "**NO**" },
                 c.plot,
                 c.plot
@@ -303,12 +308,37 @@ fn run_words(r: &StepRun) -> String {
     }
 }
 
+/// Which optional parts of the validation to run.
+#[derive(Clone, Copy, Debug)]
+pub struct ValidationOptions {
+    /// Also run the six Table IV cases without grousers (reported, not asserted).
+    pub without_grousers: bool,
+}
+
+impl Default for ValidationOptions {
+    fn default() -> Self {
+        ValidationOptions {
+            without_grousers: true,
+        }
+    }
+}
+
 /// Runs every validation case with the track method `method` (the Table IV column "with
 /// grousers", the slope, turning and paper-figure cases). `root` is the folder holding
 /// `vehicles/` and `scenarios/`. `progress` receives one line per finished run.
 pub fn run_validation(
     root: &Path,
     method: TrackMethod,
+    progress: impl FnMut(&str),
+) -> Result<ValidationReport> {
+    run_validation_with(root, method, ValidationOptions::default(), progress)
+}
+
+/// [`run_validation`] with options.
+pub fn run_validation_with(
+    root: &Path,
+    method: TrackMethod,
+    opts: ValidationOptions,
     mut progress: impl FnMut(&str),
 ) -> Result<ValidationReport> {
     let wall = Instant::now();
@@ -325,8 +355,9 @@ pub fn run_validation(
         (45.0, 240.0, "S"),
         (45.0, 380.0, "F"),
     ];
+    let per_case = if opts.without_grousers { 2 } else { 1 };
     for &(a, h, _) in &table {
-        for grousers in [true, false] {
+        for grousers in [true, false].into_iter().take(per_case) {
             let sc = quince_step_scenario(&quince, a, h / 1000.0, grousers, method, root)?;
             jobs.push((step_label(a, h, grousers), sc));
         }
@@ -384,11 +415,13 @@ pub fn run_validation(
 
     // Table IV.
     for (k, &(a, h, reality)) in table.iter().enumerate() {
-        let (rg, wg) = take(2 * k);
-        let (rn, wn) = take(2 * k + 1);
-        let sc = &jobs[2 * k].1;
+        let (rg, wg) = take(per_case * k);
+        let without = (per_case == 2).then(|| take(per_case * k + 1));
+        let sc = &jobs[per_case * k].1;
         let with_grousers = step_run(&rg, wg, h / 1000.0);
-        let without_grousers = step_run(&rn, wn, h / 1000.0);
+        let without_grousers = without
+            .as_ref()
+            .map(|(rn, wn)| step_run(rn, *wn, h / 1000.0));
         let stem = format!("table_iv_{a:02.0}deg_{h:03.0}mm");
         let mut runs = Vec::new();
         if let Ok(r) = rg {
@@ -397,12 +430,12 @@ pub fn run_validation(
                 r,
             ));
         }
-        if let Ok(r) = rn {
-            runs.push((format!("no grousers: {}", without_grousers.result), r));
+        if let (Some((Ok(r), _)), Some(w)) = (without, &without_grousers) {
+            runs.push((format!("no grousers: {}", w.result), r));
         }
         if !runs.is_empty() {
             let refs: Vec<&RunResult> = runs.iter().map(|(_, r)| r).collect();
-            let (profile, outlines) = side_view_terrain(sc, &refs);
+            let (profile, outlines) = full_side_view(sc, &refs);
             report.plots.push(PlotJob {
                 stem: stem.clone(),
                 title: format!(
@@ -425,7 +458,7 @@ pub fn run_validation(
             plot: stem,
         });
     }
-    debug_assert_eq!(n_step, 2 * table.len());
+    debug_assert_eq!(n_step, per_case * table.len());
 
     // Slope.
     let mut slope_plot = Vec::new();
@@ -625,7 +658,7 @@ pub fn run_validation(
         }
         if !runs.is_empty() {
             let refs: Vec<&RunResult> = runs.iter().map(|(_, r)| r).collect();
-            let (profile, outlines) = side_view_terrain(sc, &refs);
+            let (profile, outlines) = full_side_view(sc, &refs);
             report.plots.push(PlotJob {
                 stem: "fig2_bump".into(),
                 title: "Paper Fig. 2: a 0.075 m bump, track vs 4 wheels".into(),
@@ -656,7 +689,7 @@ pub fn run_validation(
                     note: "`scenarios/wall_low_friction.toml`: paper Fig. 3; upward friction at the wall is at most 0.2 x the push, the push at most 0.2 x the weight, so no real track climbs it (the constraint-to-ground model does).".into(),
                     plot: "fig3_wall".into(),
                 });
-                let (profile, outlines) = side_view_terrain(sc, &[&r]);
+                let (profile, outlines) = full_side_view(sc, &[&r]);
                 report.plots.push(PlotJob {
                     stem: "fig3_wall".into(),
                     title: "Paper Fig. 3: vertical wall, friction 0.2".into(),
@@ -676,6 +709,31 @@ const SLOPE_SETTLE_S: f64 = 1.0;
 const SLOPE_MEASURE_S: f64 = 3.0;
 const TURN_SETTLE_S: f64 = 2.0;
 const TURN_DURATION_S: f64 = 6.0;
+
+/// [`side_view_terrain`], with the ground profile extended under the whole drawing (runs and
+/// terrain outlines), so the floor reaches the step.
+fn full_side_view(sc: &Scenario, runs: &[&RunResult]) -> (SideLine, Vec<SideLine>) {
+    let (_, outlines) = side_view_terrain(sc, runs);
+    let xs = runs
+        .iter()
+        .flat_map(|r| r.samples.iter().map(|s| s.pose.x))
+        .chain(outlines.iter().flatten().map(|p| p.0));
+    let (lo, hi) = xs.fold((f64::MAX, f64::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    if lo > hi {
+        return (Vec::new(), outlines);
+    }
+    let (lo, hi) = (lo - 0.5, hi);
+    let n = 600;
+    let pts: Vec<(f64, f64)> = (0..=n)
+        .map(|i| (lo + (hi - lo) * i as f64 / n as f64, 0.0))
+        .collect();
+    let profile = pts
+        .iter()
+        .zip(sc.terrain.heights_at(&pts))
+        .filter_map(|(p, z)| z.map(|z| (p.0, z)))
+        .collect();
+    (profile, outlines)
+}
 
 fn error_case(group: &str, name: &str, e: &Error) -> Case {
     Case {

@@ -1,67 +1,113 @@
-//! Validation (issue 6): the paper's Table IV with Quince, the slope limit and skid steering.
+//! Validation (issue 6): the paper's Table IV with Quince, the slope limit, skid steering and
+//! the paper's Figs. 2 and 3, all through `tracksim::validate::run_validation` (one call; the
+//! cases run in parallel on the machine's cores).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use tracksim::model::TrackMethod;
+use tracksim::validate::{ValidationOptions, ValidationReport, run_validation_with};
 
-fn root() -> std::path::PathBuf {
+fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-#[test]
-fn explore() {
-    let rep =
-        tracksim::validate::run_validation(&root(), TrackMethod::Okada2020, |s| eprintln!("{s}"))
-            .unwrap();
-    eprintln!("{}", rep.to_markdown());
-    rep.write(Path::new("/tmp/val")).unwrap();
+/// What this simulator gets for Table IV with grousers (okada2020), in the paper's order
+/// (0 deg: 40, 120, 190 mm; 45 deg: 120, 240, 380 mm). The real robot and the paper: S, S, F,
+/// S, S, F. The 0 deg / 120 mm case differs, for a reason that is geometric and not a tuning
+/// matter (VALIDATION.md): the step's corner is 29 mm above the sub-track's front pulley
+/// centre and 4.5 mm outside the circle the grouser tips sweep when the pulley presses
+/// against the riser, so with rigid contacts the grousers only rub the vertical face, and
+/// friction on that face (at most mu^2 / (1 + mu^2) = 26 % of the weight) cannot lift the
+/// front. The paper's ODE contacts let grousers sink up to 10 mm; 4.7 mm would reach the
+/// corner.
+const TABLE_IV_WITH_GROUSERS: [&str; 6] = ["S", "F", "F", "S", "S", "F"];
+
+fn report() -> ValidationReport {
+    {
+        // The no-grouser column is reported by `tracksim validate` but not asserted; leaving
+        // it out halves the test's time.
+        let opts = ValidationOptions {
+            without_grousers: false,
+        };
+        let r = run_validation_with(&root(), TrackMethod::Okada2020, opts, |line| {
+            eprintln!("{line}")
+        })
+        .expect("validation runs");
+        eprintln!("{}", r.to_markdown());
+        r
+    }
 }
 
 #[test]
-#[ignore]
-fn debug_case() {
-    let a: f64 = std::env::var("A").unwrap().parse().unwrap();
-    let h: f64 = std::env::var("H").unwrap().parse().unwrap();
-    let g = std::env::var("G").map(|s| s == "1").unwrap_or(true);
-    let mut q = tracksim::load_vehicle(&root().join("vehicles/quince.toml")).unwrap();
-    if let Ok(m) = std::env::var("BODYCOM") {
-        q.body.com.x = m.parse().unwrap();
-    }
-    let mut sc = tracksim::validate::quince_step_scenario(
-        &q,
-        a,
-        h / 1000.0,
-        g,
-        TrackMethod::Okada2020,
-        &root(),
-    )
-    .unwrap();
-    if let Ok(m) = std::env::var("MINLINK") {
-        sc.solver.min_link_mass = m.parse().unwrap();
-    }
-    if let Ok(m) = std::env::var("ITER") {
-        sc.solver.iterations = m.parse().unwrap();
-    }
-    if let Ok(m) = std::env::var("DUR") {
-        sc.duration = m.parse().unwrap();
-    }
-    let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
-    for s in r.samples.iter().step_by(50) {
-        eprintln!(
-            "t {:5.1} x {:.3} z {:.3} pitch {:6.1} belts {:?} flip {:?} c {}",
-            s.t,
-            s.pose.x,
-            s.pose.z,
-            s.pose.pitch.to_degrees(),
-            s.belt_speed
-                .iter()
-                .map(|v| (v * 1000.0).round() / 1000.0)
-                .collect::<Vec<_>>(),
-            s.flipper_angle
-                .iter()
-                .map(|v| (v.to_degrees() * 10.0).round() / 10.0)
-                .collect::<Vec<_>>(),
-            s.contacts
+fn validation_cases() {
+    let r = &report();
+
+    // Table IV with grousers.
+    let got: Vec<&str> = r
+        .table_iv
+        .iter()
+        .map(|c| c.with_grousers.result.as_str())
+        .collect();
+    assert_eq!(got, TABLE_IV_WITH_GROUSERS, "Table IV with grousers");
+    let reality: Vec<&str> = r.table_iv.iter().map(|c| c.reality.as_str()).collect();
+    assert_eq!(reality, ["S", "S", "F", "S", "S", "F"]);
+
+    // Slope limit, turning, paper figures.
+    for c in &r.cases {
+        assert!(
+            c.passed,
+            "{} / {}: measured {}, expected {}",
+            c.group, c.name, c.measured, c.expected
         );
     }
-    eprintln!("{:?} rtf {:.1}", r.outcome, r.summary.real_time_factor);
+    assert!(r.cases.iter().any(|c| c.group == "slope"));
+    assert_eq!(r.cases.iter().filter(|c| c.group == "turning").count(), 2);
+    let highest = r
+        .slope_runs
+        .iter()
+        .filter(|s| s.climbed)
+        .map(|s| s.angle_deg)
+        .fold(f64::NAN, f64::max);
+    assert!(
+        (highest - 30.96).abs() <= 2.0,
+        "steepest slope climbed {highest}"
+    );
+
+    // The report's own verdict agrees: everything passes except the Table IV rows that differ
+    // from reality.
+    let mismatches = r.table_iv.iter().filter(|c| !c.passed).count();
+    assert_eq!(mismatches, 1);
+    assert!(!r.passed());
+
+    // Markdown, JSON and one plot per case.
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("validation");
+    let written = r.write(&dir).expect("report written");
+    let md = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(md.contains("Table IV") && md.contains("| 45 deg | 240 mm |"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(json["table_iv"].as_array().unwrap().len(), 6);
+    for c in &r.table_iv {
+        assert!(
+            written.contains(&dir.join(format!("{}.png", c.plot))),
+            "{}",
+            c.plot
+        );
+        assert!(dir.join(format!("{}.svg", c.plot)).is_file());
+    }
+    for c in r.cases.iter().filter(|c| !c.plot.is_empty()) {
+        assert!(dir.join(format!("{}.png", c.plot)).is_file(), "{}", c.plot);
+    }
+}
+
+/// The whole validation as `tracksim validate --out out/validate` runs it (with the no-grouser
+/// column), written to `out/validate`: `cargo test -p tracksim --test validation -- --ignored`.
+#[test]
+#[ignore]
+fn full_report() {
+    let r = tracksim::validate::run_validation(&root(), TrackMethod::Okada2020, |line| {
+        eprintln!("{line}")
+    })
+    .expect("validation runs");
+    r.write(&root().join("out/validate")).expect("written");
+    println!("{}", r.to_markdown());
 }
