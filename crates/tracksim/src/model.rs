@@ -620,6 +620,8 @@ pub struct SolverSettings {
     pub contact_clustering: bool,
     /// Smallest segment link mass, kg.
     pub min_link_mass: f64,
+    /// Speculative contact distance, m.
+    pub prediction_distance: f64,
 }
 
 impl Default for SolverSettings {
@@ -629,6 +631,7 @@ impl Default for SolverSettings {
             iterations: 4,
             contact_clustering: false,
             min_link_mass: crate::sim::MIN_LINK_MASS_KG,
+            prediction_distance: 0.02,
         }
     }
 }
@@ -818,6 +821,11 @@ pub fn compile_scenario(
     c.positive("simulation.duration_s", s.duration_s, "s");
     c.positive("simulation.output_interval_s", s.output_interval_s, "s");
     c.non_negative("simulation.min_link_mass_kg", s.min_link_mass_kg, "kg");
+    c.positive(
+        "simulation.prediction_distance_m",
+        s.prediction_distance_m,
+        "m",
+    );
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -994,6 +1002,7 @@ pub fn compile_scenario(
             iterations: s.solver_iterations,
             contact_clustering: s.contact_clustering,
             min_link_mass: s.min_link_mass_kg,
+            prediction_distance: s.prediction_distance_m,
         },
         duration: s.duration_s,
         output_interval: s.output_interval_s,

@@ -77,6 +77,8 @@ pub struct SolverSummary {
     pub contact_clustering: bool,
     /// Smallest segment link mass, kg.
     pub min_link_mass_kg: f64,
+    /// Speculative contact distance, m.
+    pub prediction_distance_m: f64,
 }
 
 /// How a run ended.
@@ -222,6 +224,7 @@ pub fn run_scenario_with(
             iterations: sc.solver.iterations,
             contact_clustering: sc.solver.contact_clustering,
             min_link_mass_kg: sc.solver.min_link_mass,
+            prediction_distance_m: sc.solver.prediction_distance,
         },
         seed: sc.seed,
         max_link_error_m: err_m,

@@ -346,6 +346,7 @@ impl Simulation {
         ip.dt = sc.solver.dt as f32;
         ip.num_solver_iterations = sc.solver.iterations;
         ip.contact_clustering = sc.solver.contact_clustering;
+        ip.normalized_prediction_distance = sc.solver.prediction_distance as f32;
 
         // Terrain.
         let ground_z = sc.terrain.ground.map(|g| g.0).unwrap_or(0.0);

@@ -393,12 +393,19 @@ pub struct SimulationSpec {
     /// Smallest mass of a track segment link, kg (light links hop under a heavy body).
     #[serde(default = "default_min_link_mass")]
     pub min_link_mass_kg: f64,
+    /// Distance within which Rapier creates speculative contacts, m (Rapier's default 0.02).
+    #[serde(default = "default_prediction")]
+    pub prediction_distance_m: f64,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
     /// Seed for anything random in the scenario (random terrain pieces without their own seed).
     #[serde(default)]
     pub seed: u64,
+}
+
+fn default_prediction() -> f64 {
+    0.02
 }
 
 fn default_method() -> String {
@@ -414,6 +421,7 @@ impl Default for SimulationSpec {
             solver_iterations: default_iterations(),
             contact_clustering: false,
             min_link_mass_kg: default_min_link_mass(),
+            prediction_distance_m: default_prediction(),
             method: default_method(),
             seed: 0,
         }
