@@ -522,6 +522,7 @@ mod tests {
                     iterations: 4,
                     contact_clustering: false,
                     min_link_mass_kg: 0.02,
+                    prediction_distance_m: 0.02,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,

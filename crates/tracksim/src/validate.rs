@@ -603,7 +603,7 @@ pub fn run_validation_with(
                 name: "PackBot straight-line slip".into(),
                 outcome: r.outcome.name().into(),
                 measured: format!("v_body {v:.4} m/s, slip {:+.2} %", slip * 100.0),
-                expected: format!("|slip| < {:.0} %", STRAIGHT_SLIP_LIMIT * 100.0),
+                expected: format!("abs(slip) < {:.0} %", STRAIGHT_SLIP_LIMIT * 100.0),
                 passed: slip.abs() < STRAIGHT_SLIP_LIMIT,
                 note: format!(
                     "Both belts at {PACKBOT_SPEED_MPS} m/s on flat ground (friction 0.6); body speed from {TURN_SETTLE_S:.0} s to {TURN_DURATION_S:.0} s. On level ground the only resistance is the solver's rolling losses, far below the friction limit, so the belts should not slip."
