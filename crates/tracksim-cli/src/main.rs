@@ -540,11 +540,17 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
         }
         // The benchmark measures stepping, not a mission: never stop early.
         sc.outcome.stop = false;
-        let r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
+        let mut r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
             if !quiet {
                 eprintln!("{m}");
             }
         });
+        if name != "packbot" {
+            // The paper's figures are for its PackBot case only.
+            for m in &mut r.methods {
+                m.paper_rtf = None;
+            }
+        }
         if !quiet {
             println!("{}", r.to_markdown());
         }

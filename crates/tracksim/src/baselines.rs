@@ -7,12 +7,7 @@ use crate::model::TrackModel;
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 
-fn f(v: DVec3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
-fn q(r: DQuat) -> Rotation {
-    Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32).normalize()
-}
+use crate::check::{f, q};
 
 /// One wheel of a multiple-wheel track.
 #[derive(Debug)]

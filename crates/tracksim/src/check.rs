@@ -5,6 +5,17 @@ use crate::model::CollisionShape;
 use crate::spec::ShapeSpec;
 use glam::DVec3;
 
+/// f64 geometry to Rapier's f32 vector.
+pub(crate) fn f(v: DVec3) -> rapier3d::prelude::Vector {
+    rapier3d::prelude::Vector::new(v.x as f32, v.y as f32, v.z as f32)
+}
+
+/// f64 rotation to Rapier's f32 rotation.
+pub(crate) fn q(r: glam::DQuat) -> rapier3d::prelude::Rotation {
+    rapier3d::prelude::Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32)
+        .normalize()
+}
+
 pub(crate) fn v3(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
 }

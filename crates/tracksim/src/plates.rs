@@ -88,12 +88,7 @@ pub const FLANGE_HEIGHT_M: f64 = 0.004;
 /// Flange thickness, m.
 pub const FLANGE_THICKNESS_M: f64 = 0.002;
 
-fn f(v: DVec3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
-fn q(r: DQuat) -> Rotation {
-    Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32).normalize()
-}
+use crate::check::{f, q};
 
 /// A plate-chain track at run time.
 #[derive(Debug)]

@@ -48,12 +48,7 @@ pub const MAX_SPEED_MPS: f32 = 50.0;
 const WORLD_GROUP: Group = Group::GROUP_1;
 const VEHICLE_GROUP: Group = Group::GROUP_2;
 
-fn f(v: DVec3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
-fn q(r: DQuat) -> Rotation {
-    Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32).normalize()
-}
+use crate::check::{f, q};
 
 /// How a link moves relative to its parent.
 #[derive(Clone, Copy, Debug)]

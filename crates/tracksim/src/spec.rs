@@ -399,7 +399,8 @@ pub struct SimulationSpec {
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
-    /// Seed for anything random in the scenario (random terrain pieces without their own seed).
+    /// Seed recorded with the run (`summary.json`); random terrain generators take their own
+    /// `seed` keys. The simulation itself is deterministic.
     #[serde(default)]
     pub seed: u64,
 }

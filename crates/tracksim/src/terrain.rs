@@ -1535,13 +1535,7 @@ fn compile_ramps(c: &mut Checker, k: &str, s: &PitchRollRampSpec, t: &mut Terrai
     }
 }
 
-fn f(v: DVec3) -> Vector {
-    Vector::new(v.x as f32, v.y as f32, v.z as f32)
-}
-
-fn q(r: DQuat) -> Rotation {
-    Rotation::from_xyzw(r.x as f32, r.y as f32, r.z as f32, r.w as f32).normalize()
-}
+use crate::check::{f, q};
 
 impl TerrainModel {
     /// Inserts the terrain as colliders on one fixed body of `world`, in collision `groups`.
