@@ -686,7 +686,7 @@ pub fn run_validation_with(
                     ),
                     expected: "does not climb (friction 0.2 on wall and ground)".into(),
                     passed: !matches!(r.outcome, Outcome::Success(_)),
-                    note: "`scenarios/wall_low_friction.toml`: paper Fig. 3; upward friction at the wall is at most 0.2 x the push, the push at most 0.2 x the weight, so no real track climbs it (the constraint-to-ground model does).".into(),
+                    note: "`scenarios/wall_low_friction.toml`: paper Fig. 3; upward friction at the wall is at most 0.2 x the push, the push at most 0.2 x the weight, so no real track climbs it (the paper says the constraint-to-ground model may; on Rapier it does not either, see docs/METHODS.md).".into(),
                     plot: "fig3_wall".into(),
                 });
                 let (profile, outlines) = full_side_view(sc, &[&r]);
