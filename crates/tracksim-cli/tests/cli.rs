@@ -403,3 +403,50 @@ fn run_accepts_a_method_and_rejects_an_unknown_one() {
     let o = run(&["run", "scenarios/packbot_flat.toml", "--method", "wheels0"]);
     assert_eq!(o.code, 2);
 }
+
+#[test]
+fn bench_reports_every_field_as_json_and_writes_csv_and_markdown() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("b");
+    let o = run(&[
+        "bench",
+        "--repeat",
+        "2",
+        "--duration",
+        "0.05",
+        "--cases",
+        "packbot",
+        "--methods",
+        "okada2020,wheels4",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    let methods = v["methods"].as_array().unwrap();
+    assert_eq!(methods.len(), 2);
+    for m in methods {
+        for k in [
+            "name",
+            "rtf_median",
+            "rtf_min",
+            "rtf_max",
+            "us_per_step",
+            "contacts_per_step",
+            "ratio_to_4_wheels",
+            "paper_rtf",
+        ] {
+            assert!(m.get(k).is_some(), "{k} missing in {m}");
+        }
+        assert!(m["rtf_min"].as_f64().unwrap() <= m["rtf_median"].as_f64().unwrap());
+        assert!(m["rtf_median"].as_f64().unwrap() <= m["rtf_max"].as_f64().unwrap());
+        assert!(m["contacts_per_step"].as_f64().unwrap() > 0.0);
+    }
+    assert_eq!(methods[1]["ratio_to_4_wheels"].as_f64().unwrap(), 1.0);
+    assert_eq!(methods[0]["paper_rtf"].as_f64().unwrap(), 2.79);
+    assert_eq!(v["settings"]["dt_s"].as_f64().unwrap(), 0.001);
+    assert!(out.join("bench.csv").is_file() && out.join("bench.md").is_file());
+    let o = run(&["bench", "--repeat", "0"]);
+    assert_eq!(o.code, 2);
+}
