@@ -150,29 +150,10 @@ struct RunArgs {
 fn run(a: RunArgs) -> Result<(), Failure> {
     let mut sc = tracksim::load_scenario(&a.file)?;
     if let Some(m) = &a.method {
-        sc.method = tracksim::model::TrackMethod::from_name(m).ok_or_else(|| Error::Invalid {
-            path: "--method".into(),
-            issues: vec![tracksim::SpecIssue::new(
-                "",
-                format!(
-                    "unknown track method \"{m}\"; use one of {}",
-                    tracksim::model::TrackMethod::NAMES
-                ),
-            )],
-        })?;
+        sc.method = parse_method("--method", m)?;
     }
     if let Some(d) = a.duration {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(Error::Invalid {
-                path: "--duration".into(),
-                issues: vec![tracksim::SpecIssue::new(
-                    "",
-                    format!("must be a number of seconds > 0, got {d}"),
-                )],
-            }
-            .into());
-        }
-        sc.duration = d;
+        sc.duration = check_duration(d)?;
     }
     let show_bar = !a.quiet && !a.json && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
@@ -258,6 +239,40 @@ fn bad_arg(arg: &str, message: String) -> Failure {
     })
 }
 
+/// Parses one track method name given to `flag`.
+fn parse_method(flag: &str, name: &str) -> Result<tracksim::model::TrackMethod, Failure> {
+    use tracksim::model::TrackMethod;
+    TrackMethod::from_name(name).ok_or_else(|| {
+        bad_arg(
+            flag,
+            format!(
+                "unknown track method \"{name}\"; use one of {}",
+                TrackMethod::NAMES
+            ),
+        )
+    })
+}
+
+/// Parses a `--methods` list; empty means every compared method.
+fn parse_methods(names: &[String]) -> Result<Vec<tracksim::model::TrackMethod>, Failure> {
+    if names.is_empty() {
+        return Ok(tracksim::model::TrackMethod::COMPARED.to_vec());
+    }
+    names.iter().map(|m| parse_method("--methods", m)).collect()
+}
+
+/// Checks a `--duration` value, s.
+fn check_duration(d: f64) -> Result<f64, Failure> {
+    if d.is_finite() && d > 0.0 {
+        Ok(d)
+    } else {
+        Err(bad_arg(
+            "--duration",
+            format!("must be a number of seconds > 0, got {d}"),
+        ))
+    }
+}
+
 fn compare(
     file: &Path,
     out: &Path,
@@ -265,35 +280,11 @@ fn compare(
     duration: Option<f64>,
     json: bool,
 ) -> Result<(), Failure> {
-    use tracksim::model::TrackMethod;
     let mut sc = tracksim::load_scenario(file)?;
     if let Some(d) = duration {
-        if !(d.is_finite() && d > 0.0) {
-            return Err(bad_arg(
-                "--duration",
-                format!("must be a number of seconds > 0, got {d}"),
-            ));
-        }
-        sc.duration = d;
+        sc.duration = check_duration(d)?;
     }
-    let methods: Vec<TrackMethod> = if methods.is_empty() {
-        TrackMethod::COMPARED.to_vec()
-    } else {
-        methods
-            .iter()
-            .map(|m| {
-                TrackMethod::from_name(m).ok_or_else(|| {
-                    bad_arg(
-                        "--methods",
-                        format!(
-                            "unknown track method \"{m}\"; use one of {}",
-                            TrackMethod::NAMES
-                        ),
-                    )
-                })
-            })
-            .collect::<Result<_, _>>()?
-    };
+    let methods = parse_methods(methods)?;
     let mut rows = Vec::new();
     let mut done = Vec::new();
     for m in &methods {
@@ -384,16 +375,7 @@ fn compare(
 }
 
 fn validate(json: bool, out: Option<PathBuf>, method: &str) -> Result<(), Failure> {
-    use tracksim::model::TrackMethod;
-    let m = TrackMethod::from_name(method).ok_or_else(|| {
-        bad_arg(
-            "--method",
-            format!(
-                "unknown track method \"{method}\"; use one of {}",
-                TrackMethod::NAMES
-            ),
-        )
-    })?;
+    let m = parse_method("--method", method)?;
     let report = tracksim::validate::run_validation(&data_root(), m, |line| {
         if !json {
             eprintln!("{line}");
@@ -443,7 +425,6 @@ fn data_root() -> PathBuf {
 }
 
 fn bench(a: BenchArgs) -> Result<(), Failure> {
-    use tracksim::model::TrackMethod;
     if a.repeat == 0 {
         return Err(bad_arg("--repeat", "must be at least 1".into()));
     }
@@ -453,30 +434,11 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             "must be between 1 and 100".into(),
         ));
     }
-    if !(a.duration.is_finite() && a.duration > 0.0) {
-        return Err(bad_arg(
-            "--duration",
-            format!("must be a number of seconds > 0, got {}", a.duration),
-        ));
+    check_duration(a.duration)?;
+    if a.jobs == Some(0) {
+        return Err(bad_arg("--jobs", "must be at least 1 thread".into()));
     }
-    let methods: Vec<TrackMethod> = if a.methods.is_empty() {
-        TrackMethod::COMPARED.to_vec()
-    } else {
-        a.methods
-            .iter()
-            .map(|m| {
-                TrackMethod::from_name(m).ok_or_else(|| {
-                    bad_arg(
-                        "--methods",
-                        format!(
-                            "unknown track method \"{m}\"; use one of {}",
-                            TrackMethod::NAMES
-                        ),
-                    )
-                })
-            })
-            .collect::<Result<_, _>>()?
-    };
+    let methods = parse_methods(&a.methods)?;
     let root = data_root();
     let all_cases = [
         ("packbot", "scenarios/packbot_flat.toml"),

@@ -788,6 +788,12 @@ pub fn compile_scenario(
         }
     }
     if let Some(n) = v.grouser_count {
+        if n > 0 && vehicle.tracks.iter().all(|t| t.grousers.is_none()) {
+            c.push(
+                "vehicle.grouser_count",
+                "the vehicle's tracks have no grousers to count; add a [tracks.grousers] table to the vehicle file (0 is the only count that applies)",
+            );
+        }
         for t in &mut vehicle.tracks {
             if n == 0 {
                 t.grousers = None;

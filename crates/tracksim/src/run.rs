@@ -371,6 +371,39 @@ pub fn side_view_terrain(sc: &Scenario, runs: &[&RunResult]) -> (SideLine, Vec<S
     (profile, outlines)
 }
 
+/// Writes `<stem>.png` and `<stem>.svg` with `runs` (label, result) drawn over the scenario's
+/// terrain; nothing when there is no run.
+fn write_runs(
+    sc: &Scenario,
+    runs: &[(String, &RunResult)],
+    title: &str,
+    stem: &str,
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    if runs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let results: Vec<&RunResult> = runs.iter().map(|(_, r)| *r).collect();
+    let (profile, outlines) = side_view_terrain(sc, &results);
+    let runs: Vec<crate::plot::PlotRun> = runs
+        .iter()
+        .map(|(label, r)| crate::plot::PlotRun {
+            label: label.as_str(),
+            result: r,
+        })
+        .collect();
+    crate::plot::write_plots(
+        &crate::plot::PlotInput {
+            title,
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &outlines,
+        },
+        dir,
+        stem,
+    )
+}
+
 /// Writes `plot.png` and `plot.svg` for one run into `dir`: side view over the terrain, top
 /// view, pitch and roll against time.
 pub fn write_run_plots(
@@ -378,25 +411,17 @@ pub fn write_run_plots(
     result: &RunResult,
     dir: &Path,
 ) -> Result<Vec<std::path::PathBuf>> {
-    let (profile, outlines) = side_view_terrain(sc, &[result]);
     let title = if sc.description.is_empty() {
-        result.summary.vehicle.clone()
+        &result.summary.vehicle
     } else {
-        sc.description.clone()
+        &sc.description
     };
-    let runs = [crate::plot::PlotRun {
-        label: &result.summary.method,
-        result,
-    }];
-    crate::plot::write_plots(
-        &crate::plot::PlotInput {
-            title: &title,
-            runs: &runs,
-            ground_profile: &profile,
-            outlines: &outlines,
-        },
-        dir,
+    write_runs(
+        sc,
+        &[(result.summary.method.clone(), result)],
+        title,
         "plot",
+        dir,
     )
 }
 
@@ -406,27 +431,6 @@ pub fn write_compare_plots(
     results: &[(String, &RunResult)],
     dir: &Path,
 ) -> Result<Vec<std::path::PathBuf>> {
-    let runs_only: Vec<&RunResult> = results.iter().map(|(_, r)| *r).collect();
-    if runs_only.is_empty() {
-        return Ok(Vec::new());
-    }
-    let (profile, outlines) = side_view_terrain(sc, &runs_only);
-    let runs: Vec<crate::plot::PlotRun> = results
-        .iter()
-        .map(|(label, r)| crate::plot::PlotRun {
-            label: label.as_str(),
-            result: r,
-        })
-        .collect();
     let title = format!("{} (track methods compared)", sc.description);
-    crate::plot::write_plots(
-        &crate::plot::PlotInput {
-            title: &title,
-            runs: &runs,
-            ground_profile: &profile,
-            outlines: &outlines,
-        },
-        dir,
-        "compare",
-    )
+    write_runs(sc, results, &title, "compare", dir)
 }

@@ -920,10 +920,9 @@ impl Simulation {
     }
 
     fn check_stability(&self) -> Result<()> {
-        let names = std::iter::once("body".to_string())
-            .chain(self.flipper_names.iter().map(|n| format!("flipper {n}")));
+        // Names are only formatted when something is wrong: this runs every step.
         let handles = std::iter::once(self.body).chain(self.flippers.iter().map(|f| f.body));
-        for (name, h) in names.zip(handles) {
+        for (i, h) in handles.enumerate() {
             let b = &self.world.bodies[h];
             let p = b.position();
             let v = b.linvel();
@@ -942,7 +941,10 @@ impl Simulation {
             if let Some(what) = bad {
                 return Err(Error::Unstable {
                     time_s: self.time,
-                    body: name,
+                    body: match i {
+                        0 => "body".to_string(),
+                        _ => format!("flipper {}", self.flipper_names[i - 1]),
+                    },
                     what,
                 });
             }
