@@ -219,6 +219,11 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             p.yaw.to_degrees()
         );
         println!(
+            "contacts   deepest penetration {:.1} mm (contact slop {:.1} mm)",
+            s.max_penetration_m * 1000.0,
+            s.solver.contact_slop_m * 1000.0
+        );
+        println!(
             "outcome    {}: {} (t = {:.3} s)",
             s.outcome, s.outcome_reason, s.outcome_time_s
         );

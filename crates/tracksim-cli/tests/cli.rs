@@ -101,6 +101,7 @@ fn run_writes_summary_and_trajectory_with_their_columns() {
         "belt_phase_left_m",
         "belt_phase_right_m",
         "contacts",
+        "penetration_m",
     ] {
         assert!(header.contains(&c), "missing column {c} in {header:?}");
     }
@@ -249,6 +250,15 @@ fn bad_inputs_exit_2_naming_the_file_the_key_and_the_fix() {
             "huge dt",
             FLAT.replace("duration_s = 0.3", "duration_s = 0.3\ndt_s = 0.5"),
             vec!["bad.toml", "simulation.dt_s", "at most 0.01"],
+        ),
+        (
+            "contact slop too deep",
+            FLAT.replace("duration_s = 0.3", "duration_s = 0.3\ncontact_slop_m = 0.5"),
+            vec![
+                "bad.toml",
+                "simulation.contact_slop_m",
+                "between 0 and 0.02",
+            ],
         ),
         (
             "zero duration",

@@ -159,14 +159,36 @@ pub(crate) fn build_surface(
 /// Contact modification for the constraint-to-ground model: every contact of a track outline
 /// gets a target sliding velocity equal to the belt velocity there, along the belt's tangent
 /// (lateral axis x outward normal), so the rounded ends push along their curve.
+///
+/// The same hooks apply the contact slop (`simulation.contact_slop_m`) to the colliders tagged
+/// [`SLOP_TAG`]: a penetration shallower than the slop is reported to the solver as zero, so it
+/// is not pushed out but the contact still stops any further approach (ODE's `min_depth`).
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceHooks {
     /// Per track index: (belt speed m/s, lateral axis in the parent frame).
     pub tracks: Vec<(f64, DVec3)>,
+    /// Uncorrected penetration for [`SLOP_TAG`] colliders, m.
+    pub slop: f32,
 }
+
+/// Marks track colliders whose contacts get the contact slop.
+pub(crate) const SLOP_TAG: u128 = 0x534c_4f50 << 64; // "SLOP"
 
 impl PhysicsHooks for SurfaceHooks {
     fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
+        if ctx.colliders[ctx.collider1].user_data == SLOP_TAG
+            || ctx.colliders[ctx.collider2].user_data == SLOP_TAG
+        {
+            let slop = self.slop;
+            if let Some(m) = ctx.rigid_mut() {
+                for c in m.solver_contacts.iter_mut() {
+                    if c.dist < 0.0 {
+                        c.dist = (c.dist + slop).min(0.0);
+                    }
+                }
+            }
+            return;
+        }
         let tag = |h: ColliderHandle| {
             let u = ctx.colliders[h].user_data;
             (u & !0xffff_ffff == SURFACE_TAG).then_some((u & 0xffff_ffff) as usize)

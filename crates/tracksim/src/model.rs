@@ -622,6 +622,8 @@ pub struct SolverSettings {
     pub min_link_mass: f64,
     /// Speculative contact distance, m.
     pub prediction_distance: f64,
+    /// Uncorrected track-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    pub contact_slop: f64,
 }
 
 impl Default for SolverSettings {
@@ -632,6 +634,7 @@ impl Default for SolverSettings {
             contact_clustering: false,
             min_link_mass: crate::sim::MIN_LINK_MASS_KG,
             prediction_distance: 0.02,
+            contact_slop: 0.0,
         }
     }
 }
@@ -832,6 +835,15 @@ pub fn compile_scenario(
         s.prediction_distance_m,
         "m",
     );
+    if !(s.contact_slop_m.is_finite() && (0.0..=0.02).contains(&s.contact_slop_m)) {
+        c.push(
+            "simulation.contact_slop_m",
+            format!(
+                "must be between 0 and 0.02 m (the paper's simulator used 0.01), got {}",
+                s.contact_slop_m
+            ),
+        );
+    }
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -1009,6 +1021,7 @@ pub fn compile_scenario(
             contact_clustering: s.contact_clustering,
             min_link_mass: s.min_link_mass_kg,
             prediction_distance: s.prediction_distance_m,
+            contact_slop: s.contact_slop_m,
         },
         duration: s.duration_s,
         output_interval: s.output_interval_s,

@@ -489,6 +489,7 @@ mod tests {
             belt_phase: vec![0.3 * t, 0.3 * t],
             flipper_angle: vec![],
             contacts: 12,
+            penetration: 0.0,
         }
     }
 
@@ -523,10 +524,12 @@ mod tests {
                     contact_clustering: false,
                     min_link_mass_kg: 0.02,
                     prediction_distance_m: 0.02,
+                    contact_slop_m: 0.0,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,
                 max_link_error_rad: 1e-3,
+                max_penetration_m: 0.0,
             },
             samples,
             track_names: vec!["left".into(), "right".into()],

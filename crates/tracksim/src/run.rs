@@ -64,6 +64,8 @@ pub struct Summary {
     pub max_link_error_m: f64,
     /// Same, as an angle, rad.
     pub max_link_error_rad: f64,
+    /// Deepest contact penetration seen in the trajectory rows, m (how far grousers sank).
+    pub max_penetration_m: f64,
 }
 
 /// Solver settings reported with every run.
@@ -79,6 +81,8 @@ pub struct SolverSummary {
     pub min_link_mass_kg: f64,
     /// Speculative contact distance, m.
     pub prediction_distance_m: f64,
+    /// Uncorrected track-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    pub contact_slop_m: f64,
 }
 
 /// How a run ended.
@@ -225,10 +229,12 @@ pub fn run_scenario_with(
             contact_clustering: sc.solver.contact_clustering,
             min_link_mass_kg: sc.solver.min_link_mass,
             prediction_distance_m: sc.solver.prediction_distance,
+            contact_slop_m: sc.solver.contact_slop,
         },
         seed: sc.seed,
         max_link_error_m: err_m,
         max_link_error_rad: err_rad,
+        max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
     };
     Ok(RunResult {
         samples,
@@ -270,6 +276,7 @@ impl RunResult {
             h.push(format!("flipper_{n}_rad"));
         }
         h.push("contacts".into());
+        h.push("penetration_m".into());
         h
     }
 
@@ -312,7 +319,7 @@ impl RunResult {
                 .map(|v| format!("{v:.6}"))
                 .collect::<Vec<_>>()
                 .join(",");
-            line.push_str(&format!(",{}\n", s.contacts));
+            line.push_str(&format!(",{},{:.6}\n", s.contacts, s.penetration));
             text.push_str(&line);
         }
         out.write_all(text.as_bytes()).map_err(io(&tp))?;

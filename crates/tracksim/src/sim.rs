@@ -245,6 +245,8 @@ pub struct Sample {
     pub flipper_angle: Vec<f64>,
     /// Active contact points in the world.
     pub contacts: usize,
+    /// Deepest geometric penetration among the world's contact points (0 if none), m.
+    pub penetration: f64,
 }
 
 /// A vehicle on a terrain in a Rapier world, advanced one step at a time.
@@ -421,7 +423,10 @@ impl Simulation {
 
         // Tracks.
         let mut tracks = Vec::new();
-        let mut hooks = crate::baselines::SurfaceHooks::default();
+        let mut hooks = crate::baselines::SurfaceHooks {
+            slop: sc.solver.contact_slop as f32,
+            ..Default::default()
+        };
         let method = sc.method;
         let segments_method = matches!(
             method,
@@ -490,11 +495,19 @@ impl Simulation {
                         .additional_mass_properties(mprops)
                         .can_sleep(false),
                 );
+                let slop = sc.solver.contact_slop > 0.0;
                 let base = |b: ColliderBuilder| {
-                    b.density(0.0)
+                    let b = b
+                        .density(0.0)
                         .friction(t.friction as f32)
                         .friction_combine_rule(t.combine)
-                        .collision_groups(vehicle_groups())
+                        .collision_groups(vehicle_groups());
+                    if slop {
+                        b.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
+                            .user_data(crate::baselines::SLOP_TAG)
+                    } else {
+                        b
+                    }
                 };
                 // Belt shape.
                 let (kind, belt) = match *seg {
@@ -977,13 +990,43 @@ impl Simulation {
         self.world
             .narrow_phase
             .contact_pairs()
-            .map(|p| {
-                p.manifolds()
-                    .iter()
-                    .map(|m| m.data.solver_contacts.len())
-                    .sum::<usize>()
-            })
+            .flat_map(|p| p.manifolds())
+            .map(|m| m.data.solver_contacts.len())
             .sum()
+    }
+
+    /// Number of active solver contact points in the world and the deepest penetration (m, 0 if
+    /// none) of any touching collider pair, measured from the colliders' current poses (the
+    /// narrow phase's stored distances can be frames old for recycled pairs, and the contact
+    /// slop hook rewrites the solver's).
+    pub fn contact_stats(&self) -> (usize, f64) {
+        let mut n = 0;
+        let mut deepest = 0.0f32;
+        let cs = &self.world.colliders;
+        for p in self.world.narrow_phase.contact_pairs() {
+            let active: usize = p
+                .manifolds()
+                .iter()
+                .map(|m| m.data.solver_contacts.len())
+                .sum();
+            if active == 0 {
+                continue;
+            }
+            n += active;
+            let (Some(c1), Some(c2)) = (cs.get(p.collider1), cs.get(p.collider2)) else {
+                continue;
+            };
+            if let Ok(Some(c)) = rapier3d::parry::query::contact(
+                c1.position(),
+                c1.shape(),
+                c2.position(),
+                c2.shape(),
+                0.0,
+            ) {
+                deepest = deepest.max(-c.dist);
+            }
+        }
+        (n, deepest as f64)
     }
 
     /// Angle of flipper `i` relative to the body, rad.
@@ -1001,6 +1044,12 @@ impl Simulation {
         let b = &self.world.bodies[self.body];
         let lv = b.linvel();
         let av = b.angvel();
+        // Before the first step the narrow phase still holds the placement's trial contacts.
+        let (contacts, penetration) = if self.steps() == 0 {
+            (0, 0.0)
+        } else {
+            self.contact_stats()
+        };
         Sample {
             t: self.time,
             pose: self.body_pose(),
@@ -1011,7 +1060,8 @@ impl Simulation {
             flipper_angle: (0..self.flippers.len())
                 .map(|i| self.flipper_angle(i))
                 .collect(),
-            contacts: self.contact_count(),
+            contacts,
+            penetration,
         }
     }
 }

@@ -396,6 +396,12 @@ pub struct SimulationSpec {
     /// Distance within which Rapier creates speculative contacts, m (Rapier's default 0.02).
     #[serde(default = "default_prediction")]
     pub prediction_distance_m: f64,
+    /// Penetration of a track (belt or grouser) into the terrain that is left uncorrected, m:
+    /// ODE's `min_depth`, which the paper's simulator set to 0.01 to let grousers sink "to make
+    /// contact more stable". 0 (the default) keeps Rapier's rigid contact: every penetration is
+    /// pushed out.
+    #[serde(default)]
+    pub contact_slop_m: f64,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -423,6 +429,7 @@ impl Default for SimulationSpec {
             contact_clustering: false,
             min_link_mass_kg: default_min_link_mass(),
             prediction_distance_m: default_prediction(),
+            contact_slop_m: 0.0,
             method: default_method(),
             seed: 0,
         }
