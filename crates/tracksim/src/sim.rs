@@ -254,6 +254,8 @@ pub struct Simulation {
     /// The Rapier world; public for inspection (and for advanced users).
     pub world: PhysicsWorld,
     hooks: crate::baselines::SurfaceHooks,
+    /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
+    ground_tile: Option<RigidBodyHandle>,
     body: RigidBodyHandle,
     tracks: Vec<TrackRt>,
     flippers: Vec<FlipperRt>,
@@ -349,7 +351,9 @@ impl Simulation {
 
         // Terrain.
         let ground_z = sc.terrain.ground.map(|g| g.0).unwrap_or(0.0);
-        sc.terrain.insert_into(&mut world, groups(WORLD_GROUP));
+        let ground_tile =
+            sc.terrain
+                .insert_into(&mut world, groups(WORLD_GROUP), Some(sc.start_xy));
 
         // Vehicle, first at z = 0, then lifted to rest on the ground.
         let v = &sc.vehicle;
@@ -644,6 +648,7 @@ impl Simulation {
         let mut sim = Simulation {
             world,
             hooks,
+            ground_tile,
             body,
             tracks,
             flippers,
@@ -835,6 +840,15 @@ impl Simulation {
     /// Advances the simulation by one time step.
     pub fn step(&mut self) -> Result<()> {
         self.apply_commands();
+        if let Some(tile) = self.ground_tile {
+            let p = self.world.bodies[self.body].translation();
+            crate::terrain::TerrainModel::recentre_ground_tile(
+                &mut self.world,
+                tile,
+                p.x as f64,
+                p.y as f64,
+            );
+        }
         self.world.step_with_events(&self.hooks, &());
         let dt = self.dt;
         self.steps += 1;
