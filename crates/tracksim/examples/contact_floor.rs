@@ -1,12 +1,12 @@
 //! The contact floor of the Table II case: what Rapier alone charges per step for the grouser
 //! contacts of a PackBot, without any track machinery (no segment links, no joints, no
-//! placement). Two 7.5 kg boxes (left and right track, not joined) each carry `n / 2`
-//! separate 5 x 75 x 8 mm grouser colliders 38 mm apart and slide at 0.3 m/s over a
-//! frictionless ground plane, dt 1 ms, 4 solver iterations (the defaults `tracksim bench`
-//! uses).
+//! placement). `b` boxes (15 kg in all, not joined; default 6, as the bench case's lower
+//! straight and the two arcs of each track) carry `n` separate 5 x 75 x 8 mm grouser colliders
+//! 38 mm apart, dealt out in turn, and slide at 0.3 m/s over a frictionless ground plane, dt
+//! 1 ms, 4 solver iterations (the defaults `tracksim bench` uses).
 //!
-//! `cargo run --release -p tracksim --example contact_floor [-- N]` (default N = 36: the
-//! grousers within the 2 cm prediction distance of the ground in the bench case).
+//! `cargo run --release -p tracksim --example contact_floor [-- N [B [ITERATIONS]]]` (default
+//! N = 36: the grousers within the 2 cm prediction distance of the ground in the bench case).
 use rapier3d::prelude::*;
 use std::time::Instant;
 
@@ -15,15 +15,25 @@ fn main() {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(36);
+    let nb: usize = std::env::args()
+        .nth(2)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(6)
+        .max(1);
+    let iterations: usize = std::env::args()
+        .nth(3)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(4);
     let mut world = PhysicsWorld::new();
     world.gravity = Vector::new(0.0, 0.0, -9.81);
     world.integration_parameters.dt = 0.001;
-    world.integration_parameters.num_solver_iterations = 4;
+    world.integration_parameters.num_solver_iterations = iterations;
     world
         .colliders
         .insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Z)).friction(0.0));
     let mut bodies = Vec::new();
-    for y in [0.16f32, -0.16] {
+    for i in 0..nb {
+        let y = -0.5 + i as f32 * 0.2;
         let body = world.bodies.insert(
             RigidBodyBuilder::dynamic()
                 .translation(Vector::new(0.0, y, 0.004))
@@ -33,14 +43,14 @@ fn main() {
         world.colliders.insert_with_parent(
             ColliderBuilder::cuboid(0.25, 0.03, 0.03)
                 .translation(Vector::new(0.0, 0.0, 0.05))
-                .mass(7.5),
+                .mass(15.0 / nb as f32),
             body,
             &mut world.bodies,
         );
         bodies.push(body);
     }
     for k in 0..n {
-        let (row, i) = (k % 2, k / 2);
+        let (row, i) = (k % nb, k / nb);
         let body = bodies[row];
         let x = -0.3 + 0.0384 * i as f32;
         let y = 0.0;
@@ -70,7 +80,7 @@ fn main() {
         .sum();
     let z = world.bodies[bodies[0]].translation().z;
     println!(
-        "{n} grousers: {us:.1} us/step (real-time factor {:.0}), {contacts} contacts, body z {z:.4} m",
+        "{n} grousers on {nb} bodies, {iterations} iterations: {us:.1} us/step (real-time factor {:.0}), {contacts} contacts, body z {z:.4} m",
         1e3 / us
     );
 }
