@@ -3,7 +3,8 @@
 //! z-up, x forward, y left (REP 103).
 //!
 //! A `[terrain]` table may combine, in any number:
-//! - `[terrain.ground]`: an infinite flat plane;
+//! - `[terrain.ground]`: an infinite flat plane (simulated as a tile kept under the vehicle,
+//!   [`GROUND_TILE_HALF_M`]);
 //! - `[[terrain.boxes]]`: boxes (steps, walls, bumps);
 //! - `[[terrain.staircases]]`, `[[terrain.inclines]]`: stairs and ramps built from boxes;
 //! - `[[terrain.heightfields]]`: height maps read from greyscale PNG files (8 or 16 bit);
@@ -1557,7 +1558,7 @@ impl TerrainModel {
     /// Inserts the terrain as colliders on one fixed body of `world`, in collision `groups`.
     /// `[terrain.ground]` becomes an infinite half-space, or, with `ground_tile`, a
     /// [`GROUND_TILE_HALF_M`] box on its own fixed body centred at (x, y) = `ground_tile`,
-    /// whose handle is returned (move it with [`recentre_ground_tile`]).
+    /// whose handle is returned (move it with [`Self::recentre_ground_tile`]).
     pub fn insert_into(
         &self,
         world: &mut PhysicsWorld,
