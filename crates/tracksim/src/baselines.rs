@@ -161,8 +161,9 @@ pub(crate) fn build_surface(
 /// (lateral axis x outward normal), so the rounded ends push along their curve.
 ///
 /// The same hooks apply the contact slop (`simulation.contact_slop_m`) to the colliders tagged
-/// [`SLOP_TAG`]: a penetration shallower than the slop is reported to the solver as zero, so it
-/// is not pushed out but the contact still stops any further approach (ODE's `min_depth`).
+/// [`SLOP_TAG`] (every other collider on the vehicle when the slop is set) and to the outlines:
+/// a penetration shallower than the slop is reported to the solver as zero, so it is not
+/// pushed out but the contact still stops any further approach (ODE's `min_depth`).
 #[derive(Debug, Default)]
 pub(crate) struct SurfaceHooks {
     /// Per track index: (belt speed m/s, lateral axis in the parent frame).
@@ -217,6 +218,9 @@ impl PhysicsHooks for SurfaceHooks {
         let u = t * (speed as f32) * sign;
         for c in m.solver_contacts.iter_mut() {
             c.tangent_velocity = u;
+            if c.dist < 0.0 {
+                c.dist = (c.dist + self.slop).min(0.0);
+            }
         }
     }
 }

@@ -622,7 +622,7 @@ pub struct SolverSettings {
     pub min_link_mass: f64,
     /// Speculative contact distance, m.
     pub prediction_distance: f64,
-    /// Uncorrected track-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
     pub contact_slop: f64,
 }
 

@@ -81,7 +81,7 @@ pub struct SolverSummary {
     pub min_link_mass_kg: f64,
     /// Speculative contact distance, m.
     pub prediction_distance_m: f64,
-    /// Uncorrected track-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
     pub contact_slop_m: f64,
 }
 

@@ -499,19 +499,11 @@ impl Simulation {
                         .additional_mass_properties(mprops)
                         .can_sleep(false),
                 );
-                let slop = sc.solver.contact_slop > 0.0;
                 let base = |b: ColliderBuilder| {
-                    let b = b
-                        .density(0.0)
+                    b.density(0.0)
                         .friction(t.friction as f32)
                         .friction_combine_rule(t.combine)
-                        .collision_groups(vehicle_groups());
-                    if slop {
-                        b.active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS)
-                            .user_data(crate::baselines::SLOP_TAG)
-                    } else {
-                        b
-                    }
+                        .collision_groups(vehicle_groups())
                 };
                 // Belt shape.
                 let (kind, belt) = match *seg {
@@ -643,6 +635,21 @@ impl Simulation {
                 speed_measured: 0.0,
                 wraps: 0,
             });
+        }
+
+        // Contact slop: every collider on the vehicle's (dynamic) bodies, whatever the track
+        // method, gets the hook; the constraint-to-ground outlines have it already and apply
+        // the slop in the same hook.
+        if sc.solver.contact_slop > 0.0 {
+            for (_, c) in world.colliders.iter_mut() {
+                let on_vehicle = c
+                    .parent()
+                    .is_some_and(|b| world.bodies[b].body_type().is_dynamic());
+                if on_vehicle && c.user_data == 0 {
+                    c.set_active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS);
+                    c.user_data = crate::baselines::SLOP_TAG;
+                }
+            }
         }
 
         let mut sim = Simulation {

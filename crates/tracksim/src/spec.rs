@@ -396,7 +396,8 @@ pub struct SimulationSpec {
     /// Distance within which Rapier creates speculative contacts, m (Rapier's default 0.02).
     #[serde(default = "default_prediction")]
     pub prediction_distance_m: f64,
-    /// Penetration of a track (belt or grouser) into the terrain that is left uncorrected, m:
+    /// Penetration of the vehicle (belts, grousers, wheels, plates, chassis) into the terrain
+    /// that is left uncorrected, whatever the track method, m:
     /// ODE's `min_depth`, which the paper's simulator set to 0.01 to let grousers sink "to make
     /// contact more stable". 0 (the default) keeps Rapier's rigid contact: every penetration is
     /// pushed out.

@@ -113,7 +113,7 @@ pub struct StepRun {
     pub final_z_above_step_m: f64,
     /// Largest body pitch magnitude during the run, degrees.
     pub max_pitch_deg: f64,
-    /// Deepest track-terrain penetration in the trajectory rows (every 10 ms), mm.
+    /// Deepest vehicle-terrain penetration in the trajectory rows (every 10 ms), mm.
     pub max_penetration_mm: f64,
     /// Wall-clock time of the run, s.
     pub wall_time_s: f64,
@@ -202,7 +202,7 @@ impl ValidationReport {
         );
         s += "## Table IV: Quince climbing a step (paper Sec. IV-B)\n\n";
         s += &format!(
-            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (track-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid. Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
+            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (vehicle-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid. Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
             STEP_EDGE_X_M,
             TABLE_IV_CONTACT_SLOP_M * 1000.0
         );
@@ -927,7 +927,7 @@ fn compile(text: &str, vehicle: VehicleModel, root: &Path) -> Result<Scenario> {
 }
 
 /// The Table IV scenario: Quince at x = 0 facing a step of height `h` m whose edge is at
-/// [`STEP_EDGE_X_M`], front flippers at `front_deg`, rear flippers flat, track-terrain
+/// [`STEP_EDGE_X_M`], front flippers at `front_deg`, rear flippers flat, vehicle-terrain
 /// penetration up to `contact_slop_m` (m) left uncorrected.
 pub fn quince_step_scenario(
     quince: &VehicleModel,
