@@ -1544,7 +1544,7 @@ use crate::check::{f, q};
 /// the vehicle, the top runs' grousers included, is paired with it and goes through the narrow
 /// phase every step. A finite box under the vehicle, re-centred as it drives (see
 /// [`GROUND_RECENTRE_M`]), is the same flat surface for the vehicle and pairs only with what
-/// is near it: measured +23 % real-time factor on the Table II case (BENCHMARKS.md). The tile
+/// is near it: measured +25 % real-time factor on the Table II case (BENCHMARKS.md). The tile
 /// is kept small because the box-box contact loses f32 precision with large boxes (a 1 km
 /// tile gave metre-deep spurious penetrations).
 pub const GROUND_TILE_HALF_M: f64 = 10.0;
