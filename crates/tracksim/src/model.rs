@@ -632,82 +632,74 @@ impl Default for SolverSettings {
             dt: 0.001,
             iterations: 4,
             contact_clustering: false,
-            min_link_mass: crate::sim::MIN_LINK_MASS_KG,
+            min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,
             contact_slop: 0.0,
         }
     }
 }
 
-/// One timed command, resolved to track and flipper indices.
+/// Default smallest mass given to a segment link or wheel body, kg: on the PackBot climbing a
+/// step the floor halves the per-step joint error of the segment links (docs/DESIGN.md).
+pub const MIN_LINK_MASS_KG: f64 = 0.5;
+
+/// The inputs of one step, by track and flipper index (a controller's output, or one entry of a
+/// file's `[[commands]]`); `None` keeps the previous value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Controls {
+    /// Belt speed per track index, m/s (positive drives forwards).
+    pub belt_speed: Vec<Option<f64>>,
+    /// Flipper target angle per flipper index, rad.
+    pub flipper_angle: Vec<Option<f64>>,
+}
+
+impl Controls {
+    /// Controls that change nothing, sized for `v`.
+    pub fn keep(v: &VehicleModel) -> Self {
+        Controls {
+            belt_speed: vec![None; v.tracks.len()],
+            flipper_angle: vec![None; v.flippers.len()],
+        }
+    }
+
+    /// Every belt at `speed` m/s.
+    pub fn belts(v: &VehicleModel, speed: f64) -> Self {
+        Controls {
+            belt_speed: vec![Some(speed); v.tracks.len()],
+            ..Controls::keep(v)
+        }
+    }
+
+    /// Body-level skid steering without slip: forward speed `forward` m/s and yaw rate
+    /// `yaw_rate` rad/s (REP 103, positive turns left) about the body origin; each belt runs at
+    /// `forward - yaw_rate * y` for its track's mid-plane at lateral offset `y` m.
+    pub fn twist(v: &VehicleModel, forward: f64, yaw_rate: f64) -> Self {
+        Controls {
+            belt_speed: v
+                .tracks
+                .iter()
+                .map(|t| Some(forward - yaw_rate * t.lateral_offset()))
+                .collect(),
+            ..Controls::keep(v)
+        }
+    }
+
+    /// Sets flipper `i`'s target angle, rad.
+    pub fn with_flipper(mut self, i: usize, angle: f64) -> Self {
+        if let Some(a) = self.flipper_angle.get_mut(i) {
+            *a = Some(angle);
+        }
+        self
+    }
+}
+
+/// One timed command of a scenario file, resolved to track and flipper indices.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Command {
     /// Start time, s.
     pub t: f64,
-    /// Belt speed per track index (None: keep the previous), m/s.
-    pub belt_speed: Vec<Option<f64>>,
-    /// Flipper target angle per flipper index (None: keep), rad.
-    pub flipper_angle: Vec<Option<f64>>,
-}
-
-/// Track methods (how tracks are modelled), all built from the same vehicle description.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TrackMethod {
-    /// The paper's segment links with grousers (Okada et al. 2020): `okada2020`.
-    Okada2020,
-    /// The paper's method without grousers, links restored every step: `okada2020_no_grousers`.
-    Okada2020NoGrousers,
-    /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
-    /// (e.g. `wheels4`, `wheels13`).
-    Wheels(usize),
-    /// One rigid outline per track whose contacts get the belt's surface velocity (Pecka et al.
-    /// 2017, Gazebo's TrackController): `constraint_to_ground`.
-    ConstraintToGround,
-    /// A closed chain of plates on hinges around sprocket and idler: `plates`.
-    Plates,
-}
-
-impl TrackMethod {
-    /// The methods `tracksim compare` runs, in table order.
-    pub const COMPARED: &'static [TrackMethod] = &[
-        TrackMethod::Okada2020,
-        TrackMethod::Okada2020NoGrousers,
-        TrackMethod::Wheels(4),
-        TrackMethod::Wheels(13),
-        TrackMethod::ConstraintToGround,
-        TrackMethod::Plates,
-    ];
-
-    /// Names accepted by [`Self::from_name`], for messages.
-    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
-
-    /// Parses a method name.
-    pub fn from_name(name: &str) -> Option<TrackMethod> {
-        Some(match name {
-            "okada2020" => TrackMethod::Okada2020,
-            "okada2020_no_grousers" => TrackMethod::Okada2020NoGrousers,
-            "constraint_to_ground" => TrackMethod::ConstraintToGround,
-            "plates" => TrackMethod::Plates,
-            _ => {
-                let k: usize = name.strip_prefix("wheels")?.parse().ok()?;
-                if !(1..=100).contains(&k) {
-                    return None;
-                }
-                TrackMethod::Wheels(k)
-            }
-        })
-    }
-
-    /// The method's name.
-    pub fn name(&self) -> String {
-        match self {
-            TrackMethod::Okada2020 => "okada2020".into(),
-            TrackMethod::Okada2020NoGrousers => "okada2020_no_grousers".into(),
-            TrackMethod::Wheels(k) => format!("wheels{k}"),
-            TrackMethod::ConstraintToGround => "constraint_to_ground".into(),
-            TrackMethod::Plates => "plates".into(),
-        }
-    }
+    /// What it sets.
+    pub controls: Controls,
 }
 
 /// Success and failure conditions, compiled.
@@ -754,18 +746,34 @@ pub struct Scenario {
     pub commands: Vec<Command>,
     /// Outcome conditions.
     pub outcome: OutcomeModel,
-    /// Track method.
-    pub method: TrackMethod,
+    /// Track method name (`simulation.method`), resolved by the track layer
+    /// (`tracks::Method::from_name`).
+    pub method: String,
     /// Seed.
     pub seed: u64,
 }
 
-/// Compiles a scenario whose vehicle is already loaded. `vehicle_file_issue` lets the caller
-/// report vehicle-loading problems in the same list.
+/// Checks of keys the model layer does not interpret (e.g. `simulation.method`, resolved by the
+/// track layer), reported with the model's own problems.
+pub type ExtraChecks<'a> = &'a dyn Fn(&ScenarioSpec) -> Vec<SpecIssue>;
+
+/// Compiles a scenario whose vehicle is already loaded (no check of the method name: see
+/// [`compile_scenario_with`]).
 pub fn compile_scenario(
+    spec: &ScenarioSpec,
+    vehicle: VehicleModel,
+    base_dir: &Path,
+) -> Result<Scenario, Vec<SpecIssue>> {
+    compile_scenario_with(spec, vehicle, base_dir, &|_| Vec::new())
+}
+
+/// Compiles a scenario whose vehicle is already loaded; `extra` adds the problems of keys that
+/// upper layers interpret, so that every problem is reported at once.
+pub fn compile_scenario_with(
     spec: &ScenarioSpec,
     mut vehicle: VehicleModel,
     base_dir: &Path,
+    extra: ExtraChecks,
 ) -> Result<Scenario, Vec<SpecIssue>> {
     let mut c = Checker::default();
     let v = &spec.vehicle;
@@ -936,11 +944,7 @@ pub fn compile_scenario(
                 if !(v_fwd.is_finite() && w.is_finite()) {
                     c.push(k.clone(), "forward_mps and yaw_rate_rad_s must be finite");
                 }
-                // Skid steering without slip: each belt runs at the speed of the ground under
-                // its track's mid-plane for a body turning at w about its origin.
-                for (j, t) in vehicle.tracks.iter().enumerate() {
-                    belt[j] = Some(v_fwd - w * t.lateral_offset());
-                }
+                belt = Controls::twist(&vehicle, v_fwd, w).belt_speed;
             }
         }
         let mut flip = vec![None; vehicle.flippers.len()];
@@ -959,21 +963,15 @@ pub fn compile_scenario(
         }
         commands.push(Command {
             t: cmd.t_s,
-            belt_speed: belt,
-            flipper_angle: flip,
+            controls: Controls {
+                belt_speed: belt,
+                flipper_angle: flip,
+            },
         });
     }
-    let method = TrackMethod::from_name(&s.method).unwrap_or_else(|| {
-        c.push(
-            "simulation.method",
-            format!(
-                "unknown track method \"{}\"; use one of {}",
-                s.method,
-                TrackMethod::NAMES
-            ),
-        );
-        TrackMethod::Okada2020
-    });
+    for issue in extra(spec) {
+        c.issues.push(issue);
+    }
     let o = &spec.outcome;
     if let Some(x) = o.success_x_m {
         c.finite("outcome.success_x_m", &[x]);
@@ -1005,7 +1003,7 @@ pub fn compile_scenario(
             fail_off_terrain: o.fail_off_terrain,
             stop: o.stop,
         },
-        method,
+        method: s.method.clone(),
         seed: s.seed,
         source: None,
         description: spec.description.clone(),
@@ -1029,8 +1027,9 @@ pub fn compile_scenario(
     })
 }
 
-/// Loads a scenario file and the vehicle file it names (relative to the scenario's folder).
-pub fn load_scenario(path: &Path) -> Result<Scenario> {
+/// Loads a scenario file and the vehicle file it names (relative to the scenario's folder);
+/// `extra` as in [`compile_scenario_with`].
+pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
     let spec: ScenarioSpec = read_toml(path)?;
     let dir = path.parent().unwrap_or(Path::new("."));
     let invalid = |issues| Error::Invalid {
@@ -1066,7 +1065,7 @@ pub fn load_scenario(path: &Path) -> Result<Scenario> {
             )]));
         }
     };
-    let mut sc = compile_scenario(&spec, vehicle, dir).map_err(invalid)?;
+    let mut sc = compile_scenario_with(&spec, vehicle, dir, extra).map_err(invalid)?;
     sc.source = Some(path.to_path_buf());
     Ok(sc)
 }

@@ -118,7 +118,7 @@ pub fn write_plots(input: &PlotInput, dir: &Path, stem: &str) -> Result<Vec<Path
 type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// Finite points of one run, mapped by `f`.
-fn points(result: &RunResult, f: impl Fn(&crate::sim::Sample) -> (f64, f64)) -> Vec<(f64, f64)> {
+fn points(result: &RunResult, f: impl Fn(&crate::world::Sample) -> (f64, f64)) -> Vec<(f64, f64)> {
     result
         .samples
         .iter()
@@ -411,7 +411,7 @@ fn draw_angle<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     input: &PlotInput,
     name: &str,
-    angle: impl Fn(&crate::sim::Sample) -> f64,
+    angle: impl Fn(&crate::world::Sample) -> f64,
 ) -> DrawResult
 where
     DB::ErrorType: 'static,
@@ -470,7 +470,7 @@ where
 mod tests {
     use super::*;
     use crate::run::{Outcome, SolverSummary, Summary};
-    use crate::sim::{PoseRpy, Sample};
+    use crate::world::{PoseRpy, Sample};
 
     fn sample(t: f64, x: f64, y: f64, z: f64, roll: f64, pitch: f64) -> Sample {
         Sample {
@@ -507,6 +507,9 @@ mod tests {
                 sim_time_s: sim_time,
                 wall_time_s: sim_time / 5.0,
                 real_time_factor: 5.0,
+                elapsed_time_s: sim_time / 5.0,
+                paced_real_time_factor: 5.0,
+                paced: false,
                 mean_speed_mps: if sim_time > 0.0 {
                     (last.x - first.x) / sim_time
                 } else {

@@ -11,7 +11,7 @@
 //!   (length `p - PLATE_GAP_M`, belt thickness, track width) with a cleat (grouser) cuboid in the
 //!   middle of its outer face: the track's grouser height and box length when it has grousers,
 //!   else [`DEFAULT_CLEAT_HEIGHT_M`] x [`DEFAULT_CLEAT_LENGTH_M`] (the PackBot's 8 x 5 mm;
-//!   `sim.rs` strips grousers for methods other than okada2020, so this default is what runs).
+//!   the other methods' builders drop the grousers, but this one keeps them).
 //!   Consecutive plates are joined by revolute joints about the loop's lateral axis at their
 //!   shared hinge points; the last joins the first.
 //! - **Wheels.** One wheel per distinct arc centre of the loop, as a dynamic body jointed to the
@@ -29,7 +29,7 @@
 //!   from slipping. The chain speed for a sprocket turning at `w` without slip is `w * r_eff`
 //!   with `r_eff = p / (2 asin(p / (2 R)))`, `R` the hinge circle of the chain lying on the
 //!   sprocket (a polygon, not a circle): this is what the motor targets and what
-//!   [`PlateTrack::measured_speed`] reports.
+//!   [`Plates::measured_belt_speed`] reports.
 //! - **Masses.** Plates get the belt's mass split evenly (25 g on the PackBot); no floor was
 //!   needed for stability. Wheels get `min_mass` each (the simulation's link-mass floor, 0.5 kg
 //!   by default), as the multiple-wheel baseline's wheels do.
@@ -50,14 +50,17 @@
 //! tension): friction drive by a single sprocket is the likely limit. Release build: about
 //! 1.3-1.4 x real time (the paper's method: about 8 x on the same machine).
 
+use super::common::{insert_wheel_body, set_motor_velocity, wheel_joint};
+use super::track::{BuildContext, Track};
+use crate::error::{Error, Result};
 use crate::model::TrackModel;
 use glam::{DMat3, DQuat, DVec3};
 use rapier3d::prelude::*;
 
 /// Collision group of every plate (on top of the vehicle group).
-pub(crate) const PLATE_GROUP: Group = Group::GROUP_3;
+pub const PLATE_GROUP: Group = Group::GROUP_3;
 /// Collision group of sprockets and idlers: they only see plates.
-pub(crate) const WHEEL_GROUP: Group = Group::GROUP_4;
+pub const WHEEL_GROUP: Group = Group::GROUP_4;
 /// Plate pitch used when the track has no grousers, m (the PackBot's 40 grousers give 38 mm).
 pub const DEFAULT_PLATE_PITCH_M: f64 = 0.038;
 /// Cleat height when the track has no grousers, m.
@@ -92,41 +95,24 @@ use crate::check::{f, q};
 
 /// A plate-chain track at run time.
 #[derive(Debug)]
-pub(crate) struct PlateTrack {
+pub struct Plates {
     /// Every body this track added (plates and wheels).
-    pub bodies: Vec<RigidBodyHandle>,
+    bodies: Vec<RigidBodyHandle>,
     /// The parent (body or flipper).
-    pub parent: RigidBodyHandle,
+    parent: RigidBodyHandle,
     /// The sprocket.
-    pub sprocket: RigidBodyHandle,
+    sprocket: RigidBodyHandle,
     /// The sprocket's motorised joint.
-    pub sprocket_joint: ImpulseJointHandle,
+    sprocket_joint: ImpulseJointHandle,
     /// The loop's lateral axis in the parent frame.
-    pub axis: DVec3,
+    axis: DVec3,
     /// Chain speed per sprocket angular speed, m/rad.
-    pub r_eff: f64,
-}
-
-impl PlateTrack {
-    /// Sets the belt speed, m/s.
-    pub(crate) fn set_speed(&mut self, world: &mut PhysicsWorld, v: f64) {
-        if let Some(j) = world.impulse_joints.get_mut(self.sprocket_joint, true) {
-            j.data.set_motor_velocity(
-                JointAxis::AngX,
-                (v / self.r_eff) as f32,
-                crate::sim::BELT_MOTOR_GAIN,
-            );
-        }
-    }
-    /// Called after every physics step. The chain is free: nothing to do.
-    pub(crate) fn after_step(&mut self, _world: &mut PhysicsWorld, _dt: f64) {}
-    /// Belt speed measured from the chain, m/s: the sprocket's angular speed relative to the
-    /// parent times its effective radius.
-    pub(crate) fn measured_speed(&self, world: &PhysicsWorld) -> f64 {
-        let parent = &world.bodies[self.parent];
-        let axis = parent.rotation() * f(self.axis);
-        (world.bodies[self.sprocket].angvel() - parent.angvel()).dot(axis) as f64 * self.r_eff
-    }
+    r_eff: f64,
+    /// Grouser pitch of the track description, m, for the reported phase.
+    pitch: Option<f64>,
+    position: f64,
+    speed_cmd: f64,
+    speed_measured: f64,
 }
 
 /// A point of the hinge line (the loop moved inwards by `inset`) at loop arc length `s`.
@@ -204,24 +190,28 @@ fn frame_rot(x: DVec3, y: DVec3) -> DQuat {
     DQuat::from_mat3(&DMat3::from_cols(x, y, x.cross(y)))
 }
 
-/// Builds the chain for `track` on `parent`.
-pub(crate) fn build_plates(
-    world: &mut PhysicsWorld,
-    track: &TrackModel,
-    parent: RigidBodyHandle,
-    groups: InteractionGroups,
-    min_mass: f64,
-) -> Result<PlateTrack, String> {
-    let lateral = track.path.axis();
-    let t = track.belt_thickness;
-    let inset = t / 2.0;
+/// The chain's layout: plate count, cleat size and hinge positions.
+struct Layout {
+    /// Loop arc length of every hinge point (n + 1 values, the last closing the loop), m.
+    s: Vec<f64>,
+    /// Chord between hinge points, m.
+    p: f64,
+    /// Cleat height and length, m.
+    cleat: (f64, f64),
+    /// Wheel centres and loop radii (parent frame), m.
+    sites: Vec<(DVec3, f64)>,
+}
+
+/// Plate count, cleats, hinge points and wheel sites of `track`, checked.
+fn layout(track: &TrackModel) -> Result<Layout, String> {
+    let inset = track.belt_thickness / 2.0;
     let l = track.path.length();
     let n = match &track.grousers {
         Some(g) => g.layout.count,
         None => (l / DEFAULT_PLATE_PITCH_M).round() as usize,
     }
     .max(8);
-    let (cleat_h, cleat_l) = match &track.grousers {
+    let cleat = match &track.grousers {
         Some(g) => (
             g.height,
             g.shapes
@@ -248,18 +238,13 @@ pub(crate) fn build_plates(
             track.name
         ));
     }
+    Ok(Layout { s, p, cleat, sites })
+}
 
-    let parent_pose = *world.bodies[parent].position();
-    let plate_groups = InteractionGroups::new(
-        groups.memberships | PLATE_GROUP,
-        groups.filter.difference(PLATE_GROUP),
-        InteractionTestMode::And,
-    );
-    let wheel_groups = InteractionGroups::new(WHEEL_GROUP, PLATE_GROUP, InteractionTestMode::And);
-
-    // Plates.
-    // Rapier's soft contacts are springs of stiffness m_eff * (2 pi f)^2: with 25 g plates the
-    // default 30 Hz lets the chain sink 12 mm into the sprocket under its own tension.
+/// Raises the world's contact stiffness for light plates. Rapier's soft contacts are springs
+/// of stiffness m_eff * (2 pi f)^2: with 25 g plates the default 30 Hz lets the chain sink
+/// 12 mm into the sprocket under its own tension.
+fn stiffen_contacts(world: &mut PhysicsWorld) {
     let ip = &mut world.integration_parameters;
     ip.contact_softness.natural_frequency = ip
         .contact_softness
@@ -269,6 +254,22 @@ pub(crate) fn build_plates(
         .static_contact_softness
         .natural_frequency
         .max(2.0 * CONTACT_FREQUENCY_HZ as f32);
+}
+
+/// Inserts the plates (with their cleats) and the hinges between them; returns the plates.
+fn insert_plates(
+    world: &mut PhysicsWorld,
+    track: &TrackModel,
+    parent: RigidBodyHandle,
+    lay: &Layout,
+    plate_groups: InteractionGroups,
+) -> Vec<RigidBodyHandle> {
+    let lateral = track.path.axis();
+    let t = track.belt_thickness;
+    let inset = t / 2.0;
+    let (s, p, (cleat_h, cleat_l)) = (&lay.s, lay.p, lay.cleat);
+    let n = s.len() - 1;
+    let parent_pose = *world.bodies[parent].position();
     let mass = track.belt_mass / n as f64;
     let len = p - PLATE_GAP_M;
     let w = track.width;
@@ -327,17 +328,96 @@ pub(crate) fn build_plates(
             .impulse_joints
             .insert(plates[i], plates[(i + 1) % n], joint, true);
     }
+    plates
+}
 
-    // Wheels.
+/// Inserts a wheel's cylinder and its two flanges on body `h`.
+fn insert_wheel_colliders(
+    world: &mut PhysicsWorld,
+    h: RigidBodyHandle,
+    lateral: DVec3,
+    radius: f64,
+    w: f64,
+    friction: f64,
+    wheel_groups: InteractionGroups,
+) {
+    let wheel_rot = q(DQuat::from_rotation_arc(DVec3::Y, lateral));
+    let wheel = ColliderBuilder::cylinder((w / 2.0) as f32, radius as f32)
+        .rotation(wheel_rot.to_scaled_axis())
+        .density(0.0)
+        .friction(friction as f32)
+        .friction_combine_rule(CoefficientCombineRule::Max)
+        .collision_groups(wheel_groups);
+    world
+        .colliders
+        .insert_with_parent(wheel, h, &mut world.bodies);
+    for side in [-1.0, 1.0] {
+        let y = side * (w / 2.0 + FLANGE_THICKNESS_M / 2.0 + 0.001);
+        let flange = ColliderBuilder::cylinder(
+            (FLANGE_THICKNESS_M / 2.0) as f32,
+            (radius + FLANGE_HEIGHT_M) as f32,
+        )
+        .position(Pose::from_parts(f(lateral * y), wheel_rot))
+        .density(0.0)
+        .friction(0.0)
+        .friction_combine_rule(CoefficientCombineRule::Min)
+        .collision_groups(wheel_groups);
+        world
+            .colliders
+            .insert_with_parent(flange, h, &mut world.bodies);
+    }
+}
+
+/// The idler's tensioner joint: free spin about the lateral axis (joint x) and a spring along
+/// the line from the sprocket at `rear` (joint y).
+fn tensioner_joint(lateral: DVec3, centre: DVec3, rear: DVec3) -> GenericJointBuilder {
+    let dir = (centre - rear).normalize();
+    let frame_rot = q(frame_rot(lateral, dir));
+    let k_spring = TENSIONER_STIFFNESS_N_PER_M;
+    GenericJointBuilder::new(
+        JointAxesMask::LIN_X | JointAxesMask::LIN_Z | JointAxesMask::ANG_Y | JointAxesMask::ANG_Z,
+    )
+    .local_frame1(Pose::from_parts(f(centre), frame_rot))
+    .local_frame2(Pose::from_parts(Vector::ZERO, frame_rot))
+    .contacts_enabled(false)
+    .limits(
+        JointAxis::LinY,
+        [TENSIONER_TRAVEL_M[0] as f32, TENSIONER_TRAVEL_M[1] as f32],
+    )
+    .motor_model(JointAxis::LinY, MotorModel::ForceBased)
+    .motor_position(
+        JointAxis::LinY,
+        (TENSIONER_FORCE_N / k_spring) as f32,
+        k_spring as f32,
+        TENSIONER_DAMPING_N_S_PER_M as f32,
+    )
+}
+
+/// The sprocket: its body, motorised joint and effective radius, m.
+type Sprocket = (RigidBodyHandle, ImpulseJointHandle, f64);
+
+/// Inserts the sprocket (rearmost arc), the tensioned idler (frontmost) and free idlers;
+/// returns their bodies and the sprocket.
+fn insert_wheels(
+    world: &mut PhysicsWorld,
+    track: &TrackModel,
+    parent: RigidBodyHandle,
+    lay: &Layout,
+    min_mass: f64,
+) -> Result<(Vec<RigidBodyHandle>, Sprocket), String> {
+    let lateral = track.path.axis();
+    let inset = track.belt_thickness / 2.0;
+    let (sites, p, w) = (&lay.sites, lay.p, track.width);
+    let parent_pose = *world.bodies[parent].position();
+    let wheel_groups = InteractionGroups::new(WHEEL_GROUP, PLATE_GROUP, InteractionTestMode::And);
     let rear = (0..sites.len())
         .min_by(|&a, &b| sites[a].0.x.total_cmp(&sites[b].0.x))
         .unwrap_or(0);
     let front = (0..sites.len())
         .max_by(|&a, &b| sites[a].0.x.total_cmp(&sites[b].0.x))
         .unwrap_or(1);
-    let mut bodies = plates;
+    let mut bodies = Vec::new();
     let mut sprocket = None;
-    let wheel_rot = q(DQuat::from_rotation_arc(DVec3::Y, lateral));
     for (k, &(centre, r)) in sites.iter().enumerate() {
         let r_hinge = r - inset;
         let half_p = p / 2.0;
@@ -349,83 +429,18 @@ pub(crate) fn build_plates(
         }
         let radius = (r_hinge * r_hinge - half_p * half_p).sqrt() - inset - WHEEL_CLEARANCE_M;
         let m = min_mass.max(1e-3);
-        let i_axial = 0.5 * m * radius * radius;
-        let i_across = m * (3.0 * radius * radius + w * w) / 12.0;
-        let h = world.bodies.insert(
-            RigidBodyBuilder::dynamic()
-                .pose(parent_pose * Pose::from_translation(f(centre)))
-                .additional_mass_properties(MassProperties::with_principal_inertia_frame(
-                    Vector::ZERO,
-                    m as f32,
-                    Vector::new(i_across as f32, i_axial as f32, i_across as f32),
-                    q(DQuat::from_rotation_arc(DVec3::Y, lateral)),
-                ))
-                .can_sleep(false),
-        );
+        let h = insert_wheel_body(world, parent_pose, centre, lateral, radius, w, m);
         let friction = if k == rear {
             SPROCKET_FRICTION
         } else {
             IDLER_FRICTION
         };
-        let wheel = ColliderBuilder::cylinder((w / 2.0) as f32, radius as f32)
-            .rotation(wheel_rot.to_scaled_axis())
-            .density(0.0)
-            .friction(friction as f32)
-            .friction_combine_rule(CoefficientCombineRule::Max)
-            .collision_groups(wheel_groups);
-        world
-            .colliders
-            .insert_with_parent(wheel, h, &mut world.bodies);
-        for side in [-1.0, 1.0] {
-            let y = side * (w / 2.0 + FLANGE_THICKNESS_M / 2.0 + 0.001);
-            let flange = ColliderBuilder::cylinder(
-                (FLANGE_THICKNESS_M / 2.0) as f32,
-                (radius + FLANGE_HEIGHT_M) as f32,
-            )
-            .position(Pose::from_parts(f(lateral * y), wheel_rot))
-            .density(0.0)
-            .friction(0.0)
-            .friction_combine_rule(CoefficientCombineRule::Min)
-            .collision_groups(wheel_groups);
-            world
-                .colliders
-                .insert_with_parent(flange, h, &mut world.bodies);
-        }
+        insert_wheel_colliders(world, h, lateral, radius, w, friction, wheel_groups);
         if k == front && k != rear {
-            // Tensioner: free spin about the lateral axis (joint x) and a spring along the line
-            // from the sprocket (joint y).
-            let dir = (centre - sites[rear].0).normalize();
-            let frame_rot = q(frame_rot(lateral, dir));
-            let k_spring = TENSIONER_STIFFNESS_N_PER_M;
-            let joint = GenericJointBuilder::new(
-                JointAxesMask::LIN_X
-                    | JointAxesMask::LIN_Z
-                    | JointAxesMask::ANG_Y
-                    | JointAxesMask::ANG_Z,
-            )
-            .local_frame1(Pose::from_parts(f(centre), frame_rot))
-            .local_frame2(Pose::from_parts(Vector::ZERO, frame_rot))
-            .contacts_enabled(false)
-            .limits(
-                JointAxis::LinY,
-                [TENSIONER_TRAVEL_M[0] as f32, TENSIONER_TRAVEL_M[1] as f32],
-            )
-            .motor_model(JointAxis::LinY, MotorModel::ForceBased)
-            .motor_position(
-                JointAxis::LinY,
-                (TENSIONER_FORCE_N / k_spring) as f32,
-                k_spring as f32,
-                TENSIONER_DAMPING_N_S_PER_M as f32,
-            );
+            let joint = tensioner_joint(lateral, centre, sites[rear].0);
             world.impulse_joints.insert(parent, h, joint, true);
         } else {
-            let mut joint = RevoluteJointBuilder::new(f(lateral))
-                .local_anchor1(f(centre))
-                .local_anchor2(Vector::ZERO)
-                .contacts_enabled(false);
-            if k == rear {
-                joint = joint.motor_velocity(0.0, crate::sim::BELT_MOTOR_GAIN);
-            }
+            let joint = wheel_joint(lateral, centre, k == rear);
             let j = world.impulse_joints.insert(parent, h, joint, true);
             if k == rear {
                 // Hinge circle of the chain lying on the sprocket.
@@ -437,14 +452,85 @@ pub(crate) fn build_plates(
         }
         bodies.push(h);
     }
-    let (sprocket, sprocket_joint, r_eff) =
-        sprocket.ok_or_else(|| format!("track {}: no sprocket", track.name))?;
-    Ok(PlateTrack {
-        bodies,
-        parent,
-        sprocket,
-        sprocket_joint,
-        axis: lateral,
-        r_eff,
-    })
+    let sprocket = sprocket.ok_or_else(|| format!("track {}: no sprocket", track.name))?;
+    Ok((bodies, sprocket))
+}
+
+impl Plates {
+    /// Builds the chain for `track` on `ctx.parent` (keeping its grousers as cleats).
+    pub fn build(ctx: &mut BuildContext, track: &TrackModel) -> Result<Self> {
+        let lay = layout(track).map_err(Error::Build)?;
+        let world = &mut *ctx.world;
+        let groups = ctx.groups;
+        let plate_groups = InteractionGroups::new(
+            groups.memberships | PLATE_GROUP,
+            groups.filter.difference(PLATE_GROUP),
+            InteractionTestMode::And,
+        );
+        stiffen_contacts(world);
+        let mut bodies = insert_plates(world, track, ctx.parent, &lay, plate_groups);
+        let (wheels, (sprocket, sprocket_joint, r_eff)) =
+            insert_wheels(world, track, ctx.parent, &lay, ctx.min_link_mass).map_err(Error::Build)?;
+        bodies.extend(wheels);
+        Ok(Plates {
+            bodies,
+            parent: ctx.parent,
+            sprocket,
+            sprocket_joint,
+            axis: track.path.axis(),
+            r_eff,
+            pitch: track.grousers.as_ref().map(|g| g.layout.pitch(&track.path)),
+            position: 0.0,
+            speed_cmd: 0.0,
+            speed_measured: 0.0,
+        })
+    }
+}
+
+impl Track for Plates {
+    fn set_belt_speed(&mut self, world: &mut PhysicsWorld, v: f64) {
+        self.speed_cmd = v;
+        set_motor_velocity(
+            world,
+            self.sprocket_joint,
+            JointAxis::AngX,
+            (v / self.r_eff) as f32,
+        );
+    }
+
+    fn commanded_belt_speed(&self) -> f64 {
+        self.speed_cmd
+    }
+
+    /// The chain is free: only the belt position is integrated and the speed measured.
+    fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
+        self.position += self.speed_cmd * dt;
+        self.speed_measured = self.measured_belt_speed_now(world);
+    }
+
+    fn belt_position(&self) -> f64 {
+        self.position
+    }
+
+    fn belt_phase(&self) -> f64 {
+        super::phase(self.position, self.pitch)
+    }
+
+    /// The sprocket's angular speed relative to the parent times its effective radius.
+    fn measured_belt_speed(&self) -> f64 {
+        self.speed_measured
+    }
+
+    fn bodies(&self) -> Vec<RigidBodyHandle> {
+        self.bodies.clone()
+    }
+}
+
+impl Plates {
+    /// Belt speed from the chain now, m/s.
+    fn measured_belt_speed_now(&self, world: &PhysicsWorld) -> f64 {
+        let parent = &world.bodies[self.parent];
+        let axis = parent.rotation() * f(self.axis);
+        (world.bodies[self.sprocket].angvel() - parent.angvel()).dot(axis) as f64 * self.r_eff
+    }
 }

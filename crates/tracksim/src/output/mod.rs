@@ -1,0 +1,91 @@
+//! Outputs of runs: `trajectory.csv`, `summary.json` and the plots, written from a
+//! [`RunResult`] (the run layer writes nothing).
+//!
+//! - [`plot`]: side view over the terrain, top view, attitude (PNG + SVG);
+//! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons.
+
+pub mod plot;
+pub mod side_view;
+
+pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
+
+use crate::error::{Error, Result};
+use crate::run::RunResult;
+use std::io::Write;
+use std::path::Path;
+
+/// The CSV header of `trajectory.csv`.
+pub fn csv_header(result: &RunResult) -> Vec<String> {
+    let mut h: Vec<String> = [
+        "t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "vx_mps", "vy_mps",
+        "vz_mps", "wx_rad_s", "wy_rad_s", "wz_rad_s",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for n in &result.track_names {
+        h.push(format!("belt_speed_{n}_mps"));
+    }
+    for n in &result.track_names {
+        h.push(format!("belt_phase_{n}_m"));
+    }
+    for n in &result.flipper_names {
+        h.push(format!("flipper_{n}_rad"));
+    }
+    h.push("contacts".into());
+    h.push("penetration_m".into());
+    h
+}
+
+/// The text of `trajectory.csv`: a header, then one row per sample (6 decimals, SI units).
+pub fn trajectory_csv(result: &RunResult) -> String {
+    let mut text = csv_header(result).join(",");
+    text.push('\n');
+    for s in &result.samples {
+        let p = &s.pose;
+        let mut row = vec![
+            s.t,
+            p.x,
+            p.y,
+            p.z,
+            p.roll,
+            p.pitch,
+            p.yaw,
+            s.linvel[0],
+            s.linvel[1],
+            s.linvel[2],
+            s.angvel[0],
+            s.angvel[1],
+            s.angvel[2],
+        ];
+        row.extend(&s.belt_speed);
+        row.extend(&s.belt_phase);
+        row.extend(&s.flipper_angle);
+        let mut line = row
+            .iter()
+            .map(|v| format!("{v:.6}"))
+            .collect::<Vec<_>>()
+            .join(",");
+        line.push_str(&format!(",{},{:.6}\n", s.contacts, s.penetration));
+        text.push_str(&line);
+    }
+    text
+}
+
+/// Writes `summary.json` and `trajectory.csv` into `dir` (created if needed).
+pub fn write_run(result: &RunResult, dir: &Path) -> Result<()> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let sp = dir.join("summary.json");
+    let json = serde_json::to_string_pretty(&result.summary).expect("summary serialises");
+    std::fs::write(&sp, json + "\n").map_err(io(&sp))?;
+    let tp = dir.join("trajectory.csv");
+    let mut out = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io(&tp))?);
+    out.write_all(trajectory_csv(result).as_bytes())
+        .map_err(io(&tp))?;
+    out.flush().map_err(io(&tp))?;
+    Ok(())
+}

@@ -1,0 +1,122 @@
+//! The terrain as drawn under runs in the side view, and the plot files of one run and of a
+//! comparison.
+
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::run::RunResult;
+use crate::world::Sample;
+use std::path::Path;
+
+/// A polyline in the side view: (x, z) points, m.
+pub type SideLine = Vec<(f64, f64)>;
+
+/// The terrain under runs as drawn in the side view: the height profile along the first run's
+/// path (x, z) and the side outlines (x, z) of the terrain's boxes, m.
+pub fn side_view_terrain(sc: &Scenario, runs: &[&RunResult]) -> (SideLine, Vec<SideLine>) {
+    let samples: Vec<&Sample> = runs.iter().flat_map(|r| r.samples.iter()).collect();
+    if samples.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let (lo, hi) = samples.iter().fold((f64::MAX, f64::MIN), |(lo, hi), s| {
+        (lo.min(s.pose.x), hi.max(s.pose.x))
+    });
+    let (lo, hi) = (lo - 0.5, hi + 0.5);
+    let n = 400;
+    let first = &runs[0].samples;
+    let y_at = |x: f64| {
+        first
+            .iter()
+            .min_by(|a, b| (a.pose.x - x).abs().total_cmp(&(b.pose.x - x).abs()))
+            .map(|s| s.pose.y)
+            .unwrap_or(0.0)
+    };
+    let xs: Vec<f64> = (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect();
+    let pts: Vec<(f64, f64)> = xs.iter().map(|&x| (x, y_at(x))).collect();
+    let profile = xs
+        .iter()
+        .zip(sc.terrain.heights_at(&pts))
+        .filter_map(|(&x, z)| z.map(|z| (x, z)))
+        .collect();
+    let outlines = sc
+        .terrain
+        .boxes
+        .iter()
+        .map(|b| {
+            let r = b.rotation();
+            [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                .iter()
+                .map(|(sx, sz)| {
+                    let p = b.centre + r * glam::DVec3::new(sx * b.half.x, 0.0, sz * b.half.z);
+                    (p.x, p.z)
+                })
+                .collect()
+        })
+        .collect();
+    (profile, outlines)
+}
+
+/// Writes `<stem>.png` and `<stem>.svg` with `runs` (label, result) drawn over the scenario's
+/// terrain; nothing when there is no run.
+fn write_runs(
+    sc: &Scenario,
+    runs: &[(String, &RunResult)],
+    title: &str,
+    stem: &str,
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    if runs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let results: Vec<&RunResult> = runs.iter().map(|(_, r)| *r).collect();
+    let (profile, outlines) = side_view_terrain(sc, &results);
+    let runs: Vec<super::plot::PlotRun> = runs
+        .iter()
+        .map(|(label, r)| super::plot::PlotRun {
+            label: label.as_str(),
+            result: r,
+        })
+        .collect();
+    super::plot::write_plots(
+        &super::plot::PlotInput {
+            title,
+            runs: &runs,
+            ground_profile: &profile,
+            outlines: &outlines,
+        },
+        dir,
+        stem,
+    )
+}
+
+/// Writes `plot.png` and `plot.svg` for one run into `dir`: side view over the terrain, top
+/// view, pitch and roll against time.
+pub fn write_run_plots(
+    sc: &Scenario,
+    result: &RunResult,
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    let title = if sc.description.is_empty() {
+        &result.summary.vehicle
+    } else {
+        &sc.description
+    };
+    write_runs(
+        sc,
+        &[(result.summary.method.clone(), result)],
+        title,
+        "plot",
+        dir,
+    )
+}
+
+/// Writes `compare.png` and `compare.svg`: every successful run of a comparison in one figure.
+pub fn write_compare_plots(
+    sc: &Scenario,
+    results: &[(String, &RunResult)],
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    let title = format!("{} (track methods compared)", sc.description);
+    write_runs(sc, results, &title, "compare", dir)
+}

@@ -1,0 +1,46 @@
+//! A simulation driven by its scenario's `[[commands]]`: what `tracksim run` does, and what
+//! tests use to drive a scenario step by step.
+
+use super::timeline::Timeline;
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::world::Simulation;
+
+/// A [`Simulation`] whose controls come from its scenario's command timeline; it dereferences
+/// to the simulation for every query.
+pub struct Scripted {
+    /// The simulation.
+    pub sim: Simulation,
+    timeline: Timeline,
+}
+
+impl Scripted {
+    /// Builds the simulation of `sc` with its command timeline.
+    pub fn new(sc: &Scenario) -> Result<Self> {
+        Ok(Scripted {
+            sim: Simulation::new(sc)?,
+            timeline: Timeline::new(&sc.commands),
+        })
+    }
+
+    /// Applies the commands that have fallen due, then advances one step.
+    pub fn step(&mut self) -> Result<()> {
+        for c in self.timeline.due(self.sim.time()) {
+            self.sim.apply(&c);
+        }
+        self.sim.step()
+    }
+}
+
+impl std::ops::Deref for Scripted {
+    type Target = Simulation;
+    fn deref(&self) -> &Simulation {
+        &self.sim
+    }
+}
+
+impl std::ops::DerefMut for Scripted {
+    fn deref_mut(&mut self) -> &mut Simulation {
+        &mut self.sim
+    }
+}

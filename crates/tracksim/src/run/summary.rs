@@ -1,0 +1,149 @@
+//! The numbers `summary.json` holds, computed from a finished run.
+
+use super::outcome::Outcome;
+use crate::model::Scenario;
+use crate::world::{PoseRpy, Sample, Simulation};
+use serde::Serialize;
+
+/// The numbers `summary.json` holds.
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// Scenario file, if any.
+    pub scenario: Option<String>,
+    /// Vehicle name.
+    pub vehicle: String,
+    /// Track method.
+    pub method: String,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time, s.
+    pub sim_time_s: f64,
+    /// Wall-clock time spent stepping (computing), s.
+    pub wall_time_s: f64,
+    /// Compute speed: sim_time_s / wall_time_s (how much faster than real time the stepping
+    /// alone runs).
+    pub real_time_factor: f64,
+    /// Wall-clock time of the whole run, waiting included, s.
+    pub elapsed_time_s: f64,
+    /// Paced speed: sim_time_s / elapsed_time_s (1.0 when paced to the wall clock).
+    pub paced_real_time_factor: f64,
+    /// Whether the run was paced to the wall clock (`--realtime`).
+    pub paced: bool,
+    /// Displacement along the start heading divided by simulated time, m/s.
+    pub mean_speed_mps: f64,
+    /// Horizontal path length of the body, m.
+    pub distance_m: f64,
+    /// Pose at the start (after placement).
+    pub initial_pose: PoseRpy,
+    /// Pose at the end.
+    pub final_pose: PoseRpy,
+    /// "success", "failure" or "completed" (no success condition was set and nothing failed).
+    pub outcome: String,
+    /// Why.
+    pub outcome_reason: String,
+    /// When the outcome was decided, s.
+    pub outcome_time_s: f64,
+    /// Solver settings that change the physics.
+    pub solver: SolverSummary,
+    /// Seed of the run.
+    pub seed: u64,
+    /// Largest link deviation from its exact pose after a physics step (joint error), m.
+    pub max_link_error_m: f64,
+    /// Same, as an angle, rad.
+    pub max_link_error_rad: f64,
+    /// Deepest contact penetration seen in the trajectory rows, m (how far grousers sank).
+    pub max_penetration_m: f64,
+}
+
+/// Solver settings reported with every run.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverSummary {
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Solver iterations.
+    pub iterations: usize,
+    /// Contact clustering.
+    pub contact_clustering: bool,
+    /// Smallest segment link mass, kg.
+    pub min_link_mass_kg: f64,
+    /// Speculative contact distance, m.
+    pub prediction_distance_m: f64,
+    /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    pub contact_slop_m: f64,
+}
+
+impl SolverSummary {
+    /// The solver settings of a scenario.
+    pub fn of(sc: &Scenario) -> Self {
+        SolverSummary {
+            dt_s: sc.solver.dt,
+            iterations: sc.solver.iterations,
+            contact_clustering: sc.solver.contact_clustering,
+            min_link_mass_kg: sc.solver.min_link_mass,
+            prediction_distance_m: sc.solver.prediction_distance,
+            contact_slop_m: sc.solver.contact_slop,
+        }
+    }
+}
+
+/// Wall-clock times of a run, s.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WallTimes {
+    /// Spent stepping.
+    pub stepping: f64,
+    /// The whole run, waiting included.
+    pub elapsed: f64,
+    /// Whether it was paced to the wall clock.
+    pub paced: bool,
+}
+
+impl Summary {
+    /// Summarises a finished run of `sim` (built from `sc`) with its `samples`.
+    pub fn new(
+        sc: &Scenario,
+        sim: &Simulation,
+        samples: &[Sample],
+        outcome: (&Outcome, f64),
+        wall: WallTimes,
+    ) -> Self {
+        let first = samples[0].pose;
+        let last = samples.last().map(|s| s.pose).unwrap_or(first);
+        let (c, s) = (first.yaw.cos(), first.yaw.sin());
+        let forward = (last.x - first.x) * c + (last.y - first.y) * s;
+        let distance = samples
+            .windows(2)
+            .map(|w| {
+                ((w[1].pose.x - w[0].pose.x).powi(2) + (w[1].pose.y - w[0].pose.y).powi(2)).sqrt()
+            })
+            .sum();
+        let (err_m, err_rad) = sim.max_link_error();
+        let sim_time = sim.time();
+        Summary {
+            scenario: sc.source.as_ref().map(|p| p.display().to_string()),
+            vehicle: sc.vehicle.name.clone(),
+            method: sim.method().name(),
+            dt_s: sc.solver.dt,
+            steps: sim.steps(),
+            sim_time_s: sim_time,
+            wall_time_s: wall.stepping,
+            real_time_factor: sim_time / wall.stepping.max(1e-12),
+            elapsed_time_s: wall.elapsed,
+            paced_real_time_factor: sim_time / wall.elapsed.max(1e-12),
+            paced: wall.paced,
+            mean_speed_mps: forward / sim_time,
+            distance_m: distance,
+            initial_pose: first,
+            final_pose: last,
+            outcome: outcome.0.name().to_string(),
+            outcome_reason: outcome.0.reason(),
+            outcome_time_s: outcome.1,
+            solver: SolverSummary::of(sc),
+            seed: sim.seed(),
+            max_link_error_m: err_m,
+            max_link_error_rad: err_rad,
+            max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
+        }
+    }
+}

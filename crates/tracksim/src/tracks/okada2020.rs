@@ -1,0 +1,513 @@
+//! The paper's method (Okada et al., ICRA 2020, Sec. III): one rigid *segment link* per
+//! straight or circular segment of the loop, joined to the parent by a prismatic or revolute
+//! joint with a velocity motor at belt speed, carrying the belt shape and its grousers; after
+//! every step each link is placed at `parent * shift(phase)`, which rolls it back by exactly one
+//! grouser pitch when the phase wraps. Also its variant without grousers
+//! (`okada2020_no_grousers`), whose links are restored every step.
+//!
+//! # How a track is built
+//! Each included segment becomes one dynamic rigid body whose frame coincides with its parent's
+//! frame at rest. A straight link carries a thin cuboid belt and is joined by a prismatic joint
+//! along the segment; an arc link carries a cylinder of the loop radius and is joined by a
+//! revolute joint on the pulley axis. Each link also carries, as separate colliders, the
+//! grousers whose footprints lie on its segment at rest. Joint velocity motors (velocity-only,
+//! effectively unlimited force) move every link at belt speed: `v` along straights, `v / r`
+//! about arcs.
+//!
+//! # Rollback
+//! The belt position `s` is integrated from the command and kept unwrapped (`f64`). With
+//! grousers of pitch `p = L / N`, the phase is `phi = s - p * round(s / p)`, in `[-p/2, p/2)`.
+//! After every physics step each link is put exactly at `parent * shift(phi)`, keeping the world
+//! velocity the solver gave it. Between wraps that only removes the solver's joint error (a few
+//! micrometres, reported as the link error); when `s` crosses a half pitch the phase wraps and
+//! every link jumps back by exactly one pitch, which leaves the grouser pattern where it was, so
+//! the track's shape is exact forever. Without grousers `phi = 0`: links are restored every step.
+//! When a track has several grouser shapes in turn, the colliders' shapes are re-assigned on each
+//! wrap so the pattern travels with the belt.
+//!
+//! # Choices (and why)
+//! - Link mass: the belt's real mass split by segment length, but at least
+//!   `simulation.min_link_mass_kg` ([`crate::model::MIN_LINK_MASS_KG`] by default): on the
+//!   PackBot climbing a step the floor halves the per-step joint error (1.5 mm / 31 mrad ->
+//!   0.8 mm / 14 mrad); on flat ground it makes no difference (docs/DESIGN.md).
+//! - Belt and grousers are separate colliders (not one compound), with Rapier's contact
+//!   clustering off by default: clustering merged grouser contacts and let them sink mm deep.
+//! - Snapping keeps the solver's world velocities: also overwriting them with the joint
+//!   kinematics injected momentum (5-13 mm/s^2 of drift on a frictionless ground).
+
+use super::common::{BELT_MOTOR_GAIN, set_motor_velocity};
+use super::track::{BuildContext, LinkError, Track};
+use crate::check::{f, q};
+use crate::error::{Error, Result};
+use crate::geometry::Segment;
+use crate::model::{GrouserShape, TrackModel};
+use glam::{DQuat, DVec3};
+use rapier3d::prelude::*;
+
+/// How a link moves relative to its parent.
+#[derive(Clone, Copy, Debug)]
+enum LinkKind {
+    /// Translation along a unit direction (parent frame).
+    Slide { dir: DVec3 },
+    /// Rotation about an axis through `centre`; `v / radius` rad/s per m/s of belt.
+    Turn {
+        centre: DVec3,
+        axis: DVec3,
+        radius: f64,
+    },
+}
+
+impl LinkKind {
+    /// Pose of the link relative to its parent when the belt has moved by `phi` m.
+    fn shift(&self, phi: f64) -> Pose {
+        match *self {
+            LinkKind::Slide { dir } => Pose::from_translation(f(dir * phi)),
+            LinkKind::Turn {
+                centre,
+                axis,
+                radius,
+            } => {
+                let r = DQuat::from_axis_angle(axis, phi / radius);
+                Pose::from_parts(f(centre - r * centre), q(r))
+            }
+        }
+    }
+    fn motor_axis(&self) -> JointAxis {
+        match self {
+            LinkKind::Slide { .. } => JointAxis::LinX,
+            LinkKind::Turn { .. } => JointAxis::AngX,
+        }
+    }
+    fn motor_target(&self, v: f64) -> f32 {
+        match *self {
+            LinkKind::Slide { .. } => v as f32,
+            LinkKind::Turn { radius, .. } => (v / radius) as f32,
+        }
+    }
+}
+
+#[derive(Debug)]
+struct Link {
+    body: RigidBodyHandle,
+    joint: ImpulseJointHandle,
+    kind: LinkKind,
+    local_com: Vector,
+    /// Grouser colliders with their slot index k on the loop.
+    grousers: Vec<(ColliderHandle, usize)>,
+}
+
+/// A track of segment links (the paper's method).
+#[derive(Debug)]
+pub struct SegmentLinks {
+    parent: RigidBodyHandle,
+    links: Vec<Link>,
+    /// Grouser pitch L / N, m (None without grousers).
+    pitch: Option<f64>,
+    /// The grouser shapes in turn.
+    shapes: Vec<SharedShape>,
+    /// Unwrapped belt position, m.
+    position: f64,
+    /// Commanded belt speed, m/s.
+    speed_cmd: f64,
+    /// Belt speed measured from the links' joint velocities before the snap, m/s.
+    speed_measured: f64,
+    /// Wraps of the phase so far.
+    wraps: i64,
+    error: LinkError,
+}
+
+/// Mass properties of a segment link: the belt's mass spread along the segment and across its
+/// width (sampled: mass properties only, not geometry), kg and kg m^2.
+fn link_mass_properties(
+    track: &TrackModel,
+    seg: usize,
+    mass: f64,
+    lateral: DVec3,
+) -> MassProperties {
+    let s = &track.path.segments()[seg];
+    let n = 64;
+    let len = s.length();
+    let pts: Vec<DVec3> = (0..n)
+        .map(|i| s.point_tangent(len * (i as f64 + 0.5) / n as f64).0)
+        .collect();
+    let com = pts.iter().sum::<DVec3>() / n as f64;
+    let m = mass / n as f64;
+    let mut inertia = glam::DMat3::ZERO;
+    for p in &pts {
+        let r = *p - com;
+        inertia += (glam::DMat3::IDENTITY * r.length_squared()
+            - glam::DMat3::from_cols(r * r.x, r * r.y, r * r.z))
+            * m;
+    }
+    // Spread across the width and through the thickness (a thin plate, not a wire).
+    let w2 = track.width * track.width / 12.0;
+    let t2 = track.belt_thickness * track.belt_thickness / 12.0;
+    inertia += (glam::DMat3::IDENTITY * (w2 + t2)
+        - glam::DMat3::from_cols(
+            lateral * lateral.x,
+            lateral * lateral.y,
+            lateral * lateral.z,
+        ) * w2)
+        * mass;
+    let mat = glam::Mat3::from_cols(f(inertia.x_axis), f(inertia.y_axis), f(inertia.z_axis));
+    MassProperties::with_inertia_matrix(f(com), mass as f32, mat)
+}
+
+/// The Rapier shapes of a track's grousers, in turn.
+fn grouser_shapes(t: &TrackModel) -> Result<Vec<SharedShape>> {
+    let Some(g) = &t.grousers else {
+        return Ok(Vec::new());
+    };
+    g.shapes
+        .iter()
+        .map(|s| match s {
+            GrouserShape::Box { half, .. } => Some(SharedShape::cuboid(
+                half.x as f32,
+                half.y as f32,
+                half.z as f32,
+            )),
+            GrouserShape::Convex(pts) => {
+                SharedShape::convex_hull(&pts.iter().map(|p| f(*p)).collect::<Vec<_>>())
+            }
+        })
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| {
+            Error::Build(format!(
+                "track {}: a grouser shape's convex hull could not be computed",
+                t.name
+            ))
+        })
+}
+
+/// The belt collider of segment `seg` (parent frame) and how its link moves.
+fn belt_collider(t: &TrackModel, seg: &Segment, lateral: DVec3) -> (LinkKind, ColliderBuilder) {
+    match *seg {
+        Segment::Straight {
+            start,
+            direction,
+            length,
+        } => {
+            let normal = direction.cross(lateral);
+            let centre = start + direction * (length / 2.0) - normal * (t.belt_thickness / 2.0);
+            let rot = DQuat::from_mat3(&glam::DMat3::from_cols(direction, lateral, normal));
+            (
+                LinkKind::Slide { dir: direction },
+                ColliderBuilder::cuboid(
+                    (length / 2.0) as f32,
+                    (t.width / 2.0) as f32,
+                    (t.belt_thickness / 2.0) as f32,
+                )
+                .position(Pose::from_parts(f(centre), q(rot))),
+            )
+        }
+        Segment::Arc { axis, angle, .. } => {
+            let centre = seg.arc_centre().unwrap_or_default();
+            let radius = seg.radius().unwrap_or_default();
+            let rot = DQuat::from_rotation_arc(DVec3::Y, lateral);
+            (
+                LinkKind::Turn {
+                    centre,
+                    axis: axis * angle.signum(),
+                    radius,
+                },
+                ColliderBuilder::cylinder((t.width / 2.0) as f32, radius as f32)
+                    .position(Pose::from_parts(f(centre), q(rot))),
+            )
+        }
+    }
+}
+
+/// The joint of a link to its parent: prismatic along a straight, revolute about an arc's
+/// axis, each with a velocity motor at rest.
+fn link_joint(kind: LinkKind, seg: &Segment) -> GenericJoint {
+    match kind {
+        LinkKind::Slide { dir } => PrismaticJointBuilder::new(f(dir))
+            .local_anchor1(f(seg.start()))
+            .local_anchor2(f(seg.start()))
+            .contacts_enabled(false)
+            .motor_velocity(0.0, BELT_MOTOR_GAIN)
+            .into(),
+        LinkKind::Turn { centre, axis, .. } => RevoluteJointBuilder::new(f(axis))
+            .local_anchor1(f(centre))
+            .local_anchor2(f(centre))
+            .contacts_enabled(false)
+            .motor_velocity(0.0, BELT_MOTOR_GAIN)
+            .into(),
+    }
+}
+
+impl SegmentLinks {
+    /// Builds the segment links of `t` on `ctx.parent` (with `t`'s grousers, if it has any).
+    pub fn build(ctx: &mut BuildContext, t: &TrackModel) -> Result<Self> {
+        let shapes = grouser_shapes(t)?;
+        let path = &t.path;
+        let footprints = t
+            .grousers
+            .as_ref()
+            .map(|g| g.layout.footprints(path))
+            .unwrap_or_default();
+        let mut links = Vec::new();
+        for (si, seg) in path.segments().iter().enumerate() {
+            if t.included[si] {
+                links.push(Self::build_link(ctx, t, si, &shapes, &footprints));
+            }
+        }
+        Ok(SegmentLinks {
+            parent: ctx.parent,
+            links,
+            pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
+            shapes,
+            position: 0.0,
+            speed_cmd: 0.0,
+            speed_measured: 0.0,
+            wraps: 0,
+            error: LinkError::default(),
+        })
+    }
+
+    /// Builds the link of segment `si`: body, belt collider, grousers, joint.
+    fn build_link(
+        ctx: &mut BuildContext,
+        t: &TrackModel,
+        si: usize,
+        shapes: &[SharedShape],
+        footprints: &[(usize, crate::geometry::Frame)],
+    ) -> Link {
+        let world = &mut *ctx.world;
+        let path = &t.path;
+        let seg = &path.segments()[si];
+        let lateral = path.axis();
+        let parent_pose = *world.bodies[ctx.parent].position();
+        let mass = (t.belt_mass * seg.length() / path.length()).max(ctx.min_link_mass);
+        let mprops = link_mass_properties(t, si, mass, lateral);
+        let h = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(parent_pose)
+                .additional_mass_properties(mprops)
+                .can_sleep(false),
+        );
+        let groups = ctx.groups;
+        let base = |b: ColliderBuilder| {
+            b.density(0.0)
+                .friction(t.friction as f32)
+                .friction_combine_rule(t.combine)
+                .collision_groups(groups)
+        };
+        let (kind, belt) = belt_collider(t, seg, lateral);
+        world
+            .colliders
+            .insert_with_parent(base(belt), h, &mut world.bodies);
+        // Grousers whose footprint lies on this segment at rest.
+        let mut grousers = Vec::new();
+        if let Some(g) = &t.grousers {
+            for (k, (gs, frame)) in footprints.iter().enumerate() {
+                if *gs != si {
+                    continue;
+                }
+                let shape_i = k % g.shapes.len();
+                let centre = match &g.shapes[shape_i] {
+                    GrouserShape::Box { centre, .. } => *centre,
+                    GrouserShape::Convex(_) => DVec3::ZERO,
+                };
+                let pose = Pose::from_parts(f(frame.to_track(centre)), q(frame.rotation()));
+                let c = base(ColliderBuilder::new(shapes[shape_i].clone()).position(pose));
+                let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
+                grousers.push((ch, k));
+            }
+        }
+        let joint = link_joint(kind, seg);
+        let j = world.impulse_joints.insert(ctx.parent, h, joint, true);
+        Link {
+            body: h,
+            joint: j,
+            kind,
+            local_com: mprops.local_com,
+            grousers,
+        }
+    }
+
+    /// Phase in `[-p/2, p/2)`, m, and the number of wraps it implies.
+    fn phase(&self) -> (f64, i64) {
+        super::phase_and_wraps(self.position, self.pitch)
+    }
+
+    /// Several grouser shapes in turn: re-assigns them so the pattern moves with the belt.
+    fn reassign_shapes(&self, world: &mut PhysicsWorld, wraps: i64) {
+        let m = self.shapes.len() as i64;
+        for l in &self.links {
+            for &(ch, k) in &l.grousers {
+                let idx = (k as i64 - wraps).rem_euclid(m) as usize;
+                if let Some(c) = world.colliders.get_mut(ch) {
+                    c.set_shape(self.shapes[idx].clone());
+                }
+            }
+        }
+    }
+
+    /// Grouser slot indices `k` whose collider currently has a shape for which `pick` holds.
+    pub fn grouser_slots(
+        &self,
+        world: &PhysicsWorld,
+        pick: impl Fn(&dyn rapier3d::parry::shape::Shape) -> bool,
+    ) -> Vec<usize> {
+        let mut v: Vec<usize> = self
+            .links
+            .iter()
+            .flat_map(|l| l.grousers.iter())
+            .filter(|(h, _)| pick(world.colliders[*h].shape()))
+            .map(|(_, k)| *k)
+            .collect();
+        v.sort();
+        v
+    }
+}
+
+impl Track for SegmentLinks {
+    fn set_belt_speed(&mut self, world: &mut PhysicsWorld, v: f64) {
+        self.speed_cmd = v;
+        for l in &self.links {
+            set_motor_velocity(world, l.joint, l.kind.motor_axis(), l.kind.motor_target(v));
+        }
+    }
+
+    fn commanded_belt_speed(&self) -> f64 {
+        self.speed_cmd
+    }
+
+    fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
+        self.position += self.speed_cmd * dt;
+        let (phi, wraps) = self.phase();
+        // Where the links should be before any wrap: the old wrap count's phase.
+        let phi_unwrapped = phi + (wraps - self.wraps) as f64 * self.pitch.unwrap_or(0.0);
+        let bodies = &mut world.bodies;
+        let parent = &bodies[self.parent];
+        let parent_pose = *parent.position();
+        let parent_linvel = parent.linvel();
+        let parent_angvel = parent.angvel();
+        let parent_com = parent.center_of_mass();
+        let mut measured = 0.0;
+        for l in &self.links {
+            let expected = parent_pose * l.kind.shift(phi);
+            let link = &bodies[l.body];
+            let actual = *link.position();
+            let before = parent_pose * l.kind.shift(phi_unwrapped);
+            // Joint error before the snap.
+            let com_err = (actual.transform_point(l.local_com)
+                - before.transform_point(l.local_com))
+            .length() as f64;
+            let rot_err = (before.rotation.inverse() * actual.rotation)
+                .normalize()
+                .to_axis_angle()
+                .1
+                .abs() as f64;
+            let rot_err = rot_err.min(std::f64::consts::TAU - rot_err);
+            self.error.distance = self.error.distance.max(com_err);
+            self.error.angle = self.error.angle.max(rot_err);
+            // Relative velocity along the joint, as belt speed.
+            let com_w = actual.transform_point(l.local_com);
+            let carried = parent_linvel + parent_angvel.cross(com_w - parent_com);
+            measured += match l.kind {
+                LinkKind::Slide { dir } => {
+                    ((link.linvel() - carried).dot(parent_pose.rotation * f(dir))) as f64
+                }
+                LinkKind::Turn { axis, radius, .. } => {
+                    ((link.angvel() - parent_angvel).dot(parent_pose.rotation * f(axis))) as f64
+                        * radius
+                }
+            };
+            // Snap to the exact pose, keeping the world velocity the solver gave.
+            bodies[l.body].set_position(expected, false);
+        }
+        if !self.links.is_empty() {
+            self.speed_measured = measured / self.links.len() as f64;
+        }
+        if wraps != self.wraps && self.shapes.len() > 1 {
+            self.reassign_shapes(world, wraps);
+        }
+        self.wraps = wraps;
+    }
+
+    fn belt_position(&self) -> f64 {
+        self.position
+    }
+
+    fn belt_phase(&self) -> f64 {
+        self.phase().0
+    }
+
+    fn measured_belt_speed(&self) -> f64 {
+        self.speed_measured
+    }
+
+    fn bodies(&self) -> Vec<RigidBodyHandle> {
+        self.links.iter().map(|l| l.body).collect()
+    }
+
+    fn link_error(&self) -> LinkError {
+        self.error
+    }
+
+    fn reset_link_error(&mut self) {
+        self.error = LinkError::default();
+    }
+
+    fn link_relative_poses(&self, world: &PhysicsWorld) -> Vec<(Pose, Pose)> {
+        let (phi, _) = self.phase();
+        let parent = *world.bodies[self.parent].position();
+        self.links
+            .iter()
+            .map(|l| {
+                let rel = parent.inv_mul(world.bodies[l.body].position());
+                (rel, l.kind.shift(phi))
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{compile_scenario, load_vehicle, read_toml};
+    use std::path::Path;
+
+    /// With two grouser shapes in turn, the shape found at a given place on the loop follows
+    /// the belt: after the belt has moved by `w` pitches, slot `k` shows shape `(k - w) mod 2`.
+    #[test]
+    fn alternating_grouser_shapes_travel_with_the_belt() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let spec: crate::spec::ScenarioSpec =
+            read_toml(&root.join("scenarios/packbot_flat.toml")).unwrap();
+        let mut v = load_vehicle(&root.join("vehicles/packbot510.toml")).unwrap();
+        for t in &mut v.tracks {
+            let g = t.grousers.as_mut().unwrap();
+            let tall = GrouserShape::Box {
+                half: DVec3::new(0.0025, 0.0375, 0.008),
+                centre: DVec3::new(0.0, 0.0, 0.008),
+            };
+            g.shapes.push(tall);
+        }
+        let sc = compile_scenario(&spec, v, &root).unwrap();
+        let mut world = PhysicsWorld::new();
+        let parent = world.bodies.insert(RigidBodyBuilder::fixed());
+        let mut ctx = BuildContext {
+            world: &mut world,
+            parent,
+            index: 0,
+            groups: crate::tracks::vehicle_groups(),
+            min_link_mass: sc.solver.min_link_mass,
+        };
+        let mut track = SegmentLinks::build(&mut ctx, &sc.vehicle.tracks[0]).unwrap();
+        let tall = |s: &dyn rapier3d::parry::shape::Shape| s.as_cuboid().unwrap().half_extents.z > 0.006;
+        assert!(track.grouser_slots(&world, tall).iter().all(|k| k % 2 == 1));
+        let pitch = track.pitch.unwrap();
+        track.set_belt_speed(&mut world, 0.3);
+        // Move the belt until it has wrapped once (moved by about one pitch).
+        while track.wraps == 0 {
+            track.after_step(&mut world, 0.001);
+        }
+        assert!((track.belt_position() - pitch / 2.0).abs() < 0.001);
+        let slots = track.grouser_slots(&world, tall);
+        assert!(slots.iter().all(|k| k % 2 == 0), "{slots:?}");
+        assert_eq!(slots.len(), 20);
+    }
+}

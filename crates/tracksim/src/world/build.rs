@@ -1,0 +1,283 @@
+//! The build stages of [`Simulation::new`]: world settings, terrain, chassis, flippers, tracks
+//! (by their method), contact slop, then placement on the terrain.
+
+use super::{Flipper, START_CLEARANCE_M, Simulation};
+use crate::check::{f, q};
+use crate::error::{Error, Result};
+use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
+use crate::tracks::{BuildContext, Method, SLOP_TAG, Track, vehicle_groups, world_groups};
+use glam::DQuat;
+use rapier3d::prelude::*;
+use std::sync::Arc;
+
+/// Builds a simulation of `sc`, stage by stage.
+pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
+    let method = Method::parse("simulation.method", &sc.method).map_err(|issue| {
+        Error::Invalid {
+            path: sc.source.clone().unwrap_or_default(),
+            issues: vec![issue],
+        }
+    })?;
+    let mut world = new_world(&sc.solver);
+    let ground_tile = sc
+        .terrain
+        .insert_into(&mut world, world_groups(), Some(sc.start_xy));
+    let start = start_pose(&sc);
+    let v = &sc.vehicle;
+    let body = insert_chassis(&mut world, v, start)?;
+    let flippers = insert_flippers(&mut world, v, body, start)?;
+    let tracks = build_tracks(&mut world, &sc, method, body, &flippers)?;
+    if sc.solver.contact_slop > 0.0 {
+        tag_slop(&mut world);
+    }
+    let mut sim = Simulation {
+        world,
+        method,
+        slop: sc.solver.contact_slop as f32,
+        ground_tile,
+        body,
+        tracks,
+        flippers,
+        dt: sc.solver.dt,
+        time: 0.0,
+        steps: 0,
+        seed: sc.seed,
+        track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
+        flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
+        scenario: sc.clone(),
+    };
+    place(&mut sim);
+    Ok(sim)
+}
+
+/// An empty world with the scenario's solver settings, z up.
+fn new_world(solver: &SolverSettings) -> PhysicsWorld {
+    let mut world = PhysicsWorld::new();
+    world.gravity = Vector::new(0.0, 0.0, -9.81);
+    let ip = &mut world.integration_parameters;
+    ip.dt = solver.dt as f32;
+    ip.num_solver_iterations = solver.iterations;
+    ip.contact_clustering = solver.contact_clustering;
+    ip.normalized_prediction_distance = solver.prediction_distance as f32;
+    world
+}
+
+/// The start pose at z = 0 (placement lifts it onto the terrain).
+fn start_pose(sc: &Scenario) -> Pose {
+    let start_rot = DQuat::from_rotation_z(sc.start_yaw) * DQuat::from_rotation_y(sc.start_pitch);
+    Pose::from_parts(
+        Vector::new(sc.start_xy.0 as f32, sc.start_xy.1 as f32, 0.0),
+        q(start_rot),
+    )
+}
+
+/// A collider for a vehicle collision shape (body frame).
+fn shape_collider(shape: &CollisionShape) -> Result<ColliderBuilder> {
+    match shape {
+        CollisionShape::Box { half, centre } => {
+            Ok(
+                ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
+                    .translation(f(*centre)),
+            )
+        }
+        CollisionShape::Convex(pts) => {
+            let p: Vec<Vector> = pts.iter().map(|p| f(*p)).collect();
+            ColliderBuilder::convex_hull(&p).ok_or_else(|| {
+                Error::Build(
+                    "a convex shape's hull could not be computed (are its points coplanar?)".into(),
+                )
+            })
+        }
+    }
+}
+
+/// The chassis body and its collider.
+fn insert_chassis(world: &mut PhysicsWorld, v: &VehicleModel, start: Pose) -> Result<RigidBodyHandle> {
+    let body = world.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .pose(start)
+            .additional_mass_properties(MassProperties::new(
+                f(v.body.com),
+                v.body.mass as f32,
+                f(v.body.inertia),
+            ))
+            .can_sleep(false),
+    );
+    let c = shape_collider(&v.body.shape)?
+        .density(0.0)
+        .friction(v.body.friction as f32)
+        .collision_groups(vehicle_groups());
+    world
+        .colliders
+        .insert_with_parent(c, body, &mut world.bodies);
+    Ok(body)
+}
+
+/// The flipper arms on position-controlled revolute joints with a torque limit.
+fn insert_flippers(
+    world: &mut PhysicsWorld,
+    v: &VehicleModel,
+    body: RigidBodyHandle,
+    start: Pose,
+) -> Result<Vec<Flipper>> {
+    let mut flippers = Vec::new();
+    for fl in &v.flippers {
+        let rot = DQuat::from_axis_angle(fl.axis, fl.initial_angle);
+        let rel = Pose::from_parts(f(fl.pivot - rot * fl.pivot), q(rot));
+        let h = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(start * rel)
+                .additional_mass_properties(MassProperties::new(
+                    f(fl.com),
+                    fl.mass as f32,
+                    f(fl.inertia),
+                ))
+                .can_sleep(false),
+        );
+        if let Some(s) = &fl.shape {
+            let c = shape_collider(s)?
+                .density(0.0)
+                .friction(v.body.friction as f32)
+                .collision_groups(vehicle_groups());
+            world.colliders.insert_with_parent(c, h, &mut world.bodies);
+        }
+        let joint = RevoluteJointBuilder::new(f(fl.axis))
+            .local_anchor1(f(fl.pivot))
+            .local_anchor2(f(fl.pivot))
+            .contacts_enabled(false)
+            .motor_model(MotorModel::ForceBased)
+            .motor_position(
+                fl.initial_angle as f32,
+                fl.stiffness as f32,
+                fl.damping as f32,
+            )
+            .motor_max_force(fl.max_torque as f32);
+        let j = world.impulse_joints.insert(body, h, joint, true);
+        flippers.push(Flipper {
+            body: h,
+            joint: j,
+            axis: fl.axis,
+            target: fl.initial_angle,
+            stiffness: fl.stiffness as f32,
+            damping: fl.damping as f32,
+        });
+    }
+    Ok(flippers)
+}
+
+/// Every track of the vehicle, built by `method` on its parent.
+fn build_tracks(
+    world: &mut PhysicsWorld,
+    sc: &Scenario,
+    method: Method,
+    body: RigidBodyHandle,
+    flippers: &[Flipper],
+) -> Result<Vec<Box<dyn Track>>> {
+    let mut tracks = Vec::new();
+    for (ti, t) in sc.vehicle.tracks.iter().enumerate() {
+        let parent = match t.parent {
+            Parent::Body => body,
+            Parent::Flipper(i) => flippers[i].body,
+        };
+        let mut ctx = BuildContext {
+            world: &mut *world,
+            parent,
+            index: ti,
+            groups: vehicle_groups(),
+            min_link_mass: sc.solver.min_link_mass,
+        };
+        tracks.push(method.build(&mut ctx, t)?);
+    }
+    Ok(tracks)
+}
+
+/// Contact slop: every collider on the vehicle's (dynamic) bodies, whatever the track method,
+/// gets the contact hook; colliders a track tagged for itself get it in the same hook.
+fn tag_slop(world: &mut PhysicsWorld) {
+    for (_, c) in world.colliders.iter_mut() {
+        let on_vehicle = c
+            .parent()
+            .is_some_and(|b| world.bodies[b].body_type().is_dynamic());
+        if on_vehicle && c.user_data == 0 {
+            c.set_active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            c.user_data = SLOP_TAG;
+        }
+    }
+}
+
+/// Points of a shape (local frame) whose lowest one is the shape's lowest point, up to the
+/// sampling of round shapes.
+fn shape_points(shape: &dyn rapier3d::parry::shape::Shape) -> Vec<Vector> {
+    if let Some(c) = shape.as_cuboid() {
+        let h = c.half_extents;
+        let mut v = Vec::with_capacity(8);
+        for sx in [-1.0, 1.0] {
+            for sy in [-1.0, 1.0] {
+                for sz in [-1.0, 1.0] {
+                    v.push(Vector::new(sx * h.x, sy * h.y, sz * h.z));
+                }
+            }
+        }
+        v
+    } else if let Some(c) = shape.as_cylinder() {
+        (0..64)
+            .flat_map(|i| {
+                let a = i as f32 * std::f32::consts::TAU / 64.0;
+                let (x, z) = (c.radius * a.cos(), c.radius * a.sin());
+                [
+                    Vector::new(x, c.half_height, z),
+                    Vector::new(x, -c.half_height, z),
+                ]
+            })
+            .collect()
+    } else if let Some(c) = shape.as_convex_polyhedron() {
+        c.points().to_vec()
+    } else {
+        let a = shape.compute_local_aabb();
+        vec![a.mins, a.maxs, Vector::new(a.mins.x, a.maxs.y, a.mins.z)]
+    }
+}
+
+/// Updates collider poses and the scene-query structures without advancing time.
+fn refresh_queries(world: &mut PhysicsWorld) {
+    let dt = world.integration_parameters.dt;
+    world.integration_parameters.dt = 0.0;
+    world.step();
+    world.integration_parameters.dt = dt;
+}
+
+/// Lifts the vehicle so that every point of it is just above the terrain below it (exact for
+/// boxes, hulls and grousers; cylinders sampled every 360/64 deg), or to the file's `z_m`.
+fn place(sim: &mut Simulation) {
+    let ground_z = sim.scenario.terrain.ground.map(|g| g.0).unwrap_or(0.0);
+    let dz = match sim.scenario.start_z {
+        Some(z) => z,
+        None => {
+            refresh_queries(&mut sim.world);
+            let mut dz = f64::MIN;
+            let colliders: Vec<ColliderHandle> = sim
+                .vehicle_bodies()
+                .into_iter()
+                .flat_map(|h| sim.world.bodies[h].colliders().to_vec())
+                .collect();
+            for c in colliders {
+                let col = &sim.world.colliders[c];
+                let pose = *col.position();
+                for p in shape_points(col.shape()) {
+                    let w = pose.transform_point(p);
+                    let below = sim
+                        .terrain_below(w.x as f64, w.y as f64)
+                        .unwrap_or(ground_z);
+                    dz = dz.max(below + START_CLEARANCE_M - w.z as f64);
+                }
+            }
+            dz
+        }
+    };
+    for h in sim.vehicle_bodies() {
+        let b = &mut sim.world.bodies[h];
+        let mut p = *b.position();
+        p.translation.z += dz as f32;
+        b.set_position(p, true);
+    }
+}

@@ -1,0 +1,220 @@
+//! The running state (MuJoCo's `mjData` idea): a Rapier world holding one vehicle built from a
+//! compiled [`Scenario`] by its track method, advanced by [`Simulation::step`] with the controls
+//! the caller sets ([`Simulation::apply`]); nothing is applied behind the caller's back (a
+//! scenario file's `[[commands]]` are one source of controls: `crate::run::Timeline`).
+//!
+//! - [`build`]: the build stages of [`Simulation::new`];
+//! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
+//!   contacts to the track that owns them);
+//! - [`step`]: the stages of one step;
+//! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
+//! - [`load`]: loading a scenario with the track method checked with every other key.
+
+pub mod build;
+pub mod contacts;
+pub mod load;
+pub mod sample;
+pub mod step;
+
+pub use load::{compile_scenario, load_scenario};
+pub use sample::{PoseRpy, Sample};
+
+use crate::model::{Controls, Scenario};
+use crate::tracks::{LinkError, Method, Track};
+use glam::DVec3;
+use rapier3d::prelude::*;
+use std::sync::Arc;
+
+/// Clearance between the vehicle's lowest point and the ground at start, m.
+pub const START_CLEARANCE_M: f64 = 0.001;
+/// Linear speed above which a body is declared to have blown up, m/s.
+pub const MAX_SPEED_MPS: f32 = 50.0;
+
+/// A flipper arm at run time.
+#[derive(Debug)]
+pub(crate) struct Flipper {
+    pub(crate) body: RigidBodyHandle,
+    pub(crate) joint: ImpulseJointHandle,
+    /// Pivot axis in the body frame.
+    pub(crate) axis: DVec3,
+    /// Target angle, rad.
+    pub(crate) target: f64,
+    pub(crate) stiffness: f32,
+    pub(crate) damping: f32,
+}
+
+/// A vehicle on a terrain in a Rapier world, advanced one step at a time.
+pub struct Simulation {
+    /// The Rapier world; public for inspection (and for advanced users).
+    pub world: PhysicsWorld,
+    /// The compiled scenario it was built from (shared: many simulations can hold one).
+    scenario: Arc<Scenario>,
+    method: Method,
+    /// Uncorrected penetration of vehicle contacts, m (`simulation.contact_slop_m`).
+    slop: f32,
+    /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
+    ground_tile: Option<RigidBodyHandle>,
+    body: RigidBodyHandle,
+    tracks: Vec<Box<dyn Track>>,
+    flippers: Vec<Flipper>,
+    dt: f64,
+    time: f64,
+    steps: u64,
+    seed: u64,
+    track_names: Vec<String>,
+    flipper_names: Vec<String>,
+}
+
+impl Simulation {
+    /// Builds the world for a scenario: terrain, then the vehicle at its start pose, belts at
+    /// rest and flippers held at their initial angles.
+    pub fn new(sc: &Scenario) -> crate::Result<Self> {
+        Self::from_shared(Arc::new(sc.clone()))
+    }
+
+    /// [`Simulation::new`] for a scenario shared with other simulations.
+    pub fn from_shared(sc: Arc<Scenario>) -> crate::Result<Self> {
+        build::build(sc)
+    }
+
+    /// Rebuilds the world from the compiled scenario (no file is read again), at time 0 with
+    /// belts at rest; `seed` replaces the scenario's seed (reported in summaries; random
+    /// terrain pieces keep their own `seed` keys).
+    pub fn reset(&mut self, seed: Option<u64>) -> crate::Result<()> {
+        let mut fresh = build::build(self.scenario.clone())?;
+        fresh.seed = seed.unwrap_or(self.seed);
+        *self = fresh;
+        Ok(())
+    }
+
+    /// Applies a step's controls: every `Some` belt speed (m/s) and flipper target (rad).
+    pub fn apply(&mut self, c: &Controls) {
+        for (i, v) in c.belt_speed.iter().enumerate() {
+            if let Some(v) = v {
+                self.set_belt_speed(i, *v);
+            }
+        }
+        for (i, a) in c.flipper_angle.iter().enumerate() {
+            if let Some(a) = a {
+                self.set_flipper_angle(i, *a);
+            }
+        }
+    }
+
+    /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering, see
+    /// [`Controls::twist`]).
+    pub fn set_twist(&mut self, forward: f64, yaw_rate: f64) {
+        let c = Controls::twist(&self.scenario.vehicle, forward, yaw_rate);
+        self.apply(&c);
+    }
+
+    /// Sets the belt speed of track `i`, m/s (positive drives forwards).
+    pub fn set_belt_speed(&mut self, i: usize, v: f64) {
+        self.tracks[i].set_belt_speed(&mut self.world, v);
+    }
+
+    /// Sets the target angle of flipper `i`, rad.
+    pub fn set_flipper_angle(&mut self, i: usize, a: f64) {
+        let fl = &mut self.flippers[i];
+        fl.target = a;
+        if let Some(j) = self.world.impulse_joints.get_mut(fl.joint, true) {
+            j.data
+                .set_motor_position(JointAxis::AngX, a as f32, fl.stiffness, fl.damping);
+        }
+    }
+
+    /// The compiled scenario.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The track method the vehicle was built with.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// Seed of this run (the scenario's unless [`Simulation::reset`] gave another).
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Time step, s.
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Track names in output order.
+    pub fn track_names(&self) -> &[String] {
+        &self.track_names
+    }
+
+    /// Flipper names in output order.
+    pub fn flipper_names(&self) -> &[String] {
+        &self.flipper_names
+    }
+
+    /// Commanded belt speed of track `i`, m/s.
+    pub fn commanded_belt_speed(&self, i: usize) -> f64 {
+        self.tracks[i].commanded_belt_speed()
+    }
+
+    /// Target angle of flipper `i`, rad.
+    pub fn flipper_target(&self, i: usize) -> f64 {
+        self.flippers[i].target
+    }
+
+    /// Largest distance, m, and angle, rad, seen between a track body's pose after a physics
+    /// step and where its method puts it, over all tracks and steps so far.
+    pub fn max_link_error(&self) -> (f64, f64) {
+        let e = self
+            .tracks
+            .iter()
+            .map(|t| t.link_error())
+            .fold(LinkError::default(), |a, b| LinkError {
+                distance: a.distance.max(b.distance),
+                angle: a.angle.max(b.angle),
+            });
+        (e.distance, e.angle)
+    }
+
+    /// Forgets the largest link error seen so far (e.g. after the landing transient).
+    pub fn reset_max_link_error(&mut self) {
+        for t in &mut self.tracks {
+            t.reset_link_error();
+        }
+    }
+
+    /// Handle of the chassis body.
+    pub fn body_handle(&self) -> RigidBodyHandle {
+        self.body
+    }
+
+    /// Unwrapped belt position of track `i`, m.
+    pub fn belt_position(&self, i: usize) -> f64 {
+        self.tracks[i].belt_position()
+    }
+
+    /// For track `i`: each link's pose relative to its parent and the pose it must have
+    /// (`shift(phase)`). After a step both are equal up to float rounding.
+    pub fn link_relative_poses(&self, i: usize) -> Vec<(Pose, Pose)> {
+        self.tracks[i].link_relative_poses(&self.world)
+    }
+
+    /// Every body of the vehicle: chassis, flippers, then each track's bodies.
+    pub fn vehicle_bodies(&self) -> Vec<RigidBodyHandle> {
+        std::iter::once(self.body)
+            .chain(self.flippers.iter().map(|f| f.body))
+            .chain(self.tracks.iter().flat_map(|t| t.bodies()))
+            .collect()
+    }
+}

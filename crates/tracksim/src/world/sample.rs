@@ -1,0 +1,165 @@
+//! What is recorded of the running state: the body's pose and velocities, belts, flippers and
+//! contacts ([`Sample`]), and the queries behind it.
+
+use super::Simulation;
+use crate::tracks::WORLD_GROUP;
+use glam::DVec3;
+use rapier3d::prelude::*;
+
+/// Pose of a body as REP 103 position and roll/pitch/yaw (Z-Y-X), m and rad.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct PoseRpy {
+    /// m.
+    pub x: f64,
+    /// m.
+    pub y: f64,
+    /// m.
+    pub z: f64,
+    /// rad, about x.
+    pub roll: f64,
+    /// rad, about y.
+    pub pitch: f64,
+    /// rad, about z.
+    pub yaw: f64,
+}
+
+impl PoseRpy {
+    /// Converts a Rapier pose.
+    pub fn from_pose(p: &Pose) -> Self {
+        let r = p.rotation;
+        let (w, x, y, z) = (r.w as f64, r.x as f64, r.y as f64, r.z as f64);
+        PoseRpy {
+            x: p.translation.x as f64,
+            y: p.translation.y as f64,
+            z: p.translation.z as f64,
+            roll: (2.0 * (w * x + y * z)).atan2(1.0 - 2.0 * (x * x + y * y)),
+            pitch: (2.0 * (w * y - z * x)).clamp(-1.0, 1.0).asin(),
+            yaw: (2.0 * (w * z + x * y)).atan2(1.0 - 2.0 * (y * y + z * z)),
+        }
+    }
+}
+
+/// One recorded instant of the vehicle's state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    /// Simulated time, s.
+    pub t: f64,
+    /// Body pose.
+    pub pose: PoseRpy,
+    /// Body linear velocity (world), m/s.
+    pub linvel: [f64; 3],
+    /// Body angular velocity (world), rad/s.
+    pub angvel: [f64; 3],
+    /// Measured belt speed per track, m/s.
+    pub belt_speed: Vec<f64>,
+    /// Belt phase per track, m.
+    pub belt_phase: Vec<f64>,
+    /// Flipper angle per flipper, rad.
+    pub flipper_angle: Vec<f64>,
+    /// Active contact points in the world.
+    pub contacts: usize,
+    /// Deepest geometric penetration among the world's contact points (0 if none), m.
+    pub penetration: f64,
+}
+
+impl Simulation {
+    /// Height of the terrain surface below (x, y), m, by a downward ray that sees only the
+    /// terrain; `None` if there is no terrain there (off the edge).
+    pub fn terrain_below(&self, x: f64, y: f64) -> Option<f64> {
+        let top = 1000.0f32;
+        let ray = Ray::new(Vector::new(x as f32, y as f32, top), Vector::NEG_Z);
+        let filter = QueryFilter::default().groups(InteractionGroups::new(
+            Group::ALL,
+            WORLD_GROUP,
+            InteractionTestMode::And,
+        ));
+        self.world
+            .cast_ray(&ray, 2.0 * top, true, filter)
+            .map(|(_, toi)| (top - toi) as f64)
+    }
+
+    /// Pose of the chassis.
+    pub fn body_pose(&self) -> PoseRpy {
+        PoseRpy::from_pose(self.world.bodies[self.body].position())
+    }
+
+    /// Number of active solver contact points in the world.
+    pub fn contact_count(&self) -> usize {
+        self.world
+            .narrow_phase
+            .contact_pairs()
+            .flat_map(|p| p.manifolds())
+            .map(|m| m.data.solver_contacts.len())
+            .sum()
+    }
+
+    /// Number of active solver contact points in the world and the deepest penetration (m, 0 if
+    /// none) of any touching collider pair, measured from the colliders' current poses (the
+    /// narrow phase's stored distances can be frames old for recycled pairs, and the contact
+    /// slop hook rewrites the solver's).
+    pub fn contact_stats(&self) -> (usize, f64) {
+        let mut n = 0;
+        let mut deepest = 0.0f32;
+        let cs = &self.world.colliders;
+        for p in self.world.narrow_phase.contact_pairs() {
+            let active: usize = p
+                .manifolds()
+                .iter()
+                .map(|m| m.data.solver_contacts.len())
+                .sum();
+            if active == 0 {
+                continue;
+            }
+            n += active;
+            let (Some(c1), Some(c2)) = (cs.get(p.collider1), cs.get(p.collider2)) else {
+                continue;
+            };
+            if let Ok(Some(c)) = rapier3d::parry::query::contact(
+                c1.position(),
+                c1.shape(),
+                c2.position(),
+                c2.shape(),
+                0.0,
+            ) {
+                deepest = deepest.max(-c.dist);
+            }
+        }
+        (n, deepest as f64)
+    }
+
+    /// Angle of flipper `i` relative to the body, rad.
+    pub fn flipper_angle(&self, i: usize) -> f64 {
+        let fl = &self.flippers[i];
+        let pb = self.world.bodies[self.body].position();
+        let pf = self.world.bodies[fl.body].position();
+        let r = (pb.rotation.inverse() * pf.rotation).normalize();
+        let v = DVec3::new(r.x as f64, r.y as f64, r.z as f64);
+        2.0 * v.dot(fl.axis).atan2(r.w as f64)
+    }
+
+    /// Current state as a sample.
+    pub fn sample(&self) -> Sample {
+        let b = &self.world.bodies[self.body];
+        let lv = b.linvel();
+        let av = b.angvel();
+        // Before the first step the narrow phase still holds the placement's trial contacts.
+        let (contacts, penetration) = if self.steps() == 0 {
+            (0, 0.0)
+        } else {
+            self.contact_stats()
+        };
+        Sample {
+            t: self.time,
+            pose: self.body_pose(),
+            linvel: [lv.x as f64, lv.y as f64, lv.z as f64],
+            angvel: [av.x as f64, av.y as f64, av.z as f64],
+            belt_speed: self.tracks.iter().map(|t| t.measured_belt_speed()).collect(),
+            belt_phase: self.tracks.iter().map(|t| t.belt_phase()).collect(),
+            flipper_angle: (0..self.flippers.len())
+                .map(|i| self.flipper_angle(i))
+                .collect(),
+            contacts,
+            penetration,
+        }
+    }
+}

@@ -1,0 +1,71 @@
+//! One step of the world, as named stages: keep the ground tile under the vehicle, step the
+//! physics with the contact hook, the tracks' after-step work, and the stability check.
+
+use super::contacts::ContactHooks;
+use super::{MAX_SPEED_MPS, Simulation};
+use crate::error::{Error, Result};
+
+impl Simulation {
+    /// Advances the simulation by one time step with the controls set so far.
+    pub fn step(&mut self) -> Result<()> {
+        self.recentre_ground_tile();
+        let hooks = ContactHooks {
+            slop: self.slop,
+            tracks: &self.tracks,
+        };
+        self.world.step_with_events(&hooks, &());
+        self.steps += 1;
+        self.time = self.steps as f64 * self.dt;
+        for t in &mut self.tracks {
+            t.after_step(&mut self.world, self.dt);
+        }
+        self.check_stability()
+    }
+
+    /// Moves the flat-ground tile under the vehicle (`terrain::GROUND_RECENTRE_M`).
+    fn recentre_ground_tile(&mut self) {
+        if let Some(tile) = self.ground_tile {
+            let p = self.world.bodies[self.body].translation();
+            crate::terrain::TerrainModel::recentre_ground_tile(
+                &mut self.world,
+                tile,
+                p.x as f64,
+                p.y as f64,
+            );
+        }
+    }
+
+    /// Stops a run that blew up: NaN, a body flung off, or one that left the world.
+    fn check_stability(&self) -> Result<()> {
+        // Names are only formatted when something is wrong: this runs every step.
+        let handles = std::iter::once(self.body).chain(self.flippers.iter().map(|f| f.body));
+        for (i, h) in handles.enumerate() {
+            let b = &self.world.bodies[h];
+            let p = b.position();
+            let v = b.linvel();
+            let bad = if !p.is_finite() || !v.is_finite() || !b.angvel().is_finite() {
+                Some("has a non-finite position or velocity (NaN)".to_string())
+            } else if v.length() > MAX_SPEED_MPS {
+                Some(format!(
+                    "moves at {:.1} m/s (limit {MAX_SPEED_MPS} m/s): it was flung off",
+                    v.length()
+                ))
+            } else if p.translation.z < -100.0 {
+                Some("fell below z = -100 m: it left the world".to_string())
+            } else {
+                None
+            };
+            if let Some(what) = bad {
+                return Err(Error::Unstable {
+                    time_s: self.time,
+                    body: match i {
+                        0 => "body".to_string(),
+                        _ => format!("flipper {}", self.flipper_names[i - 1]),
+                    },
+                    what,
+                });
+            }
+        }
+        Ok(())
+    }
+}
