@@ -7,7 +7,7 @@
 //! Layers, from file to running world:
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
-//! - [`terrain`]: terrain description, compiled form and insertion into Rapier;
+//! - [`terrain`]: the compiled terrain, its insertion into Rapier and height queries;
 //! - [`model`]: the compiled, checked, immutable vehicle and scenario (SI units);
 //! - [`sim`]: the running Rapier world and the per-step track update (rollback);
 //! - [`run`]: running a scenario to the end and writing its outputs.

@@ -5,7 +5,8 @@
 use glam::DVec3;
 use std::path::{Path, PathBuf};
 use tracksim::SpecIssue;
-use tracksim::terrain::{TerrainModel, TerrainSpec, compile_terrain};
+use tracksim::spec::TerrainSpec;
+use tracksim::terrain::{TerrainModel, compile_terrain};
 
 /// Raycasts run in f32 (Rapier) from 1 m above the highest surface: about 1e-6 m resolution
 /// near the origin.

@@ -1,0 +1,17 @@
+//! What the files say: serde structs for vehicle and scenario files (TOML). Unknown keys are
+//! rejected. Units are SI unless the key name says otherwise (`angle_deg`).
+//!
+//! These structs are only a description; [`crate::model`] checks and compiles them. This layer
+//! depends on nothing else in the crate.
+//!
+//! - `vehicle.rs`: vehicle files ([`VehicleSpec`] and its parts);
+//! - `scenario.rs`: scenario files ([`ScenarioSpec`] and its parts);
+//! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts).
+
+mod scenario;
+mod terrain;
+mod vehicle;
+
+pub use scenario::*;
+pub use terrain::*;
+pub use vehicle::*;

@@ -1,0 +1,232 @@
+//! Scenario files (`scenarios/*.toml`): which vehicle and where it starts, the time stepping
+//! and solver settings, timed drive commands and the outcome conditions, with their serde
+//! defaults. The `[terrain]` table is [`super::TerrainSpec`]. Unknown keys are rejected; units
+//! are SI unless the key name says otherwise (`yaw_deg`).
+
+use super::terrain::TerrainSpec;
+use super::vehicle::VehicleSpec;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A scenario file (`scenarios/*.toml`).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScenarioSpec {
+    /// One-line description.
+    #[serde(default)]
+    pub description: String,
+    /// Which vehicle, and where it starts.
+    pub vehicle: VehicleRefSpec,
+    /// The world.
+    #[serde(default)]
+    pub terrain: TerrainSpec,
+    /// Time stepping and solver.
+    #[serde(default)]
+    pub simulation: SimulationSpec,
+    /// Timed drive commands; each holds until the next.
+    #[serde(default)]
+    pub commands: Vec<CommandSpec>,
+    /// Success and failure conditions.
+    #[serde(default)]
+    pub outcome: OutcomeSpec,
+}
+
+/// The vehicle of a scenario.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleRefSpec {
+    /// Vehicle file, relative to the scenario file (give this or `inline`).
+    #[serde(default)]
+    pub file: Option<String>,
+    /// The vehicle described in the scenario itself (same keys as a vehicle file).
+    #[serde(default)]
+    pub inline: Option<Box<VehicleSpec>>,
+    /// Start x, m.
+    #[serde(default)]
+    pub x_m: f64,
+    /// Start y, m.
+    #[serde(default)]
+    pub y_m: f64,
+    /// Start height of the body frame, m. Default: lowest point 1 mm above the ground.
+    #[serde(default)]
+    pub z_m: Option<f64>,
+    /// Start heading, degrees.
+    #[serde(default)]
+    pub yaw_deg: f64,
+    /// Start pitch, degrees (positive: nose down, REP 103).
+    #[serde(default)]
+    pub pitch_deg: f64,
+    /// Override the friction of every track.
+    #[serde(default)]
+    pub track_friction: Option<f64>,
+    /// Override the grouser count of every track that has grousers (0 removes them).
+    #[serde(default)]
+    pub grouser_count: Option<usize>,
+    /// Override the body mass, kg.
+    #[serde(default)]
+    pub body_mass_kg: Option<f64>,
+    /// Override the belt mass of every track, kg.
+    #[serde(default)]
+    pub belt_mass_kg: Option<f64>,
+}
+
+/// When a run counts as a success or a failure, and whether it stops there.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutcomeSpec {
+    /// Success when the body's x passes this value, m.
+    #[serde(default)]
+    pub success_x_m: Option<f64>,
+    /// Success when the body's z reaches this value, m.
+    #[serde(default)]
+    pub success_z_m: Option<f64>,
+    /// Failure (tip-over) when |roll| or |pitch| exceeds this, degrees.
+    #[serde(default = "default_max_tilt")]
+    pub max_tilt_deg: f64,
+    /// Failure when the body leaves the terrain's extent (only for bounded terrains).
+    #[serde(default = "default_true")]
+    pub fail_off_terrain: bool,
+    /// Stop the run as soon as the outcome is decided.
+    #[serde(default = "default_true")]
+    pub stop: bool,
+}
+
+impl Default for OutcomeSpec {
+    fn default() -> Self {
+        OutcomeSpec {
+            success_x_m: None,
+            success_z_m: None,
+            max_tilt_deg: default_max_tilt(),
+            fail_off_terrain: true,
+            stop: true,
+        }
+    }
+}
+
+fn default_max_tilt() -> f64 {
+    75.0
+}
+fn default_true() -> bool {
+    true
+}
+
+/// Time stepping and the solver settings that matter.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Time step, s.
+    #[serde(default = "default_dt")]
+    pub dt_s: f64,
+    /// Simulated duration, s.
+    #[serde(default = "default_duration")]
+    pub duration_s: f64,
+    /// Interval between trajectory rows, s.
+    #[serde(default = "default_output_interval")]
+    pub output_interval_s: f64,
+    /// Solver iterations per step.
+    #[serde(default = "default_iterations")]
+    pub solver_iterations: usize,
+    /// Rapier contact clustering (merges coplanar contacts of compound shapes).
+    #[serde(default)]
+    pub contact_clustering: bool,
+    /// Smallest mass of a track segment link, kg (light links hop under a heavy body).
+    #[serde(default = "default_min_link_mass")]
+    pub min_link_mass_kg: f64,
+    /// Distance within which Rapier creates speculative contacts, m (Rapier's default 0.02).
+    #[serde(default = "default_prediction")]
+    pub prediction_distance_m: f64,
+    /// Penetration of the vehicle (belts, grousers, wheels, plates, chassis) into the terrain
+    /// that is left uncorrected, whatever the track method, m:
+    /// ODE's `min_depth`, which the paper's simulator set to 0.01 to let grousers sink "to make
+    /// contact more stable". 0 (the default) keeps Rapier's rigid contact: every penetration is
+    /// pushed out.
+    #[serde(default)]
+    pub contact_slop_m: f64,
+    /// Track method: "okada2020" (the paper's segment links with grousers).
+    #[serde(default = "default_method")]
+    pub method: String,
+    /// Seed recorded with the run (`summary.json`); random terrain generators take their own
+    /// `seed` keys. The simulation itself is deterministic.
+    #[serde(default)]
+    pub seed: u64,
+}
+
+fn default_prediction() -> f64 {
+    0.02
+}
+
+fn default_method() -> String {
+    "okada2020".into()
+}
+
+impl Default for SimulationSpec {
+    fn default() -> Self {
+        SimulationSpec {
+            dt_s: default_dt(),
+            duration_s: default_duration(),
+            output_interval_s: default_output_interval(),
+            solver_iterations: default_iterations(),
+            contact_clustering: false,
+            min_link_mass_kg: default_min_link_mass(),
+            prediction_distance_m: default_prediction(),
+            contact_slop_m: 0.0,
+            method: default_method(),
+            seed: 0,
+        }
+    }
+}
+
+fn default_min_link_mass() -> f64 {
+    0.5
+}
+
+fn default_dt() -> f64 {
+    0.001
+}
+fn default_duration() -> f64 {
+    10.0
+}
+fn default_output_interval() -> f64 {
+    0.01
+}
+fn default_iterations() -> usize {
+    4
+}
+
+/// Per-track values: one number for every track, or a table by track name.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(
+    untagged,
+    expecting = "a number (the same for every track) or a table of track name = number"
+)]
+pub enum PerTrack {
+    /// The same value for every track.
+    All(f64),
+    /// Values by track name.
+    ByName(BTreeMap<String, f64>),
+}
+
+/// A drive command that starts at `t_s` and holds until the next one.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CommandSpec {
+    /// Start time, s.
+    #[serde(default)]
+    pub t_s: f64,
+    /// Belt speeds, m/s (positive drives forwards).
+    #[serde(default)]
+    pub belt_speed_mps: Option<PerTrack>,
+    /// Sprocket angular speeds, rad/s (needs `sprocket_pitch_radius_m` on the track).
+    #[serde(default)]
+    pub sprocket_rad_s: Option<PerTrack>,
+    /// Flipper target angles by flipper name, degrees.
+    #[serde(default)]
+    pub flipper_angle_deg: BTreeMap<String, f64>,
+    /// Body-level command: forward speed, m/s (with `yaw_rate_rad_s`, turned into belt speeds
+    /// by skid-steer kinematics: v_track = v - yaw_rate * y_track).
+    #[serde(default)]
+    pub forward_mps: Option<f64>,
+    /// Body-level command: yaw rate, rad/s (positive turns left).
+    #[serde(default)]
+    pub yaw_rate_rad_s: Option<f64>,
+}
