@@ -2,8 +2,8 @@
 //! track method, after 0.5 s of driving. `cargo bench -p tracksim`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use tracksim::Simulation;
-use tracksim::model::TrackMethod;
+use tracksim::Scripted;
+use tracksim::Method as TrackMethod;
 
 fn step(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -12,8 +12,8 @@ fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("packbot_flat_step");
     for m in TrackMethod::COMPARED {
         let mut sc = sc.clone();
-        sc.method = *m;
-        let Ok(mut sim) = Simulation::new(&sc) else {
+        sc.method = m.name();
+        let Ok(mut sim) = Scripted::new(&sc) else {
             continue;
         };
         for _ in 0..500 {

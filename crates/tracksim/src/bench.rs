@@ -2,8 +2,9 @@
 //! and interleaved so that machine noise hits all methods alike.
 
 use crate::error::Result;
-use crate::model::{Scenario, TrackMethod};
-use crate::sim::Simulation;
+use crate::model::Scenario;
+use crate::tracks::Method as TrackMethod;
+use crate::run::Scripted;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -88,8 +89,8 @@ fn median(v: &[f64]) -> f64 {
 /// Runs `sc` once with `method`: (real-time factor, us per step, contacts per step).
 pub fn time_one(sc: &Scenario, method: TrackMethod) -> Result<(f64, f64, f64)> {
     let mut sc = sc.clone();
-    sc.method = method;
-    let mut sim = Simulation::new(&sc)?;
+    sc.method = method.name();
+    let mut sim = Scripted::new(&sc)?;
     let steps = (sc.duration / sc.solver.dt).round().max(1.0) as u64;
     let mut stepping = 0.0;
     let (mut contacts, mut samples) = (0usize, 0usize);
@@ -265,7 +266,7 @@ pub fn batch(sc: &Scenario, jobs: usize, runs: usize) -> Result<BatchResult> {
                 s.spawn(|| -> Result<f64> {
                     let mut simulated = 0.0;
                     while next.fetch_add(1, std::sync::atomic::Ordering::Relaxed) < runs {
-                        let mut sim = Simulation::new(sc)?;
+                        let mut sim = Scripted::new(sc)?;
                         let steps = (sc.duration / sc.solver.dt).round() as u64;
                         for _ in 0..steps {
                             sim.step()?;

@@ -1,8 +1,6 @@
 //! Collecting input problems with their key paths.
 
 use crate::error::SpecIssue;
-use crate::model::CollisionShape;
-use crate::spec::ShapeSpec;
 use glam::DVec3;
 
 /// f64 geometry to Rapier's f32 vector.
@@ -53,24 +51,6 @@ impl Checker {
             DVec3::Y
         } else {
             d.normalize()
-        }
-    }
-    pub(crate) fn shape(&mut self, key: &str, s: &ShapeSpec) -> CollisionShape {
-        match s {
-            ShapeSpec::Box { size_m, centre_m } => {
-                for (i, v) in size_m.iter().enumerate() {
-                    self.positive(&format!("{key}.size_m[{i}]"), *v, "m");
-                }
-                self.finite(&format!("{key}.centre_m"), centre_m);
-                CollisionShape::Box {
-                    half: v3(*size_m) * 0.5,
-                    centre: v3(*centre_m),
-                }
-            }
-            ShapeSpec::Convex { points_m } => {
-                let pts = self.points(&format!("{key}.points_m"), points_m);
-                CollisionShape::Convex(pts)
-            }
         }
     }
     pub(crate) fn points(&mut self, key: &str, points: &[[f64; 3]]) -> Vec<DVec3> {

@@ -4,32 +4,42 @@
 //! Ohno and Tadokoro, "Real-time Simulation of Non-Deformable Continuous Tracks with Explicit
 //! Consideration of Friction and Grouser Geometry" (ICRA 2020), on the Rapier physics engine.
 //!
-//! Layers, from file to running world:
+//! Layers, each importing only the ones above it in this list (docs/ARCHITECTURE.md):
+//! - [`error`], `check` (problem lists with key paths, f64 -> f32 conversions): the base;
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
-//! - [`terrain`]: the compiled terrain, its insertion into Rapier and height queries;
+//! - [`terrain`]: terrain kinds compiled and checked, file parsers, insertion into Rapier;
 //! - [`model`]: the compiled, checked, immutable vehicle and scenario (SI units);
-//! - [`sim`]: the running Rapier world and the per-step track update (rollback);
-//! - [`run`]: running a scenario to the end and writing its outputs.
+//! - [`tracks`]: the track methods behind one trait, and the one place a method name becomes
+//!   an implementation;
+//! - [`world`]: the running state ([`Simulation`]), its build stages, contact handling, one
+//!   step, samples;
+//! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
+//! - [`output`]: `trajectory.csv`, `summary.json`, plots;
+//! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
+//! - [`bench`], [`validate`]: the paper's Table II and Table IV.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
-pub(crate) mod baselines;
 pub mod bench;
+pub mod cases;
 pub(crate) mod check;
 pub mod error;
 pub mod geometry;
 pub mod model;
-pub(crate) mod plates;
-pub mod plot;
+pub mod output;
 pub mod run;
-pub mod sim;
 pub mod spec;
 pub mod terrain;
+pub mod tracks;
 pub mod validate;
+pub mod world;
 
 pub use error::{Error, Result, SpecIssue};
-pub use model::{Scenario, VehicleModel, load_scenario, load_vehicle};
-pub use run::{Outcome, RunOptions, RunResult, Summary, run_scenario, run_scenario_with};
-pub use sim::Simulation;
+pub use model::{Controls, Scenario, VehicleModel, load_vehicle};
+pub use run::{
+    Outcome, RunOptions, RunResult, Scripted, Summary, Timeline, run_scenario, run_scenario_with,
+};
 pub use toml;
+pub use tracks::Method;
+pub use world::{Simulation, compile_scenario, load_scenario};

@@ -175,6 +175,26 @@ impl VehicleModel {
 
 use crate::check::{Checker, v3};
 
+/// Checks a collision shape and compiles it.
+fn shape(c: &mut Checker, key: &str, s: &ShapeSpec) -> CollisionShape {
+    match s {
+        ShapeSpec::Box { size_m, centre_m } => {
+            for (i, v) in size_m.iter().enumerate() {
+                c.positive(&format!("{key}.size_m[{i}]"), *v, "m");
+            }
+            c.finite(&format!("{key}.centre_m"), centre_m);
+            CollisionShape::Box {
+                half: v3(*size_m) * 0.5,
+                centre: v3(*centre_m),
+            }
+        }
+        ShapeSpec::Convex { points_m } => {
+            let pts = c.points(&format!("{key}.points_m"), points_m);
+            CollisionShape::Convex(pts)
+        }
+    }
+}
+
 fn box_inertia(mass: f64, size: DVec3) -> DVec3 {
     DVec3::new(
         size.y * size.y + size.z * size.z,
@@ -222,7 +242,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
     c.positive("body.mass_kg", b.mass_kg, "kg");
     c.non_negative("body.friction", b.friction, "");
     c.finite("body.centre_of_mass_m", &b.centre_of_mass_m);
-    let shape = c.shape("body.shape", &b.shape);
+    let body_shape = shape(&mut c, "body.shape", &b.shape);
     let inertia = match b.inertia_kgm2 {
         Some(i) => {
             for (k, v) in i.iter().enumerate() {
@@ -231,7 +251,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             v3(i)
         }
         None => {
-            let (lo, hi) = shape.bounds();
+            let (lo, hi) = body_shape.bounds();
             box_inertia(b.mass_kg, hi - lo)
         }
     };
@@ -239,7 +259,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         mass: b.mass_kg,
         com: v3(b.centre_of_mass_m),
         inertia,
-        shape,
+        shape: body_shape,
         friction: b.friction,
     };
     // Flippers.
@@ -273,7 +293,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             "N m s/rad",
         );
         c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
-        let shape = f.shape.as_ref().map(|s| c.shape(&format!("{k}.shape"), s));
+        let shape = f.shape.as_ref().map(|s| shape(&mut c, &format!("{k}.shape"), s));
         let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
         let inertia = match f.inertia_kgm2 {
             Some(i) => {

@@ -17,8 +17,11 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::Segment;
-use crate::model::{Scenario, TrackMethod, VehicleModel, compile_scenario, load_vehicle};
-use crate::run::{Outcome, RunResult, SideLine, run_scenario, side_view_terrain};
+use crate::model::{Scenario, VehicleModel, load_vehicle};
+use crate::tracks::Method as TrackMethod;
+use crate::world::compile_scenario;
+use crate::output::{SideLine, side_view_terrain};
+use crate::run::{Outcome, RunResult, run_scenario};
 use crate::spec::ScenarioSpec;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -289,16 +292,16 @@ impl ValidationReport {
         std::fs::write(&js, json + "\n").map_err(io(&js))?;
         written.push(js);
         for p in &self.plots {
-            let runs: Vec<crate::plot::PlotRun> = p
+            let runs: Vec<crate::output::plot::PlotRun> = p
                 .runs
                 .iter()
-                .map(|(label, result)| crate::plot::PlotRun {
+                .map(|(label, result)| crate::output::plot::PlotRun {
                     label: label.as_str(),
                     result,
                 })
                 .collect();
-            written.extend(crate::plot::write_plots(
-                &crate::plot::PlotInput {
+            written.extend(crate::output::plot::write_plots(
+                &crate::output::plot::PlotInput {
                     title: &p.title,
                     runs: &runs,
                     ground_profile: &p.profile,
@@ -416,16 +419,16 @@ pub fn run_validation_with(
     let mut fig_jobs = Vec::new();
     if bump.is_file() {
         let mut sc = crate::load_scenario(&bump)?;
-        sc.method = method;
+        sc.method = method.name();
         let mut w = sc.clone();
-        w.method = TrackMethod::Wheels(4);
+        w.method = TrackMethod::Wheels(4).name();
         fig_jobs.push(jobs.len());
         jobs.push((format!("Fig. 2 bump, {}", method.name()), sc));
         jobs.push(("Fig. 2 bump, wheels4".into(), w));
     }
     if wall_file.is_file() {
         let mut sc = crate::load_scenario(&wall_file)?;
-        sc.method = method;
+        sc.method = method.name();
         fig_jobs.push(jobs.len());
         jobs.push((format!("Fig. 3 wall, {}", method.name()), sc));
     }
@@ -1142,7 +1145,7 @@ pub fn spin_ratio_coulomb(b: f64, a: f64) -> f64 {
 }
 
 /// Body pose at the first sample at or after time `t`.
-fn pose_at(r: &RunResult, t: f64) -> crate::sim::PoseRpy {
+fn pose_at(r: &RunResult, t: f64) -> crate::world::PoseRpy {
     r.samples
         .iter()
         .find(|s| s.t >= t - 1e-6)

@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use tracksim::Simulation;
+use tracksim::Scripted;
 use tracksim::spec::{CommandSpec, PerTrack};
 
 fn flipper_cmd(t: f64, deg: f64, belt: f64) -> CommandSpec {
@@ -27,7 +27,7 @@ fn flippers_reach_their_target_and_their_tracks_drive() {
         |s| s.commands = vec![flipper_cmd(0.0, 45.0, 0.2)],
         |_| {},
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 2.0);
     let x0 = sim.body_pose().x;
     for i in 0..2 {
@@ -60,7 +60,7 @@ fn the_torque_limit_decides_whether_flippers_can_lift_the_body() {
                 }
             },
         );
-        let mut sim = Simulation::new(&sc).unwrap();
+        let mut sim = Scripted::new(&sc).unwrap();
         run_until(&mut sim, 2.0);
         sim.body_pose().pitch.to_degrees()
     };

@@ -9,7 +9,7 @@ mod common;
 use common::root;
 use sha2::{Digest, Sha256};
 use std::collections::BTreeMap;
-use tracksim::model::TrackMethod as Method;
+use tracksim::Method;
 
 /// Simulated time of every golden run, s (1000 steps at the default 1 ms).
 const GOLDEN_DURATION_S: f64 = 1.0;
@@ -24,16 +24,9 @@ fn methods() -> Vec<String> {
 fn hash_run(file: &std::path::Path, method: &str) -> String {
     let mut sc = tracksim::load_scenario(file).unwrap_or_else(|e| panic!("{e}"));
     sc.duration = GOLDEN_DURATION_S;
-    sc.method = Method::from_name(method).expect("method name");
+    sc.method = method.to_string();
     let text = match tracksim::run_scenario(&sc, |_, _| {}) {
-        Ok(r) => {
-            let dir = std::env::temp_dir().join(format!(
-                "tracksim-golden-{}-{method}",
-                file.file_stem().unwrap().to_string_lossy()
-            ));
-            r.write(&dir).unwrap();
-            std::fs::read_to_string(dir.join("trajectory.csv")).unwrap()
-        }
+        Ok(r) => tracksim::output::trajectory_csv(&r),
         Err(e) => format!("error: {e}"),
     };
     format!("{:x}", Sha256::digest(text.as_bytes()))

@@ -4,12 +4,12 @@
 
 mod common;
 use common::{root, run_until};
-use tracksim::model::TrackMethod;
-use tracksim::{Outcome, Simulation};
+use tracksim::Method as TrackMethod;
+use tracksim::{Outcome, Scripted};
 
 fn scenario(file: &str, method: TrackMethod) -> tracksim::Scenario {
     let mut sc = tracksim::load_scenario(&root().join(file)).unwrap();
-    sc.method = method;
+    sc.method = method.name();
     sc
 }
 
@@ -23,7 +23,7 @@ fn every_method_drives_at_belt_speed_on_flat_ground() {
         TrackMethod::ConstraintToGround,
         TrackMethod::Plates,
     ] {
-        let mut sim = Simulation::new(&scenario("scenarios/packbot_flat.toml", m)).unwrap();
+        let mut sim = Scripted::new(&scenario("scenarios/packbot_flat.toml", m)).unwrap();
         run_until(&mut sim, 1.0);
         let x1 = sim.body_pose().x;
         run_until(&mut sim, 5.0);
@@ -81,7 +81,7 @@ fn contact_slop_applies_to_every_method() {
     let deepest = |m: TrackMethod, slop: f64| {
         let mut sc = scenario("scenarios/packbot_flat.toml", m);
         sc.solver.contact_slop = slop;
-        let mut sim = Simulation::new(&sc).unwrap();
+        let mut sim = Scripted::new(&sc).unwrap();
         let mut d: f64 = 0.0;
         while sim.time() < 3.0 - 1e-9 {
             sim.step().unwrap();

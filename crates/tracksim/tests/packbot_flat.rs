@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use tracksim::Simulation;
+use tracksim::Scripted;
 use tracksim::spec::{CommandSpec, PerTrack};
 
 /// Axle height above the ground that the geometry gives: belt radius 0.082 m + grouser 0.008 m.
@@ -18,7 +18,7 @@ fn drive(speed: f64) -> tracksim::Scenario {
 
 #[test]
 fn drives_forward_at_belt_speed_straight_and_at_the_right_height() {
-    let mut sim = Simulation::new(&drive(0.3)).unwrap();
+    let mut sim = Scripted::new(&drive(0.3)).unwrap();
     run_until(&mut sim, 2.0);
     let (x2, y2, _) = pos(&sim);
     let mut max_dz: f64 = 0.0;
@@ -38,7 +38,7 @@ fn drives_forward_at_belt_speed_straight_and_at_the_right_height() {
 
 #[test]
 fn backwards_mirrors_forwards() {
-    let mut sim = Simulation::new(&drive(-0.3)).unwrap();
+    let mut sim = Scripted::new(&drive(-0.3)).unwrap();
     run_until(&mut sim, 2.0);
     let (x2, _, _) = pos(&sim);
     run_until(&mut sim, 10.0);
@@ -60,7 +60,7 @@ fn opposite_belt_speeds_turn_in_place_to_the_left() {
         },
         |_| {},
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 1.0);
     let yaw1 = sim.body_pose().yaw;
     run_until(&mut sim, 2.0);
@@ -82,7 +82,7 @@ fn opposite_belt_speeds_turn_in_place_to_the_left() {
 
 #[test]
 fn track_shape_is_kept_after_a_minute() {
-    let mut sim = Simulation::new(&drive(0.3)).unwrap();
+    let mut sim = Scripted::new(&drive(0.3)).unwrap();
     run_until(&mut sim, 1.0);
     sim.reset_max_link_error();
     run_until(&mut sim, 60.0);
@@ -111,7 +111,7 @@ fn without_friction_the_belts_run_but_the_body_stays() {
         |s| s.terrain.ground.as_mut().unwrap().friction = 0.0,
         |_| {},
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 0.5);
     let (x0, y0, _) = pos(&sim);
     run_until(&mut sim, 3.0);
@@ -171,7 +171,7 @@ fn sprocket_speed_and_an_omitted_top_run_drive_the_same() {
             }
         },
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     // 1 body + 2 tracks x 3 links (+ the fixed terrain body and the ground tile's).
     assert_eq!(sim.world.bodies.len(), 1 + 6 + 2);
     run_until(&mut sim, 1.0);
@@ -186,7 +186,7 @@ fn sprocket_speed_and_an_omitted_top_run_drive_the_same() {
 /// the vehicle must not notice (no jump in height or vertical speed, no speed loss).
 #[test]
 fn the_ground_tile_moving_under_the_vehicle_is_invisible() {
-    let mut sim = Simulation::new(&drive(1.5)).unwrap();
+    let mut sim = Scripted::new(&drive(1.5)).unwrap();
     run_until(&mut sim, 2.0);
     let (x2, _, _) = pos(&sim);
     let (mut max_dz, mut max_vz): (f64, f64) = (0.0, 0.0);

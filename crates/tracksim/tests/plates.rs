@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
-use tracksim::Simulation;
-use tracksim::model::TrackMethod;
+use tracksim::Scripted;
+use tracksim::Method as TrackMethod;
 use tracksim::spec::BoxSpec;
 
 /// Ride height of the body on the chain: cleat 0.008 + plate 0.010 + wheel radius 0.069 m
@@ -15,9 +15,9 @@ const RIDE_HEIGHT_M: f64 = 0.087;
 #[test]
 fn drives_at_the_commanded_speed_on_flat_ground() {
     let mut sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
-    sc.method = TrackMethod::Plates;
+    sc.method = TrackMethod::Plates.name();
     assert_eq!(sc.solver.dt, 0.001);
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 2.0);
     let x0 = pos(&sim).0;
     let (mut z_min, mut z_max) = (f64::MAX, f64::MIN);
@@ -62,8 +62,8 @@ fn climbs_a_low_step_and_stays_stable() {
         },
         |_| {},
     );
-    sc.method = TrackMethod::Plates;
-    let mut sim = Simulation::new(&sc).unwrap();
+    sc.method = TrackMethod::Plates.name();
+    let mut sim = Scripted::new(&sc).unwrap();
     let mut max_pitch: f64 = 0.0;
     while sim.time() < 4.0 - 1e-9 {
         sim.step().expect("stable");

@@ -4,7 +4,7 @@
 
 mod common;
 use common::*;
-use tracksim::Simulation;
+use tracksim::Scripted;
 use tracksim::spec::BoxSpec;
 
 /// Drives uphill at 0.3 m/s on a plane inclined at `deg` (rising towards +x) for 4 s after a
@@ -28,7 +28,7 @@ fn speed_along_slope(deg: f64) -> f64 {
         },
         |_| {},
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 1.0);
     let (x1, _, z1) = pos(&sim);
     run_until(&mut sim, 5.0);

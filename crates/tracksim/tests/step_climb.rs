@@ -3,7 +3,7 @@
 
 mod common;
 use common::*;
-use tracksim::Simulation;
+use tracksim::Scripted;
 use tracksim::spec::BoxSpec;
 
 /// Front pulley centre height with 8 mm grousers on the ground: 0.082 + 0.008 m.
@@ -30,7 +30,7 @@ fn climbs(h: f64, grousers: bool) -> bool {
         },
         |_| {},
     );
-    let mut sim = Simulation::new(&sc).unwrap();
+    let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 8.0);
     let p = sim.body_pose();
     let ride = if grousers { PULLEY_CENTRE_M } else { 0.082 };

@@ -3,7 +3,7 @@
 //! cases run in parallel on the machine's cores).
 
 use std::path::{Path, PathBuf};
-use tracksim::model::TrackMethod;
+use tracksim::Method as TrackMethod;
 use tracksim::validate::{ValidationOptions, ValidationReport, run_validation_with};
 
 fn root() -> PathBuf {

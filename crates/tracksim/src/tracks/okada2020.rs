@@ -247,7 +247,7 @@ impl SegmentLinks {
             .map(|g| g.layout.footprints(path))
             .unwrap_or_default();
         let mut links = Vec::new();
-        for (si, seg) in path.segments().iter().enumerate() {
+        for si in 0..path.segments().len() {
             if t.included[si] {
                 links.push(Self::build_link(ctx, t, si, &shapes, &footprints));
             }

@@ -2,8 +2,9 @@
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
-use tracksim::Simulation;
-use tracksim::model::{Scenario, compile_scenario, load_vehicle, read_toml};
+use tracksim::Scripted;
+use tracksim::compile_scenario;
+use tracksim::model::{Scenario, load_vehicle, read_toml};
 use tracksim::spec::ScenarioSpec;
 
 /// Repository root.
@@ -35,14 +36,14 @@ pub fn with_vehicle(
 }
 
 /// Runs `sim` until time `t`, s.
-pub fn run_until(sim: &mut Simulation, t: f64) {
+pub fn run_until(sim: &mut Scripted, t: f64) {
     while sim.time() < t - 1e-9 {
         sim.step().expect("stable");
     }
 }
 
 /// Body position (x, y, z), m.
-pub fn pos(sim: &Simulation) -> (f64, f64, f64) {
+pub fn pos(sim: &Scripted) -> (f64, f64, f64) {
     let p = sim.body_pose();
     (p.x, p.y, p.z)
 }
