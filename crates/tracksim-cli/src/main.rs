@@ -150,7 +150,7 @@ struct RunArgs {
 fn run(a: RunArgs) -> Result<(), Failure> {
     let mut sc = tracksim::load_scenario(&a.file)?;
     if let Some(m) = &a.method {
-        sc.method = parse_method("--method", m)?;
+        sc.method = parse_method("--method", m)?.name();
     }
     if let Some(d) = a.duration {
         sc.duration = check_duration(d)?;
@@ -186,10 +186,10 @@ fn run(a: RunArgs) -> Result<(), Failure> {
         b.finish_and_clear();
     }
     let result = result?;
-    result.write(&a.out)?;
+    tracksim::output::write_run(&result, &a.out)?;
     let mut written = vec![a.out.join("summary.json"), a.out.join("trajectory.csv")];
     if !a.no_plot {
-        written.extend(tracksim::run::write_run_plots(&sc, &result, &a.out)?);
+        written.extend(tracksim::output::write_run_plots(&sc, &result, &a.out)?);
     }
     let s = &result.summary;
     if a.json {
@@ -245,8 +245,8 @@ fn bad_arg(arg: &str, message: String) -> Failure {
 }
 
 /// Parses one track method name given to `flag`.
-fn parse_method(flag: &str, name: &str) -> Result<tracksim::model::TrackMethod, Failure> {
-    use tracksim::model::TrackMethod;
+fn parse_method(flag: &str, name: &str) -> Result<tracksim::Method, Failure> {
+    use tracksim::Method as TrackMethod;
     TrackMethod::from_name(name).ok_or_else(|| {
         bad_arg(
             flag,
@@ -259,9 +259,9 @@ fn parse_method(flag: &str, name: &str) -> Result<tracksim::model::TrackMethod, 
 }
 
 /// Parses a `--methods` list; empty means every compared method.
-fn parse_methods(names: &[String]) -> Result<Vec<tracksim::model::TrackMethod>, Failure> {
+fn parse_methods(names: &[String]) -> Result<Vec<tracksim::Method>, Failure> {
     if names.is_empty() {
-        return Ok(tracksim::model::TrackMethod::COMPARED.to_vec());
+        return Ok(tracksim::Method::COMPARED.to_vec());
     }
     names.iter().map(|m| parse_method("--methods", m)).collect()
 }
@@ -293,13 +293,13 @@ fn compare(
     let mut rows = Vec::new();
     let mut done = Vec::new();
     for m in &methods {
-        sc.method = *m;
+        sc.method = m.name();
         if !json {
             eprintln!("running {} ...", m.name());
         }
         match tracksim::run_scenario(&sc, |_, _| {}) {
             Ok(r) => {
-                r.write(&out.join(m.name()))?;
+                tracksim::output::write_run(&r, &out.join(m.name()))?;
                 let s = &r.summary;
                 rows.push(serde_json::json!({
                     "method": m.name(),
@@ -321,7 +321,7 @@ fn compare(
     }
     let runs: Vec<(String, &tracksim::RunResult)> =
         done.iter().map(|(n, r)| (n.clone(), r)).collect();
-    let plots = tracksim::run::write_compare_plots(&sc, &runs, out)?;
+    let plots = tracksim::output::write_compare_plots(&sc, &runs, out)?;
     let mut csv = String::from(
         "method,outcome,distance_m,mean_speed_mps,real_time_factor,final_z_m,reason\n",
     );
