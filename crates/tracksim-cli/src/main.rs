@@ -9,6 +9,24 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use tracksim::{Error, Outcome, RunOptions};
 
+/// Prints a line on standard output; a closed standard output (`tracksim ... | head`) ends the
+/// program quietly with exit code 0 instead of a panic.
+macro_rules! out {
+    () => {
+        out!("")
+    };
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = writeln!(std::io::stdout().lock(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            eprintln!("error: cannot write to standard output: {e}");
+            std::process::exit(2);
+        }
+    }};
+}
+
 /// Real-time simulation of tracked robots with grousers (Okada et al., ICRA 2020) on Rapier.
 #[derive(Parser)]
 #[command(name = "tracksim", version, about)]
@@ -176,7 +194,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             if let Some(b) = &bar {
                 b.set_position((1000.0 * t / total) as u64);
                 b.set_message(format!(
-                    "t = {t:.2} / {total:.2} s, real-time factor {:.1}",
+                    "t = {t:.2} / {total:.2} s, {:.1} x real time",
                     t / wall.elapsed().as_secs_f64().max(1e-9)
                 ));
             }
@@ -193,23 +211,40 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     }
     let s = &result.summary;
     if a.json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(s).expect("summary serialises")
         );
     } else if !a.quiet {
         let p = &s.final_pose;
-        println!("scenario   {}", a.file.display());
-        println!("vehicle    {} (method {})", s.vehicle, s.method);
-        println!(
-            "simulated  {:.3} s in {:.3} s wall: real-time factor {:.1}",
-            s.sim_time_s, s.wall_time_s, s.real_time_factor
-        );
-        println!(
+        out!("scenario   {}", a.file.display());
+        out!("vehicle    {} (method {})", s.vehicle, s.method);
+        if s.paced {
+            out!(
+                "simulated  {:.3} s in {:.3} s wall, paced to the wall clock: {:.2} x real time",
+                s.sim_time_s,
+                s.elapsed_time_s,
+                s.paced_real_time_factor
+            );
+            out!(
+                "compute    stepping alone took {:.3} s: it could run {:.1} x real time",
+                s.wall_time_s,
+                s.real_time_factor
+            );
+        } else {
+            out!(
+                "simulated  {:.3} s in {:.3} s of stepping: real-time factor {:.1}",
+                s.sim_time_s,
+                s.wall_time_s,
+                s.real_time_factor
+            );
+        }
+        out!(
             "mean speed {:.4} m/s, distance {:.3} m",
-            s.mean_speed_mps, s.distance_m
+            s.mean_speed_mps,
+            s.distance_m
         );
-        println!(
+        out!(
             "final pose x {:.4} y {:.4} z {:.4} m, roll {:.2} pitch {:.2} yaw {:.2} deg",
             p.x,
             p.y,
@@ -218,17 +253,19 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             p.pitch.to_degrees(),
             p.yaw.to_degrees()
         );
-        println!(
+        out!(
             "contacts   deepest penetration {:.1} mm (contact slop {:.1} mm)",
             s.max_penetration_m * 1000.0,
             s.solver.contact_slop_m * 1000.0
         );
-        println!(
+        out!(
             "outcome    {}: {} (t = {:.3} s)",
-            s.outcome, s.outcome_reason, s.outcome_time_s
+            s.outcome,
+            s.outcome_reason,
+            s.outcome_time_s
         );
         for w in &written {
-            println!("wrote      {}", w.display());
+            out!("wrote      {}", w.display());
         }
     }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
@@ -344,17 +381,21 @@ fn compare(
         source,
     })?;
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({ "methods": rows }))
                 .expect("serialises")
         );
         return Ok(());
     }
-    println!("scenario {}", file.display());
-    println!(
+    out!("scenario {}", file.display());
+    out!(
         "{:<24} {:<10} {:>10} {:>12} {:>8}  reason",
-        "method", "outcome", "distance m", "speed m/s", "RTF"
+        "method",
+        "outcome",
+        "distance m",
+        "speed m/s",
+        "RTF"
     );
     for r in &rows {
         let num = |k: &str, p: usize| {
@@ -362,7 +403,7 @@ fn compare(
                 .map(|v| format!("{v:.p$}"))
                 .unwrap_or_else(|| "-".into())
         };
-        println!(
+        out!(
             "{:<24} {:<10} {:>10} {:>12} {:>8}  {}",
             r["method"].as_str().unwrap_or(""),
             r["outcome"].as_str().unwrap_or(""),
@@ -372,9 +413,9 @@ fn compare(
             r["reason"].as_str().unwrap_or("")
         );
     }
-    println!("wrote {}", csv_path.display());
+    out!("wrote {}", csv_path.display());
     for p in plots {
-        println!("wrote {}", p.display());
+        out!("wrote {}", p.display());
     }
     Ok(())
 }
@@ -387,17 +428,17 @@ fn validate(json: bool, out: Option<PathBuf>, method: &str) -> Result<(), Failur
         }
     })?;
     if json {
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&report).expect("serialises")
         );
     } else {
-        println!("{}", report.to_markdown());
+        out!("{}", report.to_markdown());
     }
     if let Some(dir) = out {
         for p in report.write(&dir)? {
             if !json {
-                println!("wrote {}", p.display());
+                out!("wrote {}", p.display());
             }
         }
     }
@@ -445,11 +486,13 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
     }
     let methods = parse_methods(&a.methods)?;
     let root = data_root();
-    let all_cases = [
-        ("packbot", "scenarios/packbot_flat.toml"),
-        ("quince", "scenarios/quince_flat.toml"),
-        ("rough", "scenarios/packbot_rough.toml"),
-    ];
+    let all_cases: Vec<(&str, PathBuf)> = tracksim::cases::BENCH
+        .iter()
+        .map(|(short, case)| {
+            let c = tracksim::cases::case(case).expect("bench cases are named cases");
+            (*short, c.path(&root))
+        })
+        .collect();
     for c in &a.cases {
         if !all_cases.iter().any(|(n, _)| n == c) {
             return Err(bad_arg(
@@ -458,55 +501,24 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             ));
         }
     }
+    let selected: Vec<(&str, &PathBuf)> = all_cases
+        .iter()
+        .filter(|(n, _)| a.cases.is_empty() || a.cases.iter().any(|c| c == n))
+        .map(|(n, p)| (*n, p))
+        .collect();
     let quiet = a.json;
     if let Some(jobs) = a.jobs {
-        let mut sc = tracksim::load_scenario(&root.join(all_cases[0].1))?;
-        sc.duration = a.duration;
-        if let Some(n) = a.solver_iterations {
-            sc.solver.iterations = n;
-        }
-        let runs = jobs * a.repeat;
-        if !quiet {
-            eprintln!(
-                "batch: {runs} PackBot runs of {} s on {jobs} threads ...",
-                a.duration
-            );
-        }
-        let b = tracksim::bench::batch(&sc, jobs, runs)?;
-        if a.json {
-            println!("{}", serde_json::to_string_pretty(&b).expect("serialises"));
-        } else {
-            println!(
-                "batch: {} runs, {:.1} simulated s in {:.2} wall s on {} threads: {:.1} sim s per wall s, {:.1} per core",
-                b.runs,
-                b.simulated_s,
-                b.wall_s,
-                b.jobs,
-                b.sim_s_per_wall_s,
-                b.sim_s_per_wall_s_per_core
-            );
-        }
-        return Ok(());
+        return bench_batch(&a, jobs, &selected, &methods);
     }
     let mut results = Vec::new();
-    for (name, file) in all_cases {
-        if !a.cases.is_empty() && !a.cases.iter().any(|c| c == name) {
-            continue;
-        }
-        let path = root.join(file);
+    for (name, path) in selected {
         if !path.is_file() {
             if !quiet {
                 eprintln!("skipping case {name}: {} not found", path.display());
             }
             continue;
         }
-        let mut sc = tracksim::load_scenario(&path)?;
-        sc.duration = a.duration;
-        if let Some(n) = a.solver_iterations {
-            sc.solver.iterations = n;
-        }
-        // The benchmark measures stepping, not a mission: never stop early.
-        sc.outcome.stop = false;
+        let sc = bench_scenario(&a, path)?;
         let mut r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
             if !quiet {
                 eprintln!("{m}");
@@ -519,7 +531,7 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             }
         }
         if !quiet {
-            println!("{}", r.to_markdown());
+            out!("{}", r.to_markdown());
         }
         results.push(r);
     }
@@ -529,7 +541,7 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             .map(|r| serde_json::to_value(r).expect("serialises"))
             .collect();
         let first = cases.first().cloned().unwrap_or_default();
-        println!(
+        out!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({
                 "methods": first["methods"],
@@ -561,12 +573,71 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
         std::fs::write(dir.join("bench.csv"), csv).map_err(io(&dir.join("bench.csv")))?;
         std::fs::write(dir.join("bench.md"), md).map_err(io(&dir.join("bench.md")))?;
         if !quiet {
-            println!(
+            out!(
                 "wrote {} and {}",
                 dir.join("bench.csv").display(),
                 dir.join("bench.md").display()
             );
         }
+    }
+    Ok(())
+}
+
+/// A bench case's scenario with the bench's duration and solver settings; it never stops early
+/// (the benchmark measures stepping, not a mission).
+fn bench_scenario(a: &BenchArgs, path: &Path) -> Result<tracksim::Scenario, Failure> {
+    let mut sc = tracksim::load_scenario(path)?;
+    sc.duration = a.duration;
+    if let Some(n) = a.solver_iterations {
+        sc.solver.iterations = n;
+    }
+    sc.outcome.stop = false;
+    Ok(sc)
+}
+
+/// `bench --jobs N`: for every selected case and method, `N x repeat` independent runs on `N`
+/// threads; the throughput per core.
+fn bench_batch(
+    a: &BenchArgs,
+    jobs: usize,
+    cases: &[(&str, &PathBuf)],
+    methods: &[tracksim::Method],
+) -> Result<(), Failure> {
+    let runs = jobs
+        .checked_mul(a.repeat)
+        .ok_or_else(|| bad_arg("--jobs", "jobs x repeat is too large".into()))?;
+    let mut all = Vec::new();
+    for (name, path) in cases {
+        let base = bench_scenario(a, path)?;
+        for m in methods {
+            let mut sc = base.clone();
+            sc.method = m.name();
+            if !a.json {
+                eprintln!(
+                    "batch: {runs} {name} runs of {} s with {m} on {jobs} threads ...",
+                    a.duration
+                );
+            }
+            let b = tracksim::bench::batch(&sc, jobs, runs)?;
+            if !a.json {
+                out!(
+                    "batch {name} {m}: {} runs, {:.1} simulated s in {:.2} wall s on {} threads: {:.1} sim s per wall s, {:.1} per core",
+                    b.runs,
+                    b.simulated_s,
+                    b.wall_s,
+                    b.jobs,
+                    b.sim_s_per_wall_s,
+                    b.sim_s_per_wall_s_per_core
+                );
+            }
+            all.push(serde_json::json!({"case": name, "method": m.name(), "batch": b}));
+        }
+    }
+    if a.json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&all).expect("serialises")
+        );
     }
     Ok(())
 }
@@ -605,9 +676,9 @@ fn check(files: &[PathBuf]) -> Result<(), Failure> {
             }
         });
         match r {
-            Ok(what) => println!("ok     {}: {what}", f.display()),
+            Ok(what) => out!("ok     {}: {what}", f.display()),
             Err(e) => {
-                println!("error  {e}");
+                out!("error  {e}");
                 failed = Some(e);
             }
         }
@@ -652,7 +723,7 @@ fn list(dir: Option<PathBuf>) -> Result<(), Failure> {
         .into());
     };
     for sub in ["vehicles", "scenarios"] {
-        println!("{sub}:");
+        out!("{sub}:");
         let mut entries: Vec<PathBuf> = std::fs::read_dir(root.join(sub))
             .map(|r| r.filter_map(|e| e.ok().map(|e| e.path())).collect())
             .unwrap_or_default();
@@ -660,7 +731,7 @@ fn list(dir: Option<PathBuf>) -> Result<(), Failure> {
         entries.sort();
         for p in entries {
             let name = p.strip_prefix(root).unwrap_or(&p).display().to_string();
-            println!("  {name:<40} {}", description(&p));
+            out!("  {name:<40} {}", description(&p));
         }
     }
     Ok(())

@@ -460,3 +460,111 @@ fn bench_reports_every_field_as_json_and_writes_csv_and_markdown() {
     let o = run(&["bench", "--repeat", "0"]);
     assert_eq!(o.code, 2);
 }
+
+/// Runs `tracksim ARGS | head -c 1` through a shell: the pipe closes after one byte.
+fn piped_into_head(args: &str) -> (i32, String) {
+    let bin = assert_cmd::cargo::cargo_bin("tracksim");
+    let out = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(format!(
+            "set -o pipefail; '{}' {args} | head -c 1 >/dev/null",
+            bin.display()
+        ))
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+#[test]
+fn a_closed_stdout_ends_the_program_quietly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = format!(
+        "run scenarios/packbot_flat.toml --duration 0.05 --no-plot --json --out '{}'",
+        out.display()
+    );
+    for args in [
+        "check scenarios/packbot_flat.toml vehicles/packbot510.toml",
+        "list",
+        &run,
+    ] {
+        let (code, stderr) = piped_into_head(args);
+        assert_eq!(code, 0, "{args}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args}: {stderr}");
+    }
+}
+
+#[test]
+fn realtime_reports_paced_and_compute_speed_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&[
+        "run",
+        "scenarios/packbot_flat.toml",
+        "--realtime",
+        "--json",
+        "--no-plot",
+        "--duration",
+        "0.5",
+        "--out",
+        dir.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let s: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(s["paced"], true);
+    // Paced to the wall clock: 0.5 s simulated take at least 0.5 s (sleep granularity 2 ms).
+    let paced = s["paced_real_time_factor"].as_f64().unwrap();
+    assert!(paced > 0.8 && paced <= 1.01, "paced {paced}");
+    assert!(s["elapsed_time_s"].as_f64().unwrap() >= 0.49);
+    // The compute speed is the stepping alone, and stepping is faster than the wall clock.
+    let compute = s["real_time_factor"].as_f64().unwrap();
+    assert!(compute > paced, "compute {compute} vs paced {paced}");
+}
+
+#[test]
+fn bench_jobs_runs_every_selected_case_and_method() {
+    let o = run(&[
+        "bench",
+        "--jobs",
+        "2",
+        "--repeat",
+        "1",
+        "--duration",
+        "0.1",
+        "--cases",
+        "packbot,quince",
+        "--methods",
+        "okada2020,wheels4",
+        "--json",
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
+    let got: Vec<(String, String)> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| {
+            (
+                e["case"].as_str().unwrap().to_string(),
+                e["method"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    let want: Vec<(String, String)> = [
+        ("packbot", "okada2020"),
+        ("packbot", "wheels4"),
+        ("quince", "okada2020"),
+        ("quince", "wheels4"),
+    ]
+    .iter()
+    .map(|(a, b)| (a.to_string(), b.to_string()))
+    .collect();
+    assert_eq!(got, want);
+    for e in v.as_array().unwrap() {
+        assert_eq!(e["batch"]["runs"], 2);
+        assert!((e["batch"]["simulated_s"].as_f64().unwrap() - 0.2).abs() < 1e-6);
+    }
+}

@@ -2,8 +2,8 @@
 //! track method, after 0.5 s of driving. `cargo bench -p tracksim`.
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use tracksim::Scripted;
 use tracksim::Method as TrackMethod;
+use tracksim::Scripted;
 
 fn step(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");

@@ -3,8 +3,8 @@
 
 use crate::error::Result;
 use crate::model::Scenario;
-use crate::tracks::Method as TrackMethod;
 use crate::run::Scripted;
+use crate::tracks::Method as TrackMethod;
 use serde::Serialize;
 use std::time::Instant;
 

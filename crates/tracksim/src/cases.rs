@@ -56,8 +56,12 @@ pub const CASES: &[Case] = &[
     },
 ];
 
-/// The cases `tracksim bench` times by default, in table order.
-pub const BENCH: &[&str] = &["packbot_flat", "quince_flat", "packbot_rough"];
+/// The cases `tracksim bench` times, in table order: (short name given to `--cases`, case).
+pub const BENCH: &[(&str, &str)] = &[
+    ("packbot", "packbot_flat"),
+    ("quince", "quince_flat"),
+    ("rough", "packbot_rough"),
+];
 
 /// The case called `name`.
 pub fn case(name: &str) -> Option<&'static Case> {
@@ -89,7 +93,10 @@ impl Case {
 /// that lists the known ones.
 pub fn load(root: &Path, name: &str) -> Result<Scenario> {
     let c = case(name).ok_or_else(|| {
-        Error::Build(format!("unknown case \"{name}\"; the cases are {}", names()))
+        Error::Build(format!(
+            "unknown case \"{name}\"; the cases are {}",
+            names()
+        ))
     })?;
     c.load(root)
 }

@@ -293,7 +293,10 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             "N m s/rad",
         );
         c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
-        let shape = f.shape.as_ref().map(|s| shape(&mut c, &format!("{k}.shape"), s));
+        let shape = f
+            .shape
+            .as_ref()
+            .map(|s| shape(&mut c, &format!("{k}.shape"), s));
         let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
         let inertia = match f.inertia_kgm2 {
             Some(i) => {

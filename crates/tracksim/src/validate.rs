@@ -18,11 +18,11 @@
 use crate::error::{Error, Result};
 use crate::geometry::Segment;
 use crate::model::{Scenario, VehicleModel, load_vehicle};
-use crate::tracks::Method as TrackMethod;
-use crate::world::compile_scenario;
 use crate::output::{SideLine, side_view_terrain};
 use crate::run::{Outcome, RunResult, run_scenario};
 use crate::spec::ScenarioSpec;
+use crate::tracks::Method as TrackMethod;
+use crate::world::compile_scenario;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -4,8 +4,8 @@
 
 mod common;
 use common::*;
-use tracksim::Scripted;
 use tracksim::Method as TrackMethod;
+use tracksim::Scripted;
 use tracksim::spec::BoxSpec;
 
 /// Ride height of the body on the chain: cleat 0.008 + plate 0.010 + wheel radius 0.069 m

@@ -17,8 +17,19 @@ use std::path::Path;
 /// The CSV header of `trajectory.csv`.
 pub fn csv_header(result: &RunResult) -> Vec<String> {
     let mut h: Vec<String> = [
-        "t_s", "x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", "vx_mps", "vy_mps",
-        "vz_mps", "wx_rad_s", "wy_rad_s", "wz_rad_s",
+        "t_s",
+        "x_m",
+        "y_m",
+        "z_m",
+        "roll_rad",
+        "pitch_rad",
+        "yaw_rad",
+        "vx_mps",
+        "vy_mps",
+        "vz_mps",
+        "wx_rad_s",
+        "wy_rad_s",
+        "wz_rad_s",
     ]
     .iter()
     .map(|s| s.to_string())

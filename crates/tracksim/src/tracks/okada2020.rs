@@ -497,7 +497,8 @@ mod tests {
             min_link_mass: sc.solver.min_link_mass,
         };
         let mut track = SegmentLinks::build(&mut ctx, &sc.vehicle.tracks[0]).unwrap();
-        let tall = |s: &dyn rapier3d::parry::shape::Shape| s.as_cuboid().unwrap().half_extents.z > 0.006;
+        let tall =
+            |s: &dyn rapier3d::parry::shape::Shape| s.as_cuboid().unwrap().half_extents.z > 0.006;
         assert!(track.grouser_slots(&world, tall).iter().all(|k| k % 2 == 1));
         let pitch = track.pitch.unwrap();
         track.set_belt_speed(&mut world, 0.3);

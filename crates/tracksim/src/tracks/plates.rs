@@ -470,7 +470,8 @@ impl Plates {
         stiffen_contacts(world);
         let mut bodies = insert_plates(world, track, ctx.parent, &lay, plate_groups);
         let (wheels, (sprocket, sprocket_joint, r_eff)) =
-            insert_wheels(world, track, ctx.parent, &lay, ctx.min_link_mass).map_err(Error::Build)?;
+            insert_wheels(world, track, ctx.parent, &lay, ctx.min_link_mass)
+                .map_err(Error::Build)?;
         bodies.extend(wheels);
         Ok(Plates {
             bodies,

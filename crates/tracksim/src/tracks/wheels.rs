@@ -87,9 +87,10 @@ impl Wheels {
                 .friction_combine_rule(track.combine)
                 .collision_groups(ctx.groups);
             world.colliders.insert_with_parent(c, h, &mut world.bodies);
-            let j = world
-                .impulse_joints
-                .insert(ctx.parent, h, wheel_joint(axis, centre, true), true);
+            let j =
+                world
+                    .impulse_joints
+                    .insert(ctx.parent, h, wheel_joint(axis, centre, true), true);
             wheels.push(Wheel {
                 body: h,
                 joint: j,

@@ -12,12 +12,11 @@ use std::sync::Arc;
 
 /// Builds a simulation of `sc`, stage by stage.
 pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
-    let method = Method::parse("simulation.method", &sc.method).map_err(|issue| {
-        Error::Invalid {
+    let method =
+        Method::parse("simulation.method", &sc.method).map_err(|issue| Error::Invalid {
             path: sc.source.clone().unwrap_or_default(),
             issues: vec![issue],
-        }
-    })?;
+        })?;
     let mut world = new_world(&sc.solver);
     let ground_tile = sc
         .terrain
@@ -92,7 +91,11 @@ fn shape_collider(shape: &CollisionShape) -> Result<ColliderBuilder> {
 }
 
 /// The chassis body and its collider.
-fn insert_chassis(world: &mut PhysicsWorld, v: &VehicleModel, start: Pose) -> Result<RigidBodyHandle> {
+fn insert_chassis(
+    world: &mut PhysicsWorld,
+    v: &VehicleModel,
+    start: Pose,
+) -> Result<RigidBodyHandle> {
     let body = world.bodies.insert(
         RigidBodyBuilder::dynamic()
             .pose(start)

@@ -153,7 +153,11 @@ impl Simulation {
             pose: self.body_pose(),
             linvel: [lv.x as f64, lv.y as f64, lv.z as f64],
             angvel: [av.x as f64, av.y as f64, av.z as f64],
-            belt_speed: self.tracks.iter().map(|t| t.measured_belt_speed()).collect(),
+            belt_speed: self
+                .tracks
+                .iter()
+                .map(|t| t.measured_belt_speed())
+                .collect(),
             belt_phase: self.tracks.iter().map(|t| t.belt_phase()).collect(),
             flipper_angle: (0..self.flippers.len())
                 .map(|i| self.flipper_angle(i))
