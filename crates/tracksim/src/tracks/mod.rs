@@ -8,6 +8,8 @@
 //! - [`constraint_to_ground`]: one rigid outline whose contacts get the belt's surface velocity;
 //! - [`plates`]: a closed chain of plates on hinges around sprocket and idler.
 
+#![warn(clippy::too_many_lines)]
+
 pub mod common;
 pub mod constraint_to_ground;
 mod method;

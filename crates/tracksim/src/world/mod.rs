@@ -10,6 +10,8 @@
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
 //! - [`load`]: loading a scenario with the track method checked with every other key.
 
+#![warn(clippy::too_many_lines)]
+
 pub mod build;
 pub mod contacts;
 pub mod load;
