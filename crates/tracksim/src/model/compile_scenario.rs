@@ -1,0 +1,348 @@
+//! Compiling a [`ScenarioSpec`] with an already compiled vehicle into a [`Scenario`], in named
+//! stages run in this order: vehicle overrides (`vehicle_overrides`), terrain
+//! ([`crate::terrain::compile_terrain`]), simulation settings (`simulation`), commands
+//! (`command`, `track_speeds`, `flipper_angles`), the upper layers' [`ExtraChecks`], then the
+//! outcome (`outcome`). Every problem is reported with its key path, in that order, each once.
+
+use super::{Command, Controls, OutcomeModel, Scenario, SolverSettings, VehicleModel};
+use crate::check::Checker;
+use crate::error::{Result, SpecIssue};
+use crate::spec::{
+    CommandSpec, OutcomeSpec, PerTrack, ScenarioSpec, SimulationSpec, VehicleRefSpec,
+};
+use std::path::Path;
+
+/// Checks of keys the model layer does not interpret (e.g. `simulation.method`, resolved by the
+/// track layer), reported with the model's own problems.
+pub type ExtraChecks<'a> = &'a dyn Fn(&ScenarioSpec) -> Vec<SpecIssue>;
+
+/// Compiles a scenario whose vehicle is already loaded (no check of the method name: see
+/// [`compile_scenario_with`]).
+pub fn compile_scenario(
+    spec: &ScenarioSpec,
+    vehicle: VehicleModel,
+    base_dir: &Path,
+) -> Result<Scenario, Vec<SpecIssue>> {
+    compile_scenario_with(spec, vehicle, base_dir, &|_| Vec::new())
+}
+
+/// Compiles a scenario whose vehicle is already loaded; `extra` adds the problems of keys that
+/// upper layers interpret, so that every problem is reported at once.
+pub fn compile_scenario_with(
+    spec: &ScenarioSpec,
+    mut vehicle: VehicleModel,
+    base_dir: &Path,
+    extra: ExtraChecks,
+) -> Result<Scenario, Vec<SpecIssue>> {
+    let mut c = Checker::default();
+    let v = &spec.vehicle;
+    vehicle_overrides(&mut c, v, &mut vehicle);
+    // Terrain.
+    let terrain = crate::terrain::compile_terrain(&spec.terrain, base_dir, &mut c.issues);
+    let s = &spec.simulation;
+    let solver = simulation(&mut c, s);
+    let mut commands = Vec::new();
+    let mut last_t = f64::NEG_INFINITY;
+    for (i, cmd) in spec.commands.iter().enumerate() {
+        commands.push(command(
+            &mut c,
+            &format!("commands[{i}]"),
+            cmd,
+            &vehicle,
+            &mut last_t,
+        ));
+    }
+    for issue in extra(spec) {
+        c.issues.push(issue);
+    }
+    let outcome = outcome(&mut c, &spec.outcome);
+    if !c.issues.is_empty() {
+        // One line per problem even where a value applies to every track.
+        let mut seen = Vec::new();
+        c.issues.retain(|i| {
+            let new = !seen.contains(i);
+            seen.push(i.clone());
+            new
+        });
+        return Err(c.issues);
+    }
+    Ok(Scenario {
+        outcome,
+        method: s.method.clone(),
+        seed: s.seed,
+        source: None,
+        description: spec.description.clone(),
+        vehicle,
+        start_xy: (v.x_m, v.y_m),
+        start_z: v.z_m,
+        start_yaw: v.yaw_deg.to_radians(),
+        start_pitch: v.pitch_deg.to_radians(),
+        terrain,
+        solver,
+        duration: s.duration_s,
+        output_interval: s.output_interval_s,
+        commands,
+    })
+}
+
+/// Vehicle-override stage: checks the start pose and applies the scenario's overrides of track
+/// friction, body mass (inertia scaled with it), belt mass and grouser count to `vehicle`.
+fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleModel) {
+    c.finite("vehicle.x_m", &[v.x_m, v.y_m, v.yaw_deg, v.pitch_deg]);
+    if let Some(z) = v.z_m {
+        c.finite("vehicle.z_m", &[z]);
+    }
+    if let Some(f) = v.track_friction {
+        c.non_negative("vehicle.track_friction", f, "");
+        for t in &mut vehicle.tracks {
+            t.friction = f;
+        }
+    }
+    if let Some(m) = v.body_mass_kg {
+        c.positive("vehicle.body_mass_kg", m, "kg");
+        vehicle.body.inertia *= m / vehicle.body.mass;
+        vehicle.body.mass = m;
+    }
+    if let Some(m) = v.belt_mass_kg {
+        c.positive("vehicle.belt_mass_kg", m, "kg");
+        for t in &mut vehicle.tracks {
+            t.belt_mass = m;
+        }
+    }
+    if let Some(n) = v.grouser_count {
+        if n > 0 && vehicle.tracks.iter().all(|t| t.grousers.is_none()) {
+            c.push(
+                "vehicle.grouser_count",
+                "the vehicle's tracks have no grousers to count; add a [tracks.grousers] table to the vehicle file (0 is the only count that applies)",
+            );
+        }
+        for t in &mut vehicle.tracks {
+            if n == 0 {
+                t.grousers = None;
+            } else if let Some(g) = &mut t.grousers {
+                if n % g.shapes.len() != 0 {
+                    c.push(
+                        "vehicle.grouser_count",
+                        format!(
+                            "must be a multiple of the {} grouser shapes",
+                            g.shapes.len()
+                        ),
+                    );
+                }
+                g.layout.count = n;
+            }
+        }
+    }
+}
+
+/// Simulation-settings stage: checks `[simulation]` and compiles the solver settings.
+fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
+    if !(s.dt_s.is_finite() && s.dt_s > 0.0 && s.dt_s <= 0.01) {
+        c.push(
+            "simulation.dt_s",
+            format!(
+                "must be > 0 and at most 0.01 s (tracks with grousers need 1-2 ms), got {}",
+                s.dt_s
+            ),
+        );
+    }
+    c.positive("simulation.duration_s", s.duration_s, "s");
+    c.positive("simulation.output_interval_s", s.output_interval_s, "s");
+    c.non_negative("simulation.min_link_mass_kg", s.min_link_mass_kg, "kg");
+    c.positive(
+        "simulation.prediction_distance_m",
+        s.prediction_distance_m,
+        "m",
+    );
+    if !(s.contact_slop_m.is_finite() && (0.0..=0.02).contains(&s.contact_slop_m)) {
+        c.push(
+            "simulation.contact_slop_m",
+            format!(
+                "must be between 0 and 0.02 m (the paper's simulator used 0.01), got {}",
+                s.contact_slop_m
+            ),
+        );
+    }
+    if s.solver_iterations == 0 || s.solver_iterations > 100 {
+        c.push(
+            "simulation.solver_iterations",
+            format!("must be between 1 and 100, got {}", s.solver_iterations),
+        );
+    }
+    SolverSettings {
+        dt: s.dt_s,
+        iterations: s.solver_iterations,
+        contact_clustering: s.contact_clustering,
+        min_link_mass: s.min_link_mass_kg,
+        prediction_distance: s.prediction_distance_m,
+        contact_slop: s.contact_slop_m,
+    }
+}
+
+/// Command stage: checks one `[[commands]]` entry (key path `k`; `last_t` is the previous
+/// entry's time, s) and resolves it to track and flipper indices.
+fn command(
+    c: &mut Checker,
+    k: &str,
+    cmd: &CommandSpec,
+    vehicle: &VehicleModel,
+    last_t: &mut f64,
+) -> Command {
+    if !(cmd.t_s.is_finite() && cmd.t_s >= 0.0) {
+        c.push(
+            format!("{k}.t_s"),
+            format!("must be >= 0 s, got {}", cmd.t_s),
+        );
+    } else if cmd.t_s < *last_t {
+        c.push(
+            format!("{k}.t_s"),
+            "commands must be listed in order of time",
+        );
+    }
+    *last_t = cmd.t_s;
+    let mut belt = track_speeds(c, k, cmd, vehicle);
+    match (cmd.forward_mps, cmd.yaw_rate_rad_s) {
+        (None, None) => {}
+        (v_fwd, w) => {
+            let (v_fwd, w) = (v_fwd.unwrap_or(0.0), w.unwrap_or(0.0));
+            if cmd.belt_speed_mps.is_some() || cmd.sprocket_rad_s.is_some() {
+                c.push(
+                    k.to_string(),
+                    "give forward_mps/yaw_rate_rad_s or per-track speeds, not both",
+                );
+            }
+            if !(v_fwd.is_finite() && w.is_finite()) {
+                c.push(
+                    k.to_string(),
+                    "forward_mps and yaw_rate_rad_s must be finite",
+                );
+            }
+            belt = Controls::twist(vehicle, v_fwd, w).belt_speed;
+        }
+    }
+    let flip = flipper_angles(c, k, cmd, vehicle);
+    Command {
+        t: cmd.t_s,
+        controls: Controls {
+            belt_speed: belt,
+            flipper_angle: flip,
+        },
+    }
+}
+
+/// Belt speed per track index from a command's `belt_speed_mps` or `sprocket_rad_s` (times the
+/// track's sprocket pitch radius), m/s.
+fn track_speeds(
+    c: &mut Checker,
+    k: &str,
+    cmd: &CommandSpec,
+    vehicle: &VehicleModel,
+) -> Vec<Option<f64>> {
+    let nt = vehicle.tracks.len();
+    let mut belt = vec![None; nt];
+    if cmd.belt_speed_mps.is_some() && cmd.sprocket_rad_s.is_some() {
+        c.push(
+            k.to_string(),
+            "give belt_speed_mps or sprocket_rad_s, not both",
+        );
+    }
+    let given = [
+        ("belt_speed_mps", &cmd.belt_speed_mps, false),
+        ("sprocket_rad_s", &cmd.sprocket_rad_s, true),
+    ];
+    for (key, values, sprocket) in given {
+        let Some(values) = values else { continue };
+        let entries: Vec<(usize, f64, String)> = match values {
+            PerTrack::All(x) => (0..nt).map(|j| (j, *x, format!("{k}.{key}"))).collect(),
+            PerTrack::ByName(m) => {
+                let mut e = Vec::new();
+                for (name, x) in m {
+                    match vehicle.track_index(name) {
+                        Some(j) => e.push((j, *x, format!("{k}.{key}.{name}"))),
+                        None => c.push(
+                            format!("{k}.{key}.{name}"),
+                            format!(
+                                "no track called \"{name}\"; the vehicle has {}",
+                                vehicle
+                                    .tracks
+                                    .iter()
+                                    .map(|t| format!("\"{}\"", t.name))
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        ),
+                    }
+                }
+                e
+            }
+        };
+        for (j, x, kk) in entries {
+            let scale = if sprocket {
+                vehicle.tracks[j].sprocket_radius
+            } else {
+                Some(1.0)
+            };
+            if !x.is_finite() {
+                c.push(kk, format!("must be finite, got {x}"));
+            } else if let Some(f) = scale {
+                belt[j] = Some(x * f);
+            } else {
+                c.push(
+                    kk,
+                    format!(
+                        "track \"{}\" has no sprocket_pitch_radius_m; give belt_speed_mps instead or add the radius to the vehicle file",
+                        vehicle.tracks[j].name
+                    ),
+                );
+            }
+        }
+    }
+    belt
+}
+
+/// Flipper target angle per flipper index from a command's `flipper_angle_deg`, rad.
+fn flipper_angles(
+    c: &mut Checker,
+    k: &str,
+    cmd: &CommandSpec,
+    vehicle: &VehicleModel,
+) -> Vec<Option<f64>> {
+    let mut flip = vec![None; vehicle.flippers.len()];
+    for (name, a) in &cmd.flipper_angle_deg {
+        match vehicle.flipper_index(name) {
+            Some(j) if a.is_finite() => flip[j] = Some(a.to_radians()),
+            Some(_) => c.push(
+                format!("{k}.flipper_angle_deg.{name}"),
+                format!("must be finite, got {a}"),
+            ),
+            None => c.push(
+                format!("{k}.flipper_angle_deg.{name}"),
+                format!("no flipper called \"{name}\""),
+            ),
+        }
+    }
+    flip
+}
+
+/// Outcome stage: checks `[outcome]` and compiles it (tilt limit to radians).
+fn outcome(c: &mut Checker, o: &OutcomeSpec) -> OutcomeModel {
+    if let Some(x) = o.success_x_m {
+        c.finite("outcome.success_x_m", &[x]);
+    }
+    if let Some(z) = o.success_z_m {
+        c.finite("outcome.success_z_m", &[z]);
+    }
+    if !(o.max_tilt_deg.is_finite() && o.max_tilt_deg > 0.0 && o.max_tilt_deg <= 180.0) {
+        c.push(
+            "outcome.max_tilt_deg",
+            format!("must be in (0, 180] degrees, got {}", o.max_tilt_deg),
+        );
+    }
+    OutcomeModel {
+        success_x: o.success_x_m,
+        success_z: o.success_z_m,
+        max_tilt: o.max_tilt_deg.to_radians(),
+        fail_off_terrain: o.fail_off_terrain,
+        stop: o.stop,
+    }
+}

@@ -1,0 +1,340 @@
+//! Compiling one track of a [`VehicleSpec`](crate::spec::VehicleSpec), in named stages run in
+//! this order: parents (`resolve_parent`), belt (`belt`), grousers (`grousers`,
+//! `grouser_shape`), path (`track_path`), omitted segments (`included_segments`), then the
+//! mirror image. Problems are reported with their key paths, in that order.
+
+use super::{GrouserModel, GrouserShape, Parent, TrackModel};
+use crate::check::{Checker, v3};
+use crate::error::SpecIssue;
+use crate::geometry::{GrouserLayout, PathError, Pulley, Segment, TrackPath};
+use crate::spec::{FlipperSpec, GrouserShapeSpec, GrouserSpec, PathSpec, SegmentSpec, TrackSpec};
+use glam::DVec3;
+use rapier3d::prelude::CoefficientCombineRule;
+
+fn path_issue(key: &str, e: &PathError) -> SpecIssue {
+    let key = match e {
+        PathError::NotFinite { segment }
+        | PathError::NonPositiveLength { segment, .. }
+        | PathError::ZeroVector { segment, .. }
+        | PathError::NonPositiveRadius { segment, .. }
+        | PathError::BadArcAngle { segment, .. }
+        | PathError::Gap { segment, .. }
+        | PathError::Kink { segment, .. }
+        | PathError::NotPlanar { segment } => format!("{key}.segments[{segment}]"),
+        PathError::BadPulley { pulley, .. } | PathError::PulleysOverlap { pulley, .. } => {
+            format!("{key}.pulleys[{pulley}]")
+        }
+        _ => key.to_string(),
+    };
+    SpecIssue::new(key, e.to_string())
+}
+
+fn combine_rule(s: &str) -> Option<CoefficientCombineRule> {
+    Some(match s {
+        "min" => CoefficientCombineRule::Min,
+        "average" => CoefficientCombineRule::Average,
+        "multiply" => CoefficientCombineRule::Multiply,
+        "max" => CoefficientCombineRule::Max,
+        _ => return None,
+    })
+}
+
+/// Checks track `t` (key path `k`) and appends it, then its mirror image if it has one, to
+/// `tracks`; appends nothing when its path cannot be built.
+pub(super) fn compile_track(
+    c: &mut Checker,
+    flippers: &[FlipperSpec],
+    k: &str,
+    t: &TrackSpec,
+    tracks: &mut Vec<TrackModel>,
+) {
+    let parent = resolve_parent(c, flippers, format!("{k}.parent"), &t.parent);
+    let mirror_parent = match &t.mirror_parent {
+        Some(p) => resolve_parent(c, flippers, format!("{k}.mirror_parent"), p),
+        None => parent,
+    };
+    if t.mirror_parent.is_some() && t.mirror.is_none() {
+        c.push(
+            format!("{k}.mirror_parent"),
+            "only used together with `mirror`",
+        );
+    }
+    let combine = belt(c, k, t);
+    let grousers = match &t.grousers {
+        None => None,
+        Some(g) => grousers(c, k, t.width_m, g),
+    };
+    let Some(path) = track_path(c, &format!("{k}.path"), &t.path) else {
+        return;
+    };
+    let included = included_segments(c, k, &t.omit_segments, path.segments().len());
+    let model = TrackModel {
+        name: t.name.clone(),
+        parent,
+        path,
+        width: t.width_m,
+        belt_thickness: t.belt_thickness_m,
+        belt_mass: t.belt_mass_kg,
+        friction: t.friction,
+        combine,
+        sprocket_radius: t.sprocket_pitch_radius_m,
+        included,
+        grousers,
+    };
+    if let Some(m) = &t.mirror {
+        let mut mirrored = model.clone();
+        mirrored.name = m.clone();
+        mirrored.parent = mirror_parent;
+        mirrored.path = model.path.mirrored_y();
+        tracks.push(model);
+        tracks.push(mirrored);
+    } else {
+        tracks.push(model);
+    }
+}
+
+/// Parent stage: `"body"` or a flipper name; an unknown name is reported under `key` and
+/// falls back to the body.
+fn resolve_parent(c: &mut Checker, flippers: &[FlipperSpec], key: String, name: &str) -> Parent {
+    if name == "body" {
+        Parent::Body
+    } else if let Some(j) = flippers.iter().position(|f| f.name == name) {
+        Parent::Flipper(j)
+    } else {
+        c.push(
+            key,
+            format!(
+                "no flipper called \"{name}\"; use \"body\" or one of the names under [[flippers]]"
+            ),
+        );
+        Parent::Body
+    }
+}
+
+/// Belt stage: checks width, thickness, mass, friction and sprocket radius; returns the
+/// friction combine rule (`min` when unknown).
+fn belt(c: &mut Checker, k: &str, t: &TrackSpec) -> CoefficientCombineRule {
+    c.positive(&format!("{k}.width_m"), t.width_m, "m");
+    c.positive(&format!("{k}.belt_thickness_m"), t.belt_thickness_m, "m");
+    c.positive(&format!("{k}.belt_mass_kg"), t.belt_mass_kg, "kg");
+    c.non_negative(&format!("{k}.friction"), t.friction, "");
+    let combine = combine_rule(&t.friction_combine).unwrap_or_else(|| {
+        c.push(
+            format!("{k}.friction_combine"),
+            format!(
+                "unknown rule \"{}\"; use \"min\", \"average\", \"multiply\" or \"max\"",
+                t.friction_combine
+            ),
+        );
+        CoefficientCombineRule::Min
+    });
+    if let Some(r) = t.sprocket_pitch_radius_m {
+        c.positive(&format!("{k}.sprocket_pitch_radius_m"), r, "m");
+    }
+    combine
+}
+
+/// Grouser stage: checks the `[grousers]` table of the track at `k` (belt width `track_width`
+/// m) and compiles it; `None` for a count of 0.
+fn grousers(c: &mut Checker, k: &str, track_width: f64, g: &GrouserSpec) -> Option<GrouserModel> {
+    let gk = format!("{k}.grousers");
+    if g.count == 0 {
+        c.push(
+            format!("{gk}.count"),
+            "must be >= 1 (remove the [grousers] table for a track without grousers)",
+        );
+    }
+    c.finite(&format!("{gk}.offset_m"), &[g.offset_m]);
+    if g.shapes.is_empty() {
+        c.push(format!("{gk}.shapes"), "needs at least one shape");
+    }
+    if g.count > 0 && !g.shapes.is_empty() && !g.count.is_multiple_of(g.shapes.len()) {
+        c.push(
+            format!("{gk}.count"),
+            format!(
+                "{} grousers cannot repeat {} shapes evenly; use a multiple of {}",
+                g.count,
+                g.shapes.len(),
+                g.shapes.len()
+            ),
+        );
+    }
+    let mut shapes = Vec::new();
+    let mut height: f64 = 0.0;
+    for (j, s) in g.shapes.iter().enumerate() {
+        let sk = format!("{gk}.shapes[{j}]");
+        let shape = grouser_shape(c, &sk, s, track_width, &mut height);
+        shapes.push(shape);
+    }
+    (g.count > 0).then_some(GrouserModel {
+        layout: GrouserLayout {
+            count: g.count,
+            offset: g.offset_m,
+        },
+        shapes,
+        height,
+    })
+}
+
+/// Checks one grouser shape (key path `sk`; width defaults to `track_width` m), compiles it in
+/// its footprint frame and raises `height` to its outward extent, m.
+fn grouser_shape(
+    c: &mut Checker,
+    sk: &str,
+    s: &GrouserShapeSpec,
+    track_width: f64,
+    height: &mut f64,
+) -> GrouserShape {
+    match s {
+        GrouserShapeSpec::Box {
+            length_m,
+            height_m,
+            width_m,
+            shift_m,
+        } => {
+            let w = width_m.unwrap_or(track_width);
+            c.positive(&format!("{sk}.length_m"), *length_m, "m");
+            c.positive(&format!("{sk}.height_m"), *height_m, "m");
+            c.positive(&format!("{sk}.width_m"), w, "m");
+            c.finite(&format!("{sk}.shift_m"), &[*shift_m]);
+            *height = height.max(*height_m);
+            GrouserShape::Box {
+                half: DVec3::new(*length_m, w, *height_m) * 0.5,
+                centre: DVec3::new(*shift_m, 0.0, height_m * 0.5),
+            }
+        }
+        GrouserShapeSpec::Trapezoid {
+            bottom_m,
+            top_m,
+            height_m,
+            width_m,
+            shift_m,
+        } => {
+            let w = width_m.unwrap_or(track_width);
+            c.positive(&format!("{sk}.bottom_m"), *bottom_m, "m");
+            c.positive(&format!("{sk}.top_m"), *top_m, "m");
+            c.positive(&format!("{sk}.height_m"), *height_m, "m");
+            c.positive(&format!("{sk}.width_m"), w, "m");
+            c.finite(&format!("{sk}.shift_m"), &[*shift_m]);
+            *height = height.max(*height_m);
+            let mut pts = Vec::new();
+            for y in [-w / 2.0, w / 2.0] {
+                for (x, z) in [
+                    (-bottom_m / 2.0, 0.0),
+                    (bottom_m / 2.0, 0.0),
+                    (-top_m / 2.0, *height_m),
+                    (top_m / 2.0, *height_m),
+                ] {
+                    pts.push(DVec3::new(x + shift_m, y, z));
+                }
+            }
+            GrouserShape::Convex(pts)
+        }
+        GrouserShapeSpec::Convex { points_m } => {
+            let pts = c.points(&format!("{sk}.points_m"), points_m);
+            *height = pts.iter().map(|p| p.z).fold(*height, f64::max);
+            GrouserShape::Convex(pts)
+        }
+    }
+}
+
+/// Path stage: builds the loop at key path `pk` from pulleys or explicit segments and checks
+/// that it turns about +y; `None` when it cannot be built (the problems are reported).
+fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
+    let path = match (&p.pulleys, &p.segments) {
+        (Some(q), None) => {
+            let y = p.plane_y_m.unwrap_or(0.0);
+            c.finite(&format!("{pk}.plane_y_m"), &[y]);
+            let pulleys: Vec<Pulley> = q
+                .iter()
+                .map(|q| Pulley {
+                    x: q.x_m,
+                    z: q.z_m,
+                    radius: q.radius_m,
+                })
+                .collect();
+            TrackPath::from_pulleys(&pulleys, y)
+        }
+        (None, Some(s)) => {
+            if p.plane_y_m.is_some() {
+                c.push(
+                    format!("{pk}.plane_y_m"),
+                    "only used with pulleys; explicit segments carry their own y",
+                );
+            }
+            TrackPath::new(s.iter().map(segment).collect())
+        }
+        _ => {
+            c.push(
+                pk.to_string(),
+                "give exactly one of `pulleys` (list of {x_m, z_m, radius_m}) or `segments`",
+            );
+            return None;
+        }
+    };
+    let path = match path {
+        Ok(p) => p,
+        Err(errs) => {
+            for e in &errs {
+                c.issues.push(path_issue(pk, e));
+            }
+            return None;
+        }
+    };
+    if path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
+        c.push(
+            pk.to_string(),
+            "the loop must lie in an x-z plane and turn about +y (lower run moving backwards for a positive belt speed); reverse the segment order",
+        );
+    }
+    Some(path)
+}
+
+/// One explicit segment, angles to radians.
+fn segment(s: &SegmentSpec) -> Segment {
+    match *s {
+        SegmentSpec::Straight {
+            start_m,
+            direction,
+            length_m,
+        } => Segment::Straight {
+            start: v3(start_m),
+            direction: v3(direction),
+            length: length_m,
+        },
+        SegmentSpec::Arc {
+            start_m,
+            centre_m,
+            axis,
+            angle_deg,
+        } => Segment::Arc {
+            start: v3(start_m),
+            centre: v3(centre_m),
+            axis: v3(axis),
+            angle: angle_deg.to_radians(),
+        },
+    }
+}
+
+/// Omitted-segment stage: which of the loop's `n` segments get a link, from `omit`
+/// (`{k}.omit_segments`).
+fn included_segments(c: &mut Checker, k: &str, omit: &[usize], n: usize) -> Vec<bool> {
+    let mut included = vec![true; n];
+    for (j, &o) in omit.iter().enumerate() {
+        if o >= n {
+            c.push(
+                format!("{k}.omit_segments[{j}]"),
+                format!(
+                    "segment {o} does not exist; the loop has segments 0..{}",
+                    n - 1
+                ),
+            );
+        } else {
+            included[o] = false;
+        }
+    }
+    if included.iter().all(|x| !x) {
+        c.push(format!("{k}.omit_segments"), "cannot omit every segment");
+    }
+    included
+}

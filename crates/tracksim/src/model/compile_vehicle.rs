@@ -1,0 +1,185 @@
+//! Compiling a [`VehicleSpec`] into a [`VehicleModel`], in named stages run in this order: the
+//! name, the body (`body`), each flipper (`flipper`), each track (`compile_track.rs`), then the
+//! track names (`check_track_names`). Every problem is reported with its key path, in that
+//! order.
+
+use super::compile_track::compile_track;
+use super::{BodyModel, CollisionShape, FlipperModel, TrackModel, VehicleModel};
+use crate::check::{Checker, v3};
+use crate::error::{Result, SpecIssue};
+use crate::spec::{BodySpec, FlipperSpec, ShapeSpec, VehicleSpec};
+use glam::DVec3;
+
+/// Checks a collision shape and compiles it.
+fn shape(c: &mut Checker, key: &str, s: &ShapeSpec) -> CollisionShape {
+    match s {
+        ShapeSpec::Box { size_m, centre_m } => {
+            for (i, v) in size_m.iter().enumerate() {
+                c.positive(&format!("{key}.size_m[{i}]"), *v, "m");
+            }
+            c.finite(&format!("{key}.centre_m"), centre_m);
+            CollisionShape::Box {
+                half: v3(*size_m) * 0.5,
+                centre: v3(*centre_m),
+            }
+        }
+        ShapeSpec::Convex { points_m } => {
+            let pts = c.points(&format!("{key}.points_m"), points_m);
+            CollisionShape::Convex(pts)
+        }
+    }
+}
+
+fn box_inertia(mass: f64, size: DVec3) -> DVec3 {
+    DVec3::new(
+        size.y * size.y + size.z * size.z,
+        size.x * size.x + size.z * size.z,
+        size.x * size.x + size.y * size.y,
+    ) * (mass / 12.0)
+}
+
+/// Compiles a vehicle description, reporting every problem with its key path.
+pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue>> {
+    let mut c = Checker::default();
+    if spec.name.trim().is_empty() {
+        c.push("name", "must not be empty");
+    }
+    let body = body(&mut c, &spec.body);
+    let mut flippers = Vec::new();
+    for (i, f) in spec.flippers.iter().enumerate() {
+        flippers.push(flipper(&mut c, &spec.flippers, i, f));
+    }
+    let mut tracks: Vec<TrackModel> = Vec::new();
+    if spec.tracks.is_empty() {
+        c.push("tracks", "a vehicle needs at least one track");
+    }
+    for (i, t) in spec.tracks.iter().enumerate() {
+        compile_track(
+            &mut c,
+            &spec.flippers,
+            &format!("tracks[{i}]"),
+            t,
+            &mut tracks,
+        );
+    }
+    check_track_names(&mut c, &tracks);
+    if c.issues.is_empty() {
+        Ok(VehicleModel {
+            name: spec.name.clone(),
+            description: spec.description.clone(),
+            body,
+            flippers,
+            tracks,
+        })
+    } else {
+        Err(c.issues)
+    }
+}
+
+/// Body stage: checks the chassis and compiles it (inertia from the shape's bounding box when
+/// not given).
+fn body(c: &mut Checker, b: &BodySpec) -> BodyModel {
+    c.positive("body.mass_kg", b.mass_kg, "kg");
+    c.non_negative("body.friction", b.friction, "");
+    c.finite("body.centre_of_mass_m", &b.centre_of_mass_m);
+    let body_shape = shape(c, "body.shape", &b.shape);
+    let inertia = match b.inertia_kgm2 {
+        Some(i) => {
+            for (k, v) in i.iter().enumerate() {
+                c.positive(&format!("body.inertia_kgm2[{k}]"), *v, "kg m^2");
+            }
+            v3(i)
+        }
+        None => {
+            let (lo, hi) = body_shape.bounds();
+            box_inertia(b.mass_kg, hi - lo)
+        }
+    };
+    BodyModel {
+        mass: b.mass_kg,
+        com: v3(b.centre_of_mass_m),
+        inertia,
+        shape: body_shape,
+        friction: b.friction,
+    }
+}
+
+/// Flipper stage: checks flipper `i` of `all` and compiles it (initial angle to radians).
+fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> FlipperModel {
+    let k = format!("flippers[{i}]");
+    if f.name.trim().is_empty() || f.name == "body" {
+        c.push(
+            format!("{k}.name"),
+            "must be a non-empty name other than \"body\"",
+        );
+    }
+    if all[..i].iter().any(|g| g.name == f.name) {
+        c.push(
+            format!("{k}.name"),
+            format!("duplicate flipper name \"{}\"", f.name),
+        );
+    }
+    c.finite(&format!("{k}.pivot_m"), &f.pivot_m);
+    let axis = c.unit_vector(&format!("{k}.axis"), f.axis);
+    c.positive(&format!("{k}.mass_kg"), f.mass_kg, "kg");
+    c.positive(&format!("{k}.max_torque_nm"), f.max_torque_nm, "N m");
+    c.positive(
+        &format!("{k}.stiffness_nm_per_rad"),
+        f.stiffness_nm_per_rad,
+        "N m/rad",
+    );
+    c.non_negative(
+        &format!("{k}.damping_nms_per_rad"),
+        f.damping_nms_per_rad,
+        "N m s/rad",
+    );
+    c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
+    let shape = f.shape.as_ref().map(|s| shape(c, &format!("{k}.shape"), s));
+    let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
+    let inertia = match f.inertia_kgm2 {
+        Some(i) => {
+            for (j, v) in i.iter().enumerate() {
+                c.positive(&format!("{k}.inertia_kgm2[{j}]"), *v, "kg m^2");
+            }
+            v3(i)
+        }
+        None => match &shape {
+            Some(s) => {
+                let (lo, hi) = s.bounds();
+                box_inertia(f.mass_kg, hi - lo)
+            }
+            None => DVec3::splat(f.mass_kg * 0.01),
+        },
+    };
+    FlipperModel {
+        name: f.name.clone(),
+        pivot: v3(f.pivot_m),
+        axis,
+        mass: f.mass_kg,
+        com,
+        inertia,
+        shape,
+        initial_angle: f.initial_angle_deg.to_radians(),
+        max_torque: f.max_torque_nm,
+        stiffness: f.stiffness_nm_per_rad,
+        damping: f.damping_nms_per_rad,
+    }
+}
+
+/// Track-name stage: every compiled track (mirror images included) needs a unique, non-empty
+/// name.
+fn check_track_names(c: &mut Checker, tracks: &[TrackModel]) {
+    for (i, t) in tracks.iter().enumerate() {
+        if t.name.trim().is_empty() {
+            c.push("tracks", "every track needs a non-empty name");
+        } else if tracks[..i].iter().any(|u| u.name == t.name) {
+            c.push(
+                "tracks",
+                format!(
+                    "duplicate track name \"{}\" (check `name` and `mirror`)",
+                    t.name
+                ),
+            );
+        }
+    }
+}

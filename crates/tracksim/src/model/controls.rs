@@ -1,0 +1,63 @@
+//! The inputs of one step ([`Controls`]) and a scenario file's timed [`Command`]s, by track and
+//! flipper index.
+
+use super::VehicleModel;
+
+/// The inputs of one step, by track and flipper index (a controller's output, or one entry of a
+/// file's `[[commands]]`); `None` keeps the previous value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Controls {
+    /// Belt speed per track index, m/s (positive drives forwards).
+    pub belt_speed: Vec<Option<f64>>,
+    /// Flipper target angle per flipper index, rad.
+    pub flipper_angle: Vec<Option<f64>>,
+}
+
+impl Controls {
+    /// Controls that change nothing, sized for `v`.
+    pub fn keep(v: &VehicleModel) -> Self {
+        Controls {
+            belt_speed: vec![None; v.tracks.len()],
+            flipper_angle: vec![None; v.flippers.len()],
+        }
+    }
+
+    /// Every belt at `speed` m/s.
+    pub fn belts(v: &VehicleModel, speed: f64) -> Self {
+        Controls {
+            belt_speed: vec![Some(speed); v.tracks.len()],
+            ..Controls::keep(v)
+        }
+    }
+
+    /// Body-level skid steering without slip: forward speed `forward` m/s and yaw rate
+    /// `yaw_rate` rad/s (REP 103, positive turns left) about the body origin; each belt runs at
+    /// `forward - yaw_rate * y` for its track's mid-plane at lateral offset `y` m.
+    pub fn twist(v: &VehicleModel, forward: f64, yaw_rate: f64) -> Self {
+        Controls {
+            belt_speed: v
+                .tracks
+                .iter()
+                .map(|t| Some(forward - yaw_rate * t.lateral_offset()))
+                .collect(),
+            ..Controls::keep(v)
+        }
+    }
+
+    /// Sets flipper `i`'s target angle, rad.
+    pub fn with_flipper(mut self, i: usize, angle: f64) -> Self {
+        if let Some(a) = self.flipper_angle.get_mut(i) {
+            *a = Some(angle);
+        }
+        self
+    }
+}
+
+/// One timed command of a scenario file, resolved to track and flipper indices.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Command {
+    /// Start time, s.
+    pub t: f64,
+    /// What it sets.
+    pub controls: Controls,
+}

@@ -1,0 +1,71 @@
+//! Reading files: TOML parsing with the file named in every error, and loading of vehicle and
+//! scenario files (a scenario's vehicle file is found relative to the scenario's folder).
+
+use super::{ExtraChecks, Scenario, VehicleModel, compile_scenario_with, compile_vehicle};
+use crate::error::{Error, Result, SpecIssue};
+use crate::spec::{ScenarioSpec, VehicleSpec};
+use std::path::Path;
+
+/// Reads and parses a TOML file into `T`, naming the file in every error.
+pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    toml::from_str(&text).map_err(|e| Error::Parse {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
+/// Loads and compiles a vehicle file.
+pub fn load_vehicle(path: &Path) -> Result<VehicleModel> {
+    let spec: VehicleSpec = read_toml(path)?;
+    compile_vehicle(&spec).map_err(|issues| Error::Invalid {
+        path: path.to_path_buf(),
+        issues,
+    })
+}
+
+/// Loads a scenario file and the vehicle file it names (relative to the scenario's folder);
+/// `extra` as in [`compile_scenario_with`].
+pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
+    let spec: ScenarioSpec = read_toml(path)?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let invalid = |issues| Error::Invalid {
+        path: path.to_path_buf(),
+        issues,
+    };
+    let vehicle = match (&spec.vehicle.file, &spec.vehicle.inline) {
+        (Some(file), None) => {
+            let vpath = dir.join(file);
+            if !vpath.is_file() {
+                return Err(invalid(vec![SpecIssue::new(
+                    "vehicle.file",
+                    format!(
+                        "vehicle file {} not found (paths are relative to the scenario file's folder)",
+                        vpath.display()
+                    ),
+                )]));
+            }
+            load_vehicle(&vpath)?
+        }
+        (None, Some(inline)) => compile_vehicle(inline).map_err(|issues| {
+            invalid(
+                issues
+                    .into_iter()
+                    .map(|i| SpecIssue::new(format!("vehicle.inline.{}", i.key), i.message))
+                    .collect(),
+            )
+        })?,
+        _ => {
+            return Err(invalid(vec![SpecIssue::new(
+                "vehicle",
+                "give exactly one of `file` (a vehicle file) or `[vehicle.inline]`",
+            )]));
+        }
+    };
+    let mut sc = compile_scenario_with(&spec, vehicle, dir, extra).map_err(invalid)?;
+    sc.source = Some(path.to_path_buf());
+    Ok(sc)
+}

@@ -1,0 +1,29 @@
+//! The compiled, immutable model (MuJoCo's `mjModel` idea): vehicle and scenario checked and
+//! converted to SI units and radians, ready to be instantiated any number of times.
+//!
+//! - `vehicle.rs`: the compiled vehicle ([`VehicleModel`] and its parts);
+//! - `compile_vehicle.rs`: [`compile_vehicle`] (name, body, flippers, track names), with one
+//!   track's stages (parents, belt, grousers, path, omitted segments, mirror) in
+//!   `compile_track.rs`;
+//! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
+//! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
+//! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
+//!   overrides, terrain, simulation settings, commands, extra checks, outcome);
+//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]).
+
+#![warn(clippy::too_many_lines)]
+
+mod compile_scenario;
+mod compile_track;
+mod compile_vehicle;
+mod controls;
+mod load;
+mod scenario;
+mod vehicle;
+
+pub use compile_scenario::*;
+pub use compile_vehicle::*;
+pub use controls::*;
+pub use load::*;
+pub use scenario::*;
+pub use vehicle::*;

@@ -1,0 +1,91 @@
+//! The compiled scenario: vehicle, start pose, terrain, solver settings, commands and outcome
+//! conditions ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]).
+
+use super::{Command, VehicleModel};
+use crate::terrain::TerrainModel;
+use std::path::PathBuf;
+
+/// Solver settings.
+#[derive(Clone, Debug)]
+pub struct SolverSettings {
+    /// Time step, s.
+    pub dt: f64,
+    /// Solver iterations.
+    pub iterations: usize,
+    /// Contact clustering on or off.
+    pub contact_clustering: bool,
+    /// Smallest segment link mass, kg.
+    pub min_link_mass: f64,
+    /// Speculative contact distance, m.
+    pub prediction_distance: f64,
+    /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
+    pub contact_slop: f64,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        SolverSettings {
+            dt: 0.001,
+            iterations: 4,
+            contact_clustering: false,
+            min_link_mass: MIN_LINK_MASS_KG,
+            prediction_distance: 0.02,
+            contact_slop: 0.0,
+        }
+    }
+}
+
+/// Default smallest mass given to a segment link or wheel body, kg: on the PackBot climbing a
+/// step the floor halves the per-step joint error of the segment links (docs/DESIGN.md).
+pub const MIN_LINK_MASS_KG: f64 = 0.5;
+
+/// Success and failure conditions, compiled.
+#[derive(Clone, Debug)]
+pub struct OutcomeModel {
+    /// Success when body x passes this, m.
+    pub success_x: Option<f64>,
+    /// Success when body z reaches this, m.
+    pub success_z: Option<f64>,
+    /// Tip-over limit on |roll| and |pitch|, rad.
+    pub max_tilt: f64,
+    /// Fail when leaving a bounded terrain.
+    pub fail_off_terrain: bool,
+    /// Stop when decided.
+    pub stop: bool,
+}
+
+/// A compiled scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    /// Where it was read from, if from a file.
+    pub source: Option<PathBuf>,
+    /// Description.
+    pub description: String,
+    /// The vehicle.
+    pub vehicle: VehicleModel,
+    /// Start position (x, y, optional z), m.
+    pub start_xy: (f64, f64),
+    /// Start height, m (None: rest on the ground).
+    pub start_z: Option<f64>,
+    /// Start yaw, rad.
+    pub start_yaw: f64,
+    /// Start pitch, rad.
+    pub start_pitch: f64,
+    /// The world.
+    pub terrain: TerrainModel,
+    /// Solver.
+    pub solver: SolverSettings,
+    /// Duration, s.
+    pub duration: f64,
+    /// Output interval, s.
+    pub output_interval: f64,
+    /// Commands, sorted by time.
+    pub commands: Vec<Command>,
+    /// Outcome conditions.
+    pub outcome: OutcomeModel,
+    /// Track method name (`simulation.method`), resolved by the track layer
+    /// (`tracks::Method::from_name`).
+    pub method: String,
+    /// Seed.
+    pub seed: u64,
+}

@@ -1,0 +1,170 @@
+//! The compiled vehicle: chassis, flippers and tracks with their collision and grouser shapes,
+//! in SI units and radians, as [`compile_vehicle`](super::compile_vehicle) produces them.
+
+use crate::geometry::{GrouserLayout, TrackPath};
+use glam::DVec3;
+use rapier3d::prelude::CoefficientCombineRule;
+
+/// A compiled collision shape in its owner's frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CollisionShape {
+    /// Box with half extents, centred at `centre`, m.
+    Box {
+        /// Half extents, m.
+        half: DVec3,
+        /// Centre, m.
+        centre: DVec3,
+    },
+    /// Convex hull of points, m.
+    Convex(Vec<DVec3>),
+}
+
+impl CollisionShape {
+    /// Axis-aligned bounds (min, max), m.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        match self {
+            CollisionShape::Box { half, centre } => (*centre - *half, *centre + *half),
+            CollisionShape::Convex(p) => p.iter().fold(
+                (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+                |(lo, hi), q| (lo.min(*q), hi.max(*q)),
+            ),
+        }
+    }
+}
+
+/// The chassis.
+#[derive(Clone, Debug)]
+pub struct BodyModel {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass in the body frame, m.
+    pub com: DVec3,
+    /// Principal inertia along the body axes, kg m^2.
+    pub inertia: DVec3,
+    /// Collision shape.
+    pub shape: CollisionShape,
+    /// Friction coefficient.
+    pub friction: f64,
+}
+
+/// A flipper arm.
+#[derive(Clone, Debug)]
+pub struct FlipperModel {
+    /// Name.
+    pub name: String,
+    /// Pivot in the body frame, m.
+    pub pivot: DVec3,
+    /// Unit joint axis in the body frame.
+    pub axis: DVec3,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass (body frame at angle 0), m.
+    pub com: DVec3,
+    /// Principal inertia, kg m^2.
+    pub inertia: DVec3,
+    /// Optional arm shape (body frame at angle 0).
+    pub shape: Option<CollisionShape>,
+    /// Initial angle, rad.
+    pub initial_angle: f64,
+    /// Torque limit, N m.
+    pub max_torque: f64,
+    /// Position gain, N m / rad.
+    pub stiffness: f64,
+    /// Velocity gain, N m s / rad.
+    pub damping: f64,
+}
+
+/// A grouser shape in its footprint frame (x along, y across, z out), m.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GrouserShape {
+    /// Cuboid: half extents and centre.
+    Box {
+        /// Half extents, m.
+        half: DVec3,
+        /// Centre, m.
+        centre: DVec3,
+    },
+    /// Convex hull of points, m.
+    Convex(Vec<DVec3>),
+}
+
+/// The grousers of one track.
+#[derive(Clone, Debug)]
+pub struct GrouserModel {
+    /// Layout along the loop.
+    pub layout: GrouserLayout,
+    /// Shapes used in turn.
+    pub shapes: Vec<GrouserShape>,
+    /// Largest outward extent of any shape, m.
+    pub height: f64,
+}
+
+/// What a track hangs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Parent {
+    /// The chassis.
+    Body,
+    /// The flipper with this index.
+    Flipper(usize),
+}
+
+/// One track.
+#[derive(Clone, Debug)]
+pub struct TrackModel {
+    /// Name.
+    pub name: String,
+    /// What it hangs on.
+    pub parent: Parent,
+    /// The loop, in the parent frame (for flippers: the body frame at angle 0).
+    pub path: TrackPath,
+    /// Belt width, m.
+    pub width: f64,
+    /// Belt thickness, m.
+    pub belt_thickness: f64,
+    /// Belt mass, kg.
+    pub belt_mass: f64,
+    /// Friction coefficient.
+    pub friction: f64,
+    /// Friction combine rule.
+    pub combine: CoefficientCombineRule,
+    /// Sprocket pitch radius, m.
+    pub sprocket_radius: Option<f64>,
+    /// Which segments get a link (false: omitted).
+    pub included: Vec<bool>,
+    /// Grousers, if any.
+    pub grousers: Option<GrouserModel>,
+}
+
+/// A compiled vehicle.
+#[derive(Clone, Debug)]
+pub struct VehicleModel {
+    /// Name.
+    pub name: String,
+    /// Description.
+    pub description: String,
+    /// Chassis.
+    pub body: BodyModel,
+    /// Flippers.
+    pub flippers: Vec<FlipperModel>,
+    /// Tracks.
+    pub tracks: Vec<TrackModel>,
+}
+
+impl TrackModel {
+    /// Lateral position (y) of the track's mid-plane in its parent frame, m.
+    pub fn lateral_offset(&self) -> f64 {
+        let segs = self.path.segments();
+        segs.iter().map(|s| s.start().y).sum::<f64>() / segs.len() as f64
+    }
+}
+
+impl VehicleModel {
+    /// Index of the track called `name`.
+    pub fn track_index(&self, name: &str) -> Option<usize> {
+        self.tracks.iter().position(|t| t.name == name)
+    }
+    /// Index of the flipper called `name`.
+    pub fn flipper_index(&self, name: &str) -> Option<usize> {
+        self.flippers.iter().position(|f| f.name == name)
+    }
+}
