@@ -15,8 +15,8 @@
 //! Every run is an ordinary scenario run ([`crate::run_scenario`]) under a unique case name
 //! (`table_iv/00deg_120mm/grousers_slop10`, `slope/31deg`, `turning/spin`, `fig2/okada2020`,
 //! ...); they run in parallel on the machine's cores and the report looks each result up by
-//! its name. The stages live in one file each: [`table_iv`], [`slope`], [`turning`],
-//! [`figures`]; the report in [`report`].
+//! its name. The stages live in one file each under `validate/`: `table_iv.rs`, `slope.rs`,
+//! `turning.rs`, `figures.rs`; the report in `report.rs`.
 
 mod figures;
 mod report;
