@@ -4,7 +4,7 @@
 
 use super::{HeightFieldModel, TerrainModel};
 use crate::check::{f, q};
-use glam::DQuat;
+use glam::{DQuat, DVec3};
 use rapier3d::parry::shape::TriMeshFlags;
 use rapier3d::prelude::*;
 
@@ -25,22 +25,27 @@ pub const GROUND_RECENTRE_M: f64 = 4.0;
 const GROUND_TILE_THICKNESS_M: f64 = 1.0;
 
 impl TerrainModel {
-    /// Inserts the terrain as colliders on one fixed body of `world`, in collision `groups`.
+    /// Inserts the terrain as colliders on one fixed body of `world`, in collision `groups`,
+    /// in coordinates relative to `origin` (the world point, m, that is the Rapier world's
+    /// origin: every position is taken relative to it in f64 before it becomes f32, so terrain
+    /// far from the world origin keeps its precision near `origin`).
     /// `[terrain.ground]` becomes an infinite half-space, or, with `ground_tile`, a
-    /// [`GROUND_TILE_HALF_M`] box on its own fixed body centred at (x, y) = `ground_tile`,
-    /// whose handle is returned (move it with [`Self::recentre_ground_tile`]).
+    /// [`GROUND_TILE_HALF_M`] box on its own fixed body centred at (x, y) = `ground_tile`
+    /// (Rapier coordinates), whose handle is returned (move it with
+    /// [`Self::recentre_ground_tile`]).
     pub fn insert_into(
         &self,
         world: &mut PhysicsWorld,
         groups: InteractionGroups,
         ground_tile: Option<(f64, f64)>,
+        origin: DVec3,
     ) -> Option<RigidBodyHandle> {
         let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
         let mut tile = None;
         if let Some((z, mu)) = self.ground {
             let c = match ground_tile {
                 None => ColliderBuilder::new(SharedShape::halfspace(Vector::Z))
-                    .translation(Vector::new(0.0, 0.0, z as f32)),
+                    .translation(Vector::new(0.0, 0.0, (z - origin.z) as f32)),
                 Some(_) => ColliderBuilder::cuboid(
                     GROUND_TILE_HALF_M as f32,
                     GROUND_TILE_HALF_M as f32,
@@ -49,7 +54,7 @@ impl TerrainModel {
                 .translation(Vector::new(
                     0.0,
                     0.0,
-                    (z - GROUND_TILE_THICKNESS_M / 2.0) as f32,
+                    (z - origin.z - GROUND_TILE_THICKNESS_M / 2.0) as f32,
                 )),
             }
             .friction(mu as f32)
@@ -77,7 +82,7 @@ impl TerrainModel {
         for b in &self.boxes {
             add(
                 ColliderBuilder::cuboid(b.half.x as f32, b.half.y as f32, b.half.z as f32)
-                    .position(Pose::from_parts(f(b.centre), q(b.rotation()))),
+                    .position(Pose::from_parts(f(b.centre - origin), q(b.rotation()))),
                 b.friction,
             );
         }
@@ -85,7 +90,7 @@ impl TerrainModel {
             // Rapier's cylinder axis is its local y.
             add(
                 ColliderBuilder::cylinder(cy.half_length as f32, cy.radius as f32).position(
-                    Pose::from_parts(f(cy.centre), q(DQuat::from_rotation_z(cy.yaw))),
+                    Pose::from_parts(f(cy.centre - origin), q(DQuat::from_rotation_z(cy.yaw))),
                 ),
                 cy.friction,
             );
@@ -104,12 +109,12 @@ impl TerrainModel {
                     Vector::new(h.size_x as f32, 1.0, h.size_y as f32),
                     HeightFieldFlags::FIX_INTERNAL_EDGES,
                 )
-                .position(Pose::from_parts(f(h.centre), q(h.pose()))),
+                .position(Pose::from_parts(f(h.centre - origin), q(h.pose()))),
                 h.friction,
             );
         }
         for m in &self.meshes {
-            let verts = m.vertices.iter().map(|v| f(*v)).collect();
+            let verts = m.vertices.iter().map(|v| f(*v - origin)).collect();
             // Cannot fail: compile_terrain keeps only meshes with triangles.
             if let Ok(b) = ColliderBuilder::trimesh_with_flags(
                 verts,

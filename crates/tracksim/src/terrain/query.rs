@@ -80,7 +80,12 @@ impl TerrainModel {
     /// [`Self::height_at`] for many points at once (builds the terrain once), m.
     pub fn heights_at(&self, points: &[(f64, f64)]) -> Vec<Option<f64>> {
         let mut world = PhysicsWorld::new();
-        self.insert_into(&mut world, InteractionGroups::all(), None);
+        self.insert_into(
+            &mut world,
+            InteractionGroups::all(),
+            None,
+            glam::DVec3::ZERO,
+        );
         world.step_with_events(&(), &()); // no dynamic bodies: only updates the query structures
         // Rays start just above the highest surface: from far above, f32 rounding of the
         // shapes' rotations would be magnified by the distance.

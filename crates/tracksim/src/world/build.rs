@@ -1,12 +1,13 @@
 //! The build stages of [`Simulation::new`]: world settings, terrain, chassis, flippers, tracks
 //! (by their method), contact slop, then placement on the terrain.
 
+use super::origin::shift_for;
 use super::{Flipper, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
 use crate::tracks::{BuildContext, Method, SLOP_TAG, Track, vehicle_groups, world_groups};
-use glam::DQuat;
+use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 use std::sync::Arc;
 
@@ -18,10 +19,14 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
             issues: vec![issue],
         })?;
     let mut world = new_world(&sc.solver);
-    let ground_tile = sc
-        .terrain
-        .insert_into(&mut world, world_groups(), Some(sc.start_xy));
-    let start = start_pose(&sc);
+    let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
+    let ground_tile = sc.terrain.insert_into(
+        &mut world,
+        world_groups(),
+        Some((sc.start_xy.0 - origin.x, sc.start_xy.1 - origin.y)),
+        origin,
+    );
+    let start = start_pose(&sc, origin);
     let v = &sc.vehicle;
     let body = insert_chassis(&mut world, v, start)?;
     let flippers = insert_flippers(&mut world, v, body, start)?;
@@ -31,6 +36,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     }
     let mut sim = Simulation {
         world,
+        origin,
         method,
         slop: sc.solver.contact_slop as f32,
         ground_tile,
@@ -61,11 +67,15 @@ fn new_world(solver: &SolverSettings) -> PhysicsWorld {
     world
 }
 
-/// The start pose at z = 0 (placement lifts it onto the terrain).
-fn start_pose(sc: &Scenario) -> Pose {
+/// The start pose at z = 0 (placement lifts it onto the terrain), relative to `origin`.
+fn start_pose(sc: &Scenario, origin: DVec3) -> Pose {
     let start_rot = DQuat::from_rotation_z(sc.start_yaw) * DQuat::from_rotation_y(sc.start_pitch);
     Pose::from_parts(
-        Vector::new(sc.start_xy.0 as f32, sc.start_xy.1 as f32, 0.0),
+        Vector::new(
+            (sc.start_xy.0 - origin.x) as f32,
+            (sc.start_xy.1 - origin.y) as f32,
+            0.0,
+        ),
         q(start_rot),
     )
 }
@@ -269,7 +279,7 @@ fn place(sim: &mut Simulation) {
                 for p in shape_points(col.shape()) {
                     let w = pose.transform_point(p);
                     let below = sim
-                        .terrain_below(w.x as f64, w.y as f64)
+                        .terrain_below_local(w.x as f64, w.y as f64)
                         .unwrap_or(ground_z);
                     dz = dz.max(below + START_CLEARANCE_M - w.z as f64);
                 }

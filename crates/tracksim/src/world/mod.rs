@@ -8,13 +8,15 @@
 //!   contacts to the track that owns them);
 //! - [`step`]: the stages of one step;
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
-//! - [`load`]: loading a scenario with the track method checked with every other key.
+//! - [`load`]: loading a scenario with the track method checked with every other key;
+//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle.
 
 #![warn(clippy::too_many_lines)]
 
 pub mod build;
 pub mod contacts;
 pub mod load;
+pub mod origin;
 pub mod sample;
 pub mod step;
 
@@ -47,8 +49,11 @@ pub(crate) struct Flipper {
 
 /// A vehicle on a terrain in a Rapier world, advanced one step at a time.
 pub struct Simulation {
-    /// The Rapier world; public for inspection (and for advanced users).
+    /// The Rapier world; public for inspection (and for advanced users). Its coordinates are
+    /// relative to [`Simulation::origin`] (the floating origin).
     pub world: PhysicsWorld,
+    /// World position of the Rapier world's origin, m.
+    origin: DVec3,
     /// The compiled scenario it was built from (shared: many simulations can hold one).
     scenario: Arc<Scenario>,
     method: Method,

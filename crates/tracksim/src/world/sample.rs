@@ -63,9 +63,15 @@ pub struct Sample {
 }
 
 impl Simulation {
-    /// Height of the terrain surface below (x, y), m, by a downward ray that sees only the
-    /// terrain; `None` if there is no terrain there (off the edge).
+    /// Height of the terrain surface below the world point (x, y), m, by a downward ray that
+    /// sees only the terrain; `None` if there is no terrain there (off the edge).
     pub fn terrain_below(&self, x: f64, y: f64) -> Option<f64> {
+        self.terrain_below_local(x - self.origin.x, y - self.origin.y)
+            .map(|z| z + self.origin.z)
+    }
+
+    /// [`Simulation::terrain_below`] for a point in the Rapier world's coordinates, m.
+    pub(crate) fn terrain_below_local(&self, x: f64, y: f64) -> Option<f64> {
         let top = 1000.0f32;
         let ray = Ray::new(Vector::new(x as f32, y as f32, top), Vector::NEG_Z);
         let filter = QueryFilter::default().groups(InteractionGroups::new(
@@ -78,9 +84,13 @@ impl Simulation {
             .map(|(_, toi)| (top - toi) as f64)
     }
 
-    /// Pose of the chassis.
+    /// Pose of the chassis in world coordinates.
     pub fn body_pose(&self) -> PoseRpy {
-        PoseRpy::from_pose(self.world.bodies[self.body].position())
+        let mut p = PoseRpy::from_pose(self.world.bodies[self.body].position());
+        p.x += self.origin.x;
+        p.y += self.origin.y;
+        p.z += self.origin.z;
+        p
     }
 
     /// Number of active solver contact points in the world.

@@ -8,6 +8,7 @@ use crate::error::{Error, Result};
 impl Simulation {
     /// Advances the simulation by one time step with the controls set so far.
     pub fn step(&mut self) -> Result<()> {
+        self.follow_origin();
         self.recentre_ground_tile();
         let hooks = ContactHooks {
             slop: self.slop,
