@@ -642,6 +642,37 @@ fn bench_batch(
     Ok(())
 }
 
+/// The design figures of a vehicle (`model::design_report`), one line each, with warnings.
+fn design_lines(v: &tracksim::VehicleModel) -> String {
+    let d = tracksim::model::design_report(v);
+    let mut text = String::new();
+    for t in &d.tracks {
+        text.push_str(&format!(
+            "\n       track {:<16} loop {:.4} m",
+            t.name, t.loop_length_m
+        ));
+        if let (Some(p), Some(g), Some(gap)) = (t.pitch_m, t.grouser_length_m, t.gap_m) {
+            text.push_str(&format!(
+                ", {} grousers: pitch {:.1} mm, grouser {:.1} mm, gap {:.1} mm",
+                t.grousers,
+                p * 1000.0,
+                g * 1000.0,
+                gap * 1000.0
+            ));
+        }
+    }
+    if let Some(c) = d.ground_clearance_m {
+        text.push_str(&format!(
+            "\n       ground clearance {:.1} mm (body above the track bottoms)",
+            c * 1000.0
+        ));
+    }
+    for w in &d.warnings {
+        text.push_str(&format!("\n       warning: {w}"));
+    }
+    text
+}
+
 /// Tells a vehicle file from a scenario file by its top-level keys.
 fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
     let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
@@ -665,13 +696,32 @@ fn check(files: &[PathBuf]) -> Result<(), Failure> {
     for f in files {
         let r = is_vehicle_file(f).and_then(|vehicle| {
             if vehicle {
-                tracksim::load_vehicle(f).map(|v| format!("vehicle \"{}\"", v.name))
+                tracksim::load_vehicle(f)
+                    .map(|v| format!("vehicle \"{}\"{}", v.name, design_lines(&v)))
             } else {
-                tracksim::load_scenario(f).map(|s| {
-                    format!(
-                        "scenario with vehicle \"{}\", {:.1} s",
-                        s.vehicle.name, s.duration
-                    )
+                tracksim::load_scenario(f).and_then(|s| {
+                    // Build it (no step) to show what is simulated: every part's mass.
+                    let sim = tracksim::Simulation::new(&s)?;
+                    let m = sim.mass_report();
+                    let mut text = format!(
+                        "scenario with vehicle \"{}\", {:.1} s, method {}\n       mass simulated {:.3} kg (file {:.3} kg), centre of mass [{:.4}, {:.4}, {:.4}] m (body frame)",
+                        s.vehicle.name,
+                        s.duration,
+                        sim.method(),
+                        m.total_simulated_kg,
+                        m.total_file_kg,
+                        m.centre_of_mass_body_m[0],
+                        m.centre_of_mass_body_m[1],
+                        m.centre_of_mass_body_m[2]
+                    );
+                    for p in &m.parts {
+                        text.push_str(&format!(
+                            "\n       {:<22} {:8.3} kg simulated, {:8.3} kg in the file",
+                            p.part, p.simulated_kg, p.file_kg
+                        ));
+                    }
+                    text.push_str(&design_lines(&s.vehicle));
+                    Ok(text)
                 })
             }
         });

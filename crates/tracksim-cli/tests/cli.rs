@@ -568,3 +568,34 @@ fn bench_jobs_runs_every_selected_case_and_method() {
         assert!((e["batch"]["simulated_s"].as_f64().unwrap() - 0.2).abs() < 1e-6);
     }
 }
+
+#[test]
+fn check_prints_masses_design_figures_and_warnings() {
+    let o = run(&["check", "scenarios/packbot_flat.toml"]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(
+        o.stdout
+            .contains("mass simulated 13.000 kg (file 13.000 kg)"),
+        "{}",
+        o.stdout
+    );
+    assert!(o.stdout.contains("track left"), "{}", o.stdout);
+    assert!(
+        o.stdout
+            .contains("40 grousers: pitch 38.4 mm, grouser 5.0 mm, gap 33.4 mm"),
+        "{}",
+        o.stdout
+    );
+    // 3,600 grousers on a 1.5 m loop overlap: a warning, not an error.
+    let dir = tempfile::tempdir().unwrap();
+    let text = FLAT.replace("[terrain.ground]", "grouser_count = 3600\n[terrain.ground]");
+    let f = scenario(dir.path(), "dense.toml", &text);
+    let o = run(&["check", f.to_str().unwrap()]);
+    assert_eq!(o.code, 0, "{}", o.stdout);
+    assert!(
+        o.stdout
+            .contains("warning: track left: its 3600 grousers overlap"),
+        "{}",
+        o.stdout
+    );
+}

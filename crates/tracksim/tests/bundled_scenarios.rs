@@ -2,16 +2,10 @@
 //! unstable, and the vehicle stays on its terrain at a plausible height (issue 3).
 
 mod common;
-use common::root;
 
 #[test]
 fn every_bundled_scenario_runs() {
-    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = common::bundled_scenarios();
     assert!(files.len() >= 4, "{files:?}");
     for f in files {
         let mut sc = tracksim::load_scenario(&f).unwrap_or_else(|e| panic!("{e}"));

@@ -34,12 +34,7 @@ fn hash_run(file: &std::path::Path, method: &str) -> String {
 
 #[test]
 fn bundled_trajectories_are_unchanged() {
-    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    files.sort();
+    let files = common::bundled_scenarios();
     let mut got = BTreeMap::new();
     for f in &files {
         let name = f.file_name().unwrap().to_string_lossy().to_string();

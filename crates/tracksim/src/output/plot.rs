@@ -510,12 +510,20 @@ mod tests {
                 elapsed_time_s: sim_time / 5.0,
                 paced_real_time_factor: 5.0,
                 paced: false,
+                mass: crate::world::MassReport {
+                    parts: Vec::new(),
+                    total_file_kg: 13.0,
+                    total_simulated_kg: 13.0,
+                    centre_of_mass_body_m: [0.0; 3],
+                },
                 mean_speed_mps: if sim_time > 0.0 {
                     (last.x - first.x) / sim_time
                 } else {
                     0.0
                 },
                 distance_m: (last.x - first.x).abs(),
+                net_displacement_m: (last.x - first.x).abs(),
+                progress_m: last.x - first.x,
                 initial_pose: first,
                 final_pose: last,
                 outcome: "completed".into(),

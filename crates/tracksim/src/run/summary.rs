@@ -33,8 +33,13 @@ pub struct Summary {
     pub paced: bool,
     /// Displacement along the start heading divided by simulated time, m/s.
     pub mean_speed_mps: f64,
-    /// Horizontal path length of the body, m.
+    /// Horizontal path length of the body, m, counted in steps of at least
+    /// [`PATH_RESOLUTION_M`] so that jitter of a stalled robot does not add up.
     pub distance_m: f64,
+    /// Horizontal straight-line distance from the start to the end, m.
+    pub net_displacement_m: f64,
+    /// Progress along the start heading, m (negative: backwards).
+    pub progress_m: f64,
     /// Pose at the start (after placement).
     pub initial_pose: PoseRpy,
     /// Pose at the end.
@@ -55,6 +60,8 @@ pub struct Summary {
     pub max_link_error_rad: f64,
     /// Deepest contact penetration seen in the trajectory rows, m (how far grousers sank).
     pub max_penetration_m: f64,
+    /// Simulated and file mass of every part, the totals, and the centre of mass.
+    pub mass: crate::world::MassReport,
 }
 
 /// Solver settings reported with every run.
@@ -88,6 +95,33 @@ impl SolverSummary {
     }
 }
 
+/// Smallest horizontal move, m, that the path length counts: the body's position is taken as
+/// a new point of the path only once it is this far from the last one (a stalled robot that
+/// jitters by millimetres adds nothing; a driving one loses at most this much per turn).
+pub const PATH_RESOLUTION_M: f64 = 0.01;
+
+/// Horizontal path length of the samples, m, at [`PATH_RESOLUTION_M`], with the last partial
+/// stretch to the final sample included.
+pub fn path_length(samples: &[Sample]) -> f64 {
+    let Some(first) = samples.first() else {
+        return 0.0;
+    };
+    let d = |a: &PoseRpy, b: &PoseRpy| ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+    let mut last = first.pose;
+    let mut total = 0.0;
+    for s in samples {
+        let step = d(&last, &s.pose);
+        if step >= PATH_RESOLUTION_M {
+            total += step;
+            last = s.pose;
+        }
+    }
+    if let Some(end) = samples.last() {
+        total += d(&last, &end.pose);
+    }
+    total
+}
+
 /// Wall-clock times of a run, s.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct WallTimes {
@@ -112,12 +146,7 @@ impl Summary {
         let last = samples.last().map(|s| s.pose).unwrap_or(first);
         let (c, s) = (first.yaw.cos(), first.yaw.sin());
         let forward = (last.x - first.x) * c + (last.y - first.y) * s;
-        let distance = samples
-            .windows(2)
-            .map(|w| {
-                ((w[1].pose.x - w[0].pose.x).powi(2) + (w[1].pose.y - w[0].pose.y).powi(2)).sqrt()
-            })
-            .sum();
+        let distance = path_length(samples);
         let (err_m, err_rad) = sim.max_link_error();
         let sim_time = sim.time();
         Summary {
@@ -134,6 +163,8 @@ impl Summary {
             paced: wall.paced,
             mean_speed_mps: forward / sim_time,
             distance_m: distance,
+            net_displacement_m: ((last.x - first.x).powi(2) + (last.y - first.y).powi(2)).sqrt(),
+            progress_m: forward,
             initial_pose: first,
             final_pose: last,
             outcome: outcome.0.name().to_string(),
@@ -144,6 +175,63 @@ impl Summary {
             max_link_error_m: err_m,
             max_link_error_rad: err_rad,
             max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
+            mass: sim.mass_report(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(t: f64, x: f64, y: f64) -> Sample {
+        Sample {
+            t,
+            pose: PoseRpy {
+                x,
+                y,
+                ..Default::default()
+            },
+            linvel: [0.0; 3],
+            angvel: [0.0; 3],
+            belt_speed: Vec::new(),
+            belt_phase: Vec::new(),
+            flipper_angle: Vec::new(),
+            contacts: 0,
+            penetration: 0.0,
+        }
+    }
+
+    /// Issue 11.3: a robot stalled at a step that jittered by millimetres reported 1.96 m of
+    /// path for 0.18 m of progress. Jitter of +-3 mm (x and y) every 10 ms for 10 s adds nothing; a
+    /// straight drive of 1 m in 3 mm samples counts 1 m.
+    #[test]
+    fn path_length_ignores_jitter_and_counts_driving() {
+        let jitter: Vec<Sample> = (0..1000)
+            .map(|i| {
+                let s = if i % 2 == 0 { 0.003 } else { -0.003 };
+                at(i as f64 * 0.01, 0.5 + s, s)
+            })
+            .collect();
+        let naive: f64 = jitter
+            .windows(2)
+            .map(|w| {
+                ((w[1].pose.x - w[0].pose.x).powi(2) + (w[1].pose.y - w[0].pose.y).powi(2)).sqrt()
+            })
+            .sum();
+        assert!(naive > 8.0, "{naive}");
+        assert!(
+            path_length(&jitter) < PATH_RESOLUTION_M,
+            "{}",
+            path_length(&jitter)
+        );
+        let drive: Vec<Sample> = (0..=333)
+            .map(|i| at(i as f64 * 0.01, i as f64 * 0.003, 0.0))
+            .collect();
+        assert!(
+            (path_length(&drive) - 0.999).abs() < 1e-9,
+            "{}",
+            path_length(&drive)
+        );
     }
 }

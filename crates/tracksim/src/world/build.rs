@@ -51,6 +51,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
     };
+    sim.conserve_mass(&sc)?;
     place(&mut sim);
     Ok(sim)
 }
@@ -252,7 +253,7 @@ fn shape_points(shape: &dyn rapier3d::parry::shape::Shape) -> Vec<Vector> {
 }
 
 /// Updates collider poses and the scene-query structures without advancing time.
-fn refresh_queries(world: &mut PhysicsWorld) {
+pub(crate) fn refresh_queries(world: &mut PhysicsWorld) {
     let dt = world.integration_parameters.dt;
     world.integration_parameters.dt = 0.0;
     world.step();

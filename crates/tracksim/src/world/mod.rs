@@ -9,6 +9,8 @@
 //! - [`step`]: the stages of one step;
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
 //! - [`load`]: loading a scenario with the track method checked with every other key;
+//! - [`mass`]: the vehicle weighs what its file says (floored link masses taken back from
+//!   their parents), and the report of every part's mass;
 //! - [`origin`]: the floating origin that keeps the f32 world near the vehicle.
 
 #![warn(clippy::too_many_lines)]
@@ -16,11 +18,13 @@
 pub mod build;
 pub mod contacts;
 pub mod load;
+pub mod mass;
 pub mod origin;
 pub mod sample;
 pub mod step;
 
 pub use load::{compile_scenario, load_scenario};
+pub use mass::{MassReport, PartMass};
 pub use sample::{PoseRpy, Sample};
 
 use crate::model::{Controls, Scenario};

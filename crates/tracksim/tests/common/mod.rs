@@ -47,3 +47,14 @@ pub fn pos(sim: &Scripted) -> (f64, f64, f64) {
     let p = sim.body_pose();
     (p.x, p.y, p.z)
 }
+
+/// Every bundled scenario file, sorted.
+pub fn bundled_scenarios() -> Vec<PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}

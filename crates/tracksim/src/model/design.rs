@@ -1,0 +1,170 @@
+//! What a designer needs to see before running (issue 11.3), from the compiled vehicle alone:
+//! per track the loop length, grouser pitch, grouser length and the gap between grousers; the
+//! ground clearance of the chassis; and warnings (not errors) about what is probably a mistake:
+//! overlapping grousers, a body reaching past the tracks, a centre of mass outside the tracks'
+//! footprint. `tracksim check` prints it.
+
+use super::{CollisionShape, GrouserShape, Parent, TrackModel, VehicleModel};
+use crate::geometry::Segment;
+use glam::DVec3;
+use serde::Serialize;
+
+/// One track's layout, m.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TrackDesign {
+    /// Track name.
+    pub name: String,
+    /// Loop length L, m.
+    pub loop_length_m: f64,
+    /// Number of grousers N (0 without).
+    pub grousers: usize,
+    /// Grouser pitch L / N, m (None without grousers).
+    pub pitch_m: Option<f64>,
+    /// Longest grouser footprint along the belt, m.
+    pub grouser_length_m: Option<f64>,
+    /// Pitch minus grouser length: free belt between grousers, m (negative: they overlap).
+    pub gap_m: Option<f64>,
+}
+
+/// The design figures of a vehicle.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DesignReport {
+    /// Every track.
+    pub tracks: Vec<TrackDesign>,
+    /// Height of the chassis's lowest point above the lowest point of the tracks on it (grouser
+    /// tips included), m, in the body frame at rest.
+    pub ground_clearance_m: Option<f64>,
+    /// Probable mistakes, in words.
+    pub warnings: Vec<String>,
+}
+
+/// Longest extent along the belt (x of the footprint frame) of a grouser shape, m.
+fn grouser_length(s: &GrouserShape) -> f64 {
+    match s {
+        GrouserShape::Box { half, .. } => 2.0 * half.x,
+        GrouserShape::Convex(pts) => {
+            let (lo, hi) = pts.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+                (lo.min(p.x), hi.max(p.x))
+            });
+            hi - lo
+        }
+    }
+}
+
+/// Points of a loop, parent frame, every 1 cm or so.
+fn loop_points(t: &TrackModel) -> Vec<DVec3> {
+    let l = t.path.length();
+    let n = ((l / 0.01).ceil() as usize).clamp(16, 10_000);
+    (0..n)
+        .map(|i| t.path.frame_at(l * i as f64 / n as f64).origin)
+        .collect()
+}
+
+fn track_design(t: &TrackModel, warnings: &mut Vec<String>) -> TrackDesign {
+    let l = t.path.length();
+    let n = t.grousers.as_ref().map(|g| g.layout.count).unwrap_or(0);
+    let pitch = (n > 0).then(|| l / n as f64);
+    let length = t
+        .grousers
+        .as_ref()
+        .map(|g| g.shapes.iter().map(grouser_length).fold(0.0, f64::max));
+    let gap = pitch.zip(length).map(|(p, g)| p - g);
+    if let (Some(gap), Some(p), Some(g)) = (gap, pitch, length)
+        && gap <= 0.0
+    {
+        warnings.push(format!(
+            "track {}: its {n} grousers overlap: pitch {:.1} mm is not more than the grouser length {:.1} mm (fewer grousers?)",
+            t.name,
+            p * 1000.0,
+            g * 1000.0
+        ));
+    }
+    TrackDesign {
+        name: t.name.clone(),
+        loop_length_m: l,
+        grousers: n,
+        pitch_m: pitch,
+        grouser_length_m: length,
+        gap_m: gap,
+    }
+}
+
+/// (min, max) corners of the chassis shape, body frame, m.
+fn body_bounds(shape: &CollisionShape) -> (DVec3, DVec3) {
+    shape.bounds()
+}
+
+/// The design report of `v`.
+pub fn design_report(v: &VehicleModel) -> DesignReport {
+    let mut warnings = Vec::new();
+    let tracks = v
+        .tracks
+        .iter()
+        .map(|t| track_design(t, &mut warnings))
+        .collect();
+    let on_body: Vec<&TrackModel> = v
+        .tracks
+        .iter()
+        .filter(|t| t.parent == Parent::Body)
+        .collect();
+    let (lo, hi) = body_bounds(&v.body.shape);
+    let mut ground_clearance = None;
+    if !on_body.is_empty() {
+        let pts: Vec<(DVec3, f64)> = on_body
+            .iter()
+            .flat_map(|t| {
+                let g = t.grousers.as_ref().map(|g| g.height).unwrap_or(0.0);
+                loop_points(t).into_iter().map(move |p| (p, g))
+            })
+            .collect();
+        let bottom = pts.iter().map(|(p, g)| p.z - g).fold(f64::MAX, f64::min);
+        ground_clearance = Some(lo.z - bottom);
+        let front = pts.iter().map(|(p, g)| p.x + g).fold(f64::MIN, f64::max);
+        let rear = pts.iter().map(|(p, g)| p.x - g).fold(f64::MAX, f64::min);
+        if hi.x > front + 1e-6 {
+            warnings.push(format!(
+                "the body reaches {:.1} mm past the front of the tracks: it meets a step before they do",
+                (hi.x - front) * 1000.0
+            ));
+        }
+        if lo.x < rear - 1e-6 {
+            warnings.push(format!(
+                "the body reaches {:.1} mm past the rear of the tracks",
+                (rear - lo.x) * 1000.0
+            ));
+        }
+        com_inside_footprint(v, &on_body, &mut warnings);
+    }
+    DesignReport {
+        tracks,
+        ground_clearance_m: ground_clearance,
+        warnings,
+    }
+}
+
+/// Warns when the chassis's centre of mass lies outside the footprint of its tracks' lower runs.
+fn com_inside_footprint(v: &VehicleModel, on_body: &[&TrackModel], warnings: &mut Vec<String>) {
+    let mut x = (f64::MAX, f64::MIN);
+    let mut y = (f64::MAX, f64::MIN);
+    for t in on_body {
+        let lowest = t
+            .path
+            .segments()
+            .iter()
+            .filter(|s| matches!(s, Segment::Straight { .. }))
+            .min_by(|a, b| a.start().z.total_cmp(&b.start().z));
+        if let Some(s) = lowest {
+            let (a, b) = (s.start(), s.point_tangent(s.length()).0);
+            x = (x.0.min(a.x.min(b.x)), x.1.max(a.x.max(b.x)));
+        }
+        let c = t.lateral_offset();
+        y = (y.0.min(c - t.width / 2.0), y.1.max(c + t.width / 2.0));
+    }
+    let c = v.body.com;
+    if x.0 <= x.1 && (c.x < x.0 || c.x > x.1 || c.y < y.0 || c.y > y.1) {
+        warnings.push(format!(
+            "the body's centre of mass ({:.3}, {:.3}) m is outside the tracks' footprint x {:.3}..{:.3}, y {:.3}..{:.3} m: it tips over at rest",
+            c.x, c.y, x.0, x.1, y.0, y.1
+        ));
+    }
+}
