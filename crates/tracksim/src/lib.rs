@@ -17,7 +17,7 @@
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
 //! - [`output`]: `trajectory.csv`, `summary.json`, plots;
 //! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
-//! - [`bench`], [`validate`]: the paper's Table II and Table IV.
+//! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
