@@ -2,10 +2,11 @@
 //! the bundled staircase, with the file's `[[commands]]` ignored. The controller drives forward
 //! at 0.3 m/s with the flippers raised to 35 deg, so their tips reach the first nosing; when
 //! the body pitches nose-up past 20 deg it is on the stairs (their slope is 26.6 deg) and the
-//! flippers go down to 20 deg to carry the front over the nosings; once the pitch falls below
-//! 10 deg (the landing) they are raised again (hysteresis between the two thresholds). It
-//! prints the pose every 0.5 s and every flipper change, and exits 1 if the flippers never
-//! reacted or the robot did not reach the landing. (Holding 35 deg on the stairs stalls the
+//! flippers go down to 20 deg to carry the front over the nosings; should the pitch fall below
+//! 10 deg again they are raised (hysteresis between the two thresholds). The run stops when
+//! the body reaches the landing (the scenario's success height). It prints the pose every
+//! 0.5 s and every flipper change, and exits 1 if the flippers never reacted or the robot did
+//! not reach the landing. (Holding 35 deg on the stairs stalls the
 //! robot at x = 1.88 m; holding 0 deg jams the tips against the first riser.)
 //!
 //! `cargo run --release -p tracksim --example stairs_controller`

@@ -4,7 +4,7 @@
 //! overlapping grousers, a body reaching past the tracks, a centre of mass outside the tracks'
 //! footprint. `tracksim check` prints it.
 
-use super::{CollisionShape, GrouserShape, Parent, TrackModel, VehicleModel};
+use super::{GrouserShape, Parent, TrackModel, VehicleModel};
 use crate::geometry::Segment;
 use glam::DVec3;
 use serde::Serialize;
@@ -89,11 +89,6 @@ fn track_design(t: &TrackModel, warnings: &mut Vec<String>) -> TrackDesign {
     }
 }
 
-/// (min, max) corners of the chassis shape, body frame, m.
-fn body_bounds(shape: &CollisionShape) -> (DVec3, DVec3) {
-    shape.bounds()
-}
-
 /// The design report of `v`.
 pub fn design_report(v: &VehicleModel) -> DesignReport {
     let mut warnings = Vec::new();
@@ -107,7 +102,7 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
         .iter()
         .filter(|t| t.parent == Parent::Body)
         .collect();
-    let (lo, hi) = body_bounds(&v.body.shape);
+    let (lo, hi) = v.body.shape.bounds();
     let mut ground_clearance = None;
     if !on_body.is_empty() {
         let pts: Vec<(DVec3, f64)> = on_body

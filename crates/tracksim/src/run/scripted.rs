@@ -23,6 +23,14 @@ impl Scripted {
         })
     }
 
+    /// Rebuilds the simulation from its compiled scenario ([`Simulation::reset`]) and starts
+    /// the command timeline again from its first command.
+    pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
+        self.sim.reset(seed)?;
+        self.timeline.rewind();
+        Ok(())
+    }
+
     /// Applies the commands that have fallen due, then advances one step.
     pub fn step(&mut self) -> Result<()> {
         for c in self.timeline.due(self.sim.time()) {

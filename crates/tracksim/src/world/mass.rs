@@ -106,31 +106,20 @@ impl Simulation {
                 (carry, carry_moment) = (excess, excess_moment);
                 continue;
             }
-            self.give_back(ph, pi, excess, excess_moment, sc)?;
+            self.give_back(ph, excess, excess_moment, sc)?;
         }
         Ok(())
     }
 
-    /// Removes `excess` kg with world moment `excess_moment` kg m from parent `ph`.
+    /// Removes `excess` kg with world moment `excess_moment` kg m from the chassis `ph`.
     fn give_back(
         &mut self,
         ph: RigidBodyHandle,
-        pi: usize,
         excess: f64,
         excess_moment: DVec3,
         sc: &Scenario,
     ) -> Result<()> {
-        let (name, file_mass, file_inertia) = match pi {
-            0 => (
-                "body".to_string(),
-                sc.vehicle.body.mass,
-                sc.vehicle.body.inertia,
-            ),
-            i => {
-                let f = &sc.vehicle.flippers[i - 1];
-                (format!("flipper {}", f.name), f.mass, f.inertia)
-            }
-        };
+        let (file_mass, file_inertia) = (sc.vehicle.body.mass, sc.vehicle.body.inertia);
         let b = &self.world.bodies[ph];
         let m = b.mass() as f64;
         let c = b.center_of_mass();
@@ -142,14 +131,14 @@ impl Simulation {
                 issues: vec![crate::error::SpecIssue::new(
                     "simulation.min_link_mass_kg",
                     format!(
-                        "the floor {} kg adds {excess:.3} kg to the tracks on the {name}, more than {:.0} % of its {file_mass} kg can give back; lower min_link_mass_kg or raise the belts' belt_mass_kg",
+                        "the floor {} kg adds {excess:.3} kg to the tracks, more than {:.0} % of the body's {file_mass} kg can give back; lower min_link_mass_kg or raise the belts' belt_mass_kg",
                         sc.solver.min_link_mass,
                         100.0 * (1.0 - MIN_PARENT_MASS_FRACTION)
                     ),
                 )],
             });
         }
-        // The parent's new centre of mass keeps the vehicle's where the file puts it.
+        // The chassis's new centre of mass keeps the vehicle's where the file puts it.
         let c_new = (c * m - excess_moment) / m_new;
         let pose = *b.position();
         let local = pose.inverse_transform_point(crate::check::f(c_new));
@@ -179,7 +168,8 @@ impl Simulation {
             parts.push(PartMass {
                 part: format!("track {}", t.name),
                 file_kg: t.belt_mass,
-                simulated_kg: rt.bodies().into_iter().map(mass).sum(),
+                // `+ 0.0`: an empty sum is -0.0.
+                simulated_kg: rt.bodies().into_iter().map(mass).sum::<f64>() + 0.0,
             });
         }
         let (m, moment) = mass_moment(&self.world, &self.vehicle_bodies());
