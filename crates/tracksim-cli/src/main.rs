@@ -667,6 +667,11 @@ fn design_lines(v: &tracksim::VehicleModel) -> String {
             c * 1000.0
         ));
     }
+    if let Some(a) = d.approach_angle_deg {
+        text.push_str(&format!(
+            "\n       approach angle {a:.1} deg (steepest ramp the tracks meet before the body)"
+        ));
+    }
     for w in &d.warnings {
         text.push_str(&format!("\n       warning: {w}"));
     }

@@ -176,6 +176,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         min_link_mass: s.min_link_mass_kg,
         prediction_distance: s.prediction_distance_m,
         contact_slop: s.contact_slop_m,
+        held_friction_in_bias_pass: s.held_friction_in_bias_pass,
     }
 }
 

@@ -536,6 +536,7 @@ mod tests {
                     min_link_mass_kg: 0.02,
                     prediction_distance_m: 0.02,
                     contact_slop_m: 0.0,
+                    held_friction_in_bias_pass: true,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,

@@ -79,6 +79,8 @@ pub struct SolverSummary {
     pub prediction_distance_m: f64,
     /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
     pub contact_slop_m: f64,
+    /// Friction in Rapier's position-correction pass while every belt is held.
+    pub held_friction_in_bias_pass: bool,
 }
 
 impl SolverSummary {
@@ -91,6 +93,7 @@ impl SolverSummary {
             min_link_mass_kg: sc.solver.min_link_mass,
             prediction_distance_m: sc.solver.prediction_distance,
             contact_slop_m: sc.solver.contact_slop,
+            held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
         }
     }
 }

@@ -39,6 +39,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         origin,
         method,
         slop: sc.solver.contact_slop as f32,
+        held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
         ground_tile,
         body,
         tracks,

@@ -63,6 +63,9 @@ pub struct Simulation {
     method: Method,
     /// Uncorrected penetration of vehicle contacts, m (`simulation.contact_slop_m`).
     slop: f32,
+    /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
+    /// Rapier's position-correction pass (the brake holds).
+    held_friction_in_bias_pass: bool,
     /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
     ground_tile: Option<RigidBodyHandle>,
     body: RigidBodyHandle,
