@@ -148,6 +148,8 @@ pub struct VehicleModel {
     pub flippers: Vec<FlipperModel>,
     /// Tracks.
     pub tracks: Vec<TrackModel>,
+    /// Effective track separation of the skid-steer odometry, m (`None`: geometric).
+    pub odometry_separation: Option<f64>,
 }
 
 impl TrackModel {

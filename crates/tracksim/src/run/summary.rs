@@ -62,6 +62,10 @@ pub struct Summary {
     pub max_penetration_m: f64,
     /// Simulated and file mass of every part, the totals, and the centre of mass.
     pub mass: crate::world::MassReport,
+    /// Every track: belt speeds, slip, traction, normal load, contacts.
+    pub tracks: Vec<super::TrackSummary>,
+    /// Odometry against the ground truth at the end.
+    pub odometry: super::OdometrySummary,
 }
 
 /// Solver settings reported with every run.
@@ -179,6 +183,8 @@ impl Summary {
             max_link_error_rad: err_rad,
             max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
             mass: sim.mass_report(),
+            tracks: super::track_summaries(sim.track_names(), samples),
+            odometry: super::odometry_summary(samples),
         }
     }
 }
@@ -200,8 +206,7 @@ mod tests {
             belt_speed: Vec::new(),
             belt_phase: Vec::new(),
             flipper_angle: Vec::new(),
-            contacts: 0,
-            penetration: 0.0,
+            ..Default::default()
         }
     }
 

@@ -20,6 +20,18 @@ pub struct VehicleSpec {
     pub flippers: Vec<FlipperSpec>,
     /// Tracks, on the body or on flippers.
     pub tracks: Vec<TrackSpec>,
+    /// What the robot's encoders report (`odom_*` columns).
+    #[serde(default)]
+    pub odometry: Option<OdometrySpec>,
+}
+
+/// Skid-steer odometry settings.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OdometrySpec {
+    /// Effective track separation of the skid-steer model, m (default: the distance between
+    /// the left and right chassis tracks' mid-planes; skid turns need more, see README).
+    pub track_separation_m: Option<f64>,
 }
 
 /// A collision shape.

@@ -2,7 +2,7 @@
 //! (by their method), contact slop, then placement on the terrain.
 
 use super::origin::shift_for;
-use super::{Flipper, START_CLEARANCE_M, Simulation};
+use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
@@ -51,10 +51,28 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
         flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
+        odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
     };
     sim.conserve_mass(&sc)?;
     place(&mut sim);
+    sim.odometry = start_odometry(&sim);
     Ok(sim)
+}
+
+/// Odometry at the placed start pose over the chassis tracks (REP 105: the odom frame
+/// coincides with the world at the start).
+fn start_odometry(sim: &Simulation) -> Odometry {
+    let v = &sim.scenario.vehicle;
+    let offsets: Vec<Option<f64>> = v
+        .tracks
+        .iter()
+        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
+        .collect();
+    let b = v
+        .odometry_separation
+        .unwrap_or_else(|| Odometry::geometric_separation(&offsets));
+    let p = sim.body_pose();
+    Odometry::new(&offsets, b, p.x, p.y, p.yaw)
 }
 
 /// An empty world with the scenario's solver settings, z up.

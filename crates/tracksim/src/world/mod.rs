@@ -11,7 +11,9 @@
 //! - [`load`]: loading a scenario with the track method checked with every other key;
 //! - [`mass`]: the vehicle weighs what its file says (floored link masses taken back from
 //!   their parents), and the report of every part's mass;
-//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle.
+//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle;
+//! - [`odometry`]: what the robot's encoders report (skid-steer dead reckoning);
+//! - [`track_loads`]: the terrain's force on each track (contacts, normal load, traction).
 
 #![warn(clippy::too_many_lines)]
 
@@ -19,13 +21,17 @@ pub mod build;
 pub mod contacts;
 pub mod load;
 pub mod mass;
+pub mod odometry;
 pub mod origin;
 pub mod sample;
 pub mod step;
+pub mod track_loads;
 
 pub use load::{compile_scenario, load_scenario};
 pub use mass::{MassReport, PartMass};
+pub use odometry::Odometry;
 pub use sample::{PoseRpy, Sample};
+pub use track_loads::TrackLoad;
 
 use crate::model::{Controls, Scenario};
 use crate::tracks::{LinkError, Method, Track};
@@ -77,6 +83,8 @@ pub struct Simulation {
     seed: u64,
     track_names: Vec<String>,
     flipper_names: Vec<String>,
+    /// Dead reckoning from the measured belt speeds.
+    odometry: Odometry,
 }
 
 impl Simulation {

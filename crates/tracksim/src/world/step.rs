@@ -28,6 +28,12 @@ impl Simulation {
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
         }
+        let belt: Vec<f64> = self
+            .tracks
+            .iter()
+            .map(|t| t.measured_belt_speed())
+            .collect();
+        self.odometry.update(&belt, self.dt);
         self.check_stability()
     }
 
