@@ -16,15 +16,21 @@
 //! (`table_iv/00deg_120mm/grousers_slop10`, `slope/31deg`, `turning/spin`, `fig2/okada2020`,
 //! ...); they run in parallel on the machine's cores and the report looks each result up by
 //! its name. The stages live in one file each under `validate/`: `table_iv.rs`, `slope.rs`,
-//! `turning.rs`, `figures.rs`; the report in `report.rs`.
+//! `turning.rs`, `figures.rs`; the report in `report.rs`; the rubber of the compliant
+//! column in `rubber.rs`.
 
 mod figures;
 mod report;
+mod rubber;
 mod slope;
 mod table_iv;
 mod turning;
 
 pub use report::{Case, SlopeRun, StepCase, StepRun, ValidationReport};
+pub use rubber::{
+    TRACK_RUBBER_LOSS_FACTOR, TRACK_RUBBER_POISSON, TRACK_RUBBER_YOUNGS_MODULUS_PA,
+    rubber_compliance, with_rubber,
+};
 pub use table_iv::quince_step_scenario;
 pub use turning::spin_ratio_coulomb;
 
@@ -90,6 +96,9 @@ pub struct ValidationOptions {
     pub without_grousers: bool,
     /// Also run the six Table IV cases with grousers and rigid contact (reported, not asserted).
     pub rigid_contact: bool,
+    /// Also run the six Table IV cases with compliant grousers and belts (rubber, see
+    /// [`rubber_compliance`]), rigid terrain and no slop (reported, not asserted).
+    pub compliant_grousers: bool,
 }
 
 impl Default for ValidationOptions {
@@ -97,6 +106,7 @@ impl Default for ValidationOptions {
         ValidationOptions {
             without_grousers: true,
             rigid_contact: true,
+            compliant_grousers: true,
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::{
     STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
-    TABLE_IV_CONTACT_SLOP_M,
+    TABLE_IV_CONTACT_SLOP_M, TRACK_RUBBER_LOSS_FACTOR, TRACK_RUBBER_YOUNGS_MODULUS_PA,
 };
 use crate::error::{Error, Result};
 use crate::output::SideLine;
@@ -35,6 +35,10 @@ pub struct StepCase {
     /// This simulator with grousers and rigid contact (no slop; reported, not asserted);
     /// `None` if not run.
     pub with_grousers_rigid: Option<StepRun>,
+    /// This simulator with compliant grousers and belts (the rubber of
+    /// [`super::rubber_compliance`]), rigid terrain and no slop (reported, not asserted);
+    /// `None` if not run.
+    pub compliant_grousers: Option<StepRun>,
     /// `with_grousers` agrees with reality.
     pub passed: bool,
     /// Plot file stem.
@@ -202,12 +206,14 @@ impl ValidationReport {
     fn table_iv_markdown(&self) -> String {
         let mut s = String::from("## Table IV: Quince climbing a step (paper Sec. IV-B)\n\n");
         s += &format!(
-            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (vehicle-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid. Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
+            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (vehicle-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid or no slop. Compliant grousers: each grouser and belt link a spring and damper along the contact normal from track rubber (E {:.0} MPa, loss factor {}; VALIDATION.md), no slop. Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
             STEP_EDGE_X_M,
-            TABLE_IV_CONTACT_SLOP_M * 1000.0
+            TABLE_IV_CONTACT_SLOP_M * 1000.0,
+            TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6,
+            TRACK_RUBBER_LOSS_FACTOR
         );
-        s += "| front sub-tracks | step | reality | paper | with grousers | without grousers | with grousers, rigid contact | pass | plot |\n";
-        s += "|---|---|---|---|---|---|---|---|---|\n";
+        s += "| front sub-tracks | step | reality | paper | with grousers | without grousers | with grousers, rigid contact | compliant grousers, rigid terrain, no slop | pass | plot |\n";
+        s += "|---|---|---|---|---|---|---|---|---|---|\n";
         let optional = |r: &Option<StepRun>| {
             r.as_ref()
                 .map(|w| format!("{} ({})", w.result, run_words(w)))
@@ -215,7 +221,7 @@ impl ValidationReport {
         };
         for c in &self.table_iv {
             s += &format!(
-                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} | {} | {} | [{}.png]({}.png) |\n",
+                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} | {} | {} | {} | [{}.png]({}.png) |\n",
                 c.front_angle_deg,
                 c.step_height_mm,
                 c.reality,
@@ -224,6 +230,7 @@ impl ValidationReport {
                 run_words(&c.with_grousers),
                 optional(&c.without_grousers),
                 optional(&c.with_grousers_rigid),
+                optional(&c.compliant_grousers),
                 if c.passed { "yes" } else { "**NO**" },
                 c.plot,
                 c.plot

@@ -4,6 +4,7 @@
 //! scenario file's `[[commands]]` are one source of controls: `crate::run::Timeline`).
 //!
 //! - [`build`]: the build stages of [`Simulation::new`];
+//! - [`compliance`]: grousers and belts as springs and dampers (`[tracks.compliance]`);
 //! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
 //! - [`step`]: the stages of one step;
@@ -16,6 +17,7 @@
 #![warn(clippy::too_many_lines)]
 
 pub mod build;
+pub mod compliance;
 pub mod contacts;
 pub mod load;
 pub mod mass;
@@ -63,6 +65,8 @@ pub struct Simulation {
     method: Method,
     /// Uncorrected penetration of vehicle contacts, m (`simulation.contact_slop_m`).
     slop: f32,
+    /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index.
+    springs: Vec<compliance::SolverSpring>,
     /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
     ground_tile: Option<RigidBodyHandle>,
     body: RigidBodyHandle,
