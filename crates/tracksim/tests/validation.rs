@@ -33,6 +33,7 @@ fn report() -> ValidationReport {
             // Reported by `tracksim validate`; its asserted cases are in
             // tests/issue_11_compliance.rs.
             compliant_grousers: false,
+            ..Default::default()
         };
         let r = run_validation_with(&root(), TrackMethod::Okada2020, opts, |line| {
             eprintln!("{line}")

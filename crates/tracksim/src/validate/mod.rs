@@ -26,10 +26,10 @@ mod slope;
 mod table_iv;
 mod turning;
 
-pub use report::{Case, SlopeRun, StepCase, StepRun, ValidationReport};
+pub use report::{Case, RubberNote, SlopeRun, StepCase, StepRun, ValidationReport};
 pub use rubber::{
     TRACK_RUBBER_LOSS_FACTOR, TRACK_RUBBER_POISSON, TRACK_RUBBER_YOUNGS_MODULUS_PA,
-    rubber_compliance, with_rubber,
+    rubber_compliance, rubber_compliance_with, with_rubber, with_rubber_of,
 };
 pub use table_iv::quince_step_scenario;
 pub use turning::spin_ratio_coulomb;
@@ -99,6 +99,9 @@ pub struct ValidationOptions {
     /// Also run the six Table IV cases with compliant grousers and belts (rubber, see
     /// [`rubber_compliance`]), rigid terrain and no slop (reported, not asserted).
     pub compliant_grousers: bool,
+    /// Young's modulus of the track rubber in the compliant column, Pa (default
+    /// [`TRACK_RUBBER_YOUNGS_MODULUS_PA`]).
+    pub rubber_youngs_modulus_pa: f64,
 }
 
 impl Default for ValidationOptions {
@@ -107,6 +110,7 @@ impl Default for ValidationOptions {
             without_grousers: true,
             rigid_contact: true,
             compliant_grousers: true,
+            rubber_youngs_modulus_pa: TRACK_RUBBER_YOUNGS_MODULUS_PA,
         }
     }
 }
@@ -143,6 +147,9 @@ pub fn run_validation_with(
 
     let mut report = ValidationReport::new(method);
     table_iv::assemble(&mut report, &jobs, &mut runs, method, opts);
+    if opts.compliant_grousers {
+        report.rubber = Some(rubber::note(&quince, opts.rubber_youngs_modulus_pa));
+    }
     slope::assemble(&mut report, &mut runs);
     turning::assemble(&mut report, &mut runs, &packbot, method);
     figures::assemble(&mut report, &jobs, &mut runs, method);

@@ -3,6 +3,7 @@
 //! their dimensions imply, instead of the paper simulator's 10 mm contact slop.
 
 use super::STEP_SPEED_MPS;
+use super::report::RubberNote;
 use crate::model::{
     Compliance, ContactSpring, GrouserShape, TrackModel, VehicleModel, belt_compression_stiffness,
     lug_tip_stiffness,
@@ -25,7 +26,11 @@ pub const TRACK_RUBBER_LOSS_FACTOR: f64 = 0.2;
 /// ([`belt_compression_stiffness`]); damping from the loss factor at the frequency grousers
 /// meet the ground at the test speed (`v / pitch`).
 pub fn rubber_compliance(t: &TrackModel) -> Compliance {
-    let e = TRACK_RUBBER_YOUNGS_MODULUS_PA;
+    rubber_compliance_with(t, TRACK_RUBBER_YOUNGS_MODULUS_PA)
+}
+
+/// [`rubber_compliance`] for a rubber of Young's modulus `e` Pa.
+pub fn rubber_compliance_with(t: &TrackModel, e: f64) -> Compliance {
     let Some(g) = &t.grousers else {
         return Compliance {
             grousers: None,
@@ -75,11 +80,34 @@ fn lug_dimensions(shape: &GrouserShape, height: f64, track_width: f64) -> (f64, 
     }
 }
 
+/// The springs a rubber of modulus `e` Pa gives each of `v`'s tracks, for the report.
+pub(super) fn note(v: &VehicleModel, e: f64) -> RubberNote {
+    let pair = |s: Option<ContactSpring>| s.map_or((0.0, 0.0), |s| (s.stiffness, s.damping));
+    RubberNote {
+        youngs_modulus_pa: e,
+        loss_factor: TRACK_RUBBER_LOSS_FACTOR,
+        springs: v
+            .tracks
+            .iter()
+            .map(|t| {
+                let c = rubber_compliance_with(t, e);
+                let ((kg, cg), (kb, cb)) = (pair(c.grousers), pair(c.belt));
+                (t.name.clone(), kg, cg, kb, cb)
+            })
+            .collect(),
+    }
+}
+
 /// `quince` with every track given [`rubber_compliance`].
 pub fn with_rubber(quince: &VehicleModel) -> VehicleModel {
+    with_rubber_of(quince, TRACK_RUBBER_YOUNGS_MODULUS_PA)
+}
+
+/// `quince` with every track given [`rubber_compliance_with`] a rubber of modulus `e` Pa.
+pub fn with_rubber_of(quince: &VehicleModel, e: f64) -> VehicleModel {
     let mut v = quince.clone();
     for t in &mut v.tracks {
-        t.compliance = rubber_compliance(t);
+        t.compliance = rubber_compliance_with(t, e);
     }
     v
 }

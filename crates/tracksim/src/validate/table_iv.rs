@@ -2,7 +2,7 @@
 //! `table_iv/<angle>deg_<height>mm/<column>`.
 
 use super::report::{PlotJob, StepCase, StepRun, ValidationReport};
-use super::rubber::with_rubber;
+use super::rubber::with_rubber_of;
 use super::{
     Jobs, QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, Ran, Runs, STEP_DEPTH_M,
     STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
@@ -96,7 +96,7 @@ pub(super) fn add_jobs(
     opts: ValidationOptions,
     root: &Path,
 ) -> Result<()> {
-    let rubber = with_rubber(quince);
+    let rubber = with_rubber_of(quince, opts.rubber_youngs_modulus_pa);
     for &(a, h, _) in &TABLE {
         for column in Column::selected(opts) {
             let vehicle = if column == Column::Compliant {
