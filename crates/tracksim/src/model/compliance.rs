@@ -150,7 +150,7 @@ mod tests {
     #[test]
     fn uniform_lug_matches_the_textbook() {
         // Uniform lug: bending 3 E I / h^3 and shear kappa G A / h in series.
-        let (e, w, h, t) = (5.0e6, 0.02, 0.016, 0.01);
+        let (e, w, h, t): (f64, f64, f64, f64) = (5.0e6, 0.02, 0.016, 0.01);
         let bend = 3.0 * e * (w * t * t * t / 12.0) / h.powi(3);
         let shear = SHEAR_FACTOR_RECTANGLE * (e / 3.0) * w * t / h;
         let k = lug_tip_stiffness(e, 0.5, w, h, t, t);
