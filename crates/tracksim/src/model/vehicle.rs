@@ -133,6 +133,8 @@ pub struct TrackModel {
     pub included: Vec<bool>,
     /// Grousers, if any.
     pub grousers: Option<GrouserModel>,
+    /// Contact compliance of the grousers and the belt (default: rigid).
+    pub compliance: super::Compliance,
 }
 
 /// A compiled vehicle.

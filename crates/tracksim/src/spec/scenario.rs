@@ -4,7 +4,7 @@
 //! are SI unless the key name says otherwise (`yaw_deg`).
 
 use super::terrain::TerrainSpec;
-use super::vehicle::VehicleSpec;
+use super::vehicle::{ComplianceSpec, VehicleSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -68,6 +68,10 @@ pub struct VehicleRefSpec {
     /// Override the belt mass of every track, kg.
     #[serde(default)]
     pub belt_mass_kg: Option<f64>,
+    /// Override the contact compliance of every track (`[vehicle.compliance]`, the same keys
+    /// as a vehicle file's `[tracks.compliance]`).
+    #[serde(default)]
+    pub compliance: Option<ComplianceSpec>,
 }
 
 /// When a run counts as a success or a failure, and whether it stops there.

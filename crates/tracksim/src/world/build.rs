@@ -1,5 +1,5 @@
 //! The build stages of [`Simulation::new`]: world settings, terrain, chassis, flippers, tracks
-//! (by their method), contact slop, then placement on the terrain.
+//! (by their method), contact compliance, contact slop, then placement on the terrain.
 
 use super::origin::shift_for;
 use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
@@ -31,6 +31,8 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     let body = insert_chassis(&mut world, v, start)?;
     let flippers = insert_flippers(&mut world, v, body, start)?;
     let tracks = build_tracks(&mut world, &sc, method, body, &flippers)?;
+    let springs =
+        super::compliance::tag_compliance(&mut world, &sc.vehicle.tracks, &tracks, sc.solver.dt);
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
@@ -40,6 +42,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         method,
         slop: sc.solver.contact_slop as f32,
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
+        springs,
         ground_tile,
         body,
         tracks,

@@ -4,6 +4,7 @@
 //! scenario file's `[[commands]]` are one source of controls: `crate::run::Timeline`).
 //!
 //! - [`build`]: the build stages of [`Simulation::new`];
+//! - [`compliance`]: grousers and belts as springs and dampers (`[tracks.compliance]`);
 //! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
 //! - [`step`]: the stages of one step;
@@ -18,6 +19,7 @@
 #![warn(clippy::too_many_lines)]
 
 pub mod build;
+pub mod compliance;
 pub mod contacts;
 pub mod load;
 pub mod mass;
@@ -72,6 +74,8 @@ pub struct Simulation {
     /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
     /// Rapier's position-correction pass (the brake holds).
     held_friction_in_bias_pass: bool,
+    /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index.
+    springs: Vec<compliance::SolverSpring>,
     /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
     ground_tile: Option<RigidBodyHandle>,
     body: RigidBodyHandle,

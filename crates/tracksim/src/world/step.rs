@@ -21,6 +21,8 @@ impl Simulation {
         let hooks = ContactHooks {
             slop: self.slop,
             tracks: &self.tracks,
+            springs: &self.springs,
+            dt: self.dt as f32,
         };
         self.world.step_with_events(&hooks, &());
         self.steps += 1;
