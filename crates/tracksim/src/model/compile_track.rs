@@ -86,6 +86,9 @@ pub(super) fn compile_track(
             .as_ref()
             .map(|s| compile_compliance(c, &format!("{k}.compliance"), s))
             .unwrap_or_default(),
+        motor: t.motor.as_ref().and_then(|m| {
+            super::compile_motor(c, &format!("{k}.motor"), m, t.sprocket_pitch_radius_m)
+        }),
     };
     if let Some(m) = &t.mirror {
         let mut mirrored = model.clone();

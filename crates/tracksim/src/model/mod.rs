@@ -7,6 +7,7 @@
 //!   `compile_track.rs`;
 //! - `compliance.rs`: a track's contact compliance ([`Compliance`], `[tracks.compliance]`) and
 //!   the rubber formulas giving its stiffness;
+//! - `motor.rs`: a track's drive motor ([`DriveMotor`], `[tracks.motor]`);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
@@ -22,6 +23,7 @@ mod compliance;
 mod controls;
 mod design;
 mod load;
+mod motor;
 mod scenario;
 mod vehicle;
 
@@ -34,5 +36,7 @@ pub use compliance::{
 pub use controls::*;
 pub use design::*;
 pub use load::*;
+pub use motor::DriveMotor;
+pub(crate) use motor::compile_motor;
 pub use scenario::*;
 pub use vehicle::*;

@@ -135,6 +135,8 @@ pub struct TrackModel {
     pub grousers: Option<GrouserModel>,
     /// Contact compliance of the grousers and the belt (default: rigid).
     pub compliance: super::Compliance,
+    /// Drive motor (None: the belt runs at the commanded speed whatever the load).
+    pub motor: Option<super::DriveMotor>,
 }
 
 /// A compiled vehicle.

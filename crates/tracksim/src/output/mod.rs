@@ -60,6 +60,19 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
     for c in ["odom_x_m", "odom_y_m", "odom_yaw_rad", "icr_x_m", "icr_y_m"] {
         h.push(c.into());
     }
+    if let Some(s) = result.samples.first() {
+        for (n, d) in result.track_names.iter().zip(&s.drive) {
+            if d.is_some() {
+                h.extend([
+                    format!("belt_force_{n}_n"),
+                    format!("max_belt_force_{n}_n"),
+                    format!("sprocket_torque_{n}_nm"),
+                    format!("motor_torque_{n}_nm"),
+                    format!("power_{n}_w"),
+                ]);
+            }
+        }
+    }
     h
 }
 
@@ -78,6 +91,12 @@ fn track_cells(s: &Sample) -> String {
     match s.icr {
         Some([ix, iy]) => line.push_str(&format!(",{ix:.6},{iy:.6}")),
         None => line.push_str(",,"),
+    }
+    for d in s.drive.iter().flatten() {
+        line.push_str(&format!(
+            ",{:.6},{:.6},{:.6},{:.6},{:.6}",
+            d.belt_force_n, d.max_belt_force_n, d.sprocket_torque_nm, d.motor_torque_nm, d.power_w
+        ));
     }
     line
 }

@@ -25,6 +25,23 @@ pub struct VehicleSpec {
     pub odometry: Option<OdometrySpec>,
 }
 
+/// A track's DC drive motor (`[tracks.motor]`).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotorSpec {
+    /// Stall torque at the motor shaft, N m.
+    pub stall_torque_nm: f64,
+    /// No-load speed of the motor shaft, rad/s.
+    pub no_load_speed_rad_s: f64,
+    /// Gear ratio (motor turns per sprocket turn).
+    pub gear_ratio: f64,
+    /// Gearbox efficiency, in (0, 1].
+    pub efficiency: f64,
+    /// The driver's torque (current) limit at the motor shaft, N m (default: the stall torque).
+    #[serde(default)]
+    pub torque_limit_nm: Option<f64>,
+}
+
 /// Skid-steer odometry settings.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -151,6 +168,10 @@ pub struct TrackSpec {
     /// Optional contact compliance of the grousers and the belt (rubber); rigid if absent.
     #[serde(default)]
     pub compliance: Option<ComplianceSpec>,
+    /// Drive motor behind a speed controller with a torque limit (okada2020 only; without it
+    /// the belt runs at the commanded speed whatever the load).
+    #[serde(default)]
+    pub motor: Option<MotorSpec>,
 }
 
 /// Contact compliance of a track's rubber (`[tracks.compliance]`): each part that has a table

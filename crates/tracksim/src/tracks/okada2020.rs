@@ -40,6 +40,7 @@ use super::track::{BuildContext, LinkError, Track};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::geometry::Segment;
+use crate::model::DriveMotor;
 use crate::model::{GrouserShape, TrackModel};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
@@ -114,7 +115,13 @@ pub struct SegmentLinks {
     /// Wraps of the phase so far.
     wraps: i64,
     error: LinkError,
+    /// Drive motor (None: the links' motors hold the commanded speed whatever the load).
+    motor: Option<DriveMotor>,
 }
+
+/// Share of a track's belt force that every link may deliver whatever its contact load (it
+/// has to move its own mass), of an even split.
+const FREE_LINK_SHARE: f64 = 0.05;
 
 /// Mass properties of a segment link: the belt's mass spread along the segment and across its
 /// width (sampled: mass properties only, not geometry), kg and kg m^2.
@@ -252,7 +259,7 @@ impl SegmentLinks {
                 links.push(Self::build_link(ctx, t, si, &shapes, &footprints));
             }
         }
-        Ok(SegmentLinks {
+        let s = SegmentLinks {
             parent: ctx.parent,
             links,
             pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
@@ -262,7 +269,12 @@ impl SegmentLinks {
             speed_measured: 0.0,
             wraps: 0,
             error: LinkError::default(),
-        })
+            motor: t.motor.clone(),
+        };
+        if let Some(m) = &s.motor {
+            s.limit_link_forces(ctx.world, m.max_belt_force(0.0));
+        }
+        Ok(s)
     }
 
     /// Builds the link of segment `si`: body, belt collider, grousers, joint.
@@ -362,6 +374,80 @@ impl SegmentLinks {
     }
 }
 
+impl SegmentLinks {
+    /// Mean belt speed of the links relative to the parent, m/s (as `after_step` measures it).
+    fn measure_speed(&self, world: &PhysicsWorld) -> f64 {
+        let parent = &world.bodies[self.parent];
+        let rot = parent.rotation();
+        let sum: f64 = self
+            .links
+            .iter()
+            .map(|l| {
+                let link = &world.bodies[l.body];
+                let com = link.position().transform_point(l.local_com);
+                match l.kind {
+                    LinkKind::Slide { dir } => {
+                        ((link.linvel() - parent.velocity_at_point(com)).dot(rot * f(dir))) as f64
+                    }
+                    LinkKind::Turn { axis, radius, .. } => {
+                        ((link.angvel() - parent.angvel()).dot(rot * f(axis))) as f64 * radius
+                    }
+                }
+            })
+            .sum();
+        sum / self.links.len().max(1) as f64
+    }
+
+    /// Caps the link motors so that together they deliver at most `total` N, shared by the
+    /// links' terrain contact loads of the last step (plus [`FREE_LINK_SHARE`] each): the belt
+    /// force goes where the belt meets the ground, as the belt's tension carries it there.
+    fn limit_link_forces(&self, world: &mut PhysicsWorld, total: f64) {
+        let loads: Vec<f64> = self
+            .links
+            .iter()
+            .map(|l| link_contact_load(world, l.body))
+            .collect();
+        let n = self.links.len().max(1) as f64;
+        let sum: f64 = loads.iter().sum();
+        for (l, load) in self.links.iter().zip(&loads) {
+            let share = if sum > 0.0 {
+                (1.0 - FREE_LINK_SHARE) * load / sum + FREE_LINK_SHARE / n
+            } else {
+                1.0 / n
+            };
+            let force = total * share;
+            let cap = match l.kind {
+                LinkKind::Slide { .. } => force,
+                LinkKind::Turn { radius, .. } => force * radius,
+            };
+            if let Some(j) = world.impulse_joints.get_mut(l.joint, false) {
+                j.data.set_motor_max_force(l.kind.motor_axis(), cap as f32);
+            }
+        }
+    }
+}
+
+/// Sum of the normal impulses on `body`'s colliders from the terrain in the last step (any
+/// unit: only ratios are used).
+fn link_contact_load(world: &PhysicsWorld, body: RigidBodyHandle) -> f64 {
+    let Some(b) = world.bodies.get(body) else {
+        return 0.0;
+    };
+    let mut load = 0.0;
+    for &ch in b.colliders() {
+        for p in world.narrow_phase.contact_pairs_with(ch) {
+            for m in p.solver_manifolds() {
+                load += m
+                    .points
+                    .iter()
+                    .map(|pt| pt.data.impulse as f64)
+                    .sum::<f64>();
+            }
+        }
+    }
+    load
+}
+
 impl Track for SegmentLinks {
     fn set_belt_speed(&mut self, world: &mut PhysicsWorld, v: f64) {
         self.speed_cmd = v;
@@ -375,7 +461,13 @@ impl Track for SegmentLinks {
     }
 
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
-        self.position += self.speed_cmd * dt;
+        // With a motor the belt moves as fast as its links did (it slows when the motor cannot
+        // hold the command); without, exactly at the command.
+        let speed = match self.motor {
+            Some(_) => self.measure_speed(world),
+            None => self.speed_cmd,
+        };
+        self.position += speed * dt;
         let (phi, wraps) = self.phase();
         // Where the links should be before any wrap: the old wrap count's phase.
         let phi_unwrapped = phi + (wraps - self.wraps) as f64 * self.pitch.unwrap_or(0.0);
@@ -425,6 +517,9 @@ impl Track for SegmentLinks {
             self.reassign_shapes(world, wraps);
         }
         self.wraps = wraps;
+        if let Some(m) = &self.motor {
+            self.limit_link_forces(world, m.max_belt_force(self.speed_measured));
+        }
     }
 
     fn belt_position(&self) -> f64 {

@@ -18,6 +18,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
             path: sc.source.clone().unwrap_or_default(),
             issues: vec![issue],
         })?;
+    check_motors(&sc, method)?;
     let mut world = new_world(&sc.solver);
     let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
     let ground_tile = sc.terrain.insert_into(
@@ -60,6 +61,37 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     place(&mut sim);
     sim.odometry = start_odometry(&sim);
     Ok(sim)
+}
+
+/// Refuses a drive motor on a method that cannot take one (only the segment links feel the
+/// load at their joints).
+fn check_motors(sc: &Scenario, method: Method) -> Result<()> {
+    if matches!(method, Method::Okada2020 | Method::Okada2020NoGrousers) {
+        return Ok(());
+    }
+    let issues: Vec<crate::error::SpecIssue> = sc
+        .vehicle
+        .tracks
+        .iter()
+        .filter(|t| t.motor.is_some())
+        .map(|t| {
+            crate::error::SpecIssue::new(
+                format!("track {} motor", t.name),
+                format!(
+                    "a drive motor is modelled by okada2020 and okada2020_no_grousers only, not {}: run with --method okada2020 or remove [tracks.motor]",
+                    method.name()
+                ),
+            )
+        })
+        .collect();
+    if issues.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Invalid {
+            path: sc.source.clone().unwrap_or_default(),
+            issues,
+        })
+    }
 }
 
 /// Odometry at the placed start pose over the chassis tracks (REP 105: the odom frame

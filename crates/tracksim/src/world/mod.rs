@@ -32,7 +32,7 @@ pub mod track_loads;
 pub use load::{compile_scenario, load_scenario};
 pub use mass::{MassReport, PartMass};
 pub use odometry::Odometry;
-pub use sample::{PoseRpy, Sample};
+pub use sample::{DriveSample, PoseRpy, Sample};
 pub use track_loads::TrackLoad;
 
 use crate::model::{Controls, Scenario};

@@ -72,9 +72,28 @@ pub struct Sample {
     pub loads: Vec<TrackLoad>,
     /// Odometry pose (x m, y m, yaw rad) in the odom frame (REP 105; the world frame at start).
     pub odom: [f64; 3],
+    /// Drive of each track with a motor model (`None` without).
+    pub drive: Vec<Option<DriveSample>>,
     /// Instantaneous centre of rotation of the chassis's planar motion in its own frame
     /// (x m, y m), `None` while it turns slower than [`ICR_MIN_RATE_RAD_S`].
     pub icr: Option<[f64; 2]>,
+}
+
+/// What a track's drive motor does (`[tracks.motor]`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DriveSample {
+    /// Belt force, N: the motor's limit while it is saturated (the belt slower than
+    /// commanded), else the track's traction (the belt force in steady state, the links'
+    /// inertia neglected) within that limit.
+    pub belt_force_n: f64,
+    /// Torque at the sprocket, N m.
+    pub sprocket_torque_nm: f64,
+    /// Torque at the motor shaft, N m.
+    pub motor_torque_nm: f64,
+    /// Largest belt force the motor could deliver at this speed, N.
+    pub max_belt_force_n: f64,
+    /// Mechanical power into the belt (force times measured belt speed), W.
+    pub power_w: f64,
 }
 
 /// Yaw rate below which the instantaneous centre of rotation is not reported, rad/s.
@@ -234,7 +253,42 @@ impl Simulation {
             loads: self.track_loads(),
             odom: [self.odometry.x, self.odometry.y, self.odometry.yaw],
             icr: self.icr(),
+            drive: self.drive(),
         }
+    }
+
+    /// [`Sample::drive`].
+    fn drive(&self) -> Vec<Option<DriveSample>> {
+        self.scenario
+            .vehicle
+            .tracks
+            .iter()
+            .zip(&self.tracks)
+            .zip(self.track_loads())
+            .map(|((m, t), load)| {
+                let motor = m.motor.as_ref()?;
+                let v = t.measured_belt_speed();
+                let max = motor.max_belt_force(v);
+                // Saturated (the belt runs more than 1 mm/s slower than commanded): the link
+                // motors deliver exactly their cap. Otherwise the controller holds the speed and
+                // the belt force is the terrain's pull on the belt (steady state, the links'
+                // inertia neglected), within the cap.
+                let cmd = t.commanded_belt_speed();
+                let saturated = cmd != 0.0 && (v - cmd) * cmd.signum() < -1e-3;
+                let force = if saturated {
+                    max * cmd.signum()
+                } else {
+                    load.traction_n.clamp(-max, max)
+                };
+                Some(DriveSample {
+                    belt_force_n: force,
+                    sprocket_torque_nm: force * motor.sprocket_radius,
+                    motor_torque_nm: motor.motor_torque(force),
+                    max_belt_force_n: max,
+                    power_w: force * v,
+                })
+            })
+            .collect()
     }
 
     /// Slip ratio of every track ([`Sample::slip`]).

@@ -1,0 +1,109 @@
+//! Issue 14.1: torque-driven tracks. With `[tracks.motor]` the sprocket feels the load: the
+//! link motors of a track together deliver at most the motor's belt force
+//! `F_max = T G eta / r`, so a motor whose torque is below what a slope needs stalls on it and
+//! one with enough climbs. Statics: a PackBot of mass m on a slope theta needs
+//! `m g sin(theta)` from its two tracks, i.e. a motor torque of
+//! `T* = m g sin(theta) r / (G eta 2)`. The threshold found by bisection agrees with T* within
+//! the tolerance below.
+
+mod common;
+use common::root;
+use tracksim::Scripted;
+use tracksim::model::{DriveMotor, load_vehicle, read_toml};
+use tracksim::spec::{PerTrack, ScenarioSpec};
+
+const G: f64 = 9.81;
+const SLOPE_DEG: f64 = 20.0;
+const GEAR: f64 = 50.0;
+const EFFICIENCY: f64 = 0.8;
+
+/// PackBot on the 20 deg plate driving uphill at 0.1 m/s with motors of driver torque limit
+/// `torque` N m (a no-load speed far above what 0.1 m/s needs, so the limit decides).
+fn climb(torque: f64) -> tracksim::Scenario {
+    let path = root().join("scenarios/packbot_parked_slope.toml");
+    let mut spec: ScenarioSpec = read_toml(&path).unwrap();
+    spec.simulation.duration_s = 3.0;
+    spec.commands[0].belt_speed_mps = Some(PerTrack::All(0.1));
+    let dir = root().join("scenarios");
+    let mut vehicle = load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
+    for t in &mut vehicle.tracks {
+        t.motor = Some(DriveMotor {
+            stall_torque: 10.0 * torque,
+            no_load_speed: 5000.0,
+            gear_ratio: GEAR,
+            efficiency: EFFICIENCY,
+            sprocket_radius: t.sprocket_radius.unwrap(),
+            torque_limit: Some(torque),
+        });
+    }
+    tracksim::compile_scenario(&spec, vehicle, &dir).unwrap()
+}
+
+/// Progress up the slope from 1 s to 3 s, m, and the mean delivered belt force then, N.
+fn progress(torque: f64) -> (f64, f64) {
+    let sc = climb(torque);
+    let mut sim = Scripted::new(&sc).unwrap();
+    common::run_until(&mut sim, 1.0);
+    let a = sim.body_pose();
+    let (mut force, mut k) = (0.0, 0.0);
+    while sim.time() < 3.0 - 1e-9 {
+        sim.step().unwrap();
+        let s = sim.sample();
+        force += s
+            .drive
+            .iter()
+            .flatten()
+            .map(|d| d.belt_force_n)
+            .sum::<f64>();
+        k += 1.0;
+    }
+    let b = sim.body_pose();
+    let up = ((b.x - a.x).powi(2) + (b.z - a.z).powi(2)).sqrt() * (b.z - a.z).signum();
+    (up, force / k)
+}
+
+#[test]
+fn a_motor_stalls_below_the_static_torque_and_climbs_above_it() {
+    let sc = climb(1.0);
+    let m = Scripted::new(&sc).unwrap().mass_report().total_simulated_kg;
+    let r = sc.vehicle.tracks[0].sprocket_radius.unwrap();
+    let need = m * G * SLOPE_DEG.to_radians().sin();
+    let t_star = need * r / (GEAR * EFFICIENCY * 2.0);
+    let (weak, f_weak) = progress(0.8 * t_star);
+    let (strong, f_strong) = progress(1.25 * t_star);
+    println!(
+        "T* = {t_star:.4} N m (m g sin = {need:.2} N): 0.8 T* -> {weak:.4} m, belt force {f_weak:.2} N; 1.25 T* -> {strong:.4} m, {f_strong:.2} N"
+    );
+    assert!(weak < 0.0, "0.8 T* should not climb: {weak} m");
+    assert!(
+        strong > 0.15,
+        "1.25 T* should climb at ~0.1 m/s: {strong} m in 2 s"
+    );
+    // The threshold, by bisection: within 5 % of the statics.
+    let (mut lo, mut hi) = (0.8 * t_star, 1.25 * t_star);
+    for _ in 0..5 {
+        let mid = 0.5 * (lo + hi);
+        if progress(mid).0 > 0.0 {
+            hi = mid
+        } else {
+            lo = mid
+        }
+    }
+    let found = 0.5 * (lo + hi);
+    println!("threshold {found:.4} N m = {:.3} T*", found / t_star);
+    assert!(
+        (found / t_star - 1.0).abs() < 0.05,
+        "threshold {found} vs {t_star}"
+    );
+}
+
+#[test]
+fn a_motor_on_a_method_without_one_is_refused() {
+    let mut sc = climb(1.0);
+    sc.method = "wheels4".into();
+    let Err(err) = Scripted::new(&sc).map(|_| ()) else {
+        panic!("a motor on wheels4 was accepted");
+    };
+    let err = err.to_string();
+    assert!(err.contains("okada2020"), "{err}");
+}
