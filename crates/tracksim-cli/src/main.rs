@@ -65,6 +65,10 @@ enum Cmd {
         /// Do not write the plot files.
         #[arg(long)]
         no_plot: bool,
+        /// Replace the scenario's `[[commands]]` by those of this file (e.g. the
+        /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
+        #[arg(long)]
+        commands: Option<PathBuf>,
     },
     /// Run one scenario with every track method; print a table and write a combined plot.
     Compare {
@@ -163,6 +167,7 @@ struct RunArgs {
     method: Option<String>,
     duration: Option<f64>,
     no_plot: bool,
+    commands: Option<PathBuf>,
 }
 
 fn run(a: RunArgs) -> Result<(), Failure> {
@@ -172,6 +177,9 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     }
     if let Some(d) = a.duration {
         sc.duration = check_duration(d)?;
+    }
+    if let Some(c) = &a.commands {
+        sc.commands = tracksim::model::load_commands(c, &sc.vehicle)?;
     }
     let show_bar = !a.quiet && !a.json && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
@@ -206,6 +214,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let result = result?;
     tracksim::output::write_run(&result, &a.out)?;
     let mut written = vec![a.out.join("summary.json"), a.out.join("trajectory.csv")];
+    written.extend(tracksim::output::write_replay(&sc, &result, &a.out)?);
     if !a.no_plot {
         written.extend(tracksim::output::write_run_plots(&sc, &result, &a.out)?);
     }
@@ -337,6 +346,7 @@ fn compare(
         match tracksim::run_scenario(&sc, |_, _| {}) {
             Ok(r) => {
                 tracksim::output::write_run(&r, &out.join(m.name()))?;
+                tracksim::output::write_replay(&sc, &r, &out.join(m.name()))?;
                 let s = &r.summary;
                 rows.push(serde_json::json!({
                     "method": m.name(),
@@ -800,6 +810,7 @@ fn main() -> ExitCode {
             method,
             duration,
             no_plot,
+            commands,
         } => run(RunArgs {
             file,
             out,
@@ -810,6 +821,7 @@ fn main() -> ExitCode {
             method,
             duration,
             no_plot,
+            commands,
         }),
         Cmd::Check { files } => check(&files),
         Cmd::Validate { json, out, method } => validate(json, out, &method),

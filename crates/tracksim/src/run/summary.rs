@@ -196,6 +196,7 @@ mod tests {
             angvel: [0.0; 3],
             belt_speed: Vec::new(),
             belt_phase: Vec::new(),
+            belt_position: Vec::new(),
             flipper_angle: Vec::new(),
             contacts: 0,
             penetration: 0.0,
