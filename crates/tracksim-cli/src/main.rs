@@ -888,7 +888,10 @@ fn drive(a: DriveArgs) -> Result<(), Failure> {
     if let Err(e) = ctrlc::set_handler(move || h.request_stop()) {
         eprintln!("warning: Ctrl-C will not end the session cleanly: {e}");
     }
-    out!("drive      open {} in a browser (the first page to connect drives)", server.url());
+    out!(
+        "drive      open {} in a browser (the first page to connect drives)",
+        server.url()
+    );
     out!("           stop: the page's stop button, closing the page, or Ctrl-C");
     let session = tracksim::live::run_session(
         &sc,

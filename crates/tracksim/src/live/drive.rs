@@ -74,7 +74,11 @@ fn state_json(
     let p = sim.body_pose();
     let b = &sim.world.bodies[sim.body_handle()];
     let v = b.linvel();
-    let heading = (p.yaw.cos() * p.pitch.cos(), p.yaw.sin() * p.pitch.cos(), -p.pitch.sin());
+    let heading = (
+        p.yaw.cos() * p.pitch.cos(),
+        p.yaw.sin() * p.pitch.cos(),
+        -p.pitch.sin(),
+    );
     let forward = v.x as f64 * heading.0 + v.y as f64 * heading.1 + v.z as f64 * heading.2;
     let n = sim.track_names().len();
     let nf = sim.flipper_names().len();
@@ -221,8 +225,9 @@ impl Session {
         self.result.samples.last().map_or(0.0, |s| s.t)
     }
 
-    /// `commands.toml`: the control changes as a scenario's `[[commands]]`.
-    pub fn commands_toml(&self, scenario_file: &Path) -> String {
+    /// `commands.toml` (to be written at `commands_file`): the control changes as a
+    /// scenario's `[[commands]]`.
+    pub fn commands_toml(&self, scenario_file: &Path, commands_file: &Path) -> String {
         #[derive(serde::Serialize)]
         struct File {
             commands: Vec<CommandSpec>,
@@ -247,8 +252,9 @@ impl Session {
         format!(
             "# The operator's controls of a `tracksim drive` session, applied at these simulated\n\
              # times. This run reproduces the session's trajectory.csv:\n\
-             #   tracksim run {} --commands commands.toml --duration {}\n{body}",
+             #   tracksim run {} --commands {} --duration {}\n{body}",
             scenario_file.display(),
+            commands_file.display(),
             self.duration()
         )
     }
@@ -294,7 +300,10 @@ impl Session {
             written.extend(crate::output::write_run_plots(sc, &self.result, dir)?);
         }
         for (name, text) in [
-            ("commands.toml", self.commands_toml(scenario_file)),
+            (
+                "commands.toml",
+                self.commands_toml(scenario_file, &dir.join("commands.toml")),
+            ),
             ("controls.csv", self.controls_csv()),
         ] {
             let p = dir.join(name);

@@ -147,7 +147,9 @@ impl Hub {
                 self.request_stop();
                 None
             }
-            Err(e) => Some(format!("bad message ({e}); see the protocol in live/hub.rs")),
+            Err(e) => Some(format!(
+                "bad message ({e}); see the protocol in live/hub.rs"
+            )),
         }
     }
 }

@@ -160,7 +160,12 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
     let mut req = httparse::Request::new(&mut headers);
     let parsed = req.parse(&head).ok().filter(|s| s.is_complete());
     let (Some(_), Some(method), Some(target)) = (parsed, req.method, req.path) else {
-        return respond(&mut stream, "400 Bad Request", "text/plain", b"bad request\n");
+        return respond(
+            &mut stream,
+            "400 Bad Request",
+            "text/plain",
+            b"bad request\n",
+        );
     };
     let path = target.split(['?', '#']).next().unwrap_or("");
     let upgrade = req.headers.iter().any(|h| {
