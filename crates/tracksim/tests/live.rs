@@ -263,8 +263,7 @@ fn view_serves_only_its_own_files() {
 fn view_names_what_a_folder_lacks() {
     let d = tempfile_dir("empty_view");
     let e = tracksim::live::view_files(&d)
-        .err()
-        .expect("an empty folder is refused")
+        .expect_err("an empty folder is refused")
         .to_string();
     assert!(e.contains("scene.json") && e.contains("re-run"), "{e}");
 }

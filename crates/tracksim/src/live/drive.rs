@@ -152,12 +152,12 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
             current = idle.clone();
             rec = Record::new(&sim, &current);
         }
-        if let Some(c) = hub.take_control() {
-            if c != current {
-                apply(&mut sim, sc, &c);
-                rec.commands.push((sim.time(), c.clone()));
-                current = c;
-            }
+        if let Some(c) = hub.take_control()
+            && c != current
+        {
+            apply(&mut sim, sc, &c);
+            rec.commands.push((sim.time(), c.clone()));
+            current = c;
         }
         for _ in 0..every {
             let ahead = sim.time() / opts.speed - rec.wall.elapsed().as_secs_f64();

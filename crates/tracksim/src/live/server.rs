@@ -172,10 +172,11 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
         h.name.eq_ignore_ascii_case("upgrade")
             && String::from_utf8_lossy(h.value).eq_ignore_ascii_case("websocket")
     });
-    if upgrade && path == "/ws" {
-        if let Mode::Drive { hub, .. } = mode {
-            return super::hub::serve_socket(stream, hub);
-        }
+    if upgrade
+        && path == "/ws"
+        && let Mode::Drive { hub, .. } = mode
+    {
+        return super::hub::serve_socket(stream, hub);
     }
     // Consume the head: the body of a GET is empty.
     let mut sink = vec![0u8; head.len()];
