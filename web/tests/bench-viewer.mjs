@@ -1,6 +1,7 @@
 // Compute real-time factor of `tracksim drive` with and without a connected 3-D viewer
 // (issue 12, BENCHMARKS.md). Each run drives scenarios/packbot_flat.toml for 10 s simulated
-// with the robot at rest (no operator input); `--speed` sets the pacing. Runs are interleaved
+// with the robot at rest (no operator input); `--speed` sets the pacing. With a viewer the
+// session starts when the page connects (`--wait-for-page`), so it watches the whole run. Runs are interleaved
 // (none, viewer, none, viewer, ...); prints summary.json's real_time_factor (stepping alone) and
 // paced_real_time_factor for each.
 // Usage: TRACKSIM_BIN=... node bench-viewer.mjs [SPEED] [REPEATS]
@@ -20,7 +21,7 @@ const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'tracksim-bench-'));
 async function one(viewer, i) {
   const out = path.join(tmp, `${viewer ? 'viewer' : 'none'}-${i}`);
   const child = spawn(bin, ['drive', 'scenarios/packbot_flat.toml', '--port', '0', '--duration', '10',
-    '--speed', speed, '--no-plot', '--out', out], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+    '--speed', speed, '--no-plot', '--out', out, ...(viewer ? ['--wait-for-page'] : [])], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
   let text = '';
   const url = new Promise((resolve) => child.stdout.on('data', (d) => {
     text += d;

@@ -154,6 +154,9 @@ enum Cmd {
         /// Do not write the plot files.
         #[arg(long)]
         no_plot: bool,
+        /// Start simulating only once a page has connected.
+        #[arg(long)]
+        wait_for_page: bool,
     },
     /// Replay a finished run (of `run`, `drive` or `compare`) in the 3-D page.
     View {
@@ -859,6 +862,7 @@ struct DriveArgs {
     duration: Option<f64>,
     method: Option<String>,
     no_plot: bool,
+    wait_for_page: bool,
 }
 
 fn drive(a: DriveArgs) -> Result<(), Failure> {
@@ -899,6 +903,7 @@ fn drive(a: DriveArgs) -> Result<(), Failure> {
         DriveOptions {
             speed: a.speed,
             max_time,
+            wait_for_page: a.wait_for_page,
         },
     );
     hub.request_stop();
@@ -1004,6 +1009,7 @@ fn main() -> ExitCode {
             duration,
             method,
             no_plot,
+            wait_for_page,
         } => drive(DriveArgs {
             file,
             out,
@@ -1013,6 +1019,7 @@ fn main() -> ExitCode {
             duration,
             method,
             no_plot,
+            wait_for_page,
         }),
         Cmd::View { dir, port, bind } => view(&dir, port, bind),
     };

@@ -76,6 +76,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
             DriveOptions {
                 speed: 2.0,
                 max_time: None,
+                wait_for_page: false,
             },
         )
     });
@@ -174,6 +175,7 @@ fn reset_restarts_the_session() {
             DriveOptions {
                 speed: 4.0,
                 max_time: None,
+                wait_for_page: false,
             },
         )
     });

@@ -27,6 +27,8 @@ pub struct DriveOptions {
     pub speed: f64,
     /// End the session at this simulated time, s (None: when the operator stops).
     pub max_time: Option<f64>,
+    /// Start simulating only once a page has connected (the clock starts then).
+    pub wait_for_page: bool,
 }
 
 impl Default for DriveOptions {
@@ -34,6 +36,7 @@ impl Default for DriveOptions {
         DriveOptions {
             speed: 1.0,
             max_time: None,
+            wait_for_page: false,
         }
     }
 }
@@ -140,6 +143,9 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         ..DriveControl::default()
     };
     let mut current = idle.clone();
+    while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
     let mut rec = Record::new(&sim, &current);
     let mut last_publish: Option<Instant> = None;
     loop {
