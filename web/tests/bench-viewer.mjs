@@ -30,6 +30,7 @@ async function one(viewer, i) {
   }));
   const exited = new Promise((resolve) => child.on('exit', resolve));
   let ctx = null;
+  let page = null;
   if (viewer) {
     ctx = await chromium.launchPersistentContext(fs.mkdtempSync(path.join(tmp, 'p-')), {
       executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
@@ -37,19 +38,19 @@ async function one(viewer, i) {
       args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
         '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
     });
-    const page = await ctx.newPage();
+    page = await ctx.newPage();
     await page.goto(await url);
   }
   await exited;
-  const frames = ctx ? await ctx.pages()[0].evaluate(() => window.tracksim.frames) : 0;
+  const { frames, states } = page ? await page.evaluate(() => window.tracksim) : { frames: 0, states: 0 };
   if (ctx) await ctx.close();
   const s = JSON.parse(fs.readFileSync(path.join(out, 'summary.json'), 'utf8'));
-  return { viewer, rtf: s.real_time_factor, paced: s.paced_real_time_factor, frames };
+  return { viewer, rtf: s.real_time_factor, paced: s.paced_real_time_factor, frames, states, wall: s.elapsed_time_s };
 }
 
 const rows = [];
 for (let i = 0; i < repeats; i++) for (const v of [false, true]) rows.push(await one(v, i));
-for (const r of rows) console.log(`${r.viewer ? 'viewer' : 'none  '} compute RTF ${r.rtf.toFixed(2)} paced ${r.paced.toFixed(2)} frames drawn ${r.frames}`);
+for (const r of rows) console.log(`${r.viewer ? 'viewer' : 'none  '} compute RTF ${r.rtf.toFixed(2)} paced ${r.paced.toFixed(2)} frames drawn ${r.frames}, states received ${r.states} (${(r.states / r.wall).toFixed(1)} per wall s)`);
 const med = (xs) => xs.sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 for (const v of [false, true]) {
   const xs = rows.filter((r) => r.viewer === v);

@@ -10,7 +10,7 @@ const scene = await (await fetch('/scene.json')).json();
 const live = session.mode === 'drive';
 
 // Exposed for tests and curious users: the latest state and what is drawn.
-const api = { mode: session.mode, state: null, frames: 0, role: null, replayTime: 0, errors: [] };
+const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [] };
 window.tracksim = api;
 
 // ---------- renderer, camera, lights ----------
@@ -276,7 +276,7 @@ function connect() {
   ws.onmessage = (ev) => {
     const m = JSON.parse(ev.data);
     if (m.type === 'hello') api.role = m.role;
-    else if (m.type === 'state') api.state = m;
+    else if (m.type === 'state') { api.state = m; api.states++; }
     else if (m.type === 'error') api.errors.push(m.message);
   };
   ws.onclose = () => { ended = true; };
