@@ -294,7 +294,7 @@ function liveFrame() {
     `${ended ? 'SESSION ENDED (outputs written)' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}`,
     `sim time   ${fmt(s.t, 2)} s   x${fmt(s.speed, 2)} requested`,
     `RTF        paced ${fmt(s.rtf_paced, 2)}   compute ${fmt(s.rtf_compute, 1)}`,
-    `speed      ${fmt(s.forward_mps, 3)} m/s   cmd ${fmt(s.control.forward_mps, 2)} m/s, ${fmt(s.control.yaw_rate_rad_s, 2)} rad/s`,
+    `speed      ${fmt(s.forward_mps, 3)} m/s (0.1 s mean)   cmd ${fmt(s.control.forward_mps, 2)} m/s, ${fmt(s.control.yaw_rate_rad_s, 2)} rad/s`,
     `set speeds ${fmt(speedLin, 2)} m/s, ${fmt(speedAng, 2)} rad/s`,
     `roll/pitch ${fmt(deg(roll), 1)} / ${fmt(deg(pitch), 1)} deg   yaw ${fmt(deg(yaw), 1)} deg`,
     `position   ${fmt(x, 3)} ${fmt(y, 3)} ${fmt(z, 3)} m`,

@@ -66,23 +66,32 @@ fn apply(sim: &mut Simulation, sc: &Scenario, c: &DriveControl) {
     sim.apply(&controls);
 }
 
-/// The state streamed to the page (JSON).
+/// Mean forward speed of the body over the last 0.1 s of samples (along its heading), m/s.
+fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
+    let k = ((0.1 / interval).round() as usize).max(1);
+    let n = samples.len();
+    if n <= k {
+        return 0.0;
+    }
+    let (a, b) = (&samples[n - 1 - k].pose, &samples[n - 1].pose);
+    let dt = samples[n - 1].t - samples[n - 1 - k].t;
+    let heading = (
+        b.yaw.cos() * b.pitch.cos(),
+        b.yaw.sin() * b.pitch.cos(),
+        -b.pitch.sin(),
+    );
+    ((b.x - a.x) * heading.0 + (b.y - a.y) * heading.1 + (b.z - a.z) * heading.2) / dt
+}
+
+/// The state streamed to the page (JSON); `forward` is the body's mean forward speed, m/s.
 fn state_json(
     sim: &Simulation,
     control: &DriveControl,
-    rtf: (f64, f64),
+    (rtf, forward): ((f64, f64), f64),
     speed: f64,
     decided: &Option<(Outcome, f64)>,
 ) -> String {
     let p = sim.body_pose();
-    let b = &sim.world.bodies[sim.body_handle()];
-    let v = b.linvel();
-    let heading = (
-        p.yaw.cos() * p.pitch.cos(),
-        p.yaw.sin() * p.pitch.cos(),
-        -p.pitch.sin(),
-    );
-    let forward = v.x as f64 * heading.0 + v.y as f64 * heading.1 + v.z as f64 * heading.2;
     let n = sim.track_names().len();
     let nf = sim.flipper_names().len();
     serde_json::json!({
@@ -179,7 +188,14 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
                     sim.time() / rec.wall.elapsed().as_secs_f64().max(1e-9),
                     sim.time() / rec.stepping.max(1e-9),
                 );
-                hub.publish(state_json(&sim, &current, rtf, opts.speed, &rec.decided));
+                let forward = mean_forward_speed(&rec.samples, sc.output_interval);
+                hub.publish(state_json(
+                    &sim,
+                    &current,
+                    (rtf, forward),
+                    opts.speed,
+                    &rec.decided,
+                ));
             }
         }
         rec.samples.push(sim.sample());
@@ -201,7 +217,10 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     hub.publish(state_json(
         &sim,
         &current,
-        (summary.paced_real_time_factor, summary.real_time_factor),
+        (
+            (summary.paced_real_time_factor, summary.real_time_factor),
+            mean_forward_speed(&rec.samples, sc.output_interval),
+        ),
         opts.speed,
         &Some((outcome.clone(), outcome_t)),
     ));

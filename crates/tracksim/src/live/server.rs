@@ -142,12 +142,24 @@ fn peek_head(stream: &TcpStream) -> std::io::Result<Vec<u8>> {
 }
 
 fn respond(stream: &mut TcpStream, status: &str, ctype: &str, body: &[u8]) -> std::io::Result<()> {
+    respond_to(stream, true, status, ctype, body)
+}
+
+fn respond_to(
+    stream: &mut TcpStream,
+    with_body: bool,
+    status: &str,
+    ctype: &str,
+    body: &[u8],
+) -> std::io::Result<()> {
     let head = format!(
         "HTTP/1.1 {status}\r\nContent-Type: {ctype}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n\r\n",
         body.len()
     );
     stream.write_all(head.as_bytes())?;
-    stream.write_all(body)?;
+    if with_body {
+        stream.write_all(body)?;
+    }
     stream.flush()
 }
 
@@ -190,7 +202,8 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
         );
     }
     if let Some(a) = asset(path) {
-        return respond(&mut stream, "200 OK", a.content_type, a.bytes);
+        let get = method == "GET";
+        return respond_to(&mut stream, get, "200 OK", a.content_type, a.bytes);
     }
     if path == "/session.json" {
         let body = serde_json::json!({ "mode": mode.name() }).to_string();
