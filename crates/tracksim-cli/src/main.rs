@@ -127,6 +127,10 @@ enum Cmd {
         /// Track method under test.
         #[arg(long, default_value = "okada2020")]
         method: String,
+        /// Young's modulus of the track rubber in the Table IV column "compliant grousers,
+        /// rigid terrain, no slop", MPa (track rubber, Shore 60-80A: about 3.5-9 MPa).
+        #[arg(long, default_value_t = tracksim::validate::TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6)]
+        rubber_modulus_mpa: f64,
     },
     /// Drive a scenario live from a 3-D page in the browser (prints its URL); the session is
     /// a run: on stop (stop button, closed page, Ctrl-C) its outputs go to --out.
@@ -471,9 +475,26 @@ fn compare(
     Ok(())
 }
 
-fn validate(json: bool, out: Option<PathBuf>, method: &str) -> Result<(), Failure> {
+fn validate(
+    json: bool,
+    out: Option<PathBuf>,
+    method: &str,
+    rubber_modulus_mpa: f64,
+) -> Result<(), Failure> {
     let m = parse_method("--method", method)?;
-    let report = tracksim::validate::run_validation(&data_root(), m, |line| {
+    if !(rubber_modulus_mpa.is_finite() && (0.1..=1000.0).contains(&rubber_modulus_mpa)) {
+        return Err(bad_arg(
+            "--rubber-modulus-mpa",
+            format!(
+                "must be a Young's modulus in MPa between 0.1 and 1000 (track rubber: 3.5-9), got {rubber_modulus_mpa}"
+            ),
+        ));
+    }
+    let opts = tracksim::validate::ValidationOptions {
+        rubber_youngs_modulus_pa: rubber_modulus_mpa * 1e6,
+        ..Default::default()
+    };
+    let report = tracksim::validate::run_validation_with(&data_root(), m, opts, |line| {
         if !json {
             eprintln!("{line}");
         }
@@ -716,6 +737,11 @@ fn design_lines(v: &tracksim::VehicleModel) -> String {
         text.push_str(&format!(
             "\n       ground clearance {:.1} mm (body above the track bottoms)",
             c * 1000.0
+        ));
+    }
+    if let Some(a) = d.approach_angle_deg {
+        text.push_str(&format!(
+            "\n       approach angle {a:.1} deg (steepest ramp the tracks meet before the body)"
         ));
     }
     for w in &d.warnings {
@@ -972,7 +998,12 @@ fn main() -> ExitCode {
             commands,
         }),
         Cmd::Check { files } => check(&files),
-        Cmd::Validate { json, out, method } => validate(json, out, &method),
+        Cmd::Validate {
+            json,
+            out,
+            method,
+            rubber_modulus_mpa,
+        } => validate(json, out, &method, rubber_modulus_mpa),
         Cmd::Bench {
             repeat,
             duration,

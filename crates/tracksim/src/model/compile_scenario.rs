@@ -4,6 +4,7 @@
 //! (`command`, `track_speeds`, `flipper_angles`), the upper layers' [`ExtraChecks`], then the
 //! outcome (`outcome`). Every problem is reported with its key path, in that order, each once.
 
+use super::compliance::compile_compliance;
 use super::{Command, Controls, OutcomeModel, Scenario, SolverSettings, VehicleModel};
 use crate::check::Checker;
 use crate::error::{Result, SpecIssue};
@@ -106,7 +107,8 @@ pub fn compile_commands(
 }
 
 /// Vehicle-override stage: checks the start pose and applies the scenario's overrides of track
-/// friction, body mass (inertia scaled with it), belt mass and grouser count to `vehicle`.
+/// friction, body mass (inertia scaled with it), belt mass, contact compliance and grouser
+/// count to `vehicle`.
 fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleModel) {
     c.finite("vehicle.x_m", &[v.x_m, v.y_m, v.yaw_deg, v.pitch_deg]);
     if let Some(z) = v.z_m {
@@ -127,6 +129,12 @@ fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleM
         c.positive("vehicle.belt_mass_kg", m, "kg");
         for t in &mut vehicle.tracks {
             t.belt_mass = m;
+        }
+    }
+    if let Some(spec) = &v.compliance {
+        let compliance = compile_compliance(c, "vehicle.compliance", spec);
+        for t in &mut vehicle.tracks {
+            t.compliance = compliance;
         }
     }
     if let Some(n) = v.grouser_count {
@@ -196,6 +204,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         min_link_mass: s.min_link_mass_kg,
         prediction_distance: s.prediction_distance_m,
         contact_slop: s.contact_slop_m,
+        held_friction_in_bias_pass: s.held_friction_in_bias_pass,
     }
 }
 

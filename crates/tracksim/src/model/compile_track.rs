@@ -3,6 +3,7 @@
 //! `grouser_shape`), path (`track_path`), omitted segments (`included_segments`), then the
 //! mirror image. Problems are reported with their key paths, in that order.
 
+use super::compliance::compile_compliance;
 use super::{GrouserModel, GrouserShape, Parent, TrackModel};
 use crate::check::{Checker, v3};
 use crate::error::SpecIssue;
@@ -80,6 +81,11 @@ pub(super) fn compile_track(
         sprocket_radius: t.sprocket_pitch_radius_m,
         included,
         grousers,
+        compliance: t
+            .compliance
+            .as_ref()
+            .map(|s| compile_compliance(c, &format!("{k}.compliance"), s))
+            .unwrap_or_default(),
     };
     if let Some(m) = &t.mirror {
         let mut mirrored = model.clone();

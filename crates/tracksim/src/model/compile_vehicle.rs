@@ -63,6 +63,10 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         );
     }
     check_track_names(&mut c, &tracks);
+    let odometry_separation = spec.odometry.as_ref().and_then(|o| o.track_separation_m);
+    if let Some(b) = odometry_separation {
+        c.positive("odometry.track_separation_m", b, "m");
+    }
     if c.issues.is_empty() {
         Ok(VehicleModel {
             name: spec.name.clone(),
@@ -70,6 +74,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             body,
             flippers,
             tracks,
+            odometry_separation,
         })
     } else {
         Err(c.issues)

@@ -1,6 +1,6 @@
 //! What a designer needs to see before running (issue 11.3), from the compiled vehicle alone:
 //! per track the loop length, grouser pitch, grouser length and the gap between grousers; the
-//! ground clearance of the chassis; and warnings (not errors) about what is probably a mistake:
+//! ground clearance and approach angle of the chassis; and warnings (not errors) about what is probably a mistake:
 //! overlapping grousers, a body reaching past the tracks, a centre of mass outside the tracks'
 //! footprint. `tracksim check` prints it.
 
@@ -34,6 +34,12 @@ pub struct DesignReport {
     /// Height of the chassis's lowest point above the lowest point of the tracks on it (grouser
     /// tips included), m, in the body frame at rest.
     pub ground_clearance_m: Option<f64>,
+    /// Approach angle, deg: the steepest ramp the body-mounted tracks meet before the chassis
+    /// does (SAE J1100's definition with the tracks as the tyres: the largest angle of a plane
+    /// tangent to the front of the tracks' side profile, grouser tips included, that no corner
+    /// of the chassis crosses); 90 when the chassis never meets a ramp first. Flippers are
+    /// not counted (their angle changes it).
+    pub approach_angle_deg: Option<f64>,
     /// Probable mistakes, in words.
     pub warnings: Vec<String>,
 }
@@ -104,6 +110,7 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
         .collect();
     let (lo, hi) = v.body.shape.bounds();
     let mut ground_clearance = None;
+    let mut approach = None;
     if !on_body.is_empty() {
         let pts: Vec<(DVec3, f64)> = on_body
             .iter()
@@ -114,6 +121,7 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
             .collect();
         let bottom = pts.iter().map(|(p, g)| p.z - g).fold(f64::MAX, f64::min);
         ground_clearance = Some(lo.z - bottom);
+        approach = Some(approach_angle(&pts, lo, hi).to_degrees());
         let front = pts.iter().map(|(p, g)| p.x + g).fold(f64::MIN, f64::max);
         let rear = pts.iter().map(|(p, g)| p.x - g).fold(f64::MAX, f64::min);
         if hi.x > front + 1e-6 {
@@ -133,8 +141,45 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
     DesignReport {
         tracks,
         ground_clearance_m: ground_clearance,
+        approach_angle_deg: approach,
         warnings,
     }
+}
+
+/// Approach angle, rad, of the track profile `pts` (loop points and grouser heights, body
+/// frame) against the chassis box `lo..hi`: bisection on the angle `a` of a plane rising
+/// forward, tangent to the tracks' profile from below the front; the chassis meets the ramp
+/// first when one of its (x, z) corners lies beyond that plane.
+fn approach_angle(pts: &[(DVec3, f64)], lo: DVec3, hi: DVec3) -> f64 {
+    let n = pts.len().max(1) as f64;
+    let (cx, cz) = pts
+        .iter()
+        .fold((0.0, 0.0), |(x, z), (p, _)| (x + p.x / n, z + p.z / n));
+    // Each loop point pushed out by its grouser height, away from the profile's centre.
+    let profile: Vec<(f64, f64)> = pts
+        .iter()
+        .map(|(p, g)| {
+            let (dx, dz) = (p.x - cx, p.z - cz);
+            let r = dx.hypot(dz).max(1e-12);
+            (p.x + g * dx / r, p.z + g * dz / r)
+        })
+        .collect();
+    let corners = [(lo.x, lo.z), (lo.x, hi.z), (hi.x, lo.z), (hi.x, hi.z)];
+    // Signed height above the plane of angle `a` (normal (-sin a, cos a)).
+    let h = |a: f64, (x, z): (f64, f64)| z * a.cos() - x * a.sin();
+    let crosses = |a: f64| {
+        let plane = profile.iter().map(|&p| h(a, p)).fold(f64::MAX, f64::min);
+        corners.iter().any(|&c| h(a, c) < plane - 1e-9)
+    };
+    let (mut ok, mut bad) = (0.0, std::f64::consts::FRAC_PI_2);
+    if !crosses(bad) {
+        return bad;
+    }
+    for _ in 0..50 {
+        let mid = 0.5 * (ok + bad);
+        if crosses(mid) { bad = mid } else { ok = mid }
+    }
+    ok
 }
 
 /// Warns when the chassis's centre of mass lies outside the footprint of its tracks' lower runs.
@@ -161,5 +206,28 @@ fn com_inside_footprint(v: &VehicleModel, on_body: &[&TrackModel], warnings: &mu
             "the body's centre of mass ({:.3}, {:.3}) m is outside the tracks' footprint x {:.3}..{:.3}, y {:.3}..{:.3} m: it tips over at rest",
             c.x, c.y, x.0, x.1, y.0, y.1
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn approach_angle_of_a_flat_run_under_an_overhanging_body() {
+        // Tracks: a flat run z = 0 from x = -0.3 to 0.3 m. Chassis corner at x = 0.5, z = 0.1:
+        // a ramp from the run's front end (0.3, 0) reaches it at tan a = 0.1 / 0.2.
+        let pts: Vec<(DVec3, f64)> = (0..=60)
+            .map(|i| (DVec3::new(-0.3 + 0.01 * i as f64, 0.0, 0.0), 0.0))
+            .collect();
+        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.5, 0.1, 0.3));
+        assert!(
+            (a.to_degrees() - 0.5f64.atan().to_degrees()).abs() < 1e-6,
+            "{}",
+            a.to_degrees()
+        );
+        // A chassis behind the run's front never meets the ramp first.
+        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.2, 0.1, 0.3));
+        assert_eq!(a, std::f64::consts::FRAC_PI_2);
     }
 }

@@ -5,6 +5,8 @@
 //! - `compile_vehicle.rs`: [`compile_vehicle`] (name, body, flippers, track names), with one
 //!   track's stages (parents, belt, grousers, path, omitted segments, mirror) in
 //!   `compile_track.rs`;
+//! - `compliance.rs`: a track's contact compliance ([`Compliance`], `[tracks.compliance]`) and
+//!   the rubber formulas giving its stiffness;
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
@@ -16,6 +18,7 @@
 mod compile_scenario;
 mod compile_track;
 mod compile_vehicle;
+mod compliance;
 mod controls;
 mod design;
 mod load;
@@ -24,6 +27,10 @@ mod vehicle;
 
 pub use compile_scenario::*;
 pub use compile_vehicle::*;
+pub use compliance::{
+    Compliance, ContactSpring, belt_compression_stiffness, lug_compression_stiffness,
+    lug_tip_stiffness,
+};
 pub use controls::*;
 pub use design::*;
 pub use load::*;

@@ -20,6 +20,10 @@ pub struct SolverSettings {
     pub prediction_distance: f64,
     /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
     pub contact_slop: f64,
+    /// While every belt is held, friction also acts in Rapier's position-correction (bias)
+    /// pass: without it a braked vehicle creeps down a slope well inside the friction cone
+    /// (docs/DESIGN.md).
+    pub held_friction_in_bias_pass: bool,
 }
 
 impl Default for SolverSettings {
@@ -31,6 +35,7 @@ impl Default for SolverSettings {
             min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,
             contact_slop: 0.0,
+            held_friction_in_bias_pass: true,
         }
     }
 }

@@ -133,6 +133,8 @@ pub struct TrackModel {
     pub included: Vec<bool>,
     /// Grousers, if any.
     pub grousers: Option<GrouserModel>,
+    /// Contact compliance of the grousers and the belt (default: rigid).
+    pub compliance: super::Compliance,
 }
 
 /// A compiled vehicle.
@@ -148,6 +150,8 @@ pub struct VehicleModel {
     pub flippers: Vec<FlipperModel>,
     /// Tracks.
     pub tracks: Vec<TrackModel>,
+    /// Effective track separation of the skid-steer odometry, m (`None`: geometric).
+    pub odometry_separation: Option<f64>,
 }
 
 impl TrackModel {

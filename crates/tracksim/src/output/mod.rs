@@ -3,17 +3,20 @@
 //!
 //! - [`plot`]: side view over the terrain, top view, attitude (PNG + SVG);
 //! - [`replay`]: what the 3-D view needs to replay a run (`scene.json`, `belts.csv`);
-//! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons.
+//! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
+//! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time.
 
 pub mod plot;
 pub mod replay;
 pub mod side_view;
+pub mod signals;
 
 pub use replay::{Scene, write_replay};
 pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
 
 use crate::error::{Error, Result};
 use crate::run::RunResult;
+use crate::world::Sample;
 use std::io::Write;
 use std::path::Path;
 
@@ -48,7 +51,38 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
     }
     h.push("contacts".into());
     h.push("penetration_m".into());
+    for n in &result.track_names {
+        h.extend([
+            format!("belt_cmd_{n}_mps"),
+            format!("slip_{n}"),
+            format!("traction_{n}_n"),
+            format!("normal_load_{n}_n"),
+            format!("contacts_{n}"),
+        ]);
+    }
+    for c in ["odom_x_m", "odom_y_m", "odom_yaw_rad", "icr_x_m", "icr_y_m"] {
+        h.push(c.into());
+    }
     h
+}
+
+/// The per-track, odometry and centre-of-rotation cells of a row (after `penetration_m`);
+/// the centre of rotation is empty while the chassis does not turn.
+fn track_cells(s: &Sample) -> String {
+    let mut line = String::new();
+    for (i, l) in s.loads.iter().enumerate() {
+        line.push_str(&format!(
+            ",{:.6},{:.6},{:.6},{:.6},{}",
+            s.belt_cmd[i], s.slip[i], l.traction_n, l.normal_n, l.contacts
+        ));
+    }
+    let [x, y, yaw] = s.odom;
+    line.push_str(&format!(",{x:.6},{y:.6},{yaw:.6}"));
+    match s.icr {
+        Some([ix, iy]) => line.push_str(&format!(",{ix:.6},{iy:.6}")),
+        None => line.push_str(",,"),
+    }
+    line
 }
 
 /// The text of `trajectory.csv`: a header, then one row per sample (6 decimals, SI units).
@@ -80,7 +114,9 @@ pub fn trajectory_csv(result: &RunResult) -> String {
             .map(|v| format!("{v:.6}"))
             .collect::<Vec<_>>()
             .join(",");
-        line.push_str(&format!(",{},{:.6}\n", s.contacts, s.penetration));
+        line.push_str(&format!(",{},{:.6}", s.contacts, s.penetration));
+        line.push_str(&track_cells(s));
+        line.push('\n');
         text.push_str(&line);
     }
     text

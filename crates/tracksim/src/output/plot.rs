@@ -35,9 +35,9 @@ pub struct PlotInput<'a> {
 }
 
 /// Figure size in pixels.
-const SIZE: (u32, u32) = (1200, 900);
+pub(super) const SIZE: (u32, u32) = (1200, 900);
 /// Font family the embedded font is registered under.
-const FONT: &str = "sans-serif";
+pub(super) const FONT: &str = "sans-serif";
 /// Margin around each chart, px.
 const MARGIN: u32 = 8;
 /// Right margin, px: room for the last x tick label.
@@ -62,12 +62,12 @@ const GROUND_FILL: RGBColor = RGBColor(222, 205, 170);
 const GROUND_LINE: RGBColor = RGBColor(120, 95, 60);
 const OUTLINE: RGBColor = RGBColor(70, 70, 70);
 
-fn colour(i: usize) -> RGBColor {
+pub(super) fn colour(i: usize) -> RGBColor {
     COLOURS[i % COLOURS.len()]
 }
 
 /// Registers the embedded font once; false if the bytes were rejected.
-fn ensure_font() -> bool {
+pub(super) fn ensure_font() -> bool {
     static DONE: OnceLock<bool> = OnceLock::new();
     *DONE.get_or_init(|| {
         register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
@@ -75,7 +75,7 @@ fn ensure_font() -> bool {
     })
 }
 
-fn io_error(path: &Path, message: impl std::fmt::Display) -> Error {
+pub(super) fn io_error(path: &Path, message: impl std::fmt::Display) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(message.to_string()),
@@ -115,10 +115,13 @@ pub fn write_plots(input: &PlotInput, dir: &Path, stem: &str) -> Result<Vec<Path
     Ok(vec![png, svg])
 }
 
-type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+pub(super) type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// Finite points of one run, mapped by `f`.
-fn points(result: &RunResult, f: impl Fn(&crate::world::Sample) -> (f64, f64)) -> Vec<(f64, f64)> {
+pub(super) fn points(
+    result: &RunResult,
+    f: impl Fn(&crate::world::Sample) -> (f64, f64),
+) -> Vec<(f64, f64)> {
     result
         .samples
         .iter()
@@ -416,25 +419,35 @@ fn draw_angle<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
-    let (y_label, x_label) = (70, 40);
     let runs: Vec<Vec<(f64, f64)>> = input
         .runs
         .iter()
         .map(|r| points(r.result, |s| (s.t, angle(s).to_degrees())))
         .collect();
-    let tb = bounds(runs.iter().flatten().map(|p| p.0));
+    let series: Vec<(String, Vec<(f64, f64)>)> =
+        runs.into_iter().map(|p| (String::new(), p)).collect();
+    draw_time_panel(area, &format!("{name} (°)"), &series)
+}
+
+/// A panel of `series` (legend label, (t s, value) points) against time, `y_desc` naming the
+/// value and its unit; a legend when any label is non-empty.
+pub(super) fn draw_time_panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    y_desc: &str,
+    series: &[(String, Vec<(f64, f64)>)],
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let (y_label, x_label) = (70, 40);
+    let all: Vec<(f64, f64)> = series.iter().flat_map(|(_, p)| p.iter().copied()).collect();
+    let tb = bounds(all.iter().map(|p| p.0));
     let tr = match tb {
         Some((lo, hi)) if hi > lo => (lo, hi),
         Some((lo, _)) => (lo, lo + 1.0),
         None => (0.0, 1.0),
     };
-    let ar = padded(
-        bounds(runs.iter().flatten().map(|p| p.1)),
-        0.1,
-        0.5,
-        2.0,
-        (-1.0, 1.0),
-    );
+    let ar = padded(bounds(all.iter().map(|p| p.1)), 0.1, 0.5, 2.0, (-1.0, 1.0));
     let mut chart = ChartBuilder::on(area)
         .margin(MARGIN)
         .margin_right(MARGIN_RIGHT)
@@ -444,7 +457,7 @@ where
     chart
         .configure_mesh()
         .x_desc("t (s)")
-        .y_desc(format!("{name} (°)"))
+        .y_desc(y_desc)
         .x_label_formatter(&ticks(tr.1 - tr.0))
         .y_label_formatter(&ticks(ar.1 - ar.0))
         .label_style((FONT, 14))
@@ -457,11 +470,25 @@ where
             BLACK.mix(0.35).stroke_width(1),
         )))?;
     }
-    for (i, pts) in runs.iter().enumerate() {
-        chart.draw_series(LineSeries::new(
+    for (i, (label, pts)) in series.iter().enumerate() {
+        let s = chart.draw_series(LineSeries::new(
             pts.iter().copied(),
             colour(i).stroke_width(2),
         ))?;
+        if !label.is_empty() {
+            s.label(label.as_str()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 16, y)], colour(i).stroke_width(2))
+            });
+        }
+    }
+    if series.iter().any(|(l, _)| !l.is_empty()) {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK.mix(0.3))
+            .label_font((FONT, 13))
+            .position(SeriesLabelPosition::UpperLeft)
+            .draw()?;
     }
     Ok(())
 }
@@ -490,7 +517,7 @@ mod tests {
             belt_position: vec![0.3 * t, 0.3 * t],
             flipper_angle: vec![],
             contacts: 12,
-            penetration: 0.0,
+            ..Default::default()
         }
     }
 
@@ -537,11 +564,14 @@ mod tests {
                     min_link_mass_kg: 0.02,
                     prediction_distance_m: 0.02,
                     contact_slop_m: 0.0,
+                    held_friction_in_bias_pass: true,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,
                 max_link_error_rad: 1e-3,
                 max_penetration_m: 0.0,
+                tracks: vec![],
+                odometry: Default::default(),
             },
             samples,
             track_names: vec!["left".into(), "right".into()],

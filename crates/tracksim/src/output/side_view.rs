@@ -78,7 +78,7 @@ fn write_runs(
             result: r,
         })
         .collect();
-    super::plot::write_plots(
+    let mut written = super::plot::write_plots(
         &super::plot::PlotInput {
             title,
             runs: &runs,
@@ -87,7 +87,14 @@ fn write_runs(
         },
         dir,
         stem,
-    )
+    )?;
+    let signals = if stem == "plot" {
+        "signals".to_string()
+    } else {
+        format!("{stem}_signals")
+    };
+    written.extend(super::signals::write_signals(title, &runs, dir, &signals)?);
+    Ok(written)
 }
 
 /// Writes `plot.png` and `plot.svg` for one run into `dir`: side view over the terrain, top

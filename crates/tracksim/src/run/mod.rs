@@ -5,17 +5,20 @@
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`outcome`]: success and failure conditions;
-//! - [`summary`]: the numbers of `summary.json`.
+//! - [`summary`]: the numbers of `summary.json`;
+//! - [`track_summary`]: per-track figures and the odometry error in it.
 
 pub mod outcome;
 pub mod scripted;
 pub mod summary;
 pub mod timeline;
+pub mod track_summary;
 
 pub use outcome::{Outcome, check_outcome};
 pub use scripted::Scripted;
 pub use summary::{SolverSummary, Summary, WallTimes};
 pub use timeline::Timeline;
+pub use track_summary::{OdometrySummary, TrackSummary, odometry_summary, track_summaries};
 
 use crate::error::Result;
 use crate::model::Scenario;

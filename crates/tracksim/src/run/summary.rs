@@ -62,6 +62,10 @@ pub struct Summary {
     pub max_penetration_m: f64,
     /// Simulated and file mass of every part, the totals, and the centre of mass.
     pub mass: crate::world::MassReport,
+    /// Every track: belt speeds, slip, traction, normal load, contacts.
+    pub tracks: Vec<super::TrackSummary>,
+    /// Odometry against the ground truth at the end.
+    pub odometry: super::OdometrySummary,
 }
 
 /// Solver settings reported with every run.
@@ -79,6 +83,8 @@ pub struct SolverSummary {
     pub prediction_distance_m: f64,
     /// Uncorrected vehicle-terrain penetration (ODE's `min_depth`), m; 0 = rigid contact.
     pub contact_slop_m: f64,
+    /// Friction in Rapier's position-correction pass while every belt is held.
+    pub held_friction_in_bias_pass: bool,
 }
 
 impl SolverSummary {
@@ -91,6 +97,7 @@ impl SolverSummary {
             min_link_mass_kg: sc.solver.min_link_mass,
             prediction_distance_m: sc.solver.prediction_distance,
             contact_slop_m: sc.solver.contact_slop,
+            held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
         }
     }
 }
@@ -176,6 +183,8 @@ impl Summary {
             max_link_error_rad: err_rad,
             max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
             mass: sim.mass_report(),
+            tracks: super::track_summaries(sim.track_names(), samples),
+            odometry: super::odometry_summary(samples),
         }
     }
 }
@@ -198,8 +207,7 @@ mod tests {
             belt_phase: Vec::new(),
             belt_position: Vec::new(),
             flipper_angle: Vec::new(),
-            contacts: 0,
-            penetration: 0.0,
+            ..Default::default()
         }
     }
 

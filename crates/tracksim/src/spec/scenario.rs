@@ -4,7 +4,7 @@
 //! are SI unless the key name says otherwise (`yaw_deg`).
 
 use super::terrain::TerrainSpec;
-use super::vehicle::VehicleSpec;
+use super::vehicle::{ComplianceSpec, VehicleSpec};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -68,6 +68,10 @@ pub struct VehicleRefSpec {
     /// Override the belt mass of every track, kg.
     #[serde(default)]
     pub belt_mass_kg: Option<f64>,
+    /// Override the contact compliance of every track (`[vehicle.compliance]`, the same keys
+    /// as a vehicle file's `[tracks.compliance]`).
+    #[serde(default)]
+    pub compliance: Option<ComplianceSpec>,
 }
 
 /// When a run counts as a success or a failure, and whether it stops there.
@@ -142,6 +146,13 @@ pub struct SimulationSpec {
     /// pushed out.
     #[serde(default)]
     pub contact_slop_m: f64,
+    /// While every belt is held at 0 m/s and the chassis is at rest (static friction), friction also acts in Rapier's
+    /// position-correction (bias) pass (default true). Without it that pass, which pushes out
+    /// penetrations and joint errors, moves the bodies with no friction: a braked PackBot on a
+    /// 20 deg slope creeps 0.2 mm/s sideways and turns 0.02 deg/s. Not used while driving: there
+    /// it drags (3-5 % lower speed on flat ground, docs/DESIGN.md).
+    #[serde(default = "default_true")]
+    pub held_friction_in_bias_pass: bool,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -170,6 +181,7 @@ impl Default for SimulationSpec {
             min_link_mass_kg: default_min_link_mass(),
             prediction_distance_m: default_prediction(),
             contact_slop_m: 0.0,
+            held_friction_in_bias_pass: true,
             method: default_method(),
             seed: 0,
         }

@@ -20,6 +20,18 @@ pub struct VehicleSpec {
     pub flippers: Vec<FlipperSpec>,
     /// Tracks, on the body or on flippers.
     pub tracks: Vec<TrackSpec>,
+    /// What the robot's encoders report (`odom_*` columns).
+    #[serde(default)]
+    pub odometry: Option<OdometrySpec>,
+}
+
+/// Skid-steer odometry settings.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OdometrySpec {
+    /// Effective track separation of the skid-steer model, m (default: the distance between
+    /// the left and right chassis tracks' mid-planes; skid turns need more, see README).
+    pub track_separation_m: Option<f64>,
 }
 
 /// A collision shape.
@@ -136,6 +148,33 @@ pub struct TrackSpec {
     /// Grousers; none if absent.
     #[serde(default)]
     pub grousers: Option<GrouserSpec>,
+    /// Optional contact compliance of the grousers and the belt (rubber); rigid if absent.
+    #[serde(default)]
+    pub compliance: Option<ComplianceSpec>,
+}
+
+/// Contact compliance of a track's rubber (`[tracks.compliance]`): each part that has a table
+/// deflects along the contact normal as a spring and damper in parallel (Kelvin-Voigt); a part
+/// without one keeps the engine's own (rigid, regularised) contact.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ComplianceSpec {
+    /// Spring of one grouser against the terrain (per grouser and terrain piece).
+    #[serde(default)]
+    pub grousers: Option<ContactSpringSpec>,
+    /// Spring of one belt link (the belt collider of a segment) against the terrain.
+    #[serde(default)]
+    pub belt: Option<ContactSpringSpec>,
+}
+
+/// A contact spring and damper in parallel, along the contact normal.
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpringSpec {
+    /// Stiffness, N/m (normal force per metre of deflection).
+    pub stiffness_n_per_m: f64,
+    /// Damping, N s/m (normal force per m/s of deflection rate).
+    pub damping_ns_per_m: f64,
 }
 
 /// A track path, either as pulleys or as explicit segments (exactly one of the two).

@@ -34,6 +34,20 @@ pub const SLOP_TAG: u128 = 0x534c_4f50 << 64; // "SLOP"
 /// track's index); see [`track_tag`].
 pub const TRACK_TAG: u128 = 0x0054_5241_434b << 64; // "TRACK"
 
+/// `user_data` high bits of a vehicle collider with a contact compliance (low 32 bits: the
+/// index of its spring in the world's table); see [`compliance_tag`].
+pub const COMPLIANCE_TAG: u128 = 0x434f_4d50 << 64; // "COMP"
+
+/// The `user_data` of a collider whose contacts get spring `index` of the world's table.
+pub fn compliance_tag(index: usize) -> u128 {
+    COMPLIANCE_TAG | index as u128
+}
+
+/// The spring index a collider's `user_data` gives it, if any.
+pub fn tagged_compliance(user_data: u128) -> Option<usize> {
+    (user_data & !0xffff_ffff == COMPLIANCE_TAG).then_some((user_data & 0xffff_ffff) as usize)
+}
+
 /// The `user_data` routing a collider's contacts to track `index`.
 pub fn track_tag(index: usize) -> u128 {
     TRACK_TAG | index as u128

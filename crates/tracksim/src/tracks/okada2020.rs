@@ -443,6 +443,13 @@ impl Track for SegmentLinks {
         self.links.iter().map(|l| l.body).collect()
     }
 
+    fn grouser_colliders(&self) -> Vec<ColliderHandle> {
+        self.links
+            .iter()
+            .flat_map(|l| l.grousers.iter().map(|&(h, _)| h))
+            .collect()
+    }
+
     fn link_error(&self) -> LinkError {
         self.error
     }

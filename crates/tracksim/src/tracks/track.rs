@@ -55,6 +55,11 @@ pub trait Track: Send + Sync + std::fmt::Debug {
     fn measured_belt_speed(&self) -> f64;
     /// Every body this track added to the world.
     fn bodies(&self) -> Vec<RigidBodyHandle>;
+    /// The grouser colliders among the colliders of [`Track::bodies`] (the others are belt);
+    /// used to give grousers and belt their own contact compliance. Default: none.
+    fn grouser_colliders(&self) -> Vec<ColliderHandle> {
+        Vec::new()
+    }
     /// The largest joint error seen since the start or the last [`Track::reset_link_error`].
     fn link_error(&self) -> LinkError {
         LinkError::default()

@@ -16,15 +16,21 @@
 //! (`table_iv/00deg_120mm/grousers_slop10`, `slope/31deg`, `turning/spin`, `fig2/okada2020`,
 //! ...); they run in parallel on the machine's cores and the report looks each result up by
 //! its name. The stages live in one file each under `validate/`: `table_iv.rs`, `slope.rs`,
-//! `turning.rs`, `figures.rs`; the report in `report.rs`.
+//! `turning.rs`, `figures.rs`; the report in `report.rs`; the rubber of the compliant
+//! column in `rubber.rs`.
 
 mod figures;
 mod report;
+mod rubber;
 mod slope;
 mod table_iv;
 mod turning;
 
-pub use report::{Case, SlopeRun, StepCase, StepRun, ValidationReport};
+pub use report::{Case, RubberNote, SlopeRun, StepCase, StepRun, ValidationReport};
+pub use rubber::{
+    TRACK_RUBBER_LOSS_FACTOR, TRACK_RUBBER_POISSON, TRACK_RUBBER_YOUNGS_MODULUS_PA,
+    rubber_compliance, rubber_compliance_with, with_rubber, with_rubber_of,
+};
 pub use table_iv::quince_step_scenario;
 pub use turning::spin_ratio_coulomb;
 
@@ -90,6 +96,12 @@ pub struct ValidationOptions {
     pub without_grousers: bool,
     /// Also run the six Table IV cases with grousers and rigid contact (reported, not asserted).
     pub rigid_contact: bool,
+    /// Also run the six Table IV cases with compliant grousers and belts (rubber, see
+    /// [`rubber_compliance`]), rigid terrain and no slop (reported, not asserted).
+    pub compliant_grousers: bool,
+    /// Young's modulus of the track rubber in the compliant column, Pa (default
+    /// [`TRACK_RUBBER_YOUNGS_MODULUS_PA`]).
+    pub rubber_youngs_modulus_pa: f64,
 }
 
 impl Default for ValidationOptions {
@@ -97,6 +109,8 @@ impl Default for ValidationOptions {
         ValidationOptions {
             without_grousers: true,
             rigid_contact: true,
+            compliant_grousers: true,
+            rubber_youngs_modulus_pa: TRACK_RUBBER_YOUNGS_MODULUS_PA,
         }
     }
 }
@@ -133,6 +147,9 @@ pub fn run_validation_with(
 
     let mut report = ValidationReport::new(method);
     table_iv::assemble(&mut report, &jobs, &mut runs, method, opts);
+    if opts.compliant_grousers {
+        report.rubber = Some(rubber::note(&quince, opts.rubber_youngs_modulus_pa));
+    }
     slope::assemble(&mut report, &mut runs);
     turning::assemble(&mut report, &mut runs, &packbot, method);
     figures::assemble(&mut report, &jobs, &mut runs, method);

@@ -35,10 +35,26 @@ pub struct StepCase {
     /// This simulator with grousers and rigid contact (no slop; reported, not asserted);
     /// `None` if not run.
     pub with_grousers_rigid: Option<StepRun>,
+    /// This simulator with compliant grousers and belts (the rubber of
+    /// [`super::rubber_compliance`]), rigid terrain and no slop (reported, not asserted);
+    /// `None` if not run.
+    pub compliant_grousers: Option<StepRun>,
     /// `with_grousers` agrees with reality.
     pub passed: bool,
     /// Plot file stem.
     pub plot: String,
+}
+
+/// The rubber of the compliant Table IV column and the springs it gives each track.
+#[derive(Clone, Debug, Serialize)]
+pub struct RubberNote {
+    /// Young's modulus, Pa.
+    pub youngs_modulus_pa: f64,
+    /// Loss factor.
+    pub loss_factor: f64,
+    /// Per track: name, grouser stiffness N/m and damping N s/m, belt stiffness N/m and
+    /// damping N s/m (0 when the part is rigid).
+    pub springs: Vec<(String, f64, f64, f64, f64)>,
 }
 
 /// One step attempt.
@@ -158,6 +174,8 @@ pub struct ValidationReport {
     pub cases: Vec<Case>,
     /// Wall-clock time of the whole validation, s.
     pub wall_time_s: f64,
+    /// The rubber of the compliant Table IV column, if it was run.
+    pub rubber: Option<RubberNote>,
     #[serde(skip)]
     pub(super) plots: Vec<PlotJob>,
 }
@@ -171,6 +189,7 @@ impl ValidationReport {
             slope_runs: Vec::new(),
             cases: Vec::new(),
             wall_time_s: 0.0,
+            rubber: None,
             plots: Vec::new(),
         }
     }
@@ -198,16 +217,45 @@ impl ValidationReport {
         s
     }
 
+    /// The compliant column's rubber in words (empty if it was not run).
+    fn rubber_words(&self) -> String {
+        let Some(r) = &self.rubber else {
+            return String::new();
+        };
+        let mut s = format!(
+            " Compliant grousers: each grouser and each belt link against the terrain is a spring and damper along the contact normal, from track rubber of Young's modulus {:.1} MPa and loss factor {} (grouser: tapered lug bent and sheared by a load at its tip; belt: its thickness compressed over one grouser pitch; VALIDATION.md), rigid terrain, no slop:",
+            r.youngs_modulus_pa / 1e6,
+            r.loss_factor
+        );
+        let mut seen = Vec::new();
+        for (name, kg, cg, kb, cb) in &r.springs {
+            let key = format!("{kg:.0}/{kb:.0}");
+            if seen.contains(&key) {
+                continue;
+            }
+            seen.push(key);
+            s += &format!(
+                " `{name}` (and alike) grouser {:.1} kN/m, {cg:.0} N s/m, belt {:.0} kN/m, {cb:.0} N s/m;",
+                kg / 1e3,
+                kb / 1e3
+            );
+        }
+        s.pop();
+        s.push('.');
+        s
+    }
+
     /// The Table IV section.
     fn table_iv_markdown(&self) -> String {
         let mut s = String::from("## Table IV: Quince climbing a step (paper Sec. IV-B)\n\n");
         s += &format!(
-            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (vehicle-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid. Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
+            "Quince (`vehicles/quince.toml`, 33 kg) drives at {STEP_SPEED_MPS} m/s towards a step whose edge is {:.2} m ahead of its body centre; friction 0.6 on ground, step and tracks; rear sub-tracks flat (0 deg). **S** = within {STEP_DURATION_S:.0} s the body centre is {STEP_SUCCESS_MARGIN_M:.2} m past the step edge (the whole main track on top) and at least {STEP_ON_TOP_Z_M:.2} m above the step's top surface, without tipping over (75 deg); otherwise **F**. Contact slop {:.0} mm (vehicle-terrain penetration left uncorrected, the `min_depth` of the paper's ODE simulator) unless the column says rigid or no slop.{} Only the column with grousers and slop is asserted; the paper says the grousers decide 120 mm @ 0 deg and 240 mm @ 45 deg.\n\n",
             STEP_EDGE_X_M,
-            TABLE_IV_CONTACT_SLOP_M * 1000.0
+            TABLE_IV_CONTACT_SLOP_M * 1000.0,
+            self.rubber_words()
         );
-        s += "| front sub-tracks | step | reality | paper | with grousers | without grousers | with grousers, rigid contact | pass | plot |\n";
-        s += "|---|---|---|---|---|---|---|---|---|\n";
+        s += "| front sub-tracks | step | reality | paper | with grousers | without grousers | with grousers, rigid contact | compliant grousers, rigid terrain, no slop | pass | plot |\n";
+        s += "|---|---|---|---|---|---|---|---|---|---|\n";
         let optional = |r: &Option<StepRun>| {
             r.as_ref()
                 .map(|w| format!("{} ({})", w.result, run_words(w)))
@@ -215,7 +263,7 @@ impl ValidationReport {
         };
         for c in &self.table_iv {
             s += &format!(
-                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} | {} | {} | [{}.png]({}.png) |\n",
+                "| {:.0} deg | {:.0} mm | {} | {} | **{}** ({}) | {} | {} | {} | {} | [{}.png]({}.png) |\n",
                 c.front_angle_deg,
                 c.step_height_mm,
                 c.reality,
@@ -224,6 +272,7 @@ impl ValidationReport {
                 run_words(&c.with_grousers),
                 optional(&c.without_grousers),
                 optional(&c.with_grousers_rigid),
+                optional(&c.compliant_grousers),
                 if c.passed { "yes" } else { "**NO**" },
                 c.plot,
                 c.plot

@@ -2,6 +2,7 @@
 //! `table_iv/<angle>deg_<height>mm/<column>`.
 
 use super::report::{PlotJob, StepCase, StepRun, ValidationReport};
+use super::rubber::with_rubber_of;
 use super::{
     Jobs, QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, Ran, Runs, STEP_DEPTH_M,
     STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
@@ -33,6 +34,8 @@ enum Column {
     NoGrousers,
     /// With grousers and rigid contact (reported).
     Rigid,
+    /// Compliant grousers and belts ([`super::rubber`]), rigid terrain, no slop (reported).
+    Compliant,
 }
 
 impl Column {
@@ -45,6 +48,9 @@ impl Column {
         if opts.rigid_contact {
             v.push(Column::Rigid);
         }
+        if opts.compliant_grousers {
+            v.push(Column::Compliant);
+        }
         v
     }
 
@@ -56,7 +62,7 @@ impl Column {
     fn slop_m(self) -> f64 {
         match self {
             Column::Grousers | Column::NoGrousers => TABLE_IV_CONTACT_SLOP_M,
-            Column::Rigid => 0.0,
+            Column::Rigid | Column::Compliant => 0.0,
         }
     }
 
@@ -67,6 +73,7 @@ impl Column {
             Column::Grousers => format!("grousers_slop{slop_mm:.0}"),
             Column::NoGrousers => format!("no_grousers_slop{slop_mm:.0}"),
             Column::Rigid => "rigid".into(),
+            Column::Compliant => "compliant_no_slop".into(),
         }
     }
 }
@@ -89,10 +96,16 @@ pub(super) fn add_jobs(
     opts: ValidationOptions,
     root: &Path,
 ) -> Result<()> {
+    let rubber = with_rubber_of(quince, opts.rubber_youngs_modulus_pa);
     for &(a, h, _) in &TABLE {
         for column in Column::selected(opts) {
+            let vehicle = if column == Column::Compliant {
+                &rubber
+            } else {
+                quince
+            };
             let sc = quince_step_scenario(
-                quince,
+                vehicle,
                 a,
                 h / 1000.0,
                 column.grousers(),
@@ -141,6 +154,10 @@ fn assemble_row(
         .then(|| take(Column::NoGrousers))
         .unzip();
     let (rigid, with_grousers_rigid) = opts.rigid_contact.then(|| take(Column::Rigid)).unzip();
+    let (compliant, compliant_grousers) = opts
+        .compliant_grousers
+        .then(|| take(Column::Compliant))
+        .unzip();
 
     let mut plot_runs = Vec::new();
     if let Ok(r) = rg {
@@ -159,6 +176,12 @@ fn assemble_row(
     }
     if let (Some(Ok(r)), Some(w)) = (rigid, &with_grousers_rigid) {
         plot_runs.push((format!("grousers, rigid contact: {}", w.result), r));
+    }
+    if let (Some(Ok(r)), Some(w)) = (compliant, &compliant_grousers) {
+        plot_runs.push((
+            format!("compliant grousers, rigid terrain, no slop: {}", w.result),
+            r,
+        ));
     }
     let stem = format!("table_iv_{a:02.0}deg_{h:03.0}mm");
     let plot = jobs
@@ -188,6 +211,7 @@ fn assemble_row(
         with_grousers,
         without_grousers,
         with_grousers_rigid,
+        compliant_grousers,
         plot: stem,
     };
     (case, plot)

@@ -1,8 +1,8 @@
 //! The build stages of [`Simulation::new`]: world settings, terrain, chassis, flippers, tracks
-//! (by their method), contact slop, then placement on the terrain.
+//! (by their method), contact compliance, contact slop, then placement on the terrain.
 
 use super::origin::shift_for;
-use super::{Flipper, START_CLEARANCE_M, Simulation};
+use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
@@ -31,6 +31,8 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     let body = insert_chassis(&mut world, v, start)?;
     let flippers = insert_flippers(&mut world, v, body, start)?;
     let tracks = build_tracks(&mut world, &sc, method, body, &flippers)?;
+    let springs =
+        super::compliance::tag_compliance(&mut world, &sc.vehicle.tracks, &tracks, sc.solver.dt);
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
@@ -39,6 +41,8 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         origin,
         method,
         slop: sc.solver.contact_slop as f32,
+        held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
+        springs,
         ground_tile,
         body,
         tracks,
@@ -50,10 +54,28 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
         flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
+        odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
     };
     sim.conserve_mass(&sc)?;
     place(&mut sim);
+    sim.odometry = start_odometry(&sim);
     Ok(sim)
+}
+
+/// Odometry at the placed start pose over the chassis tracks (REP 105: the odom frame
+/// coincides with the world at the start).
+fn start_odometry(sim: &Simulation) -> Odometry {
+    let v = &sim.scenario.vehicle;
+    let offsets: Vec<Option<f64>> = v
+        .tracks
+        .iter()
+        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
+        .collect();
+    let b = v
+        .odometry_separation
+        .unwrap_or_else(|| Odometry::geometric_separation(&offsets));
+    let p = sim.body_pose();
+    Odometry::new(&offsets, b, p.x, p.y, p.yaw)
 }
 
 /// An empty world with the scenario's solver settings, z up.

@@ -1,8 +1,10 @@
-//! The contact hook of the world (Rapier's `PhysicsHooks`): the contact slop
+//! The contact hook of the world (Rapier's `PhysicsHooks`): the contact compliance of grousers
+//! and belts (`[tracks.compliance]`, `world/compliance.rs`), the contact slop
 //! (`simulation.contact_slop_m`, ODE's `min_depth`), which applies to every track method, and
 //! forwarding of contacts of colliders a track tagged for itself to that track.
 
-use crate::tracks::{SLOP_TAG, Track, TrackContact, tagged_track};
+use super::compliance::{SolverSpring, apply_compliance};
+use crate::tracks::{SLOP_TAG, Track, TrackContact, tagged_compliance, tagged_track};
 use rapier3d::prelude::*;
 
 /// The hook for one step: borrows the tracks.
@@ -12,6 +14,10 @@ pub(crate) struct ContactHooks<'a> {
     pub slop: f32,
     /// The tracks, by index (the index in a collider's tag).
     pub tracks: &'a [Box<dyn Track>],
+    /// The contact springs, by index (the index in a collider's compliance tag).
+    pub springs: &'a [SolverSpring],
+    /// Time step, s.
+    pub dt: f32,
 }
 
 /// Applies the slop to every solver contact of the pair.
@@ -31,6 +37,14 @@ impl PhysicsHooks for ContactHooks<'_> {
             ctx.colliders[ctx.collider1].user_data,
             ctx.colliders[ctx.collider2].user_data,
         );
+        let spring = tagged_compliance(u1)
+            .or(tagged_compliance(u2))
+            .and_then(|i| self.springs.get(i));
+        if let Some(&s) = spring {
+            apply_compliance(ctx, s, self.dt);
+            apply_slop(ctx, self.slop);
+            return;
+        }
         if u1 == SLOP_TAG || u2 == SLOP_TAG {
             apply_slop(ctx, self.slop);
             return;

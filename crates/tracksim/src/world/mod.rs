@@ -4,6 +4,7 @@
 //! scenario file's `[[commands]]` are one source of controls: `crate::run::Timeline`).
 //!
 //! - [`build`]: the build stages of [`Simulation::new`];
+//! - [`compliance`]: grousers and belts as springs and dampers (`[tracks.compliance]`);
 //! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
 //! - [`step`]: the stages of one step;
@@ -11,21 +12,28 @@
 //! - [`load`]: loading a scenario with the track method checked with every other key;
 //! - [`mass`]: the vehicle weighs what its file says (floored link masses taken back from
 //!   their parents), and the report of every part's mass;
-//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle.
+//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle;
+//! - [`odometry`]: what the robot's encoders report (skid-steer dead reckoning);
+//! - [`track_loads`]: the terrain's force on each track (contacts, normal load, traction).
 
 #![warn(clippy::too_many_lines)]
 
 pub mod build;
+pub mod compliance;
 pub mod contacts;
 pub mod load;
 pub mod mass;
+pub mod odometry;
 pub mod origin;
 pub mod sample;
 pub mod step;
+pub mod track_loads;
 
 pub use load::{compile_scenario, load_scenario};
 pub use mass::{MassReport, PartMass};
+pub use odometry::Odometry;
 pub use sample::{PoseRpy, Sample};
+pub use track_loads::TrackLoad;
 
 use crate::model::{Controls, Scenario};
 use crate::tracks::{LinkError, Method, Track};
@@ -63,6 +71,11 @@ pub struct Simulation {
     method: Method,
     /// Uncorrected penetration of vehicle contacts, m (`simulation.contact_slop_m`).
     slop: f32,
+    /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
+    /// Rapier's position-correction pass (the brake holds).
+    held_friction_in_bias_pass: bool,
+    /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index.
+    springs: Vec<compliance::SolverSpring>,
     /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
     ground_tile: Option<RigidBodyHandle>,
     body: RigidBodyHandle,
@@ -74,6 +87,8 @@ pub struct Simulation {
     seed: u64,
     track_names: Vec<String>,
     flipper_names: Vec<String>,
+    /// Dead reckoning from the measured belt speeds.
+    odometry: Odometry,
 }
 
 impl Simulation {

@@ -1,7 +1,9 @@
 //! What is recorded of the running state: the body's pose and velocities, belts, flippers and
 //! contacts ([`Sample`]), and the queries behind it.
 
-use super::Simulation;
+use super::{Simulation, TrackLoad};
+use crate::check::f;
+use crate::model::Parent;
 use crate::tracks::WORLD_GROUP;
 use glam::DVec3;
 use rapier3d::prelude::*;
@@ -40,7 +42,7 @@ impl PoseRpy {
 }
 
 /// One recorded instant of the vehicle's state.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Sample {
     /// Simulated time, s.
     pub t: f64,
@@ -63,6 +65,32 @@ pub struct Sample {
     pub contacts: usize,
     /// Deepest geometric penetration among the vehicle-terrain contact points (0 if none), m.
     pub penetration: f64,
+    /// Commanded belt speed per track, m/s.
+    pub belt_cmd: Vec<f64>,
+    /// Slip ratio per track: (belt - ground) / max(|belt|, |ground|), 0 when both are below
+    /// 1 mm/s; ground is the parent's velocity at the track's centre along its forward axis
+    /// (positive: the belt runs faster than the track moves over the ground, as when driving).
+    pub slip: Vec<f64>,
+    /// The terrain's force on each track over the last step.
+    pub loads: Vec<TrackLoad>,
+    /// Odometry pose (x m, y m, yaw rad) in the odom frame (REP 105; the world frame at start).
+    pub odom: [f64; 3],
+    /// Instantaneous centre of rotation of the chassis's planar motion in its own frame
+    /// (x m, y m), `None` while it turns slower than [`ICR_MIN_RATE_RAD_S`].
+    pub icr: Option<[f64; 2]>,
+}
+
+/// Yaw rate below which the instantaneous centre of rotation is not reported, rad/s.
+pub const ICR_MIN_RATE_RAD_S: f64 = 1e-3;
+
+/// Slip ratio of a belt running at `belt` m/s over ground it moves along at `ground` m/s.
+pub fn slip_ratio(belt: f64, ground: f64) -> f64 {
+    let scale = belt.abs().max(ground.abs());
+    if scale < 1e-3 {
+        0.0
+    } else {
+        (belt - ground) / scale
+    }
 }
 
 impl Simulation {
@@ -201,6 +229,47 @@ impl Simulation {
                 .collect(),
             contacts,
             penetration,
+            belt_cmd: self
+                .tracks
+                .iter()
+                .map(|t| t.commanded_belt_speed())
+                .collect(),
+            slip: self.slip(),
+            loads: self.track_loads(),
+            odom: [self.odometry.x, self.odometry.y, self.odometry.yaw],
+            icr: self.icr(),
         }
+    }
+
+    /// Slip ratio of every track ([`Sample::slip`]).
+    fn slip(&self) -> Vec<f64> {
+        self.scenario
+            .vehicle
+            .tracks
+            .iter()
+            .zip(&self.tracks)
+            .map(|(m, t)| {
+                let parent = match m.parent {
+                    Parent::Body => self.body,
+                    Parent::Flipper(i) => self.flippers[i].body,
+                };
+                let b = &self.world.bodies[parent];
+                let segs = m.path.segments();
+                let c = segs.iter().map(|s| s.start()).sum::<DVec3>() / segs.len() as f64;
+                let v = b.velocity_at_point(b.position() * f(c));
+                let ground = v.dot(b.rotation() * Vector::X) as f64;
+                slip_ratio(t.measured_belt_speed(), ground)
+            })
+            .collect()
+    }
+
+    /// Instantaneous centre of rotation in the chassis frame ([`Sample::icr`]).
+    fn icr(&self) -> Option<[f64; 2]> {
+        let b = &self.world.bodies[self.body];
+        let r = b.rotation().inverse();
+        // Velocity of the chassis frame's origin (not of its centre of mass), body frame.
+        let (v, w) = (r * b.velocity_at_point(b.translation()), r * b.angvel());
+        let wz = w.z as f64;
+        (wz.abs() >= ICR_MIN_RATE_RAD_S).then(|| [-(v.y as f64) / wz, v.x as f64 / wz])
     }
 }

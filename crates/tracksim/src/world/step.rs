@@ -5,14 +5,24 @@ use super::contacts::ContactHooks;
 use super::{MAX_SPEED_MPS, Simulation};
 use crate::error::{Error, Result};
 
+/// Chassis speed below which a braked vehicle counts as at rest, m/s: 50x the creep it had
+/// (0.2 mm/s), far below any driving speed.
+pub const STICK_SPEED_MPS: f32 = 0.01;
+/// Chassis turn rate below which a braked vehicle counts as at rest, rad/s.
+pub const STICK_RATE_RAD_S: f32 = 0.01;
+
 impl Simulation {
     /// Advances the simulation by one time step with the controls set so far.
     pub fn step(&mut self) -> Result<()> {
         self.follow_origin();
         self.recentre_ground_tile();
+        self.world.integration_parameters.friction_in_bias_pass =
+            self.held_friction_in_bias_pass && self.braked_at_rest();
         let hooks = ContactHooks {
             slop: self.slop,
             tracks: &self.tracks,
+            springs: &self.springs,
+            dt: self.dt as f32,
         };
         self.world.step_with_events(&hooks, &());
         self.steps += 1;
@@ -20,7 +30,24 @@ impl Simulation {
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
         }
+        let belt: Vec<f64> = self
+            .tracks
+            .iter()
+            .map(|t| t.measured_belt_speed())
+            .collect();
+        self.odometry.update(&belt, self.dt);
         self.check_stability()
+    }
+
+    /// Every belt commanded to 0 m/s and the chassis at rest (below [`STICK_SPEED_MPS`] and
+    /// [`STICK_RATE_RAD_S`]): static friction holds the vehicle. A braked vehicle that slides
+    /// (beyond the friction cone) leaves this state within milliseconds and slides with
+    /// Rapier's plain friction.
+    fn braked_at_rest(&self) -> bool {
+        let b = &self.world.bodies[self.body];
+        self.tracks.iter().all(|t| t.commanded_belt_speed() == 0.0)
+            && b.linvel().length() < STICK_SPEED_MPS
+            && b.angvel().length() < STICK_RATE_RAD_S
     }
 
     /// Moves the flat-ground tile under the vehicle (`terrain::GROUND_RECENTRE_M`).

@@ -1,0 +1,84 @@
+//! What each track feels from the terrain (issue 14.2): its contact points, the normal load and
+//! the traction along the chassis's forward axis, from the impulses Rapier's solver applied in
+//! the last step (divided by the step).
+//!
+//! Attribution: a contact belongs to a track when its vehicle collider sits on one of the
+//! track's bodies (links, wheels, plates) or carries the track's tag (constraint-to-ground belts
+//! on the chassis). Normal forces are the points' total impulses over the step. Friction:
+//! Rapier's default (simplified) friction model solves one friction impulse per manifold and
+//! writes its last substep's value, in world coordinates, to every point of the manifold
+//! (`ContactData::warmstart_tangent_world`); it is counted once per manifold, times the number
+//! of substeps (`simulation.solver_iterations`): exact in steady state, an estimate during
+//! impacts. Checked at rest on 0 and 20 deg against m g cos and m g sin
+//! (tests/issue_14_track_outputs.rs).
+
+use super::Simulation;
+use crate::tracks::WORLD_GROUP;
+use crate::tracks::tagged_track;
+use rapier3d::prelude::*;
+use std::collections::HashMap;
+
+/// The terrain's force on one track over the last step.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TrackLoad {
+    /// Active solver contact points between the track and the terrain.
+    pub contacts: usize,
+    /// Sum of the contact normal forces (the load the track carries), N.
+    pub normal_n: f64,
+    /// The terrain's whole contact force on the track (normal and friction) along the chassis's
+    /// forward axis (body x), N: positive pushes the vehicle forwards.
+    pub traction_n: f64,
+}
+
+impl Simulation {
+    /// The terrain's force on every track over the last step (zero before the first step).
+    pub fn track_loads(&self) -> Vec<TrackLoad> {
+        let mut loads = vec![TrackLoad::default(); self.tracks.len()];
+        if self.steps() == 0 {
+            return loads;
+        }
+        let owner: HashMap<RigidBodyHandle, usize> = self
+            .tracks
+            .iter()
+            .enumerate()
+            .flat_map(|(i, t)| t.bodies().into_iter().map(move |b| (b, i)))
+            .collect();
+        let cs = &self.world.colliders;
+        let track_of = |h: ColliderHandle| -> Option<usize> {
+            let c = cs.get(h)?;
+            tagged_track(c.user_data).or_else(|| c.parent().and_then(|b| owner.get(&b).copied()))
+        };
+        let terrain = |h: ColliderHandle| {
+            cs.get(h)
+                .is_some_and(|c| c.collision_groups().memberships.contains(WORLD_GROUP))
+        };
+        let forward = self.world.bodies[self.body].rotation() * Vector::X;
+        let inv_dt = 1.0 / self.dt;
+        let substeps = self.world.integration_parameters.num_solver_iterations as f32;
+        for p in self.world.narrow_phase.contact_pairs() {
+            // The track's collider and the sign turning "force on collider 1" into its force.
+            let (track, sign) = match (track_of(p.collider1), track_of(p.collider2)) {
+                (Some(t), None) if terrain(p.collider2) => (t, 1.0f32),
+                (None, Some(t)) if terrain(p.collider1) => (t, -1.0f32),
+                _ => continue,
+            };
+            let load = &mut loads[track];
+            for m in p.solver_manifolds() {
+                let mut normal = 0.0f32;
+                let mut friction = None;
+                for sc in &m.data.solver_contacts {
+                    let id = (sc.contact_id[0] & !NEW_CONTACT_BIT) as usize;
+                    let Some(pt) = m.points.get(id) else { continue };
+                    normal += pt.data.impulse;
+                    friction.get_or_insert(pt.data.warmstart_tangent_world);
+                    load.contacts += 1;
+                }
+                // Impulses on collider 1: the normal one pushes it against the normal.
+                let f = -m.data.normal * normal + friction.unwrap_or(Vector::ZERO) * substeps;
+                load.normal_n += normal as f64 * inv_dt;
+                load.traction_n += (sign * f).dot(forward) as f64 * inv_dt;
+            }
+        }
+        loads
+    }
+}
