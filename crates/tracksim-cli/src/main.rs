@@ -65,6 +65,10 @@ enum Cmd {
         /// Do not write the plot files.
         #[arg(long)]
         no_plot: bool,
+        /// Replace the scenario's `[[commands]]` by those of this file (e.g. the
+        /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
+        #[arg(long)]
+        commands: Option<PathBuf>,
     },
     /// Run one scenario with every track method; print a table and write a combined plot.
     Compare {
@@ -128,6 +132,47 @@ enum Cmd {
         #[arg(long, default_value_t = tracksim::validate::TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6)]
         rubber_modulus_mpa: f64,
     },
+    /// Drive a scenario live from a 3-D page in the browser (prints its URL); the session is
+    /// a run: on stop (stop button, closed page, Ctrl-C) its outputs go to --out.
+    Drive {
+        /// Scenario file (TOML).
+        file: PathBuf,
+        /// Output folder (as `run`, plus commands.toml and controls.csv).
+        #[arg(long, default_value = "out/drive")]
+        out: PathBuf,
+        /// Simulated seconds per wall-clock second (0.5 slower, 2 faster than real time).
+        #[arg(long, default_value_t = 1.0)]
+        speed: f64,
+        /// TCP port of the page (0: any free port).
+        #[arg(long, default_value_t = tracksim::live::DEFAULT_PORT)]
+        port: u16,
+        /// Address to listen on (default loopback only; any other is reachable by others).
+        #[arg(long)]
+        bind: Option<std::net::IpAddr>,
+        /// End the session at this simulated time, s (default: when the operator stops).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Track method, overriding the scenario's `simulation.method`.
+        #[arg(long)]
+        method: Option<String>,
+        /// Do not write the plot files.
+        #[arg(long)]
+        no_plot: bool,
+        /// Start simulating only once a page has connected.
+        #[arg(long)]
+        wait_for_page: bool,
+    },
+    /// Replay a finished run (of `run`, `drive` or `compare`) in the 3-D page.
+    View {
+        /// The run's output folder (holding scene.json, trajectory.csv, belts.csv).
+        dir: PathBuf,
+        /// TCP port of the page (0: any free port).
+        #[arg(long, default_value_t = tracksim::live::DEFAULT_PORT)]
+        port: u16,
+        /// Address to listen on (default loopback only).
+        #[arg(long)]
+        bind: Option<std::net::IpAddr>,
+    },
     /// Check vehicle and scenario files without running them; print every problem.
     Check {
         /// Files to check (vehicle or scenario files, told apart by their keys).
@@ -167,6 +212,7 @@ struct RunArgs {
     method: Option<String>,
     duration: Option<f64>,
     no_plot: bool,
+    commands: Option<PathBuf>,
 }
 
 fn run(a: RunArgs) -> Result<(), Failure> {
@@ -176,6 +222,9 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     }
     if let Some(d) = a.duration {
         sc.duration = check_duration(d)?;
+    }
+    if let Some(c) = &a.commands {
+        sc.commands = tracksim::model::load_commands(c, &sc.vehicle)?;
     }
     let show_bar = !a.quiet && !a.json && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
@@ -210,6 +259,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
     let result = result?;
     tracksim::output::write_run(&result, &a.out)?;
     let mut written = vec![a.out.join("summary.json"), a.out.join("trajectory.csv")];
+    written.extend(tracksim::output::write_replay(&sc, &result, &a.out)?);
     if !a.no_plot {
         written.extend(tracksim::output::write_run_plots(&sc, &result, &a.out)?);
     }
@@ -341,6 +391,7 @@ fn compare(
         match tracksim::run_scenario(&sc, |_, _| {}) {
             Ok(r) => {
                 tracksim::output::write_run(&r, &out.join(m.name()))?;
+                tracksim::output::write_replay(&sc, &r, &out.join(m.name()))?;
                 let s = &r.summary;
                 rows.push(serde_json::json!({
                     "method": m.name(),
@@ -813,6 +864,113 @@ fn list(dir: Option<PathBuf>) -> Result<(), Failure> {
     Ok(())
 }
 
+/// The address to listen on: loopback unless `--bind` says otherwise (then with a warning).
+fn bind_address(bind: Option<std::net::IpAddr>) -> std::net::IpAddr {
+    match bind {
+        Some(a) if !a.is_loopback() => {
+            eprintln!(
+                "warning: listening on {a}, not loopback: anyone who can reach this machine can \
+                 watch, and the first to connect drives"
+            );
+            a
+        }
+        Some(a) => a,
+        None => tracksim::live::DEFAULT_BIND,
+    }
+}
+
+struct DriveArgs {
+    file: PathBuf,
+    out: PathBuf,
+    speed: f64,
+    port: u16,
+    bind: Option<std::net::IpAddr>,
+    duration: Option<f64>,
+    method: Option<String>,
+    no_plot: bool,
+    wait_for_page: bool,
+}
+
+fn drive(a: DriveArgs) -> Result<(), Failure> {
+    use tracksim::live::{DriveOptions, Hub, Mode, Server};
+    let mut sc = tracksim::load_scenario(&a.file)?;
+    if let Some(m) = &a.method {
+        sc.method = parse_method("--method", m)?.name();
+    }
+    if !(a.speed.is_finite() && a.speed > 0.0) {
+        return Err(bad_arg(
+            "--speed",
+            format!("must be a number > 0 (1 = real time), got {}", a.speed),
+        ));
+    }
+    let max_time = a.duration.map(check_duration).transpose()?;
+    let hub = Hub::new();
+    let scene_json = tracksim::output::Scene::new(&sc).to_json();
+    let mut server = Server::start(
+        bind_address(a.bind),
+        a.port,
+        Mode::Drive {
+            hub: hub.clone(),
+            scene_json,
+        },
+    )?;
+    let h = hub.clone();
+    if let Err(e) = ctrlc::set_handler(move || h.request_stop()) {
+        eprintln!("warning: Ctrl-C will not end the session cleanly: {e}");
+    }
+    out!(
+        "drive      open {} in a browser (the first page to connect drives)",
+        server.url()
+    );
+    out!("           stop: the page's stop button, closing the page, or Ctrl-C");
+    let session = tracksim::live::run_session(
+        &sc,
+        &hub,
+        DriveOptions {
+            speed: a.speed,
+            max_time,
+            wait_for_page: a.wait_for_page,
+        },
+    );
+    hub.request_stop();
+    server.shutdown();
+    let session = session?;
+    let written = session.write(&sc, &a.file, &a.out, !a.no_plot)?;
+    let s = &session.result.summary;
+    out!(
+        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
+        s.sim_time_s,
+        s.elapsed_time_s,
+        s.paced_real_time_factor,
+        s.real_time_factor
+    );
+    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+    for w in &written {
+        out!("wrote      {}", w.display());
+    }
+    out!(
+        "replay     tracksim view {}   (or reproduce: tracksim run {} --commands {} --duration {})",
+        a.out.display(),
+        a.file.display(),
+        a.out.join("commands.toml").display(),
+        session.duration()
+    );
+    Ok(())
+}
+
+fn view(dir: &Path, port: u16, bind: Option<std::net::IpAddr>) -> Result<(), Failure> {
+    use tracksim::live::{Mode, Server};
+    let files = tracksim::live::view_files(dir)?;
+    let server = Server::start(bind_address(bind), port, Mode::View { files })?;
+    out!("view       open {} in a browser; Ctrl-C ends", server.url());
+    let (tx, rx) = std::sync::mpsc::channel();
+    let _ = ctrlc::set_handler(move || {
+        let _ = tx.send(());
+    });
+    let _ = rx.recv();
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.command {
@@ -826,6 +984,7 @@ fn main() -> ExitCode {
             method,
             duration,
             no_plot,
+            commands,
         } => run(RunArgs {
             file,
             out,
@@ -836,6 +995,7 @@ fn main() -> ExitCode {
             method,
             duration,
             no_plot,
+            commands,
         }),
         Cmd::Check { files } => check(&files),
         Cmd::Validate {
@@ -871,6 +1031,28 @@ fn main() -> ExitCode {
             json,
         } => compare(&file, &out, &methods, duration, json),
         Cmd::List { dir } => list(dir),
+        Cmd::Drive {
+            file,
+            out,
+            speed,
+            port,
+            bind,
+            duration,
+            method,
+            no_plot,
+            wait_for_page,
+        } => drive(DriveArgs {
+            file,
+            out,
+            speed,
+            port,
+            bind,
+            duration,
+            method,
+            no_plot,
+            wait_for_page,
+        }),
+        Cmd::View { dir, port, bind } => view(&dir, port, bind),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,

@@ -26,6 +26,7 @@ pub mod cases;
 pub(crate) mod check;
 pub mod error;
 pub mod geometry;
+pub mod live;
 pub mod model;
 pub mod output;
 pub mod run;

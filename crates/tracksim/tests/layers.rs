@@ -20,6 +20,7 @@ const LAYERS: &[&[&str]] = &[
     &["output"],
     &["cases"],
     &["bench", "validate"],
+    &["live"],
 ];
 
 /// Items re-exported at the crate root, by the module that defines them.

@@ -86,6 +86,26 @@ pub fn compile_scenario_with(
     })
 }
 
+/// Compiles a list of `[[commands]]` (e.g. a `commands.toml` written by `tracksim drive`) for
+/// `vehicle`, with the checks of a scenario's commands and their key paths.
+pub fn compile_commands(
+    specs: &[CommandSpec],
+    vehicle: &VehicleModel,
+) -> Result<Vec<Command>, Vec<SpecIssue>> {
+    let mut c = Checker::default();
+    let mut last_t = f64::NEG_INFINITY;
+    let commands = specs
+        .iter()
+        .enumerate()
+        .map(|(i, cmd)| command(&mut c, &format!("commands[{i}]"), cmd, vehicle, &mut last_t))
+        .collect();
+    if c.issues.is_empty() {
+        Ok(commands)
+    } else {
+        Err(c.issues)
+    }
+}
+
 /// Vehicle-override stage: checks the start pose and applies the scenario's overrides of track
 /// friction, body mass (inertia scaled with it), belt mass, contact compliance and grouser
 /// count to `vehicle`.

@@ -27,6 +27,24 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleModel> {
     })
 }
 
+/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`).
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CommandsFile {
+    #[serde(default)]
+    commands: Vec<crate::spec::CommandSpec>,
+}
+
+/// Loads a file of `[[commands]]` (the format of a scenario's) for `vehicle`: the commands
+/// that replace a scenario's (`tracksim run --commands FILE`).
+pub fn load_commands(path: &Path, vehicle: &VehicleModel) -> Result<Vec<super::Command>> {
+    let f: CommandsFile = read_toml(path)?;
+    super::compile_commands(&f.commands, vehicle).map_err(|issues| Error::Invalid {
+        path: path.to_path_buf(),
+        issues,
+    })
+}
+
 /// Loads a scenario file and the vehicle file it names (relative to the scenario's folder);
 /// `extra` as in [`compile_scenario_with`].
 pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {

@@ -2,13 +2,16 @@
 //! [`RunResult`] (the run layer writes nothing).
 //!
 //! - [`plot`]: side view over the terrain, top view, attitude (PNG + SVG);
+//! - [`replay`]: what the 3-D view needs to replay a run (`scene.json`, `belts.csv`);
 //! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
 //! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time.
 
 pub mod plot;
+pub mod replay;
 pub mod side_view;
 pub mod signals;
 
+pub use replay::{Scene, write_replay};
 pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
 
 use crate::error::{Error, Result};

@@ -514,6 +514,7 @@ mod tests {
             angvel: [0.0; 3],
             belt_speed: vec![0.3, 0.3],
             belt_phase: vec![0.3 * t, 0.3 * t],
+            belt_position: vec![0.3 * t, 0.3 * t],
             flipper_angle: vec![],
             contacts: 12,
             ..Default::default()

@@ -205,6 +205,7 @@ mod tests {
             angvel: [0.0; 3],
             belt_speed: Vec::new(),
             belt_phase: Vec::new(),
+            belt_position: Vec::new(),
             flipper_angle: Vec::new(),
             ..Default::default()
         }

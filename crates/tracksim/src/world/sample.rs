@@ -56,6 +56,9 @@ pub struct Sample {
     pub belt_speed: Vec<f64>,
     /// Belt phase per track, m.
     pub belt_phase: Vec<f64>,
+    /// Unwrapped belt position per track, m (how far the belt has run; the 3-D view draws the
+    /// grousers at this arc length along the path, so the rollback does not show).
+    pub belt_position: Vec<f64>,
     /// Flipper angle per flipper, rad.
     pub flipper_angle: Vec<f64>,
     /// Active contact points in the world.
@@ -239,6 +242,7 @@ impl Simulation {
                 .map(|t| t.measured_belt_speed())
                 .collect(),
             belt_phase: self.tracks.iter().map(|t| t.belt_phase()).collect(),
+            belt_position: self.tracks.iter().map(|t| t.belt_position()).collect(),
             flipper_angle: (0..self.flippers.len())
                 .map(|i| self.flipper_angle(i))
                 .collect(),

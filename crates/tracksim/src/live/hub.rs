@@ -1,0 +1,221 @@
+//! What the simulation loop and the connections share, and the WebSocket protocol.
+//!
+//! The simulation publishes its state into a latest-value slot ([`Hub::publish`]) and reads
+//! the latest control ([`Hub::take_control`]); both only take a mutex for a copy, so the
+//! physics never waits for the network. Each connection's thread sends the newest state it has
+//! not sent yet (older ones are dropped for a slow client) and, for the driver, hands the
+//! messages it receives to the hub.
+//!
+//! Protocol (JSON text frames). Server to client: `{"type":"hello","role":"driver"|"watcher"}`
+//! once, then `{"type":"state", ...}` (see `drive::state_json`). Client to server (driver
+//! only; a watcher's messages are answered with an error and ignored):
+//! - `{"type":"control","forward_mps":F,"yaw_rate_rad_s":W,"flipper_angle_deg":[A|null,...]}`
+//!   (m/s, rad/s, degrees by flipper index; `null` keeps a flipper's target);
+//! - `{"type":"reset"}`: the session starts again from the scenario's start;
+//! - `{"type":"stop"}`: the session ends and its outputs are written.
+//!
+//! When the driver's connection closes (the page is closed), the session ends too.
+
+use serde::Deserialize;
+use std::net::TcpStream;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use tungstenite::Message;
+
+/// How long a connection waits for a client message before it sends the newest state.
+const POLL: std::time::Duration = std::time::Duration::from_millis(4);
+
+/// Largest forward speed accepted from a client, m/s.
+pub const MAX_FORWARD_MPS: f64 = 3.0;
+/// Largest yaw rate accepted from a client, rad/s.
+pub const MAX_YAW_RATE_RAD_S: f64 = 6.0;
+/// Largest flipper target accepted from a client, degrees (either way).
+pub const MAX_FLIPPER_DEG: f64 = 180.0;
+
+/// The operator's controls: body twist and flipper targets (degrees, as a scenario file's
+/// `flipper_angle_deg`; `None`: not commanded, held where it is).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriveControl {
+    /// Forward speed, m/s.
+    pub forward_mps: f64,
+    /// Yaw rate, rad/s (positive turns left).
+    pub yaw_rate_rad_s: f64,
+    /// Flipper targets by index, degrees.
+    pub flipper_angle_deg: Vec<Option<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+enum ClientMessage {
+    Control {
+        forward_mps: f64,
+        yaw_rate_rad_s: f64,
+        #[serde(default)]
+        flipper_angle_deg: Vec<Option<f64>>,
+    },
+    Reset,
+    Stop,
+}
+
+/// State shared by the simulation loop and the connections.
+#[derive(Default)]
+pub struct Hub {
+    /// Generation and text of the newest state.
+    state: Mutex<(u64, Arc<String>)>,
+    control: Mutex<Option<DriveControl>>,
+    reset: AtomicBool,
+    stop: AtomicBool,
+    driver: Mutex<Option<u64>>,
+    next_id: AtomicU64,
+    watchers: AtomicU64,
+}
+
+impl Hub {
+    /// A hub with no state yet.
+    pub fn new() -> Arc<Hub> {
+        Arc::new(Hub::default())
+    }
+
+    /// Publishes a new state (replacing any the connections have not sent yet).
+    pub fn publish(&self, json: String) {
+        let mut s = self.state.lock().expect("hub lock");
+        s.0 += 1;
+        s.1 = Arc::new(json);
+    }
+
+    fn latest(&self) -> (u64, Arc<String>) {
+        self.state.lock().expect("hub lock").clone()
+    }
+
+    /// The newest control the driver sent since the last call, if any.
+    pub fn take_control(&self) -> Option<DriveControl> {
+        self.control.lock().expect("hub lock").take()
+    }
+
+    /// Whether the driver asked for a reset since the last call.
+    pub fn take_reset(&self) -> bool {
+        self.reset.swap(false, Ordering::Relaxed)
+    }
+
+    /// Asks the session to end (stop button, closed page, Ctrl-C).
+    pub fn request_stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the session should end.
+    pub fn stop_requested(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    /// Open WebSocket connections (driver and watchers).
+    pub fn connections(&self) -> u64 {
+        self.watchers.load(Ordering::Relaxed)
+    }
+
+    /// Handles one message of connection `id`; returns an error text for the client.
+    fn receive(&self, id: u64, text: &str) -> Option<String> {
+        if *self.driver.lock().expect("hub lock") != Some(id) {
+            return Some("this connection only watches: another one drives".into());
+        }
+        match serde_json::from_str::<ClientMessage>(text) {
+            Ok(ClientMessage::Control {
+                forward_mps,
+                yaw_rate_rad_s,
+                flipper_angle_deg,
+            }) => {
+                let finite = forward_mps.is_finite()
+                    && yaw_rate_rad_s.is_finite()
+                    && flipper_angle_deg.iter().flatten().all(|a| a.is_finite());
+                if !finite {
+                    return Some("control values must be finite numbers".into());
+                }
+                *self.control.lock().expect("hub lock") = Some(DriveControl {
+                    forward_mps: forward_mps.clamp(-MAX_FORWARD_MPS, MAX_FORWARD_MPS),
+                    yaw_rate_rad_s: yaw_rate_rad_s.clamp(-MAX_YAW_RATE_RAD_S, MAX_YAW_RATE_RAD_S),
+                    flipper_angle_deg: flipper_angle_deg
+                        .iter()
+                        .map(|a| a.map(|a| a.clamp(-MAX_FLIPPER_DEG, MAX_FLIPPER_DEG)))
+                        .collect(),
+                });
+                None
+            }
+            Ok(ClientMessage::Reset) => {
+                self.reset.store(true, Ordering::Relaxed);
+                None
+            }
+            Ok(ClientMessage::Stop) => {
+                self.request_stop();
+                None
+            }
+            Err(e) => Some(format!(
+                "bad message ({e}); see the protocol in live/hub.rs"
+            )),
+        }
+    }
+}
+
+/// Serves one WebSocket connection until it closes or the session stops. The first connection
+/// drives; later ones watch. When the driver leaves, the session ends.
+pub(super) fn serve_socket(stream: TcpStream, hub: &Hub) -> std::io::Result<()> {
+    let mut ws = tungstenite::accept(stream).map_err(std::io::Error::other)?;
+    let id = hub.next_id.fetch_add(1, Ordering::Relaxed);
+    let driver = {
+        let mut d = hub.driver.lock().expect("hub lock");
+        if d.is_none() {
+            *d = Some(id);
+        }
+        *d == Some(id)
+    };
+    hub.watchers.fetch_add(1, Ordering::Relaxed);
+    ws.get_mut().set_read_timeout(Some(POLL))?;
+    let role = if driver { "driver" } else { "watcher" };
+    let hello = serde_json::json!({ "type": "hello", "role": role }).to_string();
+    let result = socket_loop(&mut ws, hub, id, hello);
+    hub.watchers.fetch_sub(1, Ordering::Relaxed);
+    if driver {
+        hub.request_stop();
+    }
+    result
+}
+
+fn socket_loop(
+    ws: &mut tungstenite::WebSocket<TcpStream>,
+    hub: &Hub,
+    id: u64,
+    hello: String,
+) -> std::io::Result<()> {
+    let other = std::io::Error::other;
+    ws.send(Message::text(hello)).map_err(other)?;
+    let mut sent = 0u64;
+    loop {
+        if hub.stop_requested() {
+            // The last state, then a close frame; errors do not matter any more.
+            let (_, s) = hub.latest();
+            let _ = ws.send(Message::text(s.as_str()));
+            let _ = ws.close(None);
+            let _ = ws.flush();
+            return Ok(());
+        }
+        match ws.read() {
+            Ok(Message::Text(t)) => {
+                if let Some(err) = hub.receive(id, t.as_str()) {
+                    let msg = serde_json::json!({ "type": "error", "message": err }).to_string();
+                    ws.send(Message::text(msg)).map_err(other)?;
+                }
+            }
+            Ok(Message::Close(_)) => return Ok(()),
+            Ok(_) => {}
+            Err(tungstenite::Error::Io(e))
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
+            Err(e) => return Err(other(e)),
+        }
+        let (g, s) = hub.latest();
+        if g != sent && g > 0 {
+            sent = g;
+            ws.send(Message::text(s.as_str())).map_err(other)?;
+        }
+    }
+}

@@ -1,0 +1,23 @@
+//! The operator's seat: `tracksim drive` (a scenario driven live from a 3-D page) and
+//! `tracksim view` (a finished run replayed in the same page).
+//!
+//! - [`assets`]: the page and the pinned three.js build, embedded in the binary;
+//! - [`server`]: HTTP for the assets and the run's data, a WebSocket for the live state, on
+//!   loopback unless told otherwise;
+//! - [`hub`]: the latest-value state and control shared by the simulation and the
+//!   connections, and the WebSocket protocol;
+//! - [`drive`]: the paced session loop, recorded as a run.
+
+pub mod assets;
+pub mod drive;
+pub mod hub;
+pub mod server;
+
+pub use drive::{DriveOptions, Session, run_session};
+pub use hub::{DriveControl, Hub};
+pub use server::{Mode, Server, view_files};
+
+/// The default address: loopback only.
+pub const DEFAULT_BIND: std::net::IpAddr = std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST);
+/// The default port.
+pub const DEFAULT_PORT: u16 = 8642;

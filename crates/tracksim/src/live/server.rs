@@ -1,0 +1,275 @@
+//! The page's server on plain `std::net` sockets: HTTP GET for the embedded assets and the
+//! run's data (held in memory: no request path reaches the file system), and a WebSocket
+//! (`/ws`, drive only) that streams the latest state and takes the driver's controls.
+//!
+//! One thread accepts; each connection has its own thread, so a slow or stuck client blocks
+//! only itself. The simulation never waits for any of them: it publishes into the [`Hub`]
+//! (a latest-value slot) and reads the latest control from it.
+
+use super::assets::asset;
+use super::hub::Hub;
+use crate::error::{Error, Result};
+use std::io::{Read, Write};
+use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+/// Largest request head read, bytes.
+const MAX_HEAD: usize = 8192;
+
+/// What the server serves besides the page.
+pub enum Mode {
+    /// A live session: `/scene.json` and the `/ws` WebSocket of the hub.
+    Drive {
+        /// The session's shared state.
+        hub: Arc<Hub>,
+        /// `scene.json` of the scenario.
+        scene_json: String,
+    },
+    /// A replay: the files of a finished run, read once at start.
+    View {
+        /// (URL path, content type, bytes), e.g. `/run/trajectory.csv`.
+        files: Vec<(String, &'static str, Vec<u8>)>,
+    },
+}
+
+impl Mode {
+    fn name(&self) -> &'static str {
+        match self {
+            Mode::Drive { .. } => "drive",
+            Mode::View { .. } => "view",
+        }
+    }
+}
+
+/// A running server; dropping it (or [`Server::shutdown`]) stops accepting.
+pub struct Server {
+    addr: SocketAddr,
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Server {
+    /// Binds `bind:port` (port 0: any free port) and starts serving `mode`.
+    pub fn start(bind: IpAddr, port: u16, mode: Mode) -> Result<Server> {
+        let listener = TcpListener::bind((bind, port)).map_err(|source| Error::Io {
+            path: format!("{bind}:{port} (--bind/--port: is the port in use? try another --port)")
+                .into(),
+            source,
+        })?;
+        let addr = listener.local_addr().map_err(|source| Error::Io {
+            path: format!("{bind}:{port}").into(),
+            source,
+        })?;
+        listener.set_nonblocking(true).map_err(|source| Error::Io {
+            path: format!("{addr}").into(),
+            source,
+        })?;
+        let stop = Arc::new(AtomicBool::new(false));
+        let mode = Arc::new(mode);
+        let stop2 = stop.clone();
+        let thread = std::thread::spawn(move || accept_loop(listener, mode, stop2));
+        Ok(Server {
+            addr,
+            stop,
+            thread: Some(thread),
+        })
+    }
+
+    /// The address it listens on.
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// The page's URL.
+    pub fn url(&self) -> String {
+        format!("http://{}/", self.addr)
+    }
+
+    /// Stops accepting connections (open WebSockets end when their session stops).
+    pub fn shutdown(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        self.shutdown();
+    }
+}
+
+fn accept_loop(listener: TcpListener, mode: Arc<Mode>, stop: Arc<AtomicBool>) {
+    while !stop.load(Ordering::Relaxed) {
+        match listener.accept() {
+            Ok((stream, _)) => {
+                let mode = mode.clone();
+                std::thread::spawn(move || {
+                    let _ = handle(stream, &mode);
+                });
+            }
+            Err(_) => std::thread::sleep(Duration::from_millis(10)),
+        }
+    }
+}
+
+/// Reads (peeks) the request head without consuming it, so that a WebSocket handshake can
+/// read it again.
+fn peek_head(stream: &TcpStream) -> std::io::Result<Vec<u8>> {
+    let mut buf = vec![0u8; MAX_HEAD];
+    for _ in 0..500 {
+        let n = stream.peek(&mut buf)?;
+        if n == 0 {
+            break;
+        }
+        if let Some(end) = buf[..n].windows(4).position(|w| w == b"\r\n\r\n") {
+            buf.truncate(end + 4);
+            return Ok(buf);
+        }
+        if n == MAX_HEAD {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    Err(std::io::Error::new(
+        std::io::ErrorKind::InvalidData,
+        "no complete request head",
+    ))
+}
+
+fn respond(stream: &mut TcpStream, status: &str, ctype: &str, body: &[u8]) -> std::io::Result<()> {
+    respond_to(stream, true, status, ctype, body)
+}
+
+fn respond_to(
+    stream: &mut TcpStream,
+    with_body: bool,
+    status: &str,
+    ctype: &str,
+    body: &[u8],
+) -> std::io::Result<()> {
+    let head = format!(
+        "HTTP/1.1 {status}\r\nContent-Type: {ctype}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nConnection: close\r\n\r\n",
+        body.len()
+    );
+    stream.write_all(head.as_bytes())?;
+    if with_body {
+        stream.write_all(body)?;
+    }
+    stream.flush()
+}
+
+fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
+    stream.set_nonblocking(false)?;
+    stream.set_read_timeout(Some(Duration::from_secs(5)))?;
+    stream.set_write_timeout(Some(Duration::from_secs(5)))?;
+    let head = peek_head(&stream)?;
+    let mut headers = [httparse::EMPTY_HEADER; 32];
+    let mut req = httparse::Request::new(&mut headers);
+    let parsed = req.parse(&head).ok().filter(|s| s.is_complete());
+    let (Some(_), Some(method), Some(target)) = (parsed, req.method, req.path) else {
+        return respond(
+            &mut stream,
+            "400 Bad Request",
+            "text/plain",
+            b"bad request\n",
+        );
+    };
+    let path = target.split(['?', '#']).next().unwrap_or("");
+    let upgrade = req.headers.iter().any(|h| {
+        h.name.eq_ignore_ascii_case("upgrade")
+            && String::from_utf8_lossy(h.value).eq_ignore_ascii_case("websocket")
+    });
+    if upgrade
+        && path == "/ws"
+        && let Mode::Drive { hub, .. } = mode
+    {
+        return super::hub::serve_socket(stream, hub);
+    }
+    // Consume the head: the body of a GET is empty.
+    let mut sink = vec![0u8; head.len()];
+    stream.read_exact(&mut sink)?;
+    if method != "GET" && method != "HEAD" {
+        return respond(
+            &mut stream,
+            "405 Method Not Allowed",
+            "text/plain",
+            b"only GET\n",
+        );
+    }
+    if let Some(a) = asset(path) {
+        let get = method == "GET";
+        return respond_to(&mut stream, get, "200 OK", a.content_type, a.bytes);
+    }
+    if path == "/session.json" {
+        let body = serde_json::json!({ "mode": mode.name() }).to_string();
+        return respond(&mut stream, "200 OK", "application/json", body.as_bytes());
+    }
+    match mode {
+        Mode::Drive { scene_json, .. } if path == "/scene.json" => respond(
+            &mut stream,
+            "200 OK",
+            "application/json",
+            scene_json.as_bytes(),
+        ),
+        Mode::View { files } => match files.iter().find(|f| f.0 == path) {
+            Some((_, ctype, bytes)) => respond(&mut stream, "200 OK", ctype, bytes),
+            None => respond(&mut stream, "404 Not Found", "text/plain", b"not found\n"),
+        },
+        _ => respond(&mut stream, "404 Not Found", "text/plain", b"not found\n"),
+    }
+}
+
+/// The files of a finished run that `tracksim view` serves, read from `dir` once: `scene.json`,
+/// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present).
+pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Vec<u8>)>> {
+    let required = ["scene.json", "trajectory.csv", "belts.csv"];
+    let optional = ["summary.json", "controls.csv"];
+    let mut files = Vec::new();
+    for name in required.iter().chain(optional.iter()) {
+        let p = dir.join(name);
+        match std::fs::read(&p) {
+            Ok(bytes) => {
+                let ctype = if name.ends_with(".json") {
+                    "application/json"
+                } else {
+                    "text/csv; charset=utf-8"
+                };
+                let url = if *name == "scene.json" {
+                    "/scene.json".to_string()
+                } else {
+                    format!("/run/{name}")
+                };
+                files.push((url, ctype, bytes));
+            }
+            Err(_) if optional.contains(name) => {}
+            Err(source) => {
+                let mut hint = String::new();
+                if let Ok(rd) = std::fs::read_dir(dir) {
+                    let subs: Vec<String> = rd
+                        .filter_map(|e| e.ok())
+                        .filter(|e| e.path().join("scene.json").is_file())
+                        .map(|e| e.path().display().to_string())
+                        .collect();
+                    if !subs.is_empty() {
+                        hint = format!(" (runs found in: {})", subs.join(", "));
+                    }
+                }
+                return Err(Error::Io {
+                    path: format!(
+                        "{}: the folder of a run of `tracksim run`, `drive` or `compare` (one \
+                         subfolder per method) holds it; re-run with this version to write it{hint}",
+                        p.display()
+                    )
+                    .into(),
+                    source,
+                });
+            }
+        }
+    }
+    Ok(files)
+}

@@ -1,0 +1,377 @@
+//! What the 3-D view needs beyond `trajectory.csv`: the scene (`scene.json`: terrain of every
+//! kind and the vehicle's geometry, in world and body frames, m) and the belts' unwrapped
+//! positions (`belts.csv`), written by every run so that `tracksim view DIR` can replay it.
+//!
+//! Everything is REP 103 (x forward, y left, z up), SI units. Convex shapes are sent as their
+//! hull's triangles so the page needs no geometry code of its own.
+
+use crate::error::{Error, Result};
+use crate::geometry::TrackPath;
+use crate::model::{CollisionShape, GrouserShape, Parent, Scenario, VehicleModel};
+use crate::run::RunResult;
+use crate::terrain::TerrainModel;
+use glam::DVec3;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Format tag of `scene.json`.
+pub const SCENE_FORMAT: &str = "tracksim-scene-1";
+/// Arc-length spacing of the sampled track paths in `scene.json`, m (arcs are drawn as chords
+/// this long at most).
+pub const PATH_SAMPLE_M: f64 = 0.004;
+
+/// A triangle mesh: flat vertex coordinates (x y z, m) and flat triangle indices.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct MeshData {
+    /// x0 y0 z0 x1 ..., m.
+    pub vertices_m: Vec<f32>,
+    /// Three indices per triangle.
+    pub triangles: Vec<u32>,
+}
+
+impl MeshData {
+    fn from_points(points: &[DVec3], tris: &[[u32; 3]]) -> Self {
+        MeshData {
+            vertices_m: points
+                .iter()
+                .flat_map(|p| [p.x as f32, p.y as f32, p.z as f32])
+                .collect(),
+            triangles: tris.iter().flatten().copied().collect(),
+        }
+    }
+
+    /// The convex hull of `points` (empty if they span no volume).
+    fn hull(points: &[DVec3]) -> Self {
+        let pts: Vec<_> = points
+            .iter()
+            .map(|p| rapier3d::prelude::Vector::new(p.x as f32, p.y as f32, p.z as f32))
+            .collect();
+        match rapier3d::parry::transformation::try_convex_hull(&pts) {
+            Ok((v, t)) => MeshData {
+                vertices_m: v.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+                triangles: t.iter().flatten().copied().collect(),
+            },
+            Err(_) => MeshData::default(),
+        }
+    }
+
+    /// A box of half extents `half` centred at `centre`.
+    fn cuboid(half: DVec3, centre: DVec3) -> Self {
+        let corners: Vec<DVec3> = (0..8)
+            .map(|i| {
+                let s = |b: usize| if i & b != 0 { 1.0 } else { -1.0 };
+                centre + DVec3::new(s(1) * half.x, s(2) * half.y, s(4) * half.z)
+            })
+            .collect();
+        MeshData::hull(&corners)
+    }
+}
+
+fn collision_mesh(s: &CollisionShape) -> MeshData {
+    match s {
+        CollisionShape::Box { half, centre } => MeshData::cuboid(*half, *centre),
+        CollisionShape::Convex(p) => MeshData::hull(p),
+    }
+}
+
+fn grouser_mesh(s: &GrouserShape) -> MeshData {
+    match s {
+        GrouserShape::Box { half, centre } => MeshData::cuboid(*half, *centre),
+        GrouserShape::Convex(p) => MeshData::hull(p),
+    }
+}
+
+/// A box of the terrain (boxes, stairs, inclines, the ASTM obstacles).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneBox {
+    /// Centre, m (world).
+    pub centre_m: [f64; 3],
+    /// Half extents, m.
+    pub half_m: [f64; 3],
+    /// Orientation as a quaternion x y z w.
+    pub quat_xyzw: [f64; 4],
+}
+
+/// A horizontal cylinder of the terrain (a stair nosing): axis along y rotated by `yaw_rad`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneCylinder {
+    /// Centre, m (world).
+    pub centre_m: [f64; 3],
+    /// Yaw of the axis, rad.
+    pub yaw_rad: f64,
+    /// Half length, m.
+    pub half_length_m: f64,
+    /// Radius, m.
+    pub radius_m: f64,
+}
+
+/// The terrain as the page draws it.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneTerrain {
+    /// Height of the flat ground, m, if there is one (it is infinite).
+    pub ground_z_m: Option<f64>,
+    /// Boxes.
+    pub boxes: Vec<SceneBox>,
+    /// Cylinders.
+    pub cylinders: Vec<SceneCylinder>,
+    /// Height fields (PNG and rough fields) and meshes (STL, OBJ) as world-frame triangles.
+    pub meshes: Vec<MeshData>,
+}
+
+/// A flipper arm: it turns by its angle about `axis` through `pivot_m` (body frame).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneFlipper {
+    /// Name.
+    pub name: String,
+    /// Pivot, m (body frame).
+    pub pivot_m: [f64; 3],
+    /// Unit axis (body frame).
+    pub axis: [f64; 3],
+    /// Initial angle, rad.
+    pub initial_angle_rad: f64,
+    /// Arm shape at angle 0 (body frame), if it has one.
+    pub mesh: Option<MeshData>,
+}
+
+/// The grousers of a track: grouser k sits at arc length `offset_m + k * pitch_m + s` where s
+/// is the belt's unwrapped position; shapes repeat in turn, in the footprint frame (x along the
+/// belt, y along the loop axis, z outwards).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneGrousers {
+    /// Number of grousers.
+    pub count: usize,
+    /// Arc length of grouser 0 at rest, m.
+    pub offset_m: f64,
+    /// Pitch L/N, m.
+    pub pitch_m: f64,
+    /// Shapes used in turn.
+    pub shapes: Vec<MeshData>,
+}
+
+/// A track: its loop sampled by arc length, in the parent frame (for a flipper's track: the
+/// body frame at flipper angle 0).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneTrack {
+    /// Name.
+    pub name: String,
+    /// Index of the flipper it hangs on, or -1 for the chassis.
+    pub parent: i64,
+    /// Belt width, m.
+    pub width_m: f64,
+    /// Belt thickness, m.
+    pub thickness_m: f64,
+    /// Loop length L, m.
+    pub length_m: f64,
+    /// Unit loop axis (the footprint frame's y).
+    pub lateral: [f64; 3],
+    /// Arc lengths of the samples, m (0 first, L not repeated).
+    pub s_m: Vec<f64>,
+    /// Points on the path at `s_m`, flat x y z, m.
+    pub points_m: Vec<f64>,
+    /// Unit outward normals at `s_m`, flat.
+    pub normals: Vec<f64>,
+    /// Grousers, if any.
+    pub grousers: Option<SceneGrousers>,
+}
+
+/// The vehicle as the page draws it (body frame).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneVehicle {
+    /// Name.
+    pub name: String,
+    /// Chassis shape.
+    pub body: MeshData,
+    /// Flippers in output order.
+    pub flippers: Vec<SceneFlipper>,
+    /// Tracks in output order.
+    pub tracks: Vec<SceneTrack>,
+}
+
+/// `scene.json`: what a replay or a live view draws, with the sampling of the recorded data.
+#[derive(Clone, Debug, Serialize)]
+pub struct Scene {
+    /// [`SCENE_FORMAT`].
+    pub format: &'static str,
+    /// The scenario's description.
+    pub description: String,
+    /// Track method.
+    pub method: String,
+    /// Time step, s.
+    pub dt_s: f64,
+    /// Output interval of `trajectory.csv`, s.
+    pub output_interval_s: f64,
+    /// Success line along x, m, if the scenario has one.
+    pub success_x_m: Option<f64>,
+    /// Terrain.
+    pub terrain: SceneTerrain,
+    /// Vehicle.
+    pub vehicle: SceneVehicle,
+}
+
+fn arr(v: DVec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn terrain(t: &TerrainModel) -> SceneTerrain {
+    let mut meshes: Vec<MeshData> = t
+        .meshes
+        .iter()
+        .map(|m| MeshData::from_points(&m.vertices, &m.triangles))
+        .collect();
+    for h in &t.heightfields {
+        let mut pts = Vec::with_capacity(h.rows * h.cols);
+        for r in 0..h.rows {
+            for c in 0..h.cols {
+                pts.push(h.vertex(r, c));
+            }
+        }
+        let mut tris = Vec::new();
+        let id = |r: usize, c: usize| (r * h.cols + c) as u32;
+        for r in 0..h.rows - 1 {
+            for c in 0..h.cols - 1 {
+                // Row r is at larger y than row r + 1: counter-clockwise seen from above.
+                tris.push([id(r, c), id(r + 1, c), id(r + 1, c + 1)]);
+                tris.push([id(r, c), id(r + 1, c + 1), id(r, c + 1)]);
+            }
+        }
+        meshes.push(MeshData::from_points(&pts, &tris));
+    }
+    SceneTerrain {
+        ground_z_m: t.ground.map(|(z, _)| z),
+        boxes: t
+            .boxes
+            .iter()
+            .map(|b| {
+                let q = b.rotation();
+                SceneBox {
+                    centre_m: arr(b.centre),
+                    half_m: arr(b.half),
+                    quat_xyzw: [q.x, q.y, q.z, q.w],
+                }
+            })
+            .collect(),
+        cylinders: t
+            .cylinders
+            .iter()
+            .map(|c| SceneCylinder {
+                centre_m: arr(c.centre),
+                yaw_rad: c.yaw,
+                half_length_m: c.half_length,
+                radius_m: c.radius,
+            })
+            .collect(),
+        meshes,
+    }
+}
+
+/// Samples a loop every [`PATH_SAMPLE_M`] at most: (s, points, normals).
+fn sample_path(path: &TrackPath) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let l = path.length();
+    let n = ((l / PATH_SAMPLE_M).ceil() as usize).max(16);
+    let (mut s, mut p, mut nr) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..n {
+        let si = l * i as f64 / n as f64;
+        let f = path.frame_at(si);
+        s.push(si);
+        p.extend(arr(f.origin));
+        nr.extend(arr(f.normal));
+    }
+    (s, p, nr)
+}
+
+fn vehicle(v: &VehicleModel) -> SceneVehicle {
+    SceneVehicle {
+        name: v.name.clone(),
+        body: collision_mesh(&v.body.shape),
+        flippers: v
+            .flippers
+            .iter()
+            .map(|f| SceneFlipper {
+                name: f.name.clone(),
+                pivot_m: arr(f.pivot),
+                axis: arr(f.axis),
+                initial_angle_rad: f.initial_angle,
+                mesh: f.shape.as_ref().map(collision_mesh),
+            })
+            .collect(),
+        tracks: v
+            .tracks
+            .iter()
+            .map(|t| {
+                let (s_m, points_m, normals) = sample_path(&t.path);
+                SceneTrack {
+                    name: t.name.clone(),
+                    parent: match t.parent {
+                        Parent::Body => -1,
+                        Parent::Flipper(i) => i as i64,
+                    },
+                    width_m: t.width,
+                    thickness_m: t.belt_thickness,
+                    length_m: t.path.length(),
+                    lateral: arr(t.path.axis()),
+                    s_m,
+                    points_m,
+                    normals,
+                    grousers: t.grousers.as_ref().map(|g| SceneGrousers {
+                        count: g.layout.count,
+                        offset_m: g.layout.offset,
+                        pitch_m: g.layout.pitch(&t.path),
+                        shapes: g.shapes.iter().map(grouser_mesh).collect(),
+                    }),
+                }
+            })
+            .collect(),
+    }
+}
+
+impl Scene {
+    /// The scene of a compiled scenario.
+    pub fn new(sc: &Scenario) -> Self {
+        Scene {
+            format: SCENE_FORMAT,
+            description: sc.description.clone(),
+            method: sc.method.clone(),
+            dt_s: sc.solver.dt,
+            output_interval_s: sc.output_interval,
+            success_x_m: sc.outcome.success_x,
+            terrain: terrain(&sc.terrain),
+            vehicle: vehicle(&sc.vehicle),
+        }
+    }
+
+    /// As JSON text.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).expect("scene serialises")
+    }
+}
+
+/// The text of `belts.csv`: `t_s`, then the unwrapped belt position per track, m.
+pub fn belts_csv(result: &RunResult) -> String {
+    let mut text = String::from("t_s");
+    for n in &result.track_names {
+        text.push_str(&format!(",belt_position_{n}_m"));
+    }
+    text.push('\n');
+    for s in &result.samples {
+        text.push_str(&format!("{:.6}", s.t));
+        for p in &s.belt_position {
+            text.push_str(&format!(",{p:.6}"));
+        }
+        text.push('\n');
+    }
+    text
+}
+
+/// Writes `scene.json` and `belts.csv` into `dir` (created if needed); returns their paths.
+pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec<PathBuf>> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| Error::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, Scene::new(sc).to_json()).map_err(io(&scene))?;
+    let belts = dir.join("belts.csv");
+    std::fs::write(&belts, belts_csv(result)).map_err(io(&belts))?;
+    Ok(vec![scene, belts])
+}

@@ -1,0 +1,287 @@
+//! Issue 12, the operator's seat, without a browser: the WebSocket protocol (connect, drive
+//! forward, see the pose advance in the streamed state, stop, see it stop; a second connection
+//! only watches), the session recorded as a run that `tracksim run --commands` reproduces byte
+//! for byte, the loopback default and the refusal of anything outside the page's own files.
+//!
+//! No assertion is on wall-clock time: loops wait for a state and give up after a number of
+//! messages.
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::sync::Arc;
+use tracksim::live::{DriveOptions, Hub, Mode, Server};
+use tungstenite::Message;
+
+type Ws = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
+
+fn root() -> &'static Path {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+fn next_json(ws: &mut Ws) -> serde_json::Value {
+    loop {
+        match ws.read().expect("the server keeps the socket open") {
+            Message::Text(t) => return serde_json::from_str(t.as_str()).expect("JSON"),
+            Message::Close(_) => panic!("closed by the server"),
+            _ => {}
+        }
+    }
+}
+
+/// Reads states until `pred` holds; panics after `max` messages.
+fn until(
+    ws: &mut Ws,
+    max: usize,
+    what: &str,
+    pred: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    for _ in 0..max {
+        let m = next_json(ws);
+        if m["type"] == "state" && pred(&m) {
+            return m;
+        }
+    }
+    panic!("no state with {what} in {max} messages");
+}
+
+fn control(ws: &mut Ws, forward: f64, flippers: serde_json::Value) {
+    let msg = serde_json::json!({
+        "type": "control", "forward_mps": forward, "yaw_rate_rad_s": 0.0,
+        "flipper_angle_deg": flippers,
+    });
+    ws.send(Message::text(msg.to_string())).unwrap();
+}
+
+#[test]
+fn drive_protocol_and_the_session_replays_as_a_run() {
+    let file = root().join("scenarios/packbot_stairs.toml");
+    let sc = tracksim::load_scenario(&file).unwrap();
+    let hub = Hub::new();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::Drive {
+            hub: hub.clone(),
+            scene_json: tracksim::output::Scene::new(&sc).to_json(),
+        },
+    )
+    .unwrap();
+    assert!(server.addr().ip().is_loopback());
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let session = std::thread::spawn(move || {
+        tracksim::live::run_session(
+            &sc2,
+            &hub2,
+            DriveOptions {
+                speed: 2.0,
+                max_time: None,
+                wait_for_page: false,
+            },
+        )
+    });
+    let url = format!("ws://{}/ws", server.addr());
+    let (mut ws, _) = tungstenite::connect(&url).unwrap();
+    let hello = next_json(&mut ws);
+    assert_eq!(hello["role"], "driver", "{hello}");
+    // A second page only watches: its controls are refused.
+    let (mut watcher, _) = tungstenite::connect(&url).unwrap();
+    assert_eq!(next_json(&mut watcher)["role"], "watcher");
+    control(&mut watcher, 1.0, serde_json::json!([]));
+    let refused = (0..200)
+        .map(|_| next_json(&mut watcher))
+        .find(|m| m["type"] == "error")
+        .expect("the watcher's control is answered with an error");
+    assert!(
+        refused["message"]
+            .as_str()
+            .unwrap()
+            .contains("only watches")
+    );
+
+    let first = until(&mut ws, 1000, "a pose", |_| true);
+    let x0 = first["pose"][0].as_f64().unwrap();
+    // Forward, front flippers to 30 deg.
+    control(&mut ws, 0.3, serde_json::json!([30.0, 30.0]));
+    let moving = until(&mut ws, 3000, "x advanced 5 cm", |m| {
+        m["pose"][0].as_f64().unwrap() > x0 + 0.05
+    });
+    assert!(moving["forward_mps"].as_f64().unwrap() > 0.1, "{moving}");
+    assert_eq!(moving["control"]["forward_mps"], 0.3);
+    // Stop: the speed falls to rest and the pose stays.
+    control(&mut ws, 0.0, serde_json::json!([30.0, 30.0]));
+    let rest = until(&mut ws, 3000, "speed below 5 mm/s", |m| {
+        m["control"]["forward_mps"] == 0.0 && m["forward_mps"].as_f64().unwrap().abs() < 0.005
+    });
+    let later = until(&mut ws, 3000, "0.5 s later", |m| {
+        m["t"].as_f64().unwrap() > rest["t"].as_f64().unwrap() + 0.5
+    });
+    let drift = later["pose"][0].as_f64().unwrap() - rest["pose"][0].as_f64().unwrap();
+    // Still driving it would have gone 0.15 m; the body only settles (flippers, contacts).
+    assert!(drift.abs() < 0.02, "moved {drift} m in 0.5 s after stop");
+    ws.send(Message::text(r#"{"type":"stop"}"#)).unwrap();
+    let s = session.join().unwrap().unwrap();
+    assert_eq!(s.commands.len(), 2, "forward then stop: {:?}", s.commands);
+    assert_eq!(s.controls.len(), s.result.samples.len());
+
+    // The session is a run: written like one, and replayed by its commands.toml.
+    let dir = tempfile_dir("live_session");
+    let written = s.write(&sc, &file, &dir, false).unwrap();
+    for f in [
+        "summary.json",
+        "trajectory.csv",
+        "scene.json",
+        "belts.csv",
+        "commands.toml",
+        "controls.csv",
+    ] {
+        assert!(written.contains(&dir.join(f)), "{f} not written");
+    }
+    let mut replay = sc.clone();
+    replay.commands =
+        tracksim::model::load_commands(&dir.join("commands.toml"), &sc.vehicle).unwrap();
+    replay.duration = s.duration();
+    let r = tracksim::run_scenario(&replay, |_, _| {}).unwrap();
+    let session_csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
+    assert_eq!(tracksim::output::trajectory_csv(&r), session_csv);
+    assert!(s.result.summary.final_pose.x > x0 + 0.05);
+    let controls = std::fs::read_to_string(dir.join("controls.csv")).unwrap();
+    assert!(controls.starts_with("t_s,forward_mps,yaw_rate_rad_s,flipper_front_left_target_deg"));
+    assert!(
+        controls
+            .lines()
+            .any(|l| l.contains(",0.300000,0.000000,30.000000"))
+    );
+}
+
+#[test]
+fn reset_restarts_the_session() {
+    let sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
+    let hub = Hub::new();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::Drive {
+            hub: hub.clone(),
+            scene_json: "{}".into(),
+        },
+    )
+    .unwrap();
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let session = std::thread::spawn(move || {
+        tracksim::live::run_session(
+            &sc2,
+            &hub2,
+            DriveOptions {
+                speed: 4.0,
+                max_time: None,
+                wait_for_page: false,
+            },
+        )
+    });
+    let (mut ws, _) = tungstenite::connect(format!("ws://{}/ws", server.addr())).unwrap();
+    control(&mut ws, 0.3, serde_json::json!([]));
+    until(&mut ws, 5000, "t > 0.5 s", |m| {
+        m["t"].as_f64().unwrap() > 0.5
+    });
+    ws.send(Message::text(r#"{"type":"reset"}"#)).unwrap();
+    until(&mut ws, 5000, "t back below 0.2 s", |m| {
+        m["t"].as_f64().unwrap() < 0.2
+    });
+    // Closing the driver's page ends the session.
+    ws.close(None).unwrap();
+    let _ = ws.flush();
+    while ws.read().is_ok() {}
+    let s = session.join().unwrap().unwrap();
+    assert!(s.result.samples[0].t == 0.0);
+    assert!(
+        s.commands.is_empty(),
+        "the reset cleared the commands: {:?}",
+        s.commands
+    );
+}
+
+fn tempfile_dir(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("tracksim-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn get(addr: std::net::SocketAddr, target: &str) -> (String, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    write!(s, "GET {target} HTTP/1.1\r\nHost: localhost\r\n\r\n").unwrap();
+    let mut text = String::new();
+    s.read_to_string(&mut text).unwrap();
+    let status = text.lines().next().unwrap_or("").to_string();
+    (status, text)
+}
+
+#[test]
+fn view_serves_only_its_own_files() {
+    // A finished run in dir/run; a secret next to it and one inside it.
+    let base = tempfile_dir("traversal");
+    let run = base.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    for f in ["scene.json", "trajectory.csv", "belts.csv"] {
+        std::fs::write(run.join(f), format!("content of {f}")).unwrap();
+    }
+    std::fs::write(base.join("secret.txt"), "SECRET-OUTSIDE").unwrap();
+    std::fs::write(run.join("secret.txt"), "SECRET-INSIDE").unwrap();
+    let files = tracksim::live::view_files(&run).unwrap();
+    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let addr = server.addr();
+    let (ok, body) = get(addr, "/run/trajectory.csv");
+    assert!(ok.contains("200"), "{ok}");
+    assert!(body.ends_with("content of trajectory.csv"));
+    assert!(get(addr, "/").0.contains("200"));
+    assert!(get(addr, "/vendor/three.module.js").0.contains("200"));
+    for bad in [
+        "/../secret.txt",
+        "/run/../secret.txt",
+        "/run/../../secret.txt",
+        "/%2e%2e/secret.txt",
+        "/run/%2e%2e/%2e%2e/secret.txt",
+        "/run/secret.txt",
+        "/vendor/../../../../etc/passwd",
+        "//etc/passwd",
+        "/run/..%2fsecret.txt",
+        "/run\\..\\secret.txt",
+        "http://localhost/../secret.txt",
+    ] {
+        let (status, body) = get(addr, bad);
+        assert!(
+            status.contains("404") || status.contains("400"),
+            "{bad}: {status}"
+        );
+        assert!(
+            !body.contains("SECRET") && !body.contains("root:"),
+            "{bad} leaked"
+        );
+    }
+}
+
+#[test]
+fn view_names_what_a_folder_lacks() {
+    let d = tempfile_dir("empty_view");
+    let e = tracksim::live::view_files(&d)
+        .expect_err("an empty folder is refused")
+        .to_string();
+    assert!(e.contains("scene.json") && e.contains("re-run"), "{e}");
+}
+
+#[test]
+fn loopback_is_the_default() {
+    assert!(tracksim::live::DEFAULT_BIND.is_loopback());
+    let hub: Arc<Hub> = Hub::new();
+    let s = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::Drive {
+            hub,
+            scene_json: String::new(),
+        },
+    )
+    .unwrap();
+    assert!(s.url().starts_with("http://127.0.0.1:"));
+}

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# End-to-end test of `tracksim drive` / `tracksim view` in headless Chromium (issue 12), from a
+# clean clone: installs Debian's chromium if missing (apt-get, as root), the pinned
+# playwright-core (npm ci, no browser download), builds the release binary and runs
+# web/tests/e2e.test.mjs with node's test runner. Screenshots: web/tests/artifacts/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! command -v chromium >/dev/null 2>&1; then
+    echo "installing chromium (apt-get) ..."
+    apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+fi
+cargo build --release -p tracksim-cli
+target="${CARGO_TARGET_DIR:-target}"
+export TRACKSIM_BIN="$PWD/$target/release/tracksim"
+[[ "$target" = /* ]] && export TRACKSIM_BIN="$target/release/tracksim"
+export CHROMIUM="$(command -v chromium)"
+cd web/tests
+# playwright-core downloads no browser; skip any download hook all the same.
+PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD=1 npm ci --no-audit --no-fund
+node --test e2e.test.mjs

@@ -1,0 +1,161 @@
+// End-to-end test of the operator's seat in a real headless Chromium (issue 12):
+// `tracksim drive` page loads, its 3-D canvas is not blank, holding the forward key moves the
+// robot in the simulation's own state, the stop button writes the session, `tracksim run
+// --commands` reproduces its trajectory.csv byte for byte, and `tracksim view` replays it.
+// Screenshots are kept in web/tests/artifacts/. Run by scripts/test-browser.sh.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn, execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const here = path.dirname(new URL(import.meta.url).pathname);
+const root = path.resolve(here, '../..');
+const bin = process.env.TRACKSIM_BIN || path.join(root, 'target/release/tracksim');
+const artifacts = path.join(here, 'artifacts');
+fs.mkdirSync(artifacts, { recursive: true });
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'tracksim-e2e-'));
+
+/** Starts a tracksim command and resolves with the URL it prints. */
+function start(args) {
+  const child = spawn(bin, args, { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let out = '';
+  const url = new Promise((resolve, reject) => {
+    child.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/http:\/\/127\.0\.0\.1:\d+\//);
+      if (m) resolve(m[0]);
+    });
+    child.on('exit', (code) => reject(new Error(`tracksim ${args[0]} exited ${code}: ${out}`)));
+  });
+  const exited = new Promise((resolve) => child.on('exit', (code) => resolve({ code, out })));
+  return { child, url, exited };
+}
+
+async function browser() {
+  return chromium.launchPersistentContext(fs.mkdtempSync(path.join(tmp, 'profile-')), {
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+    headless: true,
+    viewport: { width: 1000, height: 640 },
+    args: [
+      '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    ],
+  });
+}
+
+/** Pixel standard deviation (0-255, grey) of a PNG screenshot, decoded by the page. */
+async function pixelStd(page, png) {
+  return page.evaluate(async (b64) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${b64}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width; c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let s = 0, s2 = 0, n = 0;
+    for (let i = 0; i < d.length; i += 16) { const y = (d[i] + d[i + 1] + d[i + 2]) / 3; s += y; s2 += y * y; n++; }
+    return Math.sqrt(s2 / n - (s / n) ** 2);
+  }, png.toString('base64'));
+}
+
+/** Standard deviation of the WebGL canvas alone (the HUD excluded). */
+async function canvasStd(page) {
+  return page.evaluate(() => {
+    const src = document.querySelector('#view canvas');
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0);
+    const d = g.getImageData(0, 0, c.width, c.height).data;
+    let s = 0, s2 = 0, n = 0;
+    for (let i = 0; i < d.length; i += 16) { const y = (d[i] + d[i + 1] + d[i + 2]) / 3; s += y; s2 += y * y; n++; }
+    return Math.sqrt(s2 / n - (s / n) ** 2);
+  });
+}
+
+const out = path.join(tmp, 'drive');
+
+test('drive: the page loads, draws, and the forward key moves the robot', async () => {
+  const drive = start(['drive', 'scenarios/packbot_stairs.toml', '--port', '0', '--out', out]);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    const page = await ctx.newPage();
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    await page.goto(url);
+    await page.waitForFunction(() => window.tracksim?.state && window.tracksim.frames > 10, null, { timeout: 60000 });
+    assert.deepEqual(errors, []);
+    assert.equal(await page.evaluate(() => window.tracksim.role), 'driver');
+    const std0 = await canvasStd(page);
+    assert.ok(std0 > 5, `3-D canvas looks blank: pixel std ${std0}`);
+    const x0 = await page.evaluate(() => window.tracksim.state.pose[0]);
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction((x) => window.tracksim.state.pose[0] > x + 0.1, x0, { timeout: 60000 });
+    const state = await page.evaluate(() => window.tracksim.state);
+    assert.ok(state.control.forward_mps > 0, JSON.stringify(state.control));
+    const shot = await page.screenshot({ path: path.join(artifacts, 'drive.png') });
+    await page.keyboard.up('ArrowUp');
+    const std = await pixelStd(page, shot);
+    assert.ok(std > 5, `screenshot looks blank: pixel std ${std}`);
+    await page.waitForFunction(() => window.tracksim.state.control.forward_mps === 0, null, { timeout: 10000 });
+    await page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+  // The session was written as a run, with the operator's controls.
+  for (const f of ['summary.json', 'trajectory.csv', 'belts.csv', 'scene.json', 'commands.toml', 'controls.csv', 'plot.png']) {
+    assert.ok(fs.existsSync(path.join(out, f)), `${f} missing`);
+  }
+  const rows = fs.readFileSync(path.join(out, 'trajectory.csv'), 'utf8').trim().split('\n');
+  const x = (row) => Number(row.split(',')[1]);
+  assert.ok(x(rows[rows.length - 1]) > x(rows[1]) + 0.1, 'the recorded trajectory moved forward');
+  const controls = fs.readFileSync(path.join(out, 'controls.csv'), 'utf8');
+  assert.match(controls, /\n[0-9.]+,0\.300000,0\.000000/);
+});
+
+test('the session replays as `tracksim run --commands` byte for byte', () => {
+  const toml = fs.readFileSync(path.join(out, 'commands.toml'), 'utf8');
+  const duration = toml.match(/--duration ([0-9.e-]+)/)[1];
+  const again = path.join(tmp, 'again');
+  execFileSync(bin, ['run', 'scenarios/packbot_stairs.toml', '--commands', path.join(out, 'commands.toml'),
+    '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
+  assert.equal(fs.readFileSync(path.join(again, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(out, 'trajectory.csv'), 'utf8'));
+});
+
+test('view: the replay page plays the recorded run', async () => {
+  const view = start(['view', out, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await ctx.newPage();
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    await page.goto(url);
+    await page.waitForFunction(() => window.tracksim?.replayEnd > 0 && window.tracksim.frames > 10, null, { timeout: 60000 });
+    assert.deepEqual(errors, []);
+    const t0 = await page.evaluate(() => window.tracksim.replayTime);
+    await page.waitForFunction((t) => window.tracksim.replayTime > t + 0.5, t0, { timeout: 30000 });
+    const shot = await page.screenshot({ path: path.join(artifacts, 'view.png') });
+    assert.ok((await pixelStd(page, shot)) > 5);
+    // Pause holds the time; the scrubber moves it.
+    await page.click('#play');
+    const held = await page.evaluate(() => window.tracksim.replayTime);
+    await page.waitForTimeout(300);
+    assert.equal(await page.evaluate(() => window.tracksim.replayTime), held);
+    await page.$eval('#scrub', (e) => { e.value = '0.9'; e.dispatchEvent(new Event('input')); });
+    await page.waitForFunction(() => Math.abs(window.tracksim.replayTime - 0.9 * window.tracksim.replayEnd) < 1e-6);
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});
