@@ -10,10 +10,14 @@ if ! command -v chromium >/dev/null 2>&1; then
     apt-get update -qq
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
 fi
-cargo build --release -p tracksim-cli
-target="${CARGO_TARGET_DIR:-target}"
-export TRACKSIM_BIN="$PWD/$target/release/tracksim"
-[[ "$target" = /* ]] && export TRACKSIM_BIN="$target/release/tracksim"
+# TRACKSIM_BIN may name an already built binary (CI passes the optimised dev-profile one the
+# tests built); otherwise build the release binary.
+if [[ -z "${TRACKSIM_BIN:-}" ]]; then
+    cargo build --release -p tracksim-cli
+    target="${CARGO_TARGET_DIR:-target}"
+    export TRACKSIM_BIN="$PWD/$target/release/tracksim"
+    [[ "$target" = /* ]] && export TRACKSIM_BIN="$target/release/tracksim"
+fi
 export CHROMIUM="$(command -v chromium)"
 cd web/tests
 # playwright-core downloads no browser; skip any download hook all the same.
