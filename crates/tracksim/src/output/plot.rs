@@ -35,7 +35,7 @@ pub struct PlotInput<'a> {
 }
 
 /// Figure size in pixels.
-pub(super) const SIZE: (u32, u32) = (1200, 900);
+const SIZE: (u32, u32) = (1200, 900);
 /// Font family the embedded font is registered under.
 pub(super) const FONT: &str = "sans-serif";
 /// Margin around each chart, px.
@@ -67,7 +67,7 @@ pub(super) fn colour(i: usize) -> RGBColor {
 }
 
 /// Registers the embedded font once; false if the bytes were rejected.
-pub(super) fn ensure_font() -> bool {
+fn ensure_font() -> bool {
     static DONE: OnceLock<bool> = OnceLock::new();
     *DONE.get_or_init(|| {
         register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
@@ -75,7 +75,7 @@ pub(super) fn ensure_font() -> bool {
     })
 }
 
-pub(super) fn io_error(path: &Path, message: impl std::fmt::Display) -> Error {
+fn io_error(path: &Path, message: impl std::fmt::Display) -> Error {
     Error::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(message.to_string()),
@@ -89,6 +89,22 @@ pub fn write_plots(input: &PlotInput, dir: &Path, stem: &str) -> Result<Vec<Path
         path: dir.to_path_buf(),
         source,
     })?;
+    write_png_svg(
+        dir,
+        stem,
+        |root| draw_figure(root, input),
+        |root| draw_figure(root, input),
+    )
+}
+
+/// Writes `<stem>.png` and `<stem>.svg` into `dir`, drawn by `png` and `svg` (the same figure
+/// on the two backends), with the embedded font.
+pub(super) fn write_png_svg(
+    dir: &Path,
+    stem: &str,
+    png_draw: impl Fn(&DrawingArea<BitMapBackend, Shift>) -> DrawResult,
+    svg_draw: impl Fn(&DrawingArea<SVGBackend, Shift>) -> DrawResult,
+) -> Result<Vec<PathBuf>> {
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));
     if !ensure_font() {
@@ -99,13 +115,13 @@ pub fn write_plots(input: &PlotInput, dir: &Path, stem: &str) -> Result<Vec<Path
     }
     {
         let root = BitMapBackend::new(&png, SIZE).into_drawing_area();
-        draw_figure(&root, input).map_err(|e| io_error(&png, format!("drawing failed: {e}")))?;
+        png_draw(&root).map_err(|e| io_error(&png, format!("drawing failed: {e}")))?;
         root.present().map_err(|e| io_error(&png, e))?;
     }
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
-        draw_figure(&root, input).map_err(|e| io_error(&svg, format!("drawing failed: {e}")))?;
+        svg_draw(&root).map_err(|e| io_error(&svg, format!("drawing failed: {e}")))?;
         root.present().map_err(|e| io_error(&svg, e))?;
     }
     std::fs::write(&svg, text).map_err(|source| Error::Io {

@@ -2,10 +2,8 @@
 //! position and speed, yaw, flipper angles, and per track the slip and the traction, one panel
 //! each. With several runs (`compare`) every series is labelled `run/track`.
 
-use super::plot::{
-    DrawResult, FONT, PlotRun, SIZE, draw_time_panel, ensure_font, io_error, points,
-};
-use crate::error::{Error, Result};
+use super::plot::{DrawResult, FONT, PlotRun, draw_time_panel, points, write_png_svg};
+use crate::error::Result;
 use crate::world::Sample;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -97,28 +95,10 @@ pub fn write_signals(
     dir: &Path,
     stem: &str,
 ) -> Result<Vec<PathBuf>> {
-    let png = dir.join(format!("{stem}.png"));
-    let svg = dir.join(format!("{stem}.svg"));
-    if !ensure_font() {
-        return Err(io_error(
-            &png,
-            "the embedded DejaVu Sans font could not be loaded",
-        ));
-    }
-    {
-        let root = BitMapBackend::new(&png, SIZE).into_drawing_area();
-        draw(&root, title, runs).map_err(|e| io_error(&png, format!("drawing failed: {e}")))?;
-        root.present().map_err(|e| io_error(&png, e))?;
-    }
-    let mut text = String::new();
-    {
-        let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
-        draw(&root, title, runs).map_err(|e| io_error(&svg, format!("drawing failed: {e}")))?;
-        root.present().map_err(|e| io_error(&svg, e))?;
-    }
-    std::fs::write(&svg, text).map_err(|source| Error::Io {
-        path: svg.clone(),
-        source,
-    })?;
-    Ok(vec![png, svg])
+    write_png_svg(
+        dir,
+        stem,
+        |root| draw(root, title, runs),
+        |root| draw(root, title, runs),
+    )
 }
