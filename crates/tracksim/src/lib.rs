@@ -36,10 +36,10 @@ pub mod validate;
 pub mod world;
 
 pub use error::{Error, Result, SpecIssue};
-pub use model::{Controls, Scenario, VehicleModel, load_vehicle};
+pub use model::{Controls, Scenario, ScenarioTemplate, VehicleModel, load_vehicle};
 pub use run::{
     Outcome, RunOptions, RunResult, Scripted, Summary, Timeline, run_scenario, run_scenario_with,
 };
 pub use toml;
 pub use tracks::Method;
-pub use world::{Simulation, compile_scenario, load_scenario};
+pub use world::{Simulation, compile_scenario, load_scenario, load_template};

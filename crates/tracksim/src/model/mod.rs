@@ -9,7 +9,9 @@
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
 //!   overrides, terrain, simulation settings, commands, extra checks, outcome);
-//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]).
+//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]);
+//! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
+//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]).
 
 #![warn(clippy::too_many_lines)]
 
@@ -19,7 +21,9 @@ mod compile_vehicle;
 mod controls;
 mod design;
 mod load;
+mod randomize;
 mod scenario;
+mod template;
 mod vehicle;
 
 pub use compile_scenario::*;
@@ -27,5 +31,7 @@ pub use compile_vehicle::*;
 pub use controls::*;
 pub use design::*;
 pub use load::*;
+pub use randomize::*;
 pub use scenario::*;
+pub use template::*;
 pub use vehicle::*;

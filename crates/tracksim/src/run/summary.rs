@@ -62,6 +62,10 @@ pub struct Summary {
     pub max_penetration_m: f64,
     /// Simulated and file mass of every part, the totals, and the centre of mass.
     pub mass: crate::world::MassReport,
+    /// The values drawn for the scenario's `[randomize]` parameters, by name (left out of
+    /// `summary.json` for a scenario without `[randomize]`).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub randomized: std::collections::BTreeMap<String, f64>,
 }
 
 /// Solver settings reported with every run.
@@ -176,6 +180,7 @@ impl Summary {
             max_link_error_rad: err_rad,
             max_penetration_m: samples.iter().map(|s| s.penetration).fold(0.0, f64::max),
             mass: sim.mass_report(),
+            randomized: sc.randomized.clone(),
         }
     }
 }

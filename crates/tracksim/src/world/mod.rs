@@ -23,7 +23,7 @@ pub mod origin;
 pub mod sample;
 pub mod step;
 
-pub use load::{compile_scenario, load_scenario};
+pub use load::{compile_scenario, load_scenario, load_template};
 pub use mass::{MassReport, PartMass};
 pub use sample::{PoseRpy, Sample};
 
