@@ -17,12 +17,14 @@
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
 //! - [`output`]: `trajectory.csv`, `summary.json`, plots;
 //! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
-//! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV.
+//! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
+//! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
 pub mod bench;
 pub mod cases;
+pub mod env;
 pub(crate) mod check;
 pub mod error;
 pub mod geometry;

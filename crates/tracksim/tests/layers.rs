@@ -19,7 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &["bench", "validate"],
+    &["bench", "validate", "env"],
 ];
 
 /// Items re-exported at the crate root, by the module that defines them.
