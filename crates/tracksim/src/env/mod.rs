@@ -9,7 +9,7 @@
 
 mod vector;
 
-pub use vector::VecEnv;
+pub use vector::{VecEnv, VecStep, next_seed};
 
 use crate::error::Result;
 use crate::model::{Controls, Scenario, ScenarioTemplate};
