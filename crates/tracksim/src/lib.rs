@@ -18,7 +18,8 @@
 //! - [`output`]: `trajectory.csv`, `summary.json`, plots;
 //! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
 //! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
-//! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API.
+//! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
+//! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
@@ -32,6 +33,7 @@ pub mod model;
 pub mod output;
 pub mod run;
 pub mod spec;
+pub mod sweep;
 pub mod terrain;
 pub mod tracks;
 pub mod validate;

@@ -19,7 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &["bench", "validate", "env"],
+    &["bench", "validate", "env", "sweep"],
 ];
 
 /// Items re-exported at the crate root, by the module that defines them.

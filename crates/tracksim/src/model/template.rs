@@ -6,6 +6,7 @@ use super::load::scenario_vehicle;
 use super::{ExtraChecks, Randomizer, Scenario, VehicleModel, compile_scenario_with, read_toml};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::ScenarioSpec;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// A loaded scenario file, ready to give a [`Scenario`] for any seed.
@@ -134,6 +135,44 @@ impl ScenarioTemplate {
             return Ok(sc);
         }
         self.with_values(&self.randomizer.sample(seed), seed)
+    }
+
+    /// [`ScenarioTemplate::instantiate`] with some parameters fixed instead of drawn (a grid
+    /// point of a sweep): `fixed` maps parameter names to values in their keys' units. Names
+    /// that are not `[randomize]` parameters are an error.
+    pub fn instantiate_with(&self, seed: u64, fixed: &BTreeMap<String, f64>) -> Result<Scenario> {
+        if fixed.is_empty() {
+            return self.instantiate(seed);
+        }
+        let names: Vec<&str> = self.randomizer.params.iter().map(|p| p.name.as_str()).collect();
+        let unknown: Vec<SpecIssue> = fixed
+            .keys()
+            .filter(|k| !names.contains(&k.as_str()))
+            .map(|k| {
+                SpecIssue::new(
+                    format!("randomize.{k}"),
+                    format!("no such [randomize] parameter; the file has: {}", names.join(", ")),
+                )
+            })
+            .collect();
+        if !unknown.is_empty() {
+            return Err(Error::Invalid {
+                path: self.path.clone(),
+                issues: unknown,
+            });
+        }
+        let mut values = self.randomizer.sample(seed);
+        for (p, v) in self.randomizer.params.iter().zip(values.iter_mut()) {
+            if let Some(x) = fixed.get(&p.name) {
+                *v = match p.dist {
+                    super::Distribution::Integers(..) if x.fract() == 0.0 => {
+                        toml::Value::Integer(*x as i64)
+                    }
+                    _ => toml::Value::Float(*x),
+                };
+            }
+        }
+        self.with_values(&values, seed)
     }
 
     fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
