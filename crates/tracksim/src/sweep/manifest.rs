@@ -136,18 +136,15 @@ pub fn read_runs(dir: &Path) -> Result<Vec<ManifestLine>> {
 }
 
 /// Merges the finished runs of sweep folders (shards written to one folder or to several) into
-/// one manifest at `out`, in index order; a run index found twice with different records is an
-/// error. Returns the lines.
+/// the sweep folder `out`: run folders not yet there are copied into `out/runs/`, and
+/// `out/manifest.jsonl` lists every run in index order, exactly as one unsharded sweep would
+/// have. A run index found twice with different records is an error. Returns the lines.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Vec<ManifestLine>> {
     let mut by_index: BTreeMap<usize, (ManifestLine, PathBuf)> = BTreeMap::new();
     for d in dirs {
-        for mut l in read_runs(d)? {
-            if dirs.len() > 1 {
-                l.dir = Path::new(d).join(&l.dir).display().to_string();
-            }
+        for l in read_runs(d)? {
             if let Some((old, from)) = by_index.get(&l.index) {
-                let same = old.seed == l.seed && old.params == l.params && old.outcome == l.outcome;
-                if !same {
+                if old != &l {
                     return Err(Error::Invalid {
                         path: d.clone(),
                         issues: vec![SpecIssue::new(
@@ -161,7 +158,24 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Vec<ManifestLine>> {
             by_index.insert(l.index, (l, d.clone()));
         }
     }
+    let runs = out.join("runs");
+    std::fs::create_dir_all(&runs).map_err(io(&runs))?;
+    for (l, from) in by_index.values() {
+        let dst = out.join(&l.dir);
+        if dst.join("run.json").is_file() {
+            continue;
+        }
+        let src = from.join(&l.dir);
+        let tmp = runs.join(format!(".merge-{}.tmp-{}", l.index, std::process::id()));
+        std::fs::create_dir_all(&tmp).map_err(io(&tmp))?;
+        for e in std::fs::read_dir(&src).map_err(io(&src))? {
+            let e = e.map_err(io(&src))?;
+            let to = tmp.join(e.file_name());
+            std::fs::copy(e.path(), &to).map_err(io(&to))?;
+        }
+        std::fs::rename(&tmp, &dst).map_err(io(&dst))?;
+    }
     let lines: Vec<ManifestLine> = by_index.into_values().map(|(l, _)| l).collect();
-    write_lines(out, &lines)?;
+    write_lines(&out.join(super::manifest_name(None)), &lines)?;
     Ok(lines)
 }
