@@ -21,7 +21,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
 
     Autoreset is Gymnasium's "next step" mode: the step after an episode ended resets that
     environment (its action is ignored, reward 0, not terminated) with the next seed of its
-    sequence. ``reset(seed=s)`` seeds environment ``i`` with ``s + i``. ``infos`` holds arrays
+    sequence. ``reset(seed=s)`` seeds environment ``i`` with ``s + i``; ``reset(seed=[s0, s1,
+    ...])`` gives each its own. ``infos`` holds arrays
     ``progress_m``, ``progress_delta_m``, ``effort``, ``seed``, ``autoreset`` and lists
     ``outcome``, ``reason`` ("" while running).
     """
@@ -56,8 +57,12 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         self._core.threads = int(t)
 
     def reset(self, *, seed: Optional[Union[int, list]] = None, options: Optional[dict] = None):
-        if isinstance(seed, (list, tuple)):
-            seed = seed[0]
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [int(s) for s in seed]
+            obs = self._core.reset(None, seeds)
+            infos = {"seed": np.asarray(seeds, dtype=np.uint64),
+                     "randomized": [self._core.randomized(i) for i in range(self.num_envs)]}
+            return obs, infos
         if seed is not None:
             self._np_random, _ = gym.utils.seeding.np_random(int(seed))
         elif self._np_random is None:

@@ -410,10 +410,20 @@ impl PyVecEnvCore {
 
     /// Resets every environment (`i` with `seed + i`; `None` keeps their seeds); returns the
     /// observations (num_envs, obs_dim).
-    #[pyo3(signature = (seed=None))]
-    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+    /// `seeds` (one per environment) replaces `seed`.
+    #[pyo3(signature = (seed=None, seeds=None))]
+    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>, seeds: Option<Vec<u64>>) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+        if let Some(s) = &seeds {
+            if s.len() != self.v.len() {
+                return Err(PyValueError::new_err(format!("{} seeds for {} environments", s.len(), self.v.len())));
+            }
+        }
         let v = &mut self.v;
-        py.detach(|| v.reset(seed)).map_err(py_err)?;
+        py.detach(|| match &seeds {
+            Some(s) => v.reset_seeds(s),
+            None => v.reset(seed),
+        })
+        .map_err(py_err)?;
         let mut o = vec![0f32; self.v.len() * self.obs_dim];
         self.v.observe(&mut o);
         PyArray1::from_vec(py, o).reshape([self.v.len(), self.obs_dim])
@@ -496,6 +506,51 @@ impl PyVecEnvCore {
     }
 }
 
+/// Runs a sweep of `scenario` (see `tracksim sweep`) into `out`: `runs` runs with seeds from
+/// `seed` (default: the file's), or `grid` ({name: [values]}, `runs` per point); this process's
+/// shard `shard` = (index, count) or all; `jobs` threads; GIL released. Returns the manifest
+/// lines of the shard as JSON strings.
+#[pyfunction]
+#[pyo3(signature = (scenario, out, runs=10, seed=None, grid=None, shard=None, jobs=1, resume=false))]
+#[allow(clippy::too_many_arguments)]
+fn sweep(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    out: PathBuf,
+    runs: usize,
+    seed: Option<u64>,
+    grid: Option<Vec<(String, Vec<f64>)>>,
+    shard: Option<(usize, usize)>,
+    jobs: usize,
+    resume: bool,
+) -> PyResult<Vec<String>> {
+    use tracksim::sweep::{Shard, SweepOptions, SweepPlan};
+    let t = template_of(scenario)?;
+    let seed = seed.unwrap_or(t.file_seed());
+    let plan = match grid {
+        Some(axes) if !axes.is_empty() => SweepPlan::grid(&axes, runs, seed),
+        _ => SweepPlan::random(runs, seed),
+    };
+    let shard = match shard {
+        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count")))?),
+        None => None,
+    };
+    let opts = SweepOptions { out, jobs: jobs.max(1), shard, resume, method: None };
+    let report = py
+        .detach(|| tracksim::sweep::run_sweep(&t, &plan, &opts, |_, _| {}))
+        .map_err(py_err)?;
+    Ok(report.lines.iter().map(|l| serde_json::to_string(l).expect("serialises")).collect())
+}
+
+/// Merges sweep folders (shards) into the sweep folder `out` (see `tracksim merge`); returns
+/// the number of runs.
+#[pyfunction]
+fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf) -> PyResult<usize> {
+    py.detach(|| tracksim::sweep::merge(&dirs, &out))
+        .map(|l| l.len())
+        .map_err(py_err)
+}
+
 /// The extension module.
 #[pymodule]
 fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -503,6 +558,8 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_class::<PyEnvCore>()?;
     m.add_class::<PyVecEnvCore>()?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
     m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;
     m.add("UnstableError", m.py().get_type::<UnstableError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

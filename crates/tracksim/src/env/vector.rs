@@ -97,6 +97,19 @@ impl VecEnv {
         Ok(())
     }
 
+    /// Resets environment `i` with `seeds[i]` (one seed per environment).
+    pub fn reset_seeds(&mut self, seeds: &[u64]) -> Result<()> {
+        if seeds.len() != self.envs.len() {
+            return Err(crate::error::Error::Build(format!(
+                "{} seeds for {} environments",
+                seeds.len(),
+                self.envs.len()
+            )));
+        }
+        self.seeds = seeds.to_vec();
+        self.reset(None)
+    }
+
     /// Steps every environment with its row of `actions` (`len() * action_dim` values), writing
     /// observations into `obs` (`len() * obs_dim`).
     pub fn step(&mut self, actions: &[f32], obs: &mut [f32]) -> Result<Vec<VecStep>> {
