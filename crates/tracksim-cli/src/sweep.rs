@@ -44,7 +44,12 @@ pub struct SweepArgs {
 }
 
 fn grid_axis(s: &str) -> Result<(String, Vec<f64>), Failure> {
-    let bad = || bad_arg("--grid", format!("{s:?}: write NAME=V1,V2,... with numbers, e.g. step_height_m=0.08,0.12"));
+    let bad = || {
+        bad_arg(
+            "--grid",
+            format!("{s:?}: write NAME=V1,V2,... with numbers, e.g. step_height_m=0.08,0.12"),
+        )
+    };
     let (name, vals) = s.split_once('=').ok_or_else(bad)?;
     let vals: Vec<f64> = vals
         .split(',')
@@ -75,7 +80,11 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
     let plan = if a.grid.is_empty() {
         SweepPlan::random(a.runs, seed)
     } else {
-        let axes = a.grid.iter().map(|g| grid_axis(g)).collect::<Result<Vec<_>, _>>()?;
+        let axes = a
+            .grid
+            .iter()
+            .map(|g| grid_axis(g))
+            .collect::<Result<Vec<_>, _>>()?;
         SweepPlan::grid(&axes, a.runs, seed)
     };
     let opts = SweepOptions {
@@ -88,8 +97,10 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
     let bar = (!a.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr())).then(|| {
         let b = indicatif::ProgressBar::new(0);
         b.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {elapsed} elapsed, {eta} left")
-                .expect("valid template"),
+            indicatif::ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} runs  {elapsed} elapsed, {eta} left",
+            )
+            .expect("valid template"),
         );
         b
     });
@@ -104,7 +115,9 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
     }
     if !a.quiet {
         let count = |o: &str| report.lines.iter().filter(|l| l.outcome == o).count();
-        let shard = shard.map_or(String::new(), |s| format!(" (shard {}/{})", s.index, s.count));
+        let shard = shard.map_or(String::new(), |s| {
+            format!(" (shard {}/{})", s.index, s.count)
+        });
         out!(
             "{} runs{shard}: {} run now, {} already done; success {}, failure {}, completed {}, unstable {}; manifest {}",
             report.owned,

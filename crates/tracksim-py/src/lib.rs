@@ -67,7 +67,12 @@ impl PyScenario {
     /// Names of the `[randomize]` parameters (sorted).
     #[getter]
     fn randomized_names(&self) -> Vec<String> {
-        self.t.randomizer().params.iter().map(|p| p.name.clone()).collect()
+        self.t
+            .randomizer()
+            .params
+            .iter()
+            .map(|p| p.name.clone())
+            .collect()
     }
 
     /// The `[randomize]` values drawn from `seed`, by name (empty for a fixed scenario).
@@ -86,9 +91,24 @@ impl PyScenario {
         d.set_item("method", &sc.method)?;
         let v = &sc.vehicle;
         d.set_item("vehicle", &v.name)?;
-        d.set_item("track_names", v.tracks.iter().map(|t| t.name.clone()).collect::<Vec<_>>())?;
-        d.set_item("track_offsets_m", v.tracks.iter().map(|t| t.lateral_offset()).collect::<Vec<_>>())?;
-        d.set_item("flipper_names", v.flippers.iter().map(|f| f.name.clone()).collect::<Vec<_>>())?;
+        d.set_item(
+            "track_names",
+            v.tracks.iter().map(|t| t.name.clone()).collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "track_offsets_m",
+            v.tracks
+                .iter()
+                .map(|t| t.lateral_offset())
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "flipper_names",
+            v.flippers
+                .iter()
+                .map(|f| f.name.clone())
+                .collect::<Vec<_>>(),
+        )?;
         d.set_item("randomized", sc.randomized.clone())?;
         Ok(d)
     }
@@ -118,7 +138,9 @@ impl PySimulation {
     #[pyo3(signature = (scenario, seed=None))]
     fn new(scenario: &Bound<'_, PyAny>, seed: Option<u64>) -> PyResult<Self> {
         let t = template_of(scenario)?;
-        let sc = t.instantiate(seed.unwrap_or(t.file_seed())).map_err(py_err)?;
+        let sc = t
+            .instantiate(seed.unwrap_or(t.file_seed()))
+            .map_err(py_err)?;
         let sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
         Ok(PySimulation { t, sim })
     }
@@ -157,7 +179,11 @@ impl PySimulation {
     fn set_belt_speeds(&mut self, speeds: Vec<f64>) -> PyResult<()> {
         let n = self.sim.track_names().len();
         if speeds.len() != n {
-            return Err(PyValueError::new_err(format!("expected {n} belt speeds (one per track: {:?}), got {}", self.sim.track_names(), speeds.len())));
+            return Err(PyValueError::new_err(format!(
+                "expected {n} belt speeds (one per track: {:?}), got {}",
+                self.sim.track_names(),
+                speeds.len()
+            )));
         }
         let mut c = Controls::keep(&self.sim.scenario().vehicle);
         c.belt_speed = speeds.into_iter().map(Some).collect();
@@ -169,7 +195,11 @@ impl PySimulation {
     fn set_flipper_angles(&mut self, angles: Vec<f64>) -> PyResult<()> {
         let n = self.sim.flipper_names().len();
         if angles.len() != n {
-            return Err(PyValueError::new_err(format!("expected {n} flipper angles (one per flipper: {:?}), got {}", self.sim.flipper_names(), angles.len())));
+            return Err(PyValueError::new_err(format!(
+                "expected {n} flipper angles (one per flipper: {:?}), got {}",
+                self.sim.flipper_names(),
+                angles.len()
+            )));
         }
         for (i, a) in angles.into_iter().enumerate() {
             self.sim.set_flipper_angle(i, a);
@@ -222,7 +252,10 @@ impl PySimulation {
         let p = s.pose;
         d.set_item("t_s", s.t)?;
         d.set_item("position_m", PyArray1::from_vec(py, vec![p.x, p.y, p.z]))?;
-        d.set_item("rpy_rad", PyArray1::from_vec(py, vec![p.roll, p.pitch, p.yaw]))?;
+        d.set_item(
+            "rpy_rad",
+            PyArray1::from_vec(py, vec![p.roll, p.pitch, p.yaw]),
+        )?;
         d.set_item("linvel_mps", PyArray1::from_vec(py, s.linvel.to_vec()))?;
         d.set_item("angvel_rad_s", PyArray1::from_vec(py, s.angvel.to_vec()))?;
         d.set_item("belt_speed_mps", PyArray1::from_vec(py, s.belt_speed))?;
@@ -242,11 +275,20 @@ impl PySimulation {
 
     /// Terrain height below each world point (x, y), m, by downward ray casts; NaN where there
     /// is no terrain.
-    fn terrain_heights<'py>(&self, py: Python<'py>, xs: Vec<f64>, ys: Vec<f64>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    fn terrain_heights<'py>(
+        &self,
+        py: Python<'py>,
+        xs: Vec<f64>,
+        ys: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         if xs.len() != ys.len() {
             return Err(PyValueError::new_err("xs and ys must have the same length"));
         }
-        let h = xs.iter().zip(&ys).map(|(x, y)| self.sim.terrain_below(*x, *y).unwrap_or(f64::NAN)).collect();
+        let h = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| self.sim.terrain_below(*x, *y).unwrap_or(f64::NAN))
+            .collect();
         Ok(PyArray1::from_vec(py, h))
     }
 }
@@ -263,7 +305,11 @@ fn env_config(cfg: Option<&Bound<'_, PyDict>>) -> PyResult<EnvConfig> {
                 c.action = match s.as_str() {
                     "twist" => ActionMode::Twist,
                     "belts" => ActionMode::Belts,
-                    _ => return Err(PyValueError::new_err(format!("action = {s:?}: use \"twist\" (forward speed, yaw rate) or \"belts\" (one speed per track)"))),
+                    _ => {
+                        return Err(PyValueError::new_err(format!(
+                            "action = {s:?}: use \"twist\" (forward speed, yaw rate) or \"belts\" (one speed per track)"
+                        )));
+                    }
                 }
             }
             "max_forward_mps" => c.max_forward_mps = v.extract()?,
@@ -274,20 +320,42 @@ fn env_config(cfg: Option<&Bound<'_, PyDict>>) -> PyResult<EnvConfig> {
             "grid_spacing_m" => c.grid_spacing_m = v.extract()?,
             "grid_ahead_m" => c.grid_ahead_m = v.extract()?,
             "no_terrain_m" => c.no_terrain_m = v.extract()?,
-            _ => return Err(PyValueError::new_err(format!("unknown environment setting {k:?}; known: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s, max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m, no_terrain_m"))),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown environment setting {k:?}; known: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s, max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m, no_terrain_m"
+                )));
+            }
         }
     }
     let pos = |x: f64| x.is_finite() && x > 0.0;
-    if !(pos(c.control_period_s) && pos(c.max_forward_mps) && pos(c.max_yaw_rate_rad_s) && pos(c.max_belt_speed_mps) && pos(c.grid_spacing_m.0) && pos(c.grid_spacing_m.1)) {
-        return Err(PyValueError::new_err("control_period_s, the maxima and grid_spacing_m must be finite and positive"));
+    if !(pos(c.control_period_s)
+        && pos(c.max_forward_mps)
+        && pos(c.max_yaw_rate_rad_s)
+        && pos(c.max_belt_speed_mps)
+        && pos(c.grid_spacing_m.0)
+        && pos(c.grid_spacing_m.1))
+    {
+        return Err(PyValueError::new_err(
+            "control_period_s, the maxima and grid_spacing_m must be finite and positive",
+        ));
     }
-    if !(c.flipper_range_rad.0.is_finite() && c.flipper_range_rad.1.is_finite() && c.grid_ahead_m.is_finite() && c.no_terrain_m.is_finite()) {
-        return Err(PyValueError::new_err("flipper_range_rad, grid_ahead_m and no_terrain_m must be finite"));
+    if !(c.flipper_range_rad.0.is_finite()
+        && c.flipper_range_rad.1.is_finite()
+        && c.grid_ahead_m.is_finite()
+        && c.no_terrain_m.is_finite())
+    {
+        return Err(PyValueError::new_err(
+            "flipper_range_rad, grid_ahead_m and no_terrain_m must be finite",
+        ));
     }
     Ok(c)
 }
 
-fn info_dict<'py>(py: Python<'py>, i: &tracksim::env::StepInfo, env: &tracksim::env::Env) -> PyResult<Bound<'py, PyDict>> {
+fn info_dict<'py>(
+    py: Python<'py>,
+    i: &tracksim::env::StepInfo,
+    env: &tracksim::env::Env,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("progress_delta_m", i.progress_delta_m)?;
     d.set_item("progress_m", i.progress_m)?;
@@ -313,7 +381,11 @@ impl PyEnvCore {
     /// settings of `tracksim.env.EnvConfig` (control_period_s, action, maxima, grid...).
     #[new]
     #[pyo3(signature = (scenario, seed=0, config=None))]
-    fn new(scenario: &Bound<'_, PyAny>, seed: u64, config: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    fn new(
+        scenario: &Bound<'_, PyAny>,
+        seed: u64,
+        config: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         let t = template_of(scenario)?;
         let env = tracksim::env::Env::new(t, env_config(config)?, seed).map_err(py_err)?;
         Ok(PyEnvCore { env })
@@ -335,10 +407,19 @@ impl PyEnvCore {
 
     /// One control period with `action` (normalised to [-1, 1]; GIL released); returns
     /// (observation, terminated, truncated, info).
-    fn step<'py>(&mut self, py: Python<'py>, action: Vec<f32>) -> PyResult<(Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>)> {
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        action: Vec<f32>,
+    ) -> PyResult<(Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>)> {
         let env = &mut self.env;
         let i = py.detach(|| env.step(&action));
-        Ok((self.obs(py), i.terminated, i.truncated, info_dict(py, &i, &self.env)?))
+        Ok((
+            self.obs(py),
+            i.terminated,
+            i.truncated,
+            info_dict(py, &i, &self.env)?,
+        ))
     }
 
     /// Observation length.
@@ -386,10 +467,7 @@ struct PyVecEnvCore {
     action_dim: usize,
 }
 
-type VecOut<'py> = (
-    Bound<'py, numpy::PyArray2<f32>>,
-    Bound<'py, PyDict>,
-);
+type VecOut<'py> = (Bound<'py, numpy::PyArray2<f32>>, Bound<'py, PyDict>);
 
 #[pymethods]
 impl PyVecEnvCore {
@@ -397,25 +475,45 @@ impl PyVecEnvCore {
     /// `threads` threads.
     #[new]
     #[pyo3(signature = (scenario, num_envs, seed=0, threads=1, config=None))]
-    fn new(scenario: &Bound<'_, PyAny>, num_envs: usize, seed: u64, threads: usize, config: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    fn new(
+        scenario: &Bound<'_, PyAny>,
+        num_envs: usize,
+        seed: u64,
+        threads: usize,
+        config: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         if num_envs == 0 {
             return Err(PyValueError::new_err("num_envs must be at least 1"));
         }
         let t = template_of(scenario)?;
-        let v = tracksim::env::VecEnv::new(t, env_config(config)?, num_envs, seed, threads).map_err(py_err)?;
+        let v = tracksim::env::VecEnv::new(t, env_config(config)?, num_envs, seed, threads)
+            .map_err(py_err)?;
         let e = &v.envs()[0];
         let (obs_dim, action_dim) = (e.obs_dim(), e.action_dim());
-        Ok(PyVecEnvCore { v, obs_dim, action_dim })
+        Ok(PyVecEnvCore {
+            v,
+            obs_dim,
+            action_dim,
+        })
     }
 
     /// Resets every environment (`i` with `seed + i`; `None` keeps their seeds); returns the
     /// observations (num_envs, obs_dim).
     /// `seeds` (one per environment) replaces `seed`.
     #[pyo3(signature = (seed=None, seeds=None))]
-    fn reset<'py>(&mut self, py: Python<'py>, seed: Option<u64>, seeds: Option<Vec<u64>>) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: Option<u64>,
+        seeds: Option<Vec<u64>>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
         if let Some(s) = &seeds {
             if s.len() != self.v.len() {
-                return Err(PyValueError::new_err(format!("{} seeds for {} environments", s.len(), self.v.len())));
+                return Err(PyValueError::new_err(format!(
+                    "{} seeds for {} environments",
+                    s.len(),
+                    self.v.len()
+                )));
             }
         }
         let v = &mut self.v;
@@ -433,34 +531,78 @@ impl PyVecEnvCore {
     /// released; returns (observations, arrays) where arrays holds progress_delta_m,
     /// progress_m, effort, terminated, truncated, autoreset (this step reset the env), seed,
     /// and lists outcome and reason.
-    fn step<'py>(&mut self, py: Python<'py>, actions: PyReadonlyArray2<'py, f32>) -> PyResult<VecOut<'py>> {
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<VecOut<'py>> {
         let n = self.v.len();
         let shape = actions.shape();
         if shape != [n, self.action_dim] {
-            return Err(PyValueError::new_err(format!("actions must have shape ({n}, {}), got {shape:?}", self.action_dim)));
+            return Err(PyValueError::new_err(format!(
+                "actions must have shape ({n}, {}), got {shape:?}",
+                self.action_dim
+            )));
         }
-        let a: Vec<f32> = actions.as_slice().map(|s| s.to_vec()).unwrap_or_else(|_| actions.as_array().iter().copied().collect());
+        let a: Vec<f32> = actions
+            .as_slice()
+            .map(|s| s.to_vec())
+            .unwrap_or_else(|_| actions.as_array().iter().copied().collect());
         let mut o = vec![0f32; n * self.obs_dim];
         let v = &mut self.v;
         let steps = py.detach(|| v.step(&a, &mut o)).map_err(py_err)?;
         let d = PyDict::new(py);
-        let col = |f: &dyn Fn(&tracksim::env::VecStep) -> f64| steps.iter().map(f).collect::<Vec<f64>>();
-        d.set_item("progress_delta_m", PyArray1::from_vec(py, col(&|s| s.info.progress_delta_m)))?;
-        d.set_item("progress_m", PyArray1::from_vec(py, col(&|s| s.info.progress_m)))?;
+        let col =
+            |f: &dyn Fn(&tracksim::env::VecStep) -> f64| steps.iter().map(f).collect::<Vec<f64>>();
+        d.set_item(
+            "progress_delta_m",
+            PyArray1::from_vec(py, col(&|s| s.info.progress_delta_m)),
+        )?;
+        d.set_item(
+            "progress_m",
+            PyArray1::from_vec(py, col(&|s| s.info.progress_m)),
+        )?;
         d.set_item("effort", PyArray1::from_vec(py, col(&|s| s.info.effort)))?;
-        let flag = |f: &dyn Fn(&tracksim::env::VecStep) -> bool| steps.iter().map(f).collect::<Vec<bool>>();
-        d.set_item("terminated", PyArray1::from_vec(py, flag(&|s| s.info.terminated)))?;
-        d.set_item("truncated", PyArray1::from_vec(py, flag(&|s| s.info.truncated)))?;
+        let flag = |f: &dyn Fn(&tracksim::env::VecStep) -> bool| {
+            steps.iter().map(f).collect::<Vec<bool>>()
+        };
+        d.set_item(
+            "terminated",
+            PyArray1::from_vec(py, flag(&|s| s.info.terminated)),
+        )?;
+        d.set_item(
+            "truncated",
+            PyArray1::from_vec(py, flag(&|s| s.info.truncated)),
+        )?;
         d.set_item("autoreset", PyArray1::from_vec(py, flag(&|s| s.reset)))?;
-        d.set_item("seed", PyArray1::from_vec(py, steps.iter().map(|s| s.seed).collect::<Vec<u64>>()))?;
-        d.set_item("outcome", steps.iter().map(|s| s.info.outcome.clone()).collect::<Vec<_>>())?;
-        d.set_item("reason", steps.iter().map(|s| s.info.reason.clone()).collect::<Vec<_>>())?;
+        d.set_item(
+            "seed",
+            PyArray1::from_vec(py, steps.iter().map(|s| s.seed).collect::<Vec<u64>>()),
+        )?;
+        d.set_item(
+            "outcome",
+            steps
+                .iter()
+                .map(|s| s.info.outcome.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "reason",
+            steps
+                .iter()
+                .map(|s| s.info.reason.clone())
+                .collect::<Vec<_>>(),
+        )?;
         Ok((PyArray1::from_vec(py, o).reshape([n, self.obs_dim])?, d))
     }
 
     /// The `[randomize]` values of environment `i`'s current episode.
     fn randomized(&self, i: usize) -> PyResult<BTreeMap<String, f64>> {
-        self.v.envs().get(i).map(|e| e.randomized().clone()).ok_or_else(|| PyValueError::new_err("no such environment"))
+        self.v
+            .envs()
+            .get(i)
+            .map(|e| e.randomized().clone())
+            .ok_or_else(|| PyValueError::new_err("no such environment"))
     }
 
     /// Threads used per step.
@@ -532,14 +674,26 @@ fn sweep(
         _ => SweepPlan::random(runs, seed),
     };
     let shard = match shard {
-        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count")))?),
+        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| {
+            PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count"))
+        })?),
         None => None,
     };
-    let opts = SweepOptions { out, jobs: jobs.max(1), shard, resume, method: None };
+    let opts = SweepOptions {
+        out,
+        jobs: jobs.max(1),
+        shard,
+        resume,
+        method: None,
+    };
     let report = py
         .detach(|| tracksim::sweep::run_sweep(&t, &plan, &opts, |_, _| {}))
         .map_err(py_err)?;
-    Ok(report.lines.iter().map(|l| serde_json::to_string(l).expect("serialises")).collect())
+    Ok(report
+        .lines
+        .iter()
+        .map(|l| serde_json::to_string(l).expect("serialises"))
+        .collect())
 }
 
 /// Merges sweep folders (shards) into the sweep folder `out` (see `tracksim merge`); returns

@@ -25,8 +25,8 @@
 
 pub mod bench;
 pub mod cases;
-pub mod env;
 pub(crate) mod check;
+pub mod env;
 pub mod error;
 pub mod geometry;
 pub mod model;

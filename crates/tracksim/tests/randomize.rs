@@ -40,7 +40,10 @@ fn values_come_from_the_seed_and_reach_the_compiled_scenario() {
     assert_eq!(a.seed, 4);
     // `tracksim run` samples with the file's own seed, and reports the values.
     let run = tracksim::load_scenario(&step_random()).unwrap();
-    assert_eq!(run.randomized, t.instantiate(t.file_seed()).unwrap().randomized);
+    assert_eq!(
+        run.randomized,
+        t.instantiate(t.file_seed()).unwrap().randomized
+    );
 }
 
 #[test]
@@ -68,7 +71,12 @@ fn shards_parse_from_flags_and_job_array_variables() {
     assert_eq!(Shard::parse("1/3"), Ok(Shard { index: 1, count: 3 }));
     assert!(Shard::parse("3/3").is_err() && Shard::parse("x").is_err());
     let env = |pairs: &'static [(&'static str, &'static str)]| {
-        move |k: &str| pairs.iter().find(|(n, _)| *n == k).map(|(_, v)| v.to_string())
+        move |k: &str| {
+            pairs
+                .iter()
+                .find(|(n, _)| *n == k)
+                .map(|(_, v)| v.to_string())
+        }
     };
     let slurm = env(&[
         ("SLURM_ARRAY_TASK_ID", "3"),
@@ -77,7 +85,11 @@ fn shards_parse_from_flags_and_job_array_variables() {
     ]);
     assert_eq!(Shard::from_env(slurm, None), Ok(Shard::new(2, 4)));
     let k8s = env(&[("JOB_COMPLETION_INDEX", "2")]);
-    assert!(Shard::from_env(k8s, None).unwrap_err().contains("--shard-count"));
+    assert!(
+        Shard::from_env(k8s, None)
+            .unwrap_err()
+            .contains("--shard-count")
+    );
     assert_eq!(Shard::from_env(k8s, Some(5)), Ok(Shard::new(2, 5)));
     assert_eq!(Shard::from_env(env(&[]), None), Ok(None));
 }

@@ -170,14 +170,32 @@ impl Env {
     /// Names of the observation entries, in order.
     pub fn obs_names(&self) -> Vec<String> {
         let mut n: Vec<String> = [
-            "roll_rad", "pitch_rad", "yaw_rad", "height_m", "vx_mps", "vy_mps", "vz_mps",
-            "wx_rad_s", "wy_rad_s", "wz_rad_s",
+            "roll_rad",
+            "pitch_rad",
+            "yaw_rad",
+            "height_m",
+            "vx_mps",
+            "vy_mps",
+            "vz_mps",
+            "wx_rad_s",
+            "wy_rad_s",
+            "wz_rad_s",
         ]
         .iter()
         .map(|s| s.to_string())
         .collect();
-        n.extend(self.sim.flipper_names().iter().map(|f| format!("flipper_{f}_rad")));
-        n.extend(self.sim.track_names().iter().map(|t| format!("belt_{t}_mps")));
+        n.extend(
+            self.sim
+                .flipper_names()
+                .iter()
+                .map(|f| format!("flipper_{f}_rad")),
+        );
+        n.extend(
+            self.sim
+                .track_names()
+                .iter()
+                .map(|t| format!("belt_{t}_mps")),
+        );
         let (nx, ny) = self.cfg.grid_shape;
         for i in 0..nx {
             for j in 0..ny {
@@ -248,7 +266,11 @@ impl Env {
         let v = &self.scenario.vehicle;
         let (mut c, n) = match self.cfg.action {
             ActionMode::Twist => (
-                Controls::twist(v, a(0) * self.cfg.max_forward_mps, a(1) * self.cfg.max_yaw_rate_rad_s),
+                Controls::twist(
+                    v,
+                    a(0) * self.cfg.max_forward_mps,
+                    a(1) * self.cfg.max_yaw_rate_rad_s,
+                ),
                 2,
             ),
             ActionMode::Belts => {
@@ -272,7 +294,11 @@ impl Env {
     pub fn step(&mut self, action: &[f32]) -> StepInfo {
         let n = self.action_dim();
         let effort = (0..n)
-            .map(|i| action.get(i).map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0).powi(2)))
+            .map(|i| {
+                action
+                    .get(i)
+                    .map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0).powi(2))
+            })
             .sum::<f64>()
             / n.max(1) as f64;
         let mut info = StepInfo {

@@ -143,10 +143,18 @@ impl VecEnv {
                         let i = k * chunk + j;
                         let step = if ended_ref[i] {
                             env.reset(seeds_ref[i])?;
-                            VecStep { info: StepInfo::default(), reset: true, seed: seeds_ref[i] }
+                            VecStep {
+                                info: StepInfo::default(),
+                                reset: true,
+                                seed: seeds_ref[i],
+                            }
                         } else {
                             let a = actions.get(i * na..(i + 1) * na).unwrap_or(&[]);
-                            VecStep { info: env.step(a), reset: false, seed: seeds_ref[i] }
+                            VecStep {
+                                info: env.step(a),
+                                reset: false,
+                                seed: seeds_ref[i],
+                            }
                         };
                         env.observe(&mut obs[j * no..(j + 1) * no]);
                         out[j] = Some(step);
@@ -165,7 +173,10 @@ impl VecEnv {
             Ok(())
         })?;
         self.seeds = seeds;
-        let out: Vec<VecStep> = out.into_iter().map(|s| s.expect("every env stepped")).collect();
+        let out: Vec<VecStep> = out
+            .into_iter()
+            .map(|s| s.expect("every env stepped"))
+            .collect();
         for (e, s) in self.ended.iter_mut().zip(&out) {
             *e = s.info.terminated || s.info.truncated;
         }

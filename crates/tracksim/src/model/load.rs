@@ -49,10 +49,11 @@ pub(crate) fn load_scenario_with_spec(
 ) -> Result<Scenario> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let vehicle = scenario_vehicle(path, spec)?;
-    let mut sc = compile_scenario_with(spec, vehicle, dir, extra).map_err(|issues| Error::Invalid {
-        path: path.to_path_buf(),
-        issues,
-    })?;
+    let mut sc =
+        compile_scenario_with(spec, vehicle, dir, extra).map_err(|issues| Error::Invalid {
+            path: path.to_path_buf(),
+            issues,
+        })?;
     sc.source = Some(path.to_path_buf());
     Ok(sc)
 }

@@ -100,8 +100,14 @@ fn lookup<'a>(doc: &'a toml::Table, path: &[Segment]) -> Result<Option<&'a toml:
             (None, Segment::Key(k)) => doc.get(k),
             (Some(toml::Value::Table(t)), Segment::Key(k)) => t.get(k),
             (Some(toml::Value::Array(a)), Segment::Index(j)) => a.get(*j),
-            (Some(_), Segment::Key(k)) => return Err(format!("`{k}` is inside a value that is not a table")),
-            (_, Segment::Index(j)) => return Err(format!("index [{j}] applies to a value that is not an array")),
+            (Some(_), Segment::Key(k)) => {
+                return Err(format!("`{k}` is inside a value that is not a table"));
+            }
+            (_, Segment::Index(j)) => {
+                return Err(format!(
+                    "index [{j}] applies to a value that is not an array"
+                ));
+            }
         };
         match next {
             Some(v) => cur = Some(v),
@@ -131,7 +137,9 @@ fn write(doc: &mut toml::Table, path: &[Segment], v: toml::Value) {
             table.insert(k.clone(), v);
             return;
         }
-        let Some(mut cur) = table.get_mut(k) else { return };
+        let Some(mut cur) = table.get_mut(k) else {
+            return;
+        };
         while let Some(Segment::Index(j)) = path.get(i) {
             let toml::Value::Array(a) = cur else { return };
             let Some(next) = a.get_mut(*j) else { return };
@@ -156,8 +164,16 @@ fn number(v: &toml::Value) -> Option<f64> {
 }
 
 /// Checks a distribution; `None` with issues pushed if it is wrong.
-fn distribution(key: &str, p: &RandomParamSpec, issues: &mut Vec<SpecIssue>) -> Option<Distribution> {
-    let given = [p.uniform.is_some(), p.integers.is_some(), p.choice.is_some()];
+fn distribution(
+    key: &str,
+    p: &RandomParamSpec,
+    issues: &mut Vec<SpecIssue>,
+) -> Option<Distribution> {
+    let given = [
+        p.uniform.is_some(),
+        p.integers.is_some(),
+        p.choice.is_some(),
+    ];
     if given.iter().filter(|g| **g).count() != 1 {
         issues.push(SpecIssue::new(
             key,
@@ -171,7 +187,10 @@ fn distribution(key: &str, p: &RandomParamSpec, issues: &mut Vec<SpecIssue>) -> 
             [lo, hi] if lo.is_finite() && hi.is_finite() && lo <= hi => {
                 return Some(Distribution::Uniform(*lo, *hi));
             }
-            _ => issues.push(bad("uniform", "must be [low, high] with finite low <= high")),
+            _ => issues.push(bad(
+                "uniform",
+                "must be [low, high] with finite low <= high",
+            )),
         }
     } else if let Some(u) = &p.integers {
         match u.as_slice() {
@@ -221,7 +240,10 @@ impl Randomizer {
             let mut targets = Vec::new();
             for (where_, k, scale, offset) in raw {
                 if !(scale.is_finite() && offset.is_finite()) {
-                    issues.push(SpecIssue::new(where_.clone(), "scale and offset must be finite"));
+                    issues.push(SpecIssue::new(
+                        where_.clone(),
+                        "scale and offset must be finite",
+                    ));
                 }
                 let Some(path) = parse_path(&k) else {
                     issues.push(SpecIssue::new(
@@ -231,7 +253,10 @@ impl Randomizer {
                     continue;
                 };
                 if matches!(path.first(), Some(Segment::Key(f)) if f == "randomize") {
-                    issues.push(SpecIssue::new(where_, "a randomised key cannot be inside [randomize]"));
+                    issues.push(SpecIssue::new(
+                        where_,
+                        "a randomised key cannot be inside [randomize]",
+                    ));
                     continue;
                 }
                 match lookup(doc, &path) {
@@ -241,16 +266,32 @@ impl Randomizer {
                     )),
                     Ok(Some(v)) if number(v).is_none() => issues.push(SpecIssue::new(
                         where_,
-                        format!("`{k}` holds {}, not a number; only numbers can be randomised", v.type_str()),
+                        format!(
+                            "`{k}` holds {}, not a number; only numbers can be randomised",
+                            v.type_str()
+                        ),
                     )),
-                    Ok(_) => targets.push(Target { key: k, path, scale, offset }),
+                    Ok(_) => targets.push(Target {
+                        key: k,
+                        path,
+                        scale,
+                        offset,
+                    }),
                 }
             }
             if let Some(dist) = dist {
-                params.push(Param { name: name.clone(), dist, targets });
+                params.push(Param {
+                    name: name.clone(),
+                    dist,
+                    targets,
+                });
             }
         }
-        if issues.is_empty() { Ok(Randomizer { params }) } else { Err(issues) }
+        if issues.is_empty() {
+            Ok(Randomizer { params })
+        } else {
+            Err(issues)
+        }
     }
 
     /// True without parameters.
@@ -273,9 +314,13 @@ impl Randomizer {
                     }
                     Distribution::Integers(lo, hi) => {
                         let span = (*hi as i128 - *lo as i128 + 1) as u128;
-                        toml::Value::Integer((*lo as i128 + uniform_below(&mut rng, span) as i128) as i64)
+                        toml::Value::Integer(
+                            (*lo as i128 + uniform_below(&mut rng, span) as i128) as i64,
+                        )
                     }
-                    Distribution::Choice(c) => c[uniform_below(&mut rng, c.len() as u128) as usize].clone(),
+                    Distribution::Choice(c) => {
+                        c[uniform_below(&mut rng, c.len() as u128) as usize].clone()
+                    }
                 }
             })
             .collect()
@@ -338,7 +383,8 @@ mod tests {
     use super::*;
 
     fn doc() -> toml::Table {
-        toml::from_str("[vehicle]\nx_m = 0.0\n[[terrain.boxes]]\nsize_m = [2.0, 3.0, 0.1]\n").unwrap()
+        toml::from_str("[vehicle]\nx_m = 0.0\n[[terrain.boxes]]\nsize_m = [2.0, 3.0, 0.1]\n")
+            .unwrap()
     }
 
     #[test]
@@ -366,7 +412,10 @@ mod tests {
         .unwrap();
         let e = Randomizer::compile(&spec, &doc()).unwrap_err();
         let keys: Vec<_> = e.iter().map(|i| i.key.as_str()).collect();
-        assert_eq!(keys, ["randomize.a.uniform", "randomize.b.key", "randomize.c"]);
+        assert_eq!(
+            keys,
+            ["randomize.a.uniform", "randomize.b.key", "randomize.c"]
+        );
     }
 
     #[test]

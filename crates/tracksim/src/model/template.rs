@@ -102,7 +102,11 @@ impl ScenarioTemplate {
                 }
             }
         }
-        if issues.is_empty() { Ok(t) } else { Err(invalid(issues)) }
+        if issues.is_empty() {
+            Ok(t)
+        } else {
+            Err(invalid(issues))
+        }
     }
 
     /// The scenario with the file's own `simulation.seed` (what `tracksim run` runs).
@@ -144,14 +148,22 @@ impl ScenarioTemplate {
         if fixed.is_empty() {
             return self.instantiate(seed);
         }
-        let names: Vec<&str> = self.randomizer.params.iter().map(|p| p.name.as_str()).collect();
+        let names: Vec<&str> = self
+            .randomizer
+            .params
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect();
         let unknown: Vec<SpecIssue> = fixed
             .keys()
             .filter(|k| !names.contains(&k.as_str()))
             .map(|k| {
                 SpecIssue::new(
                     format!("randomize.{k}"),
-                    format!("no such [randomize] parameter; the file has: {}", names.join(", ")),
+                    format!(
+                        "no such [randomize] parameter; the file has: {}",
+                        names.join(", ")
+                    ),
                 )
             })
             .collect();
@@ -177,18 +189,23 @@ impl ScenarioTemplate {
 
     fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
         let (doc, sampled) = self.randomizer.apply(&self.doc, values);
-        let spec: ScenarioSpec = toml::Value::Table(doc).try_into().map_err(|e: toml::de::Error| Error::Parse {
-            path: self.path.clone(),
-            message: format!("with the [randomize] values {sampled:?}: {}", e.message()),
-        })?;
+        let spec: ScenarioSpec =
+            toml::Value::Table(doc)
+                .try_into()
+                .map_err(|e: toml::de::Error| Error::Parse {
+                    path: self.path.clone(),
+                    message: format!("with the [randomize] values {sampled:?}: {}", e.message()),
+                })?;
         let vehicle = match &self.vehicle {
             Some(v) => v.clone(),
             None => scenario_vehicle(&self.path, &spec)?,
         };
         let dir = self.path.parent().unwrap_or(Path::new("."));
-        let mut sc = compile_scenario_with(&spec, vehicle, dir, self.extra).map_err(|issues| Error::Invalid {
-            path: self.path.clone(),
-            issues,
+        let mut sc = compile_scenario_with(&spec, vehicle, dir, self.extra).map_err(|issues| {
+            Error::Invalid {
+                path: self.path.clone(),
+                issues,
+            }
         })?;
         sc.source = Some(self.path.clone());
         sc.seed = seed;

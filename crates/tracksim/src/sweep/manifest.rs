@@ -149,7 +149,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Vec<ManifestLine>> {
                         path: d.clone(),
                         issues: vec![SpecIssue::new(
                             "",
-                            format!("run {} is also in {} with other values: these folders are not shards of one sweep", l.index, from.display()),
+                            format!(
+                                "run {} is also in {} with other values: these folders are not shards of one sweep",
+                                l.index,
+                                from.display()
+                            ),
                         )],
                     });
                 }

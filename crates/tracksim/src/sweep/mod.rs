@@ -32,7 +32,10 @@ impl Shard {
     pub fn parse(s: &str) -> std::result::Result<Shard, String> {
         let bad = || format!("--shard {s:?}: write INDEX/COUNT with 0 <= INDEX < COUNT, e.g. 0/4");
         let (i, n) = s.split_once('/').ok_or_else(bad)?;
-        let (index, count) = (i.trim().parse().map_err(|_| bad())?, n.trim().parse().map_err(|_| bad())?);
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
         Shard::new(index, count).ok_or_else(bad)
     }
 
@@ -52,7 +55,11 @@ impl Shard {
         let num = |name: &str| -> std::result::Result<Option<usize>, String> {
             match var(name) {
                 None => Ok(None),
-                Some(v) => v.trim().parse().map(Some).map_err(|_| format!("{name}={v:?} is not a whole number")),
+                Some(v) => v
+                    .trim()
+                    .parse()
+                    .map(Some)
+                    .map_err(|_| format!("{name}={v:?} is not a whole number")),
             }
         };
         let count = match count {
@@ -63,14 +70,25 @@ impl Shard {
             let min = num("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
             let n = match count {
                 Some(c) => c,
-                None => num("SLURM_ARRAY_TASK_COUNT")?.ok_or("SLURM_ARRAY_TASK_ID is set without SLURM_ARRAY_TASK_COUNT; pass --shard-count")?,
+                None => num("SLURM_ARRAY_TASK_COUNT")?.ok_or(
+                    "SLURM_ARRAY_TASK_ID is set without SLURM_ARRAY_TASK_COUNT; pass --shard-count",
+                )?,
             };
-            let i = id.checked_sub(min).ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
-            return Shard::new(i, n).map(Some).ok_or_else(|| format!("SLURM array task {i} (from 0) is not below the count {n}: use --array=0-{}", n.max(1) - 1));
+            let i = id
+                .checked_sub(min)
+                .ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
+            return Shard::new(i, n).map(Some).ok_or_else(|| {
+                format!(
+                    "SLURM array task {i} (from 0) is not below the count {n}: use --array=0-{}",
+                    n.max(1) - 1
+                )
+            });
         }
         if let Some(i) = num("JOB_COMPLETION_INDEX")? {
             let n = count.ok_or("JOB_COMPLETION_INDEX is set but no shard count: pass --shard-count N (the Job's completions) or set TRACKSIM_SHARD_COUNT")?;
-            return Shard::new(i, n).map(Some).ok_or_else(|| format!("JOB_COMPLETION_INDEX {i} is not below the shard count {n}"));
+            return Shard::new(i, n).map(Some).ok_or_else(|| {
+                format!("JOB_COMPLETION_INDEX {i} is not below the shard count {n}")
+            });
         }
         Ok(None)
     }
@@ -104,7 +122,11 @@ impl SweepPlan {
     pub fn random(n: usize, seed: u64) -> Self {
         SweepPlan {
             runs: (0..n)
-                .map(|i| RunSpec { index: i, seed: seed.wrapping_add(i as u64), fixed: BTreeMap::new() })
+                .map(|i| RunSpec {
+                    index: i,
+                    seed: seed.wrapping_add(i as u64),
+                    fixed: BTreeMap::new(),
+                })
                 .collect(),
         }
     }
@@ -129,7 +151,11 @@ impl SweepPlan {
             .into_iter()
             .flat_map(|p| std::iter::repeat_n(p, repeats))
             .enumerate()
-            .map(|(i, fixed)| RunSpec { index: i, seed: seed.wrapping_add(i as u64), fixed })
+            .map(|(i, fixed)| RunSpec {
+                index: i,
+                seed: seed.wrapping_add(i as u64),
+                fixed,
+            })
             .collect();
         SweepPlan { runs }
     }
@@ -194,7 +220,11 @@ pub fn run_sweep(
     };
     let runs_dir = opts.out.join("runs");
     std::fs::create_dir_all(&runs_dir).map_err(io(&runs_dir))?;
-    let owned: Vec<&RunSpec> = plan.runs.iter().filter(|r| opts.shard.is_none_or(|s| s.owns(r.index))).collect();
+    let owned: Vec<&RunSpec> = plan
+        .runs
+        .iter()
+        .filter(|r| opts.shard.is_none_or(|s| s.owns(r.index)))
+        .collect();
     // Grid points are checked before anything runs (a value outside what the file allows).
     let mut seen = std::collections::BTreeSet::new();
     for r in &owned {
@@ -212,7 +242,10 @@ pub fn run_sweep(
                     path: opts.out.clone(),
                     issues: vec![SpecIssue::new(
                         "",
-                        format!("{} already holds a finished run; pass --resume to skip finished runs, or choose another --out", dir.display()),
+                        format!(
+                            "{} already holds a finished run; pass --resume to skip finished runs, or choose another --out",
+                            dir.display()
+                        ),
                     )],
                 });
             }
@@ -256,11 +289,22 @@ pub fn run_sweep(
         .collect::<Vec<_>>();
     let manifest = opts.out.join(manifest_name(opts.shard));
     manifest::write_lines(&manifest, &lines)?;
-    Ok(SweepReport { owned: total, ran: todo.len(), skipped, manifest, lines })
+    Ok(SweepReport {
+        owned: total,
+        ran: todo.len(),
+        skipped,
+        manifest,
+        lines,
+    })
 }
 
 /// Simulates one run and moves its complete folder into place.
-fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path, method: Option<&str>) -> Result<()> {
+fn run_one(
+    template: &ScenarioTemplate,
+    r: &RunSpec,
+    runs_dir: &Path,
+    method: Option<&str>,
+) -> Result<()> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| Error::Io { path, source }
@@ -270,7 +314,11 @@ fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path, method: Op
         sc.method = m.to_string();
     }
     let final_dir = runs_dir.join(run_dir_name(r.index));
-    let tmp = runs_dir.join(format!(".{}.tmp-{}", run_dir_name(r.index), std::process::id()));
+    let tmp = runs_dir.join(format!(
+        ".{}.tmp-{}",
+        run_dir_name(r.index),
+        std::process::id()
+    ));
     if tmp.exists() {
         std::fs::remove_dir_all(&tmp).map_err(io(&tmp))?;
     }
