@@ -368,6 +368,9 @@ fn info_dict<'py>(
     Ok(d)
 }
 
+/// What `EnvCore.step` returns: observation, terminated, truncated, info.
+type StepOut<'py> = (Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>);
+
 /// The core of the Gymnasium environment: one simulation advanced one control period per
 /// normalised action (see `tracksim.TracksimEnv`).
 #[pyclass(name = "EnvCore", module = "tracksim._tracksim")]
@@ -411,7 +414,7 @@ impl PyEnvCore {
         &mut self,
         py: Python<'py>,
         action: Vec<f32>,
-    ) -> PyResult<(Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>)> {
+    ) -> PyResult<StepOut<'py>> {
         let env = &mut self.env;
         let i = py.detach(|| env.step(&action));
         Ok((
@@ -507,14 +510,12 @@ impl PyVecEnvCore {
         seed: Option<u64>,
         seeds: Option<Vec<u64>>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
-        if let Some(s) = &seeds {
-            if s.len() != self.v.len() {
-                return Err(PyValueError::new_err(format!(
-                    "{} seeds for {} environments",
-                    s.len(),
-                    self.v.len()
-                )));
-            }
+        if let Some(s) = seeds.as_ref().filter(|s| s.len() != self.v.len()) {
+            return Err(PyValueError::new_err(format!(
+                "{} seeds for {} environments",
+                s.len(),
+                self.v.len()
+            )));
         }
         let v = &mut self.v;
         py.detach(|| match &seeds {
