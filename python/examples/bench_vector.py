@@ -2,7 +2,7 @@
 gymnasium.vector.AsyncVectorEnv over the single env, PackBot 510 (40 grousers per track) on
 flat ground at 20 Hz control (50 ms per env step = 50 physics steps of 1 ms).
 
-    python python/examples/bench_vector.py [--envs 4] [--steps 150]
+    python python/examples/bench_vector.py [--envs 8] [--steps 100]
 
 Prints one line per configuration: env steps/s and env steps/s per core used.
 """
@@ -37,8 +37,8 @@ def make():
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--envs", type=int, default=4, help="environments of the native vector env")
-    ap.add_argument("--steps", type=int, default=150, help="vector steps timed")
+    ap.add_argument("--envs", type=int, default=8, help="environments of the native vector env")
+    ap.add_argument("--steps", type=int, default=100, help="vector steps timed")
     args = ap.parse_args()
     print(f"cores available: {os.cpu_count()}, load average before: {os.getloadavg()[0]:.2f}")
     rows = []
