@@ -10,11 +10,16 @@ VENV="${TRACKSIM_VENV:-.venv-ci}"
 [ -x "$VENV/bin/python" ] || "$PY" -m venv "$VENV"
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check -r python/requirements-ci.txt
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
-cargo build --release -p tracksim-cli
-export TRACKSIM_BIN="$CARGO_TARGET_DIR/release/tracksim"
+# The dev profile is optimised (Cargo.toml) and shares its artifacts with `cargo test
+# --workspace`, so CI compiles the dependencies once; TRACKSIM_PROFILE=release for a release
+# build. (The physics is the same in both: Rust does not reorder float operations.)
+PROFILE="${TRACKSIM_PROFILE:-dev}"
+OUTDIR=$([ "$PROFILE" = dev ] && echo debug || echo "$PROFILE")
+cargo build --profile "$PROFILE" -p tracksim-cli
+export TRACKSIM_BIN="$CARGO_TARGET_DIR/$OUTDIR/tracksim"
 # Build the wheel and install it (what a user gets), not an editable install.
 rm -rf "$CARGO_TARGET_DIR/wheels"
-"$VENV/bin/maturin" build --release --out "$CARGO_TARGET_DIR/wheels"
+"$VENV/bin/maturin" build --profile "$PROFILE" --out "$CARGO_TARGET_DIR/wheels"
 "$VENV/bin/python" -m pip install --quiet --disable-pip-version-check --force-reinstall --no-deps "$CARGO_TARGET_DIR"/wheels/tracksim-*.whl
 # Run from the tests' folder so that `import tracksim` is the installed wheel, not python/.
 cd python/tests
