@@ -410,11 +410,7 @@ impl PyEnvCore {
 
     /// One control period with `action` (normalised to [-1, 1]; GIL released); returns
     /// (observation, terminated, truncated, info).
-    fn step<'py>(
-        &mut self,
-        py: Python<'py>,
-        action: Vec<f32>,
-    ) -> PyResult<StepOut<'py>> {
+    fn step<'py>(&mut self, py: Python<'py>, action: Vec<f32>) -> PyResult<StepOut<'py>> {
         let env = &mut self.env;
         let i = py.detach(|| env.step(&action));
         Ok((
