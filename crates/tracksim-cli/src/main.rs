@@ -27,6 +27,8 @@ macro_rules! out {
     }};
 }
 
+mod sweep;
+
 /// Real-time simulation of tracked robots with grousers (Okada et al., ICRA 2020) on Rapier.
 #[derive(Parser)]
 #[command(name = "tracksim", version, about)]
@@ -178,6 +180,18 @@ enum Cmd {
         /// Files to check (vehicle or scenario files, told apart by their keys).
         #[arg(required = true)]
         files: Vec<PathBuf>,
+    },
+    /// Run a randomised scenario many times (a dataset): one folder per run and a manifest
+    /// (one JSON line per run), sharded for job arrays, resumable.
+    Sweep(sweep::SweepArgs),
+    /// Merge sweep folders (shards) into one: their runs and one manifest.jsonl.
+    Merge {
+        /// Sweep output folders.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Merged sweep folder (may be one of DIRS: shards that wrote into one folder).
+        #[arg(long)]
+        out: PathBuf,
     },
     /// List the bundled vehicles and scenarios with one-line descriptions.
     List {
@@ -1053,6 +1067,8 @@ fn main() -> ExitCode {
             wait_for_page,
         }),
         Cmd::View { dir, port, bind } => view(&dir, port, bind),
+        Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Merge { dirs, out } => sweep::merge(&dirs, &out),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,

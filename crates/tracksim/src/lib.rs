@@ -17,13 +17,16 @@
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
 //! - [`output`]: `trajectory.csv`, `summary.json`, plots;
 //! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
-//! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV.
+//! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
+//! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
+//! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
 pub mod bench;
 pub mod cases;
 pub(crate) mod check;
+pub mod env;
 pub mod error;
 pub mod geometry;
 pub mod live;
@@ -31,16 +34,17 @@ pub mod model;
 pub mod output;
 pub mod run;
 pub mod spec;
+pub mod sweep;
 pub mod terrain;
 pub mod tracks;
 pub mod validate;
 pub mod world;
 
 pub use error::{Error, Result, SpecIssue};
-pub use model::{Controls, Scenario, VehicleModel, load_vehicle};
+pub use model::{Controls, Scenario, ScenarioTemplate, VehicleModel, load_vehicle};
 pub use run::{
     Outcome, RunOptions, RunResult, Scripted, Summary, Timeline, run_scenario, run_scenario_with,
 };
 pub use toml;
 pub use tracks::Method;
-pub use world::{Simulation, compile_scenario, load_scenario};
+pub use world::{Simulation, compile_scenario, load_scenario, load_template};

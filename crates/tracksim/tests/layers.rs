@@ -19,7 +19,7 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &["bench", "validate"],
+    &["bench", "validate", "env", "sweep"],
     &["live"],
 ];
 
@@ -30,12 +30,14 @@ const ROOT_ITEMS: &[(&str, &str)] = &[
     ("SpecIssue", "error"),
     ("Controls", "model"),
     ("Scenario", "model"),
+    ("ScenarioTemplate", "model"),
     ("VehicleModel", "model"),
     ("load_vehicle", "model"),
     ("Method", "tracks"),
     ("Simulation", "world"),
     ("compile_scenario", "world"),
     ("load_scenario", "world"),
+    ("load_template", "world"),
     ("Outcome", "run"),
     ("RunOptions", "run"),
     ("RunResult", "run"),

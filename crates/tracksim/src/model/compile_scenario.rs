@@ -15,7 +15,7 @@ use std::path::Path;
 
 /// Checks of keys the model layer does not interpret (e.g. `simulation.method`, resolved by the
 /// track layer), reported with the model's own problems.
-pub type ExtraChecks<'a> = &'a dyn Fn(&ScenarioSpec) -> Vec<SpecIssue>;
+pub type ExtraChecks = fn(&ScenarioSpec) -> Vec<SpecIssue>;
 
 /// Compiles a scenario whose vehicle is already loaded (no check of the method name: see
 /// [`compile_scenario_with`]).
@@ -24,7 +24,7 @@ pub fn compile_scenario(
     vehicle: VehicleModel,
     base_dir: &Path,
 ) -> Result<Scenario, Vec<SpecIssue>> {
-    compile_scenario_with(spec, vehicle, base_dir, &|_| Vec::new())
+    compile_scenario_with(spec, vehicle, base_dir, |_| Vec::new())
 }
 
 /// Compiles a scenario whose vehicle is already loaded; `extra` adds the problems of keys that
@@ -71,6 +71,7 @@ pub fn compile_scenario_with(
         outcome,
         method: s.method.clone(),
         seed: s.seed,
+        randomized: Default::default(),
         source: None,
         description: spec.description.clone(),
         vehicle,

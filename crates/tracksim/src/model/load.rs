@@ -1,7 +1,9 @@
 //! Reading files: TOML parsing with the file named in every error, and loading of vehicle and
 //! scenario files (a scenario's vehicle file is found relative to the scenario's folder).
 
-use super::{ExtraChecks, Scenario, VehicleModel, compile_scenario_with, compile_vehicle};
+use super::{
+    ExtraChecks, Scenario, ScenarioTemplate, VehicleModel, compile_scenario_with, compile_vehicle,
+};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::{ScenarioSpec, VehicleSpec};
 use std::path::Path;
@@ -46,15 +48,43 @@ pub fn load_commands(path: &Path, vehicle: &VehicleModel) -> Result<Vec<super::C
 }
 
 /// Loads a scenario file and the vehicle file it names (relative to the scenario's folder);
-/// `extra` as in [`compile_scenario_with`].
+/// `extra` as in [`compile_scenario_with`]. A file with a `[randomize]` table is sampled with
+/// its own `simulation.seed` ([`ScenarioTemplate`] samples other seeds).
 pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
     let spec: ScenarioSpec = read_toml(path)?;
+    if !spec.randomize.is_empty() {
+        let seed = spec.simulation.seed;
+        return ScenarioTemplate::from_spec(path, spec, extra)?.instantiate(seed);
+    }
+    load_scenario_with_spec(path, &spec, extra)
+}
+
+/// Compiles the parsed scenario file at `path` (without sampling `[randomize]`).
+pub(crate) fn load_scenario_with_spec(
+    path: &Path,
+    spec: &ScenarioSpec,
+    extra: ExtraChecks,
+) -> Result<Scenario> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let vehicle = scenario_vehicle(path, spec)?;
+    let mut sc =
+        compile_scenario_with(spec, vehicle, dir, extra).map_err(|issues| Error::Invalid {
+            path: path.to_path_buf(),
+            issues,
+        })?;
+    sc.source = Some(path.to_path_buf());
+    Ok(sc)
+}
+
+/// The vehicle of a scenario file: its `vehicle.file` (relative to the scenario's folder) or
+/// its `[vehicle.inline]`, compiled.
+pub(crate) fn scenario_vehicle(path: &Path, spec: &ScenarioSpec) -> Result<VehicleModel> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let invalid = |issues| Error::Invalid {
         path: path.to_path_buf(),
         issues,
     };
-    let vehicle = match (&spec.vehicle.file, &spec.vehicle.inline) {
+    match (&spec.vehicle.file, &spec.vehicle.inline) {
         (Some(file), None) => {
             let vpath = dir.join(file);
             if !vpath.is_file() {
@@ -66,7 +96,7 @@ pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
                     ),
                 )]));
             }
-            load_vehicle(&vpath)?
+            load_vehicle(&vpath)
         }
         (None, Some(inline)) => compile_vehicle(inline).map_err(|issues| {
             invalid(
@@ -75,15 +105,10 @@ pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
                     .map(|i| SpecIssue::new(format!("vehicle.inline.{}", i.key), i.message))
                     .collect(),
             )
-        })?,
-        _ => {
-            return Err(invalid(vec![SpecIssue::new(
-                "vehicle",
-                "give exactly one of `file` (a vehicle file) or `[vehicle.inline]`",
-            )]));
-        }
-    };
-    let mut sc = compile_scenario_with(&spec, vehicle, dir, extra).map_err(invalid)?;
-    sc.source = Some(path.to_path_buf());
-    Ok(sc)
+        }),
+        _ => Err(invalid(vec![SpecIssue::new(
+            "vehicle",
+            "give exactly one of `file` (a vehicle file) or `[vehicle.inline]`",
+        )])),
+    }
 }

@@ -12,7 +12,9 @@
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
 //!   overrides, terrain, simulation settings, commands, extra checks, outcome);
-//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]).
+//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]);
+//! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
+//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]).
 
 #![warn(clippy::too_many_lines)]
 
@@ -24,7 +26,9 @@ mod controls;
 mod design;
 mod load;
 mod motor;
+mod randomize;
 mod scenario;
+mod template;
 mod vehicle;
 
 pub use compile_scenario::*;
@@ -38,5 +42,7 @@ pub use design::*;
 pub use load::*;
 pub use motor::DriveMotor;
 pub(crate) use motor::compile_motor;
+pub use randomize::*;
 pub use scenario::*;
+pub use template::*;
 pub use vehicle::*;

@@ -93,4 +93,7 @@ pub struct Scenario {
     pub method: String,
     /// Seed.
     pub seed: u64,
+    /// The values drawn for the file's `[randomize]` parameters, by name, in the units of their
+    /// keys (empty for a scenario without `[randomize]`).
+    pub randomized: std::collections::BTreeMap<String, f64>,
 }

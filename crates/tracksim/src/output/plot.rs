@@ -560,6 +560,7 @@ mod tests {
                     total_simulated_kg: 13.0,
                     centre_of_mass_body_m: [0.0; 3],
                 },
+                randomized: Default::default(),
                 mean_speed_mps: if sim_time > 0.0 {
                     (last.x - first.x) / sim_time
                 } else {

@@ -66,6 +66,10 @@ pub struct Summary {
     pub tracks: Vec<super::TrackSummary>,
     /// Odometry against the ground truth at the end.
     pub odometry: super::OdometrySummary,
+    /// The values drawn for the scenario's `[randomize]` parameters, by name (left out of
+    /// `summary.json` for a scenario without `[randomize]`).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub randomized: std::collections::BTreeMap<String, f64>,
 }
 
 /// Solver settings reported with every run.
@@ -185,6 +189,7 @@ impl Summary {
             mass: sim.mass_report(),
             tracks: super::track_summaries(sim.track_names(), samples),
             odometry: super::odometry_summary(samples),
+            randomized: sc.randomized.clone(),
         }
     }
 }

@@ -6,12 +6,15 @@
 //!
 //! - `vehicle.rs`: vehicle files ([`VehicleSpec`] and its parts);
 //! - `scenario.rs`: scenario files ([`ScenarioSpec`] and its parts);
-//! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts).
+//! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
+//! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]).
 
+mod randomize;
 mod scenario;
 mod terrain;
 mod vehicle;
 
+pub use randomize::*;
 pub use scenario::*;
 pub use terrain::*;
 pub use vehicle::*;

@@ -29,6 +29,9 @@ pub struct ScenarioSpec {
     /// Success and failure conditions.
     #[serde(default)]
     pub outcome: OutcomeSpec,
+    /// Randomised parameters by name, sampled from the run's seed (empty: a fixed scenario).
+    #[serde(default)]
+    pub randomize: BTreeMap<String, super::randomize::RandomParamSpec>,
 }
 
 /// The vehicle of a scenario.

@@ -29,7 +29,7 @@ pub mod sample;
 pub mod step;
 pub mod track_loads;
 
-pub use load::{compile_scenario, load_scenario};
+pub use load::{compile_scenario, load_scenario, load_template};
 pub use mass::{MassReport, PartMass};
 pub use odometry::Odometry;
 pub use sample::{DriveSample, PoseRpy, Sample};

@@ -1,0 +1,718 @@
+//! `tracksim._tracksim`: the Python extension module of tracksim (PyO3), a thin layer over the
+//! library: scenario files ([`tracksim::ScenarioTemplate`]), simulations
+//! ([`tracksim::Simulation`]), and the learning environments of [`tracksim::env`]. Stepping
+//! releases the GIL. Errors from files arrive as `tracksim.ScenarioError` (a `ValueError`)
+//! with the CLI's message; an unstable simulation as `tracksim.UnstableError`.
+
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::Arc;
+use tracksim::env::{ActionMode, EnvConfig};
+use tracksim::{Controls, ScenarioTemplate};
+
+pyo3::create_exception!(
+    _tracksim,
+    ScenarioError,
+    PyValueError,
+    "A scenario or vehicle file is wrong: the message names the file, the key and the fix."
+);
+pyo3::create_exception!(
+    _tracksim,
+    UnstableError,
+    PyRuntimeError,
+    "The simulation became unstable (non-finite state or a body flying off)."
+);
+
+fn py_err(e: tracksim::Error) -> PyErr {
+    match e {
+        tracksim::Error::Unstable { .. } | tracksim::Error::Build(_) => {
+            UnstableError::new_err(e.to_string())
+        }
+        _ => ScenarioError::new_err(e.to_string()),
+    }
+}
+
+/// A scenario file, loaded and checked (its `[randomize]` table too), ready to be instantiated
+/// with any seed.
+#[pyclass(name = "Scenario", module = "tracksim._tracksim", frozen)]
+struct PyScenario {
+    t: Arc<ScenarioTemplate>,
+}
+
+#[pymethods]
+impl PyScenario {
+    /// Loads `path`; raises `ScenarioError` with every problem (file, key, fix).
+    #[new]
+    fn new(path: PathBuf) -> PyResult<Self> {
+        let t = tracksim::load_template(&path).map_err(py_err)?;
+        Ok(PyScenario { t: Arc::new(t) })
+    }
+
+    /// The file, as given.
+    #[getter]
+    fn path(&self) -> String {
+        self.t.path().display().to_string()
+    }
+
+    /// The file's `simulation.seed`.
+    #[getter]
+    fn file_seed(&self) -> u64 {
+        self.t.file_seed()
+    }
+
+    /// Names of the `[randomize]` parameters (sorted).
+    #[getter]
+    fn randomized_names(&self) -> Vec<String> {
+        self.t
+            .randomizer()
+            .params
+            .iter()
+            .map(|p| p.name.clone())
+            .collect()
+    }
+
+    /// The `[randomize]` values drawn from `seed`, by name (empty for a fixed scenario).
+    fn sample(&self, seed: u64) -> PyResult<BTreeMap<String, f64>> {
+        Ok(self.t.instantiate(seed).map_err(py_err)?.randomized)
+    }
+
+    /// Scenario facts for `seed`: description, duration_s, dt_s, track_names, flipper_names,
+    /// track_offsets_m (lateral offset of each track), randomized.
+    fn info<'py>(&self, py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyDict>> {
+        let sc = self.t.instantiate(seed).map_err(py_err)?;
+        let d = PyDict::new(py);
+        d.set_item("description", &sc.description)?;
+        d.set_item("duration_s", sc.duration)?;
+        d.set_item("dt_s", sc.solver.dt)?;
+        d.set_item("method", &sc.method)?;
+        let v = &sc.vehicle;
+        d.set_item("vehicle", &v.name)?;
+        d.set_item(
+            "track_names",
+            v.tracks.iter().map(|t| t.name.clone()).collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "track_offsets_m",
+            v.tracks
+                .iter()
+                .map(|t| t.lateral_offset())
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "flipper_names",
+            v.flippers
+                .iter()
+                .map(|f| f.name.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item("randomized", sc.randomized.clone())?;
+        Ok(d)
+    }
+}
+
+fn template_of(obj: &Bound<'_, PyAny>) -> PyResult<Arc<ScenarioTemplate>> {
+    if let Ok(s) = obj.cast::<PyScenario>() {
+        return Ok(s.get().t.clone());
+    }
+    let path: PathBuf = obj.extract()?;
+    Ok(Arc::new(tracksim::load_template(&path).map_err(py_err)?))
+}
+
+/// One simulation of a scenario: set controls, step, read the state.
+#[pyclass(name = "Simulation", module = "tracksim._tracksim")]
+struct PySimulation {
+    t: Arc<ScenarioTemplate>,
+    sim: tracksim::Simulation,
+}
+
+#[pymethods]
+impl PySimulation {
+    /// A simulation of `scenario` (a `Scenario` or a path) with `seed` (default: the file's);
+    /// the `[randomize]` values are drawn from the seed. Belts at rest, flippers at their
+    /// initial angles; nothing of the file's `[[commands]]` is applied.
+    #[new]
+    #[pyo3(signature = (scenario, seed=None))]
+    fn new(scenario: &Bound<'_, PyAny>, seed: Option<u64>) -> PyResult<Self> {
+        let t = template_of(scenario)?;
+        let sc = t
+            .instantiate(seed.unwrap_or(t.file_seed()))
+            .map_err(py_err)?;
+        let sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
+        Ok(PySimulation { t, sim })
+    }
+
+    /// Starts again at t = 0 with `seed` (default: the current one), the `[randomize]` values
+    /// drawn anew from it.
+    #[pyo3(signature = (seed=None))]
+    fn reset(&mut self, seed: Option<u64>) -> PyResult<()> {
+        let sc = self
+            .t
+            .instantiate(seed.unwrap_or(self.sim.seed()))
+            .map_err(py_err)?;
+        self.sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
+        Ok(())
+    }
+
+    /// Advances `n` physics steps (GIL released); raises `UnstableError` if it blows up.
+    #[pyo3(signature = (n=1))]
+    fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        let sim = &mut self.sim;
+        py.detach(|| {
+            for _ in 0..n {
+                sim.step()?;
+            }
+            Ok(())
+        })
+        .map_err(py_err)
+    }
+
+    /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering).
+    fn set_twist(&mut self, forward_mps: f64, yaw_rate_rad_s: f64) {
+        self.sim.set_twist(forward_mps, yaw_rate_rad_s);
+    }
+
+    /// Belt speed per track, m/s (track order of `track_names`).
+    fn set_belt_speeds(&mut self, speeds: Vec<f64>) -> PyResult<()> {
+        let n = self.sim.track_names().len();
+        if speeds.len() != n {
+            return Err(PyValueError::new_err(format!(
+                "expected {n} belt speeds (one per track: {:?}), got {}",
+                self.sim.track_names(),
+                speeds.len()
+            )));
+        }
+        let mut c = Controls::keep(&self.sim.scenario().vehicle);
+        c.belt_speed = speeds.into_iter().map(Some).collect();
+        self.sim.apply(&c);
+        Ok(())
+    }
+
+    /// Flipper target angles, rad (order of `flipper_names`).
+    fn set_flipper_angles(&mut self, angles: Vec<f64>) -> PyResult<()> {
+        let n = self.sim.flipper_names().len();
+        if angles.len() != n {
+            return Err(PyValueError::new_err(format!(
+                "expected {n} flipper angles (one per flipper: {:?}), got {}",
+                self.sim.flipper_names(),
+                angles.len()
+            )));
+        }
+        for (i, a) in angles.into_iter().enumerate() {
+            self.sim.set_flipper_angle(i, a);
+        }
+        Ok(())
+    }
+
+    /// Simulated time, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Time step, s.
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.sim.dt()
+    }
+
+    /// Seed of this run.
+    #[getter]
+    fn seed(&self) -> u64 {
+        self.sim.seed()
+    }
+
+    /// Track names.
+    #[getter]
+    fn track_names(&self) -> Vec<String> {
+        self.sim.track_names().to_vec()
+    }
+
+    /// Flipper names.
+    #[getter]
+    fn flipper_names(&self) -> Vec<String> {
+        self.sim.flipper_names().to_vec()
+    }
+
+    /// The `[randomize]` values of this run, by name.
+    #[getter]
+    fn randomized(&self) -> BTreeMap<String, f64> {
+        self.sim.scenario().randomized.clone()
+    }
+
+    /// The state as numpy arrays: t_s, pose ([x, y, z] m, [roll, pitch, yaw] rad in
+    /// `rpy_rad`), linvel_mps and angvel_rad_s (world frame), belt_speed_mps, belt_phase_m,
+    /// flipper_angle_rad, contacts, penetration_m.
+    fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.sim.sample();
+        let d = PyDict::new(py);
+        let p = s.pose;
+        d.set_item("t_s", s.t)?;
+        d.set_item("position_m", PyArray1::from_vec(py, vec![p.x, p.y, p.z]))?;
+        d.set_item(
+            "rpy_rad",
+            PyArray1::from_vec(py, vec![p.roll, p.pitch, p.yaw]),
+        )?;
+        d.set_item("linvel_mps", PyArray1::from_vec(py, s.linvel.to_vec()))?;
+        d.set_item("angvel_rad_s", PyArray1::from_vec(py, s.angvel.to_vec()))?;
+        d.set_item("belt_speed_mps", PyArray1::from_vec(py, s.belt_speed))?;
+        d.set_item("belt_phase_m", PyArray1::from_vec(py, s.belt_phase))?;
+        d.set_item("flipper_angle_rad", PyArray1::from_vec(py, s.flipper_angle))?;
+        d.set_item("contacts", s.contacts)?;
+        d.set_item("penetration_m", s.penetration)?;
+        Ok(d)
+    }
+
+    /// The scenario's outcome now: `None` while undecided, else (`"success"` or `"failure"`,
+    /// reason).
+    fn outcome(&self) -> Option<(String, String)> {
+        tracksim::run::check_outcome(&self.sim.scenario().outcome, &self.sim)
+            .map(|o| (o.name().to_string(), o.reason()))
+    }
+
+    /// Terrain height below each world point (x, y), m, by downward ray casts; NaN where there
+    /// is no terrain.
+    fn terrain_heights<'py>(
+        &self,
+        py: Python<'py>,
+        xs: Vec<f64>,
+        ys: Vec<f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if xs.len() != ys.len() {
+            return Err(PyValueError::new_err("xs and ys must have the same length"));
+        }
+        let h = xs
+            .iter()
+            .zip(&ys)
+            .map(|(x, y)| self.sim.terrain_below(*x, *y).unwrap_or(f64::NAN))
+            .collect();
+        Ok(PyArray1::from_vec(py, h))
+    }
+}
+
+fn env_config(cfg: Option<&Bound<'_, PyDict>>) -> PyResult<EnvConfig> {
+    let mut c = EnvConfig::default();
+    let Some(cfg) = cfg else { return Ok(c) };
+    for (k, v) in cfg.iter() {
+        let k: String = k.extract()?;
+        match k.as_str() {
+            "control_period_s" => c.control_period_s = v.extract()?,
+            "action" => {
+                let s: String = v.extract()?;
+                c.action = match s.as_str() {
+                    "twist" => ActionMode::Twist,
+                    "belts" => ActionMode::Belts,
+                    _ => {
+                        return Err(PyValueError::new_err(format!(
+                            "action = {s:?}: use \"twist\" (forward speed, yaw rate) or \"belts\" (one speed per track)"
+                        )));
+                    }
+                }
+            }
+            "max_forward_mps" => c.max_forward_mps = v.extract()?,
+            "max_yaw_rate_rad_s" => c.max_yaw_rate_rad_s = v.extract()?,
+            "max_belt_speed_mps" => c.max_belt_speed_mps = v.extract()?,
+            "flipper_range_rad" => c.flipper_range_rad = v.extract()?,
+            "grid_shape" => c.grid_shape = v.extract()?,
+            "grid_spacing_m" => c.grid_spacing_m = v.extract()?,
+            "grid_ahead_m" => c.grid_ahead_m = v.extract()?,
+            "no_terrain_m" => c.no_terrain_m = v.extract()?,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "unknown environment setting {k:?}; known: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s, max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m, no_terrain_m"
+                )));
+            }
+        }
+    }
+    let pos = |x: f64| x.is_finite() && x > 0.0;
+    if !(pos(c.control_period_s)
+        && pos(c.max_forward_mps)
+        && pos(c.max_yaw_rate_rad_s)
+        && pos(c.max_belt_speed_mps)
+        && pos(c.grid_spacing_m.0)
+        && pos(c.grid_spacing_m.1))
+    {
+        return Err(PyValueError::new_err(
+            "control_period_s, the maxima and grid_spacing_m must be finite and positive",
+        ));
+    }
+    if !(c.flipper_range_rad.0.is_finite()
+        && c.flipper_range_rad.1.is_finite()
+        && c.grid_ahead_m.is_finite()
+        && c.no_terrain_m.is_finite())
+    {
+        return Err(PyValueError::new_err(
+            "flipper_range_rad, grid_ahead_m and no_terrain_m must be finite",
+        ));
+    }
+    Ok(c)
+}
+
+fn info_dict<'py>(
+    py: Python<'py>,
+    i: &tracksim::env::StepInfo,
+    env: &tracksim::env::Env,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("progress_delta_m", i.progress_delta_m)?;
+    d.set_item("progress_m", i.progress_m)?;
+    d.set_item("effort", i.effort)?;
+    d.set_item("outcome", &i.outcome)?;
+    d.set_item("reason", &i.reason)?;
+    d.set_item("t_s", env.simulation().time())?;
+    d.set_item("seed", env.simulation().seed())?;
+    d.set_item("randomized", env.randomized().clone())?;
+    Ok(d)
+}
+
+/// What `EnvCore.step` returns: observation, terminated, truncated, info.
+type StepOut<'py> = (Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>);
+
+/// The core of the Gymnasium environment: one simulation advanced one control period per
+/// normalised action (see `tracksim.TracksimEnv`).
+#[pyclass(name = "EnvCore", module = "tracksim._tracksim")]
+struct PyEnvCore {
+    env: tracksim::env::Env,
+}
+
+#[pymethods]
+impl PyEnvCore {
+    /// An environment of `scenario` at the start of an episode with `seed`; `config` holds the
+    /// settings of `tracksim.env.EnvConfig` (control_period_s, action, maxima, grid...).
+    #[new]
+    #[pyo3(signature = (scenario, seed=0, config=None))]
+    fn new(
+        scenario: &Bound<'_, PyAny>,
+        seed: u64,
+        config: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let t = template_of(scenario)?;
+        let env = tracksim::env::Env::new(t, env_config(config)?, seed).map_err(py_err)?;
+        Ok(PyEnvCore { env })
+    }
+
+    /// Starts an episode with `seed`; returns the observation (float32).
+    fn reset<'py>(&mut self, py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyArray1<f32>>> {
+        let env = &mut self.env;
+        py.detach(|| env.reset(seed)).map_err(py_err)?;
+        Ok(self.obs(py))
+    }
+
+    /// The current observation (float32, length `obs_dim`).
+    fn obs<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
+        let mut o = vec![0f32; self.env.obs_dim()];
+        self.env.observe(&mut o);
+        PyArray1::from_vec(py, o)
+    }
+
+    /// One control period with `action` (normalised to [-1, 1]; GIL released); returns
+    /// (observation, terminated, truncated, info).
+    fn step<'py>(&mut self, py: Python<'py>, action: Vec<f32>) -> PyResult<StepOut<'py>> {
+        let env = &mut self.env;
+        let i = py.detach(|| env.step(&action));
+        Ok((
+            self.obs(py),
+            i.terminated,
+            i.truncated,
+            info_dict(py, &i, &self.env)?,
+        ))
+    }
+
+    /// Observation length.
+    #[getter]
+    fn obs_dim(&self) -> usize {
+        self.env.obs_dim()
+    }
+
+    /// Action length.
+    #[getter]
+    fn action_dim(&self) -> usize {
+        self.env.action_dim()
+    }
+
+    /// Observation entry names.
+    #[getter]
+    fn obs_names(&self) -> Vec<String> {
+        self.env.obs_names()
+    }
+
+    /// Simulated time of the episode, s.
+    #[getter]
+    fn time(&self) -> f64 {
+        self.env.simulation().time()
+    }
+
+    /// The control period actually used (a whole number of physics steps), s.
+    #[getter]
+    fn control_period_s(&self) -> f64 {
+        self.env.substeps() as f64 * self.env.simulation().dt()
+    }
+
+    /// The episode's `[randomize]` values.
+    #[getter]
+    fn randomized(&self) -> BTreeMap<String, f64> {
+        self.env.randomized().clone()
+    }
+}
+
+/// N environments stepped on Rust threads (GIL released), with autoreset ("next step").
+#[pyclass(name = "VecEnvCore", module = "tracksim._tracksim")]
+struct PyVecEnvCore {
+    v: tracksim::env::VecEnv,
+    obs_dim: usize,
+    action_dim: usize,
+}
+
+type VecOut<'py> = (Bound<'py, numpy::PyArray2<f32>>, Bound<'py, PyDict>);
+
+#[pymethods]
+impl PyVecEnvCore {
+    /// `num_envs` environments of `scenario`, environment `i` seeded `seed + i`, stepped on
+    /// `threads` threads.
+    #[new]
+    #[pyo3(signature = (scenario, num_envs, seed=0, threads=1, config=None))]
+    fn new(
+        scenario: &Bound<'_, PyAny>,
+        num_envs: usize,
+        seed: u64,
+        threads: usize,
+        config: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        if num_envs == 0 {
+            return Err(PyValueError::new_err("num_envs must be at least 1"));
+        }
+        let t = template_of(scenario)?;
+        let v = tracksim::env::VecEnv::new(t, env_config(config)?, num_envs, seed, threads)
+            .map_err(py_err)?;
+        let e = &v.envs()[0];
+        let (obs_dim, action_dim) = (e.obs_dim(), e.action_dim());
+        Ok(PyVecEnvCore {
+            v,
+            obs_dim,
+            action_dim,
+        })
+    }
+
+    /// Resets every environment (`i` with `seed + i`; `None` keeps their seeds); returns the
+    /// observations (num_envs, obs_dim).
+    /// `seeds` (one per environment) replaces `seed`.
+    #[pyo3(signature = (seed=None, seeds=None))]
+    fn reset<'py>(
+        &mut self,
+        py: Python<'py>,
+        seed: Option<u64>,
+        seeds: Option<Vec<u64>>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
+        if let Some(s) = seeds.as_ref().filter(|s| s.len() != self.v.len()) {
+            return Err(PyValueError::new_err(format!(
+                "{} seeds for {} environments",
+                s.len(),
+                self.v.len()
+            )));
+        }
+        let v = &mut self.v;
+        py.detach(|| match &seeds {
+            Some(s) => v.reset_seeds(s),
+            None => v.reset(seed),
+        })
+        .map_err(py_err)?;
+        let mut o = vec![0f32; self.v.len() * self.obs_dim];
+        self.v.observe(&mut o);
+        PyArray1::from_vec(py, o).reshape([self.v.len(), self.obs_dim])
+    }
+
+    /// One control period of every environment with `actions` (num_envs, action_dim), GIL
+    /// released; returns (observations, arrays) where arrays holds progress_delta_m,
+    /// progress_m, effort, terminated, truncated, autoreset (this step reset the env), seed,
+    /// and lists outcome and reason.
+    fn step<'py>(
+        &mut self,
+        py: Python<'py>,
+        actions: PyReadonlyArray2<'py, f32>,
+    ) -> PyResult<VecOut<'py>> {
+        let n = self.v.len();
+        let shape = actions.shape();
+        if shape != [n, self.action_dim] {
+            return Err(PyValueError::new_err(format!(
+                "actions must have shape ({n}, {}), got {shape:?}",
+                self.action_dim
+            )));
+        }
+        let a: Vec<f32> = actions
+            .as_slice()
+            .map(|s| s.to_vec())
+            .unwrap_or_else(|_| actions.as_array().iter().copied().collect());
+        let mut o = vec![0f32; n * self.obs_dim];
+        let v = &mut self.v;
+        let steps = py.detach(|| v.step(&a, &mut o)).map_err(py_err)?;
+        let d = PyDict::new(py);
+        let col =
+            |f: &dyn Fn(&tracksim::env::VecStep) -> f64| steps.iter().map(f).collect::<Vec<f64>>();
+        d.set_item(
+            "progress_delta_m",
+            PyArray1::from_vec(py, col(&|s| s.info.progress_delta_m)),
+        )?;
+        d.set_item(
+            "progress_m",
+            PyArray1::from_vec(py, col(&|s| s.info.progress_m)),
+        )?;
+        d.set_item("effort", PyArray1::from_vec(py, col(&|s| s.info.effort)))?;
+        let flag = |f: &dyn Fn(&tracksim::env::VecStep) -> bool| {
+            steps.iter().map(f).collect::<Vec<bool>>()
+        };
+        d.set_item(
+            "terminated",
+            PyArray1::from_vec(py, flag(&|s| s.info.terminated)),
+        )?;
+        d.set_item(
+            "truncated",
+            PyArray1::from_vec(py, flag(&|s| s.info.truncated)),
+        )?;
+        d.set_item("autoreset", PyArray1::from_vec(py, flag(&|s| s.reset)))?;
+        d.set_item(
+            "seed",
+            PyArray1::from_vec(py, steps.iter().map(|s| s.seed).collect::<Vec<u64>>()),
+        )?;
+        d.set_item(
+            "outcome",
+            steps
+                .iter()
+                .map(|s| s.info.outcome.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        d.set_item(
+            "reason",
+            steps
+                .iter()
+                .map(|s| s.info.reason.clone())
+                .collect::<Vec<_>>(),
+        )?;
+        Ok((PyArray1::from_vec(py, o).reshape([n, self.obs_dim])?, d))
+    }
+
+    /// The `[randomize]` values of environment `i`'s current episode.
+    fn randomized(&self, i: usize) -> PyResult<BTreeMap<String, f64>> {
+        self.v
+            .envs()
+            .get(i)
+            .map(|e| e.randomized().clone())
+            .ok_or_else(|| PyValueError::new_err("no such environment"))
+    }
+
+    /// Threads used per step.
+    #[getter]
+    fn threads(&self) -> usize {
+        self.v.threads()
+    }
+
+    #[setter]
+    fn set_threads(&mut self, t: usize) {
+        self.v.set_threads(t);
+    }
+
+    /// Observation length.
+    #[getter]
+    fn obs_dim(&self) -> usize {
+        self.obs_dim
+    }
+
+    /// Action length.
+    #[getter]
+    fn action_dim(&self) -> usize {
+        self.action_dim
+    }
+
+    /// Number of environments.
+    #[getter]
+    fn num_envs(&self) -> usize {
+        self.v.len()
+    }
+
+    /// Observation entry names.
+    #[getter]
+    fn obs_names(&self) -> Vec<String> {
+        self.v.envs()[0].obs_names()
+    }
+
+    /// Control period used, s.
+    #[getter]
+    fn control_period_s(&self) -> f64 {
+        let e = &self.v.envs()[0];
+        e.substeps() as f64 * e.simulation().dt()
+    }
+}
+
+/// Runs a sweep of `scenario` (see `tracksim sweep`) into `out`: `runs` runs with seeds from
+/// `seed` (default: the file's), or `grid` ({name: [values]}, `runs` per point); this process's
+/// shard `shard` = (index, count) or all; `jobs` threads; GIL released. Returns the manifest
+/// lines of the shard as JSON strings.
+#[pyfunction]
+#[pyo3(signature = (scenario, out, runs=10, seed=None, grid=None, shard=None, jobs=1, resume=false))]
+#[allow(clippy::too_many_arguments)]
+fn sweep(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    out: PathBuf,
+    runs: usize,
+    seed: Option<u64>,
+    grid: Option<Vec<(String, Vec<f64>)>>,
+    shard: Option<(usize, usize)>,
+    jobs: usize,
+    resume: bool,
+) -> PyResult<Vec<String>> {
+    use tracksim::sweep::{Shard, SweepOptions, SweepPlan};
+    let t = template_of(scenario)?;
+    let seed = seed.unwrap_or(t.file_seed());
+    let plan = match grid {
+        Some(axes) if !axes.is_empty() => SweepPlan::grid(&axes, runs, seed),
+        _ => SweepPlan::random(runs, seed),
+    };
+    let shard = match shard {
+        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| {
+            PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count"))
+        })?),
+        None => None,
+    };
+    let opts = SweepOptions {
+        out,
+        jobs: jobs.max(1),
+        shard,
+        resume,
+        method: None,
+    };
+    let report = py
+        .detach(|| tracksim::sweep::run_sweep(&t, &plan, &opts, |_, _| {}))
+        .map_err(py_err)?;
+    Ok(report
+        .lines
+        .iter()
+        .map(|l| serde_json::to_string(l).expect("serialises"))
+        .collect())
+}
+
+/// Merges sweep folders (shards) into the sweep folder `out` (see `tracksim merge`); returns
+/// the number of runs.
+#[pyfunction]
+fn merge(py: Python<'_>, dirs: Vec<PathBuf>, out: PathBuf) -> PyResult<usize> {
+    py.detach(|| tracksim::sweep::merge(&dirs, &out))
+        .map(|l| l.len())
+        .map_err(py_err)
+}
+
+/// The extension module.
+#[pymodule]
+fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyScenario>()?;
+    m.add_class::<PySimulation>()?;
+    m.add_class::<PyEnvCore>()?;
+    m.add_class::<PyVecEnvCore>()?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;
+    m.add("UnstableError", m.py().get_type::<UnstableError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

@@ -1,0 +1,352 @@
+//! Learning environments over the stepping API: one [`Env`] (a [`Simulation`] of a
+//! [`ScenarioTemplate`] advanced one control period per action, its observation vector, the
+//! progress it made and whether the episode ended), and [`VecEnv`], many of them stepped on
+//! threads with autoreset. Rewards are left to the caller (the Python package computes them
+//! from [`StepInfo`], so they can be replaced).
+//!
+//! - `mod.rs`: [`EnvConfig`], [`Env`], [`StepInfo`] and the observation layout;
+//! - `vector.rs`: [`VecEnv`].
+
+mod vector;
+
+pub use vector::{VecEnv, VecStep, next_seed};
+
+use crate::error::Result;
+use crate::model::{Controls, Scenario, ScenarioTemplate};
+use crate::run::{Outcome, check_outcome, outcome};
+use crate::world::{PoseRpy, Simulation};
+use glam::{DQuat, DVec3, EulerRot};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+/// What the actions command besides the flippers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ActionMode {
+    /// Two actions: forward speed and yaw rate (skid steering, [`Controls::twist`]).
+    Twist,
+    /// One action per track: its belt speed.
+    Belts,
+}
+
+/// How an [`Env`] turns actions into controls and what it observes. Actions are normalised to
+/// `[-1, 1]` (clipped) and scaled by the maxima here.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvConfig {
+    /// Simulated time per action, s (a whole number of physics steps, at least one).
+    pub control_period_s: f64,
+    /// Twist or per-track belt speeds.
+    pub action: ActionMode,
+    /// Forward speed at action +1, m/s.
+    pub max_forward_mps: f64,
+    /// Yaw rate at action +1, rad/s (positive turns left).
+    pub max_yaw_rate_rad_s: f64,
+    /// Belt speed at action +1, m/s.
+    pub max_belt_speed_mps: f64,
+    /// Flipper target at action -1 and +1, rad.
+    pub flipper_range_rad: (f64, f64),
+    /// Terrain grid: rows ahead (along the heading) and columns across.
+    pub grid_shape: (usize, usize),
+    /// Spacing of the grid along and across the heading, m.
+    pub grid_spacing_m: (f64, f64),
+    /// Distance of the first grid row ahead of the body origin, m.
+    pub grid_ahead_m: f64,
+    /// Height reported where a ray finds no terrain, m relative to the body.
+    pub no_terrain_m: f64,
+}
+
+impl Default for EnvConfig {
+    fn default() -> Self {
+        EnvConfig {
+            control_period_s: 0.05,
+            action: ActionMode::Twist,
+            max_forward_mps: 0.5,
+            max_yaw_rate_rad_s: 1.0,
+            max_belt_speed_mps: 0.5,
+            flipper_range_rad: (-60f64.to_radians(), 60f64.to_radians()),
+            grid_shape: (5, 3),
+            grid_spacing_m: (0.1, 0.15),
+            grid_ahead_m: 0.3,
+            no_terrain_m: -1.0,
+        }
+    }
+}
+
+/// What one control period produced, besides the observation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StepInfo {
+    /// Progress along the start heading during the period, m.
+    pub progress_delta_m: f64,
+    /// Progress along the start heading since the start, m.
+    pub progress_m: f64,
+    /// Mean of the squared (clipped, normalised) actions: the effort the energy penalty uses.
+    pub effort: f64,
+    /// The scenario's outcome was decided (success, failure, tip-over) or the simulation went
+    /// unstable.
+    pub terminated: bool,
+    /// The scenario's duration ran out undecided.
+    pub truncated: bool,
+    /// "success", "failure", "completed", "timeout", "unstable", or "" while running.
+    pub outcome: String,
+    /// Why, in words ("" while running).
+    pub reason: String,
+}
+
+/// One simulation of a scenario template driven one control period per action.
+pub struct Env {
+    template: Arc<ScenarioTemplate>,
+    cfg: EnvConfig,
+    scenario: Arc<Scenario>,
+    sim: Simulation,
+    start: PoseRpy,
+    progress: f64,
+    done: bool,
+}
+
+impl Env {
+    /// An environment at the start of an episode with `seed` (the `[randomize]` values are drawn
+    /// from it).
+    pub fn new(template: Arc<ScenarioTemplate>, cfg: EnvConfig, seed: u64) -> Result<Self> {
+        let scenario = Arc::new(template.instantiate(seed)?);
+        let sim = Simulation::from_shared(scenario.clone())?;
+        let start = sim.body_pose();
+        Ok(Env {
+            template,
+            cfg,
+            scenario,
+            sim,
+            start,
+            progress: 0.0,
+            done: false,
+        })
+    }
+
+    /// Starts a new episode with `seed`.
+    pub fn reset(&mut self, seed: u64) -> Result<()> {
+        *self = Env::new(self.template.clone(), self.cfg.clone(), seed)?;
+        Ok(())
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &EnvConfig {
+        &self.cfg
+    }
+
+    /// The running simulation.
+    pub fn simulation(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// The episode's compiled scenario.
+    pub fn scenario(&self) -> &Scenario {
+        &self.scenario
+    }
+
+    /// The `[randomize]` values of this episode, by name.
+    pub fn randomized(&self) -> &BTreeMap<String, f64> {
+        &self.scenario.randomized
+    }
+
+    /// Physics steps per action.
+    pub fn substeps(&self) -> u64 {
+        ((self.cfg.control_period_s / self.sim.dt()).round() as u64).max(1)
+    }
+
+    /// Number of actions: 2 (twist) or one per track, then one per flipper.
+    pub fn action_dim(&self) -> usize {
+        let v = &self.scenario.vehicle;
+        let drive = match self.cfg.action {
+            ActionMode::Twist => 2,
+            ActionMode::Belts => v.tracks.len(),
+        };
+        drive + v.flippers.len()
+    }
+
+    /// Length of the observation vector (see [`Env::observe`]).
+    pub fn obs_dim(&self) -> usize {
+        let v = &self.scenario.vehicle;
+        10 + v.flippers.len() + v.tracks.len() + self.cfg.grid_shape.0 * self.cfg.grid_shape.1
+    }
+
+    /// Names of the observation entries, in order.
+    pub fn obs_names(&self) -> Vec<String> {
+        let mut n: Vec<String> = [
+            "roll_rad",
+            "pitch_rad",
+            "yaw_rad",
+            "height_m",
+            "vx_mps",
+            "vy_mps",
+            "vz_mps",
+            "wx_rad_s",
+            "wy_rad_s",
+            "wz_rad_s",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        n.extend(
+            self.sim
+                .flipper_names()
+                .iter()
+                .map(|f| format!("flipper_{f}_rad")),
+        );
+        n.extend(
+            self.sim
+                .track_names()
+                .iter()
+                .map(|t| format!("belt_{t}_mps")),
+        );
+        let (nx, ny) = self.cfg.grid_shape;
+        for i in 0..nx {
+            for j in 0..ny {
+                n.push(format!("terrain_{i}_{j}_m"));
+            }
+        }
+        n
+    }
+
+    /// The observation, written to `out` (length [`Env::obs_dim`]): roll, pitch (rad), yaw
+    /// relative to the start heading (rad, wrapped to ±pi), height of the body above its start
+    /// (m); linear (m/s) and angular (rad/s) velocity in the body frame (x forward, y left, z
+    /// up); flipper angles (rad); measured belt speeds (m/s); then the terrain height relative
+    /// to the body origin (m) at each point of the grid ahead (rows along the heading from
+    /// `grid_ahead_m`, columns from right to left, centred), by downward ray casts;
+    /// `no_terrain_m` where there is none.
+    pub fn observe(&self, out: &mut [f32]) {
+        let s = self.sim.sample();
+        let p = s.pose;
+        let q = DQuat::from_euler(EulerRot::ZYX, p.yaw, p.pitch, p.roll);
+        let v = q.inverse() * DVec3::from_array(s.linvel);
+        let w = q.inverse() * DVec3::from_array(s.angvel);
+        let yaw_rel = (p.yaw - self.start.yaw + std::f64::consts::PI)
+            .rem_euclid(2.0 * std::f64::consts::PI)
+            - std::f64::consts::PI;
+        let mut vals: Vec<f64> = vec![
+            p.roll,
+            p.pitch,
+            yaw_rel,
+            p.z - self.start.z,
+            v.x,
+            v.y,
+            v.z,
+            w.x,
+            w.y,
+            w.z,
+        ];
+        vals.extend(&s.flipper_angle);
+        vals.extend(&s.belt_speed);
+        let (nx, ny) = self.cfg.grid_shape;
+        let (dx, dy) = self.cfg.grid_spacing_m;
+        let (c, sn) = (p.yaw.cos(), p.yaw.sin());
+        for i in 0..nx {
+            for j in 0..ny {
+                let ax = self.cfg.grid_ahead_m + i as f64 * dx;
+                let ay = (j as f64 - (ny as f64 - 1.0) / 2.0) * dy;
+                let (x, y) = (p.x + c * ax - sn * ay, p.y + sn * ax + c * ay);
+                vals.push(
+                    self.sim
+                        .terrain_below(x, y)
+                        .map_or(self.cfg.no_terrain_m, |z| z - p.z),
+                );
+            }
+        }
+        for (o, v) in out.iter_mut().zip(vals) {
+            *o = v as f32;
+        }
+    }
+
+    /// Progress along the start heading since the start, m.
+    pub fn progress(&self) -> f64 {
+        self.progress
+    }
+
+    /// The controls of a normalised action (clipped to `[-1, 1]`; missing entries are 0).
+    pub fn controls(&self, action: &[f32]) -> Controls {
+        let a = |i: usize| action.get(i).map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0));
+        let v = &self.scenario.vehicle;
+        let (mut c, n) = match self.cfg.action {
+            ActionMode::Twist => (
+                Controls::twist(
+                    v,
+                    a(0) * self.cfg.max_forward_mps,
+                    a(1) * self.cfg.max_yaw_rate_rad_s,
+                ),
+                2,
+            ),
+            ActionMode::Belts => {
+                let mut c = Controls::keep(v);
+                for i in 0..v.tracks.len() {
+                    c.belt_speed[i] = Some(a(i) * self.cfg.max_belt_speed_mps);
+                }
+                (c, v.tracks.len())
+            }
+        };
+        let (lo, hi) = self.cfg.flipper_range_rad;
+        for i in 0..v.flippers.len() {
+            c.flipper_angle[i] = Some(lo + (a(n + i) + 1.0) / 2.0 * (hi - lo));
+        }
+        c
+    }
+
+    /// Applies `action` (normalised, see [`Env::controls`]) for one control period and says
+    /// what happened. After the episode ended, call [`Env::reset`]; stepping on changes
+    /// nothing and repeats the end.
+    pub fn step(&mut self, action: &[f32]) -> StepInfo {
+        let n = self.action_dim();
+        let effort = (0..n)
+            .map(|i| {
+                action
+                    .get(i)
+                    .map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0).powi(2))
+            })
+            .sum::<f64>()
+            / n.max(1) as f64;
+        let mut info = StepInfo {
+            effort,
+            progress_m: self.progress,
+            ..StepInfo::default()
+        };
+        if self.done {
+            info.terminated = true;
+            info.outcome = "ended".into();
+            info.reason = "the episode had already ended; call reset".into();
+            return info;
+        }
+        self.sim.apply(&self.controls(action));
+        for _ in 0..self.substeps() {
+            if let Err(e) = self.sim.step() {
+                self.done = true;
+                info.terminated = true;
+                info.outcome = "unstable".into();
+                info.reason = e.to_string();
+                return info;
+            }
+        }
+        let p = self.sim.body_pose();
+        let (c, s) = (self.start.yaw.cos(), self.start.yaw.sin());
+        let progress = (p.x - self.start.x) * c + (p.y - self.start.y) * s;
+        info.progress_delta_m = progress - self.progress;
+        info.progress_m = progress;
+        self.progress = progress;
+        let sc = &self.scenario;
+        let decided = check_outcome(&sc.outcome, &self.sim);
+        let end = match decided {
+            Some(o) => Some((o, true)),
+            None if self.sim.time() >= sc.duration - 0.5 * self.sim.dt() => {
+                Some((outcome::at_end(&sc.outcome, self.sim.time()), false))
+            }
+            None => None,
+        };
+        if let Some((o, decided)) = end {
+            self.done = true;
+            info.terminated = decided;
+            info.truncated = !decided;
+            info.outcome = match (&o, decided) {
+                (Outcome::Failure(_), false) => "timeout".into(),
+                _ => o.name().into(),
+            };
+            info.reason = o.reason();
+        }
+        info
+    }
+}

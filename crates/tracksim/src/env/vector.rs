@@ -1,0 +1,218 @@
+//! [`VecEnv`]: many [`Env`]s stepped on threads, with autoreset. Each environment is advanced by
+//! exactly one thread per step and owns all its state, so results do not depend on the thread
+//! count.
+
+use super::{Env, EnvConfig, StepInfo};
+use crate::error::Result;
+use crate::model::ScenarioTemplate;
+use std::sync::Arc;
+
+/// The seed of the episode after one with `seed` (SplitMix64): each environment's episodes
+/// follow from the seed it was reset with.
+pub fn next_seed(seed: u64) -> u64 {
+    let mut z = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// `n` environments of one template stepped together on `threads` threads. Autoreset as
+/// Gymnasium's "next step" mode: the step after an episode ended resets that environment
+/// (with the next seed of its sequence) and ignores its action.
+pub struct VecEnv {
+    envs: Vec<Env>,
+    seeds: Vec<u64>,
+    ended: Vec<bool>,
+    threads: usize,
+}
+
+/// What one environment's step gave: its info and whether it was an autoreset.
+#[derive(Clone, Debug)]
+pub struct VecStep {
+    /// The step's info (default values for an autoreset).
+    pub info: StepInfo,
+    /// This step reset the environment (the action was ignored).
+    pub reset: bool,
+    /// The episode seed in effect after the step.
+    pub seed: u64,
+}
+
+impl VecEnv {
+    /// `n` environments, environment `i` starting with seed `seed + i`.
+    pub fn new(
+        template: Arc<ScenarioTemplate>,
+        cfg: EnvConfig,
+        n: usize,
+        seed: u64,
+        threads: usize,
+    ) -> Result<Self> {
+        let seeds: Vec<u64> = (0..n as u64).map(|i| seed.wrapping_add(i)).collect();
+        let envs = seeds
+            .iter()
+            .map(|s| Env::new(template.clone(), cfg.clone(), *s))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(VecEnv {
+            envs,
+            ended: vec![false; n],
+            seeds,
+            threads: threads.max(1),
+        })
+    }
+
+    /// Number of environments.
+    pub fn len(&self) -> usize {
+        self.envs.len()
+    }
+
+    /// True without environments.
+    pub fn is_empty(&self) -> bool {
+        self.envs.is_empty()
+    }
+
+    /// The environments.
+    pub fn envs(&self) -> &[Env] {
+        &self.envs
+    }
+
+    /// Threads used per step.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Sets the threads used per step (at least 1).
+    pub fn set_threads(&mut self, t: usize) {
+        self.threads = t.max(1);
+    }
+
+    /// Resets every environment, `i` with seed `seed + i` (or its current seed with `None`).
+    pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
+        if let Some(s) = seed {
+            for (i, x) in self.seeds.iter_mut().enumerate() {
+                *x = s.wrapping_add(i as u64);
+            }
+        }
+        let seeds = self.seeds.clone();
+        self.par(|_, env, i| env.reset(seeds[i]).map(|_| ()))?;
+        self.ended.iter_mut().for_each(|e| *e = false);
+        Ok(())
+    }
+
+    /// Resets environment `i` with `seeds[i]` (one seed per environment).
+    pub fn reset_seeds(&mut self, seeds: &[u64]) -> Result<()> {
+        if seeds.len() != self.envs.len() {
+            return Err(crate::error::Error::Build(format!(
+                "{} seeds for {} environments",
+                seeds.len(),
+                self.envs.len()
+            )));
+        }
+        self.seeds = seeds.to_vec();
+        self.reset(None)
+    }
+
+    /// Steps every environment with its row of `actions` (`len() * action_dim` values), writing
+    /// observations into `obs` (`len() * obs_dim`).
+    pub fn step(&mut self, actions: &[f32], obs: &mut [f32]) -> Result<Vec<VecStep>> {
+        let (na, no) = match self.envs.first() {
+            Some(e) => (e.action_dim(), e.obs_dim()),
+            None => return Ok(Vec::new()),
+        };
+        let ended = self.ended.clone();
+        let mut seeds = self.seeds.clone();
+        for (i, s) in seeds.iter_mut().enumerate() {
+            if ended[i] {
+                *s = next_seed(*s);
+            }
+        }
+        let mut out: Vec<Option<VecStep>> = vec![None; self.envs.len()];
+        let chunk = self.envs.len().div_ceil(self.threads);
+        let chunks = self.envs.len().div_ceil(chunk);
+        let seeds_ref = &seeds;
+        let ended_ref = &ended;
+        std::thread::scope(|scope| -> Result<()> {
+            let mut handles = Vec::new();
+            for (k, ((envs, obs), out)) in self
+                .envs
+                .chunks_mut(chunk)
+                .zip(obs.chunks_mut(chunk * no))
+                .zip(out.chunks_mut(chunk))
+                .enumerate()
+            {
+                let mut work = move || -> Result<()> {
+                    for (j, env) in envs.iter_mut().enumerate() {
+                        let i = k * chunk + j;
+                        let step = if ended_ref[i] {
+                            env.reset(seeds_ref[i])?;
+                            VecStep {
+                                info: StepInfo::default(),
+                                reset: true,
+                                seed: seeds_ref[i],
+                            }
+                        } else {
+                            let a = actions.get(i * na..(i + 1) * na).unwrap_or(&[]);
+                            VecStep {
+                                info: env.step(a),
+                                reset: false,
+                                seed: seeds_ref[i],
+                            }
+                        };
+                        env.observe(&mut obs[j * no..(j + 1) * no]);
+                        out[j] = Some(step);
+                    }
+                    Ok(())
+                };
+                if k + 1 == chunks {
+                    work()?;
+                } else {
+                    handles.push(scope.spawn(work));
+                }
+            }
+            for h in handles {
+                h.join().expect("environment thread panicked")?;
+            }
+            Ok(())
+        })?;
+        self.seeds = seeds;
+        let out: Vec<VecStep> = out
+            .into_iter()
+            .map(|s| s.expect("every env stepped"))
+            .collect();
+        for (e, s) in self.ended.iter_mut().zip(&out) {
+            *e = s.info.terminated || s.info.truncated;
+        }
+        Ok(out)
+    }
+
+    /// Writes every environment's observation into `obs`.
+    pub fn observe(&self, obs: &mut [f32]) {
+        if let Some(no) = self.envs.first().map(|e| e.obs_dim()) {
+            for (e, o) in self.envs.iter().zip(obs.chunks_mut(no)) {
+                e.observe(o);
+            }
+        }
+    }
+
+    /// Runs `f` on every environment on the threads.
+    fn par(&mut self, f: impl Fn(usize, &mut Env, usize) -> Result<()> + Sync) -> Result<()> {
+        let chunk = self.envs.len().div_ceil(self.threads).max(1);
+        let f = &f;
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = self
+                .envs
+                .chunks_mut(chunk)
+                .enumerate()
+                .map(|(k, envs)| {
+                    scope.spawn(move || {
+                        for (j, e) in envs.iter_mut().enumerate() {
+                            f(k, e, k * chunk + j)?;
+                        }
+                        Ok(())
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .try_for_each(|h| h.join().expect("environment thread panicked"))
+        })
+    }
+}

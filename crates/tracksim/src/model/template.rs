@@ -1,0 +1,215 @@
+//! A scenario file kept to be compiled again for any seed ([`ScenarioTemplate`]): a fixed file
+//! is compiled once; a file with `[randomize]` is sampled and compiled per seed, reading no
+//! file again except the terrain's own data files.
+
+use super::load::scenario_vehicle;
+use super::{ExtraChecks, Randomizer, Scenario, VehicleModel, compile_scenario_with, read_toml};
+use crate::error::{Error, Result, SpecIssue};
+use crate::spec::ScenarioSpec;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A loaded scenario file, ready to give a [`Scenario`] for any seed.
+#[derive(Clone, Debug)]
+pub struct ScenarioTemplate {
+    path: PathBuf,
+    /// The file's table without `[randomize]`.
+    doc: toml::Table,
+    randomizer: Randomizer,
+    /// The vehicle of `vehicle.file` (loaded once), or `None` for an inline one.
+    vehicle: Option<VehicleModel>,
+    /// The compiled scenario of a file without `[randomize]`.
+    fixed: Option<Scenario>,
+    /// The upper layers' checks.
+    extra: ExtraChecks,
+    /// The file's `simulation.seed`.
+    file_seed: u64,
+}
+
+impl ScenarioTemplate {
+    /// Reads a scenario file; `extra` as in [`compile_scenario_with`]. Every problem is
+    /// reported as by `load_scenario`, and a `[randomize]` table is checked too: its keys, and
+    /// the scenario compiled with every parameter at its low end and at its high end.
+    pub fn load(path: &Path, extra: ExtraChecks) -> Result<Self> {
+        let spec: ScenarioSpec = read_toml(path)?;
+        Self::from_spec(path, spec, extra)
+    }
+
+    /// [`ScenarioTemplate::load`] of an already parsed file.
+    pub(crate) fn from_spec(path: &Path, spec: ScenarioSpec, extra: ExtraChecks) -> Result<Self> {
+        let invalid = |issues| Error::Invalid {
+            path: path.to_path_buf(),
+            issues,
+        };
+        if spec.randomize.is_empty() {
+            let mut sc = super::load::load_scenario_with_spec(path, &spec, extra)?;
+            sc.source = Some(path.to_path_buf());
+            return Ok(ScenarioTemplate {
+                path: path.to_path_buf(),
+                doc: toml::Table::new(),
+                randomizer: Randomizer::default(),
+                vehicle: None,
+                fixed: Some(sc),
+                extra,
+                file_seed: spec.simulation.seed,
+            });
+        }
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut doc: toml::Table = toml::from_str(&text).map_err(|e| Error::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        doc.remove("randomize");
+        let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
+        let vehicle = match spec.vehicle.inline {
+            None => Some(scenario_vehicle(path, &spec)?),
+            Some(_) => None,
+        };
+        let t = ScenarioTemplate {
+            path: path.to_path_buf(),
+            doc,
+            randomizer,
+            vehicle,
+            fixed: None,
+            extra,
+            file_seed: spec.simulation.seed,
+        };
+        // Checked at both ends of every range.
+        let mut issues = Vec::new();
+        for (end, values) in ["low", "high"].iter().zip(t.randomizer.extremes()) {
+            if let Err(e) = t.with_values(&values, 0) {
+                let values = t.randomizer.apply(&t.doc, &values).1;
+                let at = values
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v}"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let list = match e {
+                    Error::Invalid { issues, .. } => issues,
+                    other => vec![SpecIssue::new("", other.to_string())],
+                };
+                for i in list {
+                    issues.push(SpecIssue::new(
+                        i.key,
+                        format!(
+                            "{} (with every [randomize] value at its {end} end: {at}; narrow the range)",
+                            i.message
+                        ),
+                    ));
+                }
+            }
+        }
+        if issues.is_empty() {
+            Ok(t)
+        } else {
+            Err(invalid(issues))
+        }
+    }
+
+    /// The scenario with the file's own `simulation.seed` (what `tracksim run` runs).
+    pub fn file_scenario(&self) -> Result<Scenario> {
+        self.instantiate(self.file_seed)
+    }
+
+    /// The file's `simulation.seed`.
+    pub fn file_seed(&self) -> u64 {
+        self.file_seed
+    }
+
+    /// The file it was read from.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The `[randomize]` parameters (empty for a fixed scenario).
+    pub fn randomizer(&self) -> &Randomizer {
+        &self.randomizer
+    }
+
+    /// The scenario for `seed`: the `[randomize]` values drawn from it (reported in
+    /// [`Scenario::randomized`]) and `seed` as the scenario's seed. A file without
+    /// `[randomize]` gives the same scenario for every seed, only the recorded seed differs.
+    pub fn instantiate(&self, seed: u64) -> Result<Scenario> {
+        if let Some(sc) = &self.fixed {
+            let mut sc = sc.clone();
+            sc.seed = seed;
+            return Ok(sc);
+        }
+        self.with_values(&self.randomizer.sample(seed), seed)
+    }
+
+    /// [`ScenarioTemplate::instantiate`] with some parameters fixed instead of drawn (a grid
+    /// point of a sweep): `fixed` maps parameter names to values in their keys' units. Names
+    /// that are not `[randomize]` parameters are an error.
+    pub fn instantiate_with(&self, seed: u64, fixed: &BTreeMap<String, f64>) -> Result<Scenario> {
+        if fixed.is_empty() {
+            return self.instantiate(seed);
+        }
+        let names: Vec<&str> = self
+            .randomizer
+            .params
+            .iter()
+            .map(|p| p.name.as_str())
+            .collect();
+        let unknown: Vec<SpecIssue> = fixed
+            .keys()
+            .filter(|k| !names.contains(&k.as_str()))
+            .map(|k| {
+                SpecIssue::new(
+                    format!("randomize.{k}"),
+                    format!(
+                        "no such [randomize] parameter; the file has: {}",
+                        names.join(", ")
+                    ),
+                )
+            })
+            .collect();
+        if !unknown.is_empty() {
+            return Err(Error::Invalid {
+                path: self.path.clone(),
+                issues: unknown,
+            });
+        }
+        let mut values = self.randomizer.sample(seed);
+        for (p, v) in self.randomizer.params.iter().zip(values.iter_mut()) {
+            if let Some(x) = fixed.get(&p.name) {
+                *v = match p.dist {
+                    super::Distribution::Integers(..) if x.fract() == 0.0 => {
+                        toml::Value::Integer(*x as i64)
+                    }
+                    _ => toml::Value::Float(*x),
+                };
+            }
+        }
+        self.with_values(&values, seed)
+    }
+
+    fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
+        let (doc, sampled) = self.randomizer.apply(&self.doc, values);
+        let spec: ScenarioSpec =
+            toml::Value::Table(doc)
+                .try_into()
+                .map_err(|e: toml::de::Error| Error::Parse {
+                    path: self.path.clone(),
+                    message: format!("with the [randomize] values {sampled:?}: {}", e.message()),
+                })?;
+        let vehicle = match &self.vehicle {
+            Some(v) => v.clone(),
+            None => scenario_vehicle(&self.path, &spec)?,
+        };
+        let dir = self.path.parent().unwrap_or(Path::new("."));
+        let mut sc = compile_scenario_with(&spec, vehicle, dir, self.extra).map_err(|issues| {
+            Error::Invalid {
+                path: self.path.clone(),
+                issues,
+            }
+        })?;
+        sc.source = Some(self.path.clone());
+        sc.seed = seed;
+        sc.randomized = sampled;
+        Ok(sc)
+    }
+}

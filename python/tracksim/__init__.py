@@ -1,0 +1,35 @@
+"""tracksim: tracked robots with real grousers (Okada et al., ICRA 2020) on Rapier, from Python.
+
+- :class:`Scenario`: a scenario file, loaded and checked (``ScenarioError`` names file, key, fix);
+- :class:`Simulation`: one simulation stepped with controls (GIL released while stepping);
+- :class:`TracksimEnv`: a Gymnasium environment; :class:`TracksimVectorEnv`: N of them stepped
+  on Rust threads behind Gymnasium's ``VectorEnv`` API;
+- :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable.
+
+Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).
+"""
+
+from ._tracksim import (
+    EnvCore,
+    Scenario,
+    ScenarioError,
+    Simulation,
+    UnstableError,
+    VecEnvCore,
+    __version__,
+)
+from .env import ProgressReward, TracksimEnv
+from .vector import TracksimVectorEnv
+
+__all__ = [
+    "EnvCore",
+    "ProgressReward",
+    "Scenario",
+    "ScenarioError",
+    "Simulation",
+    "TracksimEnv",
+    "TracksimVectorEnv",
+    "UnstableError",
+    "VecEnvCore",
+    "__version__",
+]

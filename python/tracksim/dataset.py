@@ -1,0 +1,80 @@
+"""Datasets from sweeps: run a (sharded) sweep, merge shards, read the manifest, and convert
+trajectories to Parquet (with pyarrow, installed separately: ``pip install pyarrow``).
+
+A sweep folder holds ``runs/run-NNNNNN/`` (``summary.json``, ``trajectory.csv``, ``run.json``)
+and ``manifest.jsonl`` (or ``manifest-shard-I-of-N.jsonl`` for a shard): one JSON object per
+run with ``index``, ``seed``, ``params`` (the ``[randomize]`` values), ``outcome``, ``reason``,
+``outcome_time_s``, ``sim_time_s``, ``progress_m``, ``distance_m``, ``final_pose``,
+``max_tilt_rad``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+from typing import Dict, Iterable, List, Optional, Sequence, Tuple, Union
+
+from . import _tracksim
+from .env import as_scenario
+
+PathLike = Union[str, os.PathLike]
+
+
+def sweep(scenario, out: PathLike, runs: int = 10, seed: Optional[int] = None,
+          grid: Optional[Dict[str, Sequence[float]]] = None,
+          shard: Optional[Tuple[int, int]] = None, jobs: int = 1,
+          resume: bool = False) -> List[dict]:
+    """Runs the sweep (or shard ``(index, count)`` of it) into ``out``, as ``tracksim sweep``;
+    returns the shard's manifest lines."""
+    axes = [(k, [float(v) for v in vs]) for k, vs in (grid or {}).items()]
+    lines = _tracksim.sweep(as_scenario(scenario), os.fspath(out), int(runs),
+                            None if seed is None else int(seed), axes, shard, int(jobs),
+                            bool(resume))
+    return [json.loads(s) for s in lines]
+
+
+def merge(dirs: Iterable[PathLike], out: PathLike) -> int:
+    """Merges sweep folders into ``out`` (runs and ``manifest.jsonl``); returns the run count."""
+    return _tracksim.merge([os.fspath(d) for d in dirs], os.fspath(out))
+
+
+def load_manifest(path: PathLike) -> List[dict]:
+    """The manifest lines of a sweep folder (its ``manifest.jsonl``) or of a ``.jsonl`` file."""
+    p = pathlib.Path(path)
+    if p.is_dir():
+        p = p / "manifest.jsonl"
+    return [json.loads(line) for line in p.read_text().splitlines() if line.strip()]
+
+
+def to_parquet(sweep_dir: PathLike) -> List[pathlib.Path]:
+    """Writes ``trajectory.parquet`` beside every run's ``trajectory.csv`` (same columns, plus
+    ``run`` and ``seed``), and ``manifest.parquet`` (params flattened to ``param.NAME``)."""
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+    import pyarrow.parquet as pq
+
+    root = pathlib.Path(sweep_dir)
+    lines = load_manifest(root)
+    written = []
+    for line in lines:
+        csv = root / line["dir"] / "trajectory.csv"
+        if not csv.exists():
+            continue
+        t = pacsv.read_csv(csv)
+        t = t.append_column("run", pa.array([line["index"]] * t.num_rows, pa.int64()))
+        t = t.append_column("seed", pa.array([line["seed"]] * t.num_rows, pa.uint64()))
+        dst = csv.with_suffix(".parquet")
+        pq.write_table(t, dst)
+        written.append(dst)
+    rows = []
+    for line in lines:
+        row = {k: v for k, v in line.items() if k not in ("params", "final_pose")}
+        row.update({f"param.{k}": v for k, v in line["params"].items()})
+        for k, v in zip(("x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"),
+                        line["final_pose"]):
+            row[f"final_{k}"] = v
+        rows.append(row)
+    pq.write_table(pa.Table.from_pylist(rows), root / "manifest.parquet")
+    written.append(root / "manifest.parquet")
+    return written

@@ -1,0 +1,89 @@
+"""N simulations stepped on Rust threads behind Gymnasium's ``VectorEnv`` API."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Callable, Optional, Union
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from ._tracksim import Scenario, VecEnvCore
+from .env import ProgressReward, as_scenario
+
+
+class TracksimVectorEnv(gym.vector.VectorEnv):
+    """``num_envs`` copies of :class:`tracksim.TracksimEnv` stepped together on ``threads`` Rust
+    threads with the GIL released. Results are bit-identical whatever ``threads`` is: each
+    environment is advanced by one thread and owns its state.
+
+    Autoreset is Gymnasium's "next step" mode: the step after an episode ended resets that
+    environment (its action is ignored, reward 0, not terminated) with the next seed of its
+    sequence. ``reset(seed=s)`` seeds environment ``i`` with ``s + i``; ``reset(seed=[s0, s1,
+    ...])`` gives each its own. ``infos`` holds arrays
+    ``progress_m``, ``progress_delta_m``, ``effort``, ``seed``, ``autoreset`` and lists
+    ``outcome``, ``reason`` ("" while running).
+    """
+
+    metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
+
+    def __init__(self, scenario: Union[str, os.PathLike, Scenario], num_envs: int,
+                 threads: int = 1, config: Optional[dict] = None,
+                 reward: Optional[Callable[..., Any]] = None):
+        self.scenario = as_scenario(scenario)
+        self.config = dict(config or {})
+        self.reward_fn = reward if reward is not None else ProgressReward()
+        self._core = VecEnvCore(self.scenario, int(num_envs), self.scenario.file_seed,
+                                int(threads), self.config)
+        self.num_envs = int(num_envs)
+        self.control_period_s = self._core.control_period_s
+        self.obs_names = self._core.obs_names
+        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (self._core.obs_dim,),
+                                                       np.float32)
+        self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self._core.action_dim,), np.float32)
+        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
+        self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._np_random = None
+
+    @property
+    def threads(self) -> int:
+        """Rust threads used per step."""
+        return self._core.threads
+
+    @threads.setter
+    def threads(self, t: int) -> None:
+        self._core.threads = int(t)
+
+    def reset(self, *, seed: Optional[Union[int, list]] = None, options: Optional[dict] = None):
+        if isinstance(seed, (list, tuple, np.ndarray)):
+            seeds = [int(s) for s in seed]
+            obs = self._core.reset(None, seeds)
+            infos = {"seed": np.asarray(seeds, dtype=np.uint64),
+                     "randomized": [self._core.randomized(i) for i in range(self.num_envs)]}
+            return obs, infos
+        if seed is not None:
+            self._np_random, _ = gym.utils.seeding.np_random(int(seed))
+        elif self._np_random is None:
+            self._np_random, _ = gym.utils.seeding.np_random()
+        base = int(seed) if seed is not None else int(self._np_random.integers(0, 2**62))
+        obs = self._core.reset(base)
+        infos = {"seed": np.arange(self.num_envs, dtype=np.uint64) + np.uint64(base),
+                 "randomized": [self._core.randomized(i) for i in range(self.num_envs)]}
+        return obs, infos
+
+    def step(self, actions):
+        a = np.ascontiguousarray(np.asarray(actions, dtype=np.float32).reshape(
+            self.num_envs, -1))
+        obs, d = self._core.step(a)
+        rewards = np.asarray(self.reward_fn(obs, d["progress_delta_m"], d["effort"],
+                                            self.control_period_s), dtype=np.float64)
+        rewards = np.where(d["autoreset"], 0.0, rewards)
+        infos = {k: d[k] for k in ("progress_m", "progress_delta_m", "effort", "seed",
+                                   "autoreset", "outcome", "reason")}
+        return obs, rewards, d["terminated"].copy(), d["truncated"].copy(), infos
+
+    def randomized(self, i: int) -> dict:
+        """The ``[randomize]`` values of environment ``i``'s current episode."""
+        return self._core.randomized(i)
