@@ -107,3 +107,48 @@ fn a_motor_on_a_method_without_one_is_refused() {
     let err = err.to_string();
     assert!(err.contains("okada2020"), "{err}");
 }
+
+/// The bundled motor-limited climb (`scenarios/classic/packbot_motor_slope.toml`): the small
+/// motors cannot hold the commanded 0.3 m/s up 25 deg. Statics: the belt speed at which the two
+/// motors' line gives m g sin 25 is 0.207 m/s. The belt runs as one (no link runs away: an
+/// earlier version let the unloaded top-run links slide back at metres per second), without slip.
+#[test]
+fn the_bundled_motor_limited_climb_settles_between_the_statics_and_the_command() {
+    let sc = tracksim::load_scenario(&root().join("scenarios/classic/packbot_motor_slope.toml"))
+        .unwrap();
+    let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
+    let m = &sc.vehicle.tracks[0].motor.clone().unwrap();
+    let mass: f64 = r.summary.mass.total_simulated_kg;
+    let per_track = mass * G * 25f64.to_radians().sin() / 2.0;
+    // F(v) = T_s (1 - v G / (r w0)) G eta / r  =>  v = (1 - F r / (T_s G eta)) w0 r / G.
+    let v_statics = (1.0
+        - per_track * m.sprocket_radius / (m.stall_torque * m.gear_ratio * m.efficiency))
+        * m.no_load_speed
+        * m.sprocket_radius
+        / m.gear_ratio;
+    let late: Vec<_> = r
+        .samples
+        .iter()
+        .filter(|s| s.t >= 3.0 && s.t <= 9.0)
+        .collect();
+    let belt = late.iter().map(|s| s.belt_speed[0]).sum::<f64>() / late.len() as f64;
+    let slip = late.iter().map(|s| s.slip[0].abs()).fold(0.0, f64::max);
+    let fastest = r
+        .samples
+        .iter()
+        .map(|s| s.belt_speed[0].abs())
+        .fold(0.0, f64::max);
+    println!(
+        "statics {v_statics:.4} m/s, belt {belt:.4} m/s, largest |slip| {slip:.4}, fastest belt {fastest:.3} m/s"
+    );
+    assert_eq!(r.summary.outcome, "success");
+    // Motor-limited: well below the command, within 20 % of the statics (the off-ground links
+    // are held by their own weight on top of the motor's share, a few per cent more force).
+    assert!(belt < 0.85 * 0.3, "{belt}");
+    assert!(
+        (belt - v_statics).abs() < 0.2 * v_statics,
+        "{belt} vs {v_statics}"
+    );
+    assert!(slip < 0.02, "slip {slip}");
+    assert!(fastest < 0.31, "a belt ran at {fastest} m/s");
+}

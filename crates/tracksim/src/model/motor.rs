@@ -2,9 +2,11 @@
 //! torque-speed line), a gearbox (ratio and efficiency) and the sprocket's pitch radius, behind
 //! a speed controller with a torque limit, as real motor drivers are. The controller holds the
 //! commanded belt speed while the motor can; the belt force it can deliver at belt speed `v` is
-//! `F_max(v) = min(T_stall (1 - w / w_0), T_limit) G eta / r` with the motor speed
-//! `w = |v| G / r`; beyond it the belt slows: the belt speed becomes a result of the motor, the
-//! ground and the vehicle.
+//! `F_max(v) = min(T_stall (1 - w / w_0), T_limit) G eta / r` with `w = d v G / r` the motor
+//! speed in the direction `d` it drives (the sign of the command); beyond it the belt slows: the
+//! belt speed becomes a result of the motor, the ground and the vehicle. Back-driven (`w < 0`,
+//! e.g. sliding back down a slope) a DC motor gives more than its stall torque; the driver's
+//! current limit (`T_limit`, else the stall torque) caps it.
 
 use crate::check::Checker;
 use crate::spec::MotorSpec;
@@ -32,16 +34,19 @@ impl DriveMotor {
         v.abs() * self.gear_ratio / self.sprocket_radius
     }
 
-    /// Largest motor torque at belt speed `v` m/s, N m (the torque-speed line, capped by the
-    /// driver's limit, never negative).
-    pub fn max_motor_torque(&self, v: f64) -> f64 {
-        let line = self.stall_torque * (1.0 - self.motor_speed(v) / self.no_load_speed);
-        line.clamp(0.0, self.torque_limit.unwrap_or(f64::INFINITY))
+    /// Largest motor torque at belt speed `v` m/s when driving towards the command `cmd` m/s,
+    /// N m: the torque-speed line at the motor speed in the driving direction (the stall torque
+    /// for a held belt), capped by the driver's limit (else the stall torque), never negative.
+    pub fn max_motor_torque(&self, v: f64, cmd: f64) -> f64 {
+        let w = cmd.signum() * v * self.gear_ratio / self.sprocket_radius;
+        let w = if cmd == 0.0 { 0.0 } else { w };
+        let line = self.stall_torque * (1.0 - w / self.no_load_speed);
+        line.clamp(0.0, self.torque_limit.unwrap_or(self.stall_torque))
     }
 
-    /// Largest belt force at belt speed `v` m/s, N.
-    pub fn max_belt_force(&self, v: f64) -> f64 {
-        self.max_motor_torque(v) * self.gear_ratio * self.efficiency / self.sprocket_radius
+    /// Largest belt force at belt speed `v` m/s towards the command `cmd` m/s, N.
+    pub fn max_belt_force(&self, v: f64, cmd: f64) -> f64 {
+        self.max_motor_torque(v, cmd) * self.gear_ratio * self.efficiency / self.sprocket_radius
     }
 
     /// Motor torque that delivers belt force `force` N, N m.
@@ -106,12 +111,17 @@ mod tests {
             torque_limit: Some(0.8),
         };
         // At rest: the driver's limit 0.8 N m -> 0.8 * 10 * 0.5 / 0.1 = 40 N.
-        assert!((m.max_belt_force(0.0) - 40.0).abs() < 1e-12);
-        // 0.5 m/s: 50 rad/s at the motor, the line gives 0.5 N m -> 25 N.
-        assert!((m.max_belt_force(-0.5) - 25.0).abs() < 1e-12);
+        assert!((m.max_belt_force(0.0, 0.3) - 40.0).abs() < 1e-12);
+        // 0.5 m/s in the driving direction (either way): 50 rad/s, the line gives 0.5 N m -> 25 N.
+        assert!((m.max_belt_force(0.5, 0.6) - 25.0).abs() < 1e-12);
+        assert!((m.max_belt_force(-0.5, -0.6) - 25.0).abs() < 1e-12);
+        // Back-driven (moving against the command): the driver's limit.
+        assert!((m.max_belt_force(-0.5, 0.6) - 40.0).abs() < 1e-12);
+        // Held belt: the limit both ways.
+        assert!((m.max_belt_force(0.2, 0.0) - 40.0).abs() < 1e-12);
         // At and past the no-load speed (1 m/s): nothing.
-        assert_eq!(m.max_belt_force(1.0), 0.0);
-        assert_eq!(m.max_belt_force(2.0), 0.0);
+        assert_eq!(m.max_belt_force(1.0, 1.0), 0.0);
+        assert_eq!(m.max_belt_force(2.0, 1.0), 0.0);
         assert!((m.motor_torque(25.0) - 0.5).abs() < 1e-12);
     }
 }

@@ -272,7 +272,8 @@ impl SegmentLinks {
             motor: t.motor.clone(),
         };
         if let Some(m) = &s.motor {
-            s.limit_link_forces(ctx.world, m.max_belt_force(0.0));
+            let loads = vec![0.0; s.links.len()];
+            s.limit_link_forces(ctx.world, m.max_belt_force(0.0, 0.0), &loads, 0.0);
         }
         Ok(s)
     }
@@ -375,12 +376,12 @@ impl SegmentLinks {
 }
 
 impl SegmentLinks {
-    /// Mean belt speed of the links relative to the parent, m/s (as `after_step` measures it).
-    fn measure_speed(&self, world: &PhysicsWorld) -> f64 {
+    /// Each link's speed along its segment relative to the parent, m/s (as `after_step`
+    /// measures it).
+    fn link_speeds(&self, world: &PhysicsWorld) -> Vec<f64> {
         let parent = &world.bodies[self.parent];
         let rot = parent.rotation();
-        let sum: f64 = self
-            .links
+        self.links
             .iter()
             .map(|l| {
                 let link = &world.bodies[l.body];
@@ -394,36 +395,63 @@ impl SegmentLinks {
                     }
                 }
             })
-            .sum();
-        sum / self.links.len().max(1) as f64
+            .collect()
     }
 
-    /// Caps the link motors so that together they deliver at most `total` N, shared by the
-    /// links' terrain contact loads of the last step (plus [`FREE_LINK_SHARE`] each): the belt
-    /// force goes where the belt meets the ground, as the belt's tension carries it there.
-    fn limit_link_forces(&self, world: &mut PhysicsWorld, total: f64) {
-        let loads: Vec<f64> = self
-            .links
-            .iter()
-            .map(|l| link_contact_load(world, l.body))
-            .collect();
+    /// The belt's speed with a motor, m/s: the links' speeds weighted by their terrain loads
+    /// (the belt moves as fast as where it meets the ground), their plain mean off the ground.
+    fn loaded_belt_speed(speeds: &[f64], loads: &[f64]) -> f64 {
+        let sum: f64 = loads.iter().sum();
+        if sum > 0.0 {
+            speeds.iter().zip(loads).map(|(v, w)| v * w).sum::<f64>() / sum
+        } else {
+            speeds.iter().sum::<f64>() / speeds.len().max(1) as f64
+        }
+    }
+
+    /// Caps the link motors so that together they deliver at most `total` N to the terrain,
+    /// shared by the links' contact loads `loads` of the last step (plus [`FREE_LINK_SHARE`]
+    /// each): the belt force goes where the belt meets the ground. A link off the ground is
+    /// held at the belt's speed `belt` m/s with, on top, its own weight: in a real belt its
+    /// tension holds it, and the weight of a closed belt adds no net load on the motor.
+    fn limit_link_forces(&self, world: &mut PhysicsWorld, total: f64, loads: &[f64], belt: f64) {
         let n = self.links.len().max(1) as f64;
         let sum: f64 = loads.iter().sum();
-        for (l, load) in self.links.iter().zip(&loads) {
+        for (l, load) in self.links.iter().zip(loads) {
             let share = if sum > 0.0 {
                 (1.0 - FREE_LINK_SHARE) * load / sum + FREE_LINK_SHARE / n
             } else {
                 1.0 / n
             };
-            let force = total * share;
+            let mut force = total * share;
+            let target = if *load > 0.0 {
+                self.speed_cmd
+            } else {
+                force += world.bodies[l.body].mass() as f64 * 9.81;
+                belt
+            };
             let cap = match l.kind {
                 LinkKind::Slide { .. } => force,
                 LinkKind::Turn { radius, .. } => force * radius,
             };
+            set_motor_velocity(
+                world,
+                l.joint,
+                l.kind.motor_axis(),
+                l.kind.motor_target(target),
+            );
             if let Some(j) = world.impulse_joints.get_mut(l.joint, false) {
                 j.data.set_motor_max_force(l.kind.motor_axis(), cap as f32);
             }
         }
+    }
+
+    /// Link terrain loads of the last step (ratios only).
+    fn link_loads(&self, world: &PhysicsWorld) -> Vec<f64> {
+        self.links
+            .iter()
+            .map(|l| link_contact_load(world, l.body))
+            .collect()
     }
 }
 
@@ -463,8 +491,13 @@ impl Track for SegmentLinks {
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
         // With a motor the belt moves as fast as its links did (it slows when the motor cannot
         // hold the command); without, exactly at the command.
-        let speed = match self.motor {
-            Some(_) => self.measure_speed(world),
+        let loaded = self.motor.as_ref().map(|_| {
+            let loads = self.link_loads(world);
+            let v = Self::loaded_belt_speed(&self.link_speeds(world), &loads);
+            (loads, v)
+        });
+        let speed = match &loaded {
+            Some((_, v)) => *v,
             None => self.speed_cmd,
         };
         self.position += speed * dt;
@@ -517,8 +550,9 @@ impl Track for SegmentLinks {
             self.reassign_shapes(world, wraps);
         }
         self.wraps = wraps;
-        if let Some(m) = &self.motor {
-            self.limit_link_forces(world, m.max_belt_force(self.speed_measured));
+        if let (Some(m), Some((loads, v))) = (self.motor.clone(), loaded) {
+            self.speed_measured = v;
+            self.limit_link_forces(world, m.max_belt_force(v, self.speed_cmd), &loads, v);
         }
     }
 
