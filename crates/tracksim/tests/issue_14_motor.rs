@@ -79,6 +79,12 @@ fn a_motor_stalls_below_the_static_torque_and_climbs_above_it() {
         strong > 0.15,
         "1.25 T* should climb at ~0.1 m/s: {strong} m in 2 s"
     );
+    // Not saturated (it climbs at the command), the belt force is the traction the slope takes:
+    // m g sin within 5 % (the links' inertia and the solver's residual).
+    assert!(
+        (f_strong - need).abs() < 0.05 * need,
+        "climbing force {f_strong} N vs {need} N"
+    );
     // The threshold, by bisection: within 5 % of the statics.
     let (mut lo, mut hi) = (0.8 * t_star, 1.25 * t_star);
     for _ in 0..5 {

@@ -16,7 +16,7 @@ pub struct TrackSummary {
     pub mean_slip: f64,
     /// Mean traction along the chassis's forward axis, N.
     pub mean_traction_n: f64,
-    /// Largest traction, N.
+    /// Largest forward traction, N (0 if it never pushed forwards).
     pub max_traction_n: f64,
     /// Mean normal load, N.
     pub mean_normal_load_n: f64,

@@ -64,7 +64,12 @@ impl Odometry {
 
     /// Forward speed (m/s) and yaw rate (rad/s) the encoders imply for belt speeds `belt` m/s.
     pub fn twist(&self, belt: &[f64]) -> (f64, f64) {
-        let mean = |ix: &[usize]| ix.iter().map(|&i| belt[i]).sum::<f64>() / ix.len() as f64;
+        self.twist_of(|i| belt[i])
+    }
+
+    /// [`Odometry::twist`] with track `i`'s belt speed given by `belt(i)`, m/s.
+    fn twist_of(&self, belt: impl Fn(usize) -> f64) -> (f64, f64) {
+        let mean = |ix: &[usize]| ix.iter().map(|&i| belt(i)).sum::<f64>() / ix.len() as f64;
         if self.left.is_empty() || self.right.is_empty() || self.separation <= 0.0 {
             return (0.0, 0.0);
         }
@@ -74,7 +79,13 @@ impl Odometry {
 
     /// Integrates one step of `dt` s with measured belt speeds `belt` m/s (midpoint heading).
     pub fn update(&mut self, belt: &[f64], dt: f64) {
-        let (v, w) = self.twist(belt);
+        self.update_with(|i| belt[i], dt);
+    }
+
+    /// [`Odometry::update`] with track `i`'s belt speed given by `belt(i)` (no allocation on
+    /// the step's hot path).
+    pub fn update_with(&mut self, belt: impl Fn(usize) -> f64, dt: f64) {
+        let (v, w) = self.twist_of(belt);
         let heading = self.yaw + 0.5 * w * dt;
         self.x += v * heading.cos() * dt;
         self.y += v * heading.sin() * dt;

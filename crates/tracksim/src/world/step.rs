@@ -30,12 +30,9 @@ impl Simulation {
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
         }
-        let belt: Vec<f64> = self
-            .tracks
-            .iter()
-            .map(|t| t.measured_belt_speed())
-            .collect();
-        self.odometry.update(&belt, self.dt);
+        let tracks = &self.tracks;
+        self.odometry
+            .update_with(|i| tracks[i].measured_belt_speed(), self.dt);
         self.check_stability()
     }
 
