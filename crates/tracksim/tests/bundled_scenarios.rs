@@ -1,11 +1,11 @@
-//! Every bundled scenario loads and runs (shortened to at most 2 s simulated) without becoming
+//! Every bundled scenario (`scenarios/`, `classic/`, `random/` at its file's seed) loads and runs (shortened to at most 2 s simulated) without becoming
 //! unstable, and the vehicle stays on its terrain at a plausible height (issue 3).
 
 mod common;
 
 #[test]
 fn every_bundled_scenario_runs() {
-    let files = common::bundled_scenarios();
+    let files = common::all_bundled_scenarios();
     assert!(files.len() >= 4, "{files:?}");
     for f in files {
         let mut sc = tracksim::load_scenario(&f).unwrap_or_else(|e| panic!("{e}"));

@@ -57,6 +57,10 @@ pub fn compile_scenario_with(
         c.issues.push(issue);
     }
     let outcome = outcome(&mut c, &spec.outcome);
+    let drawbar = spec
+        .drawbar
+        .as_ref()
+        .and_then(|d| super::drawbar::compile_drawbar(&mut c, d));
     if !c.issues.is_empty() {
         // One line per problem even where a value applies to every track.
         let mut seen = Vec::new();
@@ -69,6 +73,7 @@ pub fn compile_scenario_with(
     }
     Ok(Scenario {
         outcome,
+        drawbar,
         method: s.method.clone(),
         seed: s.seed,
         randomized: Default::default(),

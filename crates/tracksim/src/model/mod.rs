@@ -8,6 +8,7 @@
 //! - `compliance.rs`: a track's contact compliance ([`Compliance`], `[tracks.compliance]`) and
 //!   the rubber formulas giving its stiffness;
 //! - `motor.rs`: a track's drive motor ([`DriveMotor`], `[tracks.motor]`);
+//! - `drawbar.rs`: a drawbar load on the chassis ([`Drawbar`], `[drawbar]`);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
@@ -24,6 +25,7 @@ mod compile_vehicle;
 mod compliance;
 mod controls;
 mod design;
+mod drawbar;
 mod load;
 mod motor;
 mod randomize;
@@ -39,6 +41,7 @@ pub use compliance::{
 };
 pub use controls::*;
 pub use design::*;
+pub use drawbar::{Drawbar, DrawbarLoad};
 pub use load::*;
 pub use motor::DriveMotor;
 pub(crate) use motor::compile_motor;

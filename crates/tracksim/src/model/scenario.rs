@@ -88,6 +88,8 @@ pub struct Scenario {
     pub commands: Vec<Command>,
     /// Outcome conditions.
     pub outcome: OutcomeModel,
+    /// A drawbar load on the chassis (`[drawbar]`), if any.
+    pub drawbar: Option<super::Drawbar>,
     /// Track method name (`simulation.method`), resolved by the track layer
     /// (`tracks::Method::from_name`).
     pub method: String,

@@ -75,6 +75,9 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
                 ]);
             }
         }
+        if s.drawbar_n.is_some() {
+            h.push("drawbar_n".into());
+        }
     }
     h
 }
@@ -100,6 +103,9 @@ fn track_cells(s: &Sample) -> String {
             ",{:.6},{:.6},{:.6},{:.6},{:.6}",
             d.belt_force_n, d.max_belt_force_n, d.sprocket_torque_nm, d.motor_torque_nm, d.power_w
         ));
+    }
+    if let Some(p) = s.drawbar_n {
+        line.push_str(&format!(",{p:.6}"));
     }
     line
 }

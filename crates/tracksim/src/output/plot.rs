@@ -589,6 +589,8 @@ mod tests {
                 max_penetration_m: 0.0,
                 tracks: vec![],
                 odometry: Default::default(),
+                drawbar: None,
+                turns: Vec::new(),
             },
             samples,
             track_names: vec!["left".into(), "right".into()],

@@ -6,19 +6,25 @@
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`outcome`]: success and failure conditions;
 //! - [`summary`]: the numbers of `summary.json`;
-//! - [`track_summary`]: per-track figures and the odometry error in it.
+//! - [`track_summary`]: per-track figures and the odometry error in it;
+//! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
+//! - [`turn_summary`]: commanded against achieved turns.
 
+pub mod drawbar_summary;
 pub mod outcome;
 pub mod scripted;
 pub mod summary;
 pub mod timeline;
 pub mod track_summary;
+pub mod turn_summary;
 
+pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
 pub use outcome::{Outcome, check_outcome};
 pub use scripted::Scripted;
 pub use summary::{SolverSummary, Summary, WallTimes};
 pub use timeline::Timeline;
 pub use track_summary::{OdometrySummary, TrackSummary, odometry_summary, track_summaries};
+pub use turn_summary::{TurnSummary, turn_summaries};
 
 use crate::error::Result;
 use crate::model::Scenario;

@@ -66,6 +66,13 @@ pub struct Summary {
     pub tracks: Vec<super::TrackSummary>,
     /// Odometry against the ground truth at the end.
     pub odometry: super::OdometrySummary,
+    /// The steady drawbar pull and slip (`[drawbar]` runs only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drawbar: Option<super::DrawbarSummary>,
+    /// Every stretch of constant belt commands that asks for a turn, commanded against
+    /// achieved (left out when there is none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub turns: Vec<super::TurnSummary>,
     /// The values drawn for the scenario's `[randomize]` parameters, by name (left out of
     /// `summary.json` for a scenario without `[randomize]`).
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
@@ -189,6 +196,8 @@ impl Summary {
             mass: sim.mass_report(),
             tracks: super::track_summaries(sim.track_names(), samples),
             odometry: super::odometry_summary(samples),
+            drawbar: super::drawbar_summary(sc, samples),
+            turns: super::turn_summaries(&sc.vehicle, samples),
             randomized: sc.randomized.clone(),
         }
     }

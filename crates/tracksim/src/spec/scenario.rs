@@ -32,6 +32,34 @@ pub struct ScenarioSpec {
     /// Randomised parameters by name, sampled from the run's seed (empty: a fixed scenario).
     #[serde(default)]
     pub randomize: BTreeMap<String, super::randomize::RandomParamSpec>,
+    /// A drawbar load on the chassis (`[drawbar]`): the classic drawbar-pull test.
+    #[serde(default)]
+    pub drawbar: Option<DrawbarSpec>,
+}
+
+/// A drawbar load (`[drawbar]`): a horizontal pull on a hitch of the chassis, backwards along
+/// the vehicle's start heading, as a dynamometer car or a tether over a pulley with a weight
+/// applies it. Exactly one of `pull_n` (a constant pull) and `stiffness_n_per_m` (a tether on a
+/// spring anchored where the hitch started: the pull grows with the distance driven) is given.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DrawbarSpec {
+    /// Constant pull, N (>= 0).
+    #[serde(default)]
+    pub pull_n: Option<f64>,
+    /// Spring rate of the tether, N/m (> 0): pull = rate x distance the hitch moved forwards
+    /// (never a push: a slack tether pulls nothing).
+    #[serde(default)]
+    pub stiffness_n_per_m: Option<f64>,
+    /// Hitch point in the chassis frame, m (default: the chassis frame's origin).
+    #[serde(default)]
+    pub hitch_m: [f64; 3],
+    /// Time the pull starts, s (default 0).
+    #[serde(default)]
+    pub start_s: f64,
+    /// The pull rises linearly over this time from `start_s`, s (default 0: at once).
+    #[serde(default)]
+    pub ramp_s: f64,
 }
 
 /// The vehicle of a scenario.

@@ -56,10 +56,12 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
+        drawbar: None,
     };
     sim.conserve_mass(&sc)?;
     place(&mut sim);
     sim.odometry = start_odometry(&sim);
+    sim.drawbar = sim.start_drawbar();
     Ok(sim)
 }
 

@@ -80,6 +80,8 @@ pub struct Sample {
     /// Instantaneous centre of rotation of the chassis's planar motion in its own frame
     /// (x m, y m), `None` while it turns slower than [`ICR_MIN_RATE_RAD_S`].
     pub icr: Option<[f64; 2]>,
+    /// The drawbar's pull on the chassis, N (`None` without `[drawbar]`).
+    pub drawbar_n: Option<f64>,
 }
 
 /// What a track's drive motor does (`[tracks.motor]`).
@@ -257,6 +259,7 @@ impl Simulation {
             loads: self.track_loads(),
             odom: [self.odometry.x, self.odometry.y, self.odometry.yaw],
             icr: self.icr(),
+            drawbar_n: self.drawbar_pull(),
             drive: self.drive(),
         }
     }

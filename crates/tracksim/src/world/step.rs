@@ -16,6 +16,7 @@ impl Simulation {
     pub fn step(&mut self) -> Result<()> {
         self.follow_origin();
         self.recentre_ground_tile();
+        self.apply_drawbar();
         self.world.integration_parameters.friction_in_bias_pass =
             self.held_friction_in_bias_pass && self.braked_at_rest();
         let hooks = ContactHooks {

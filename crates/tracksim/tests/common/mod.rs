@@ -58,3 +58,18 @@ pub fn bundled_scenarios() -> Vec<PathBuf> {
     files.sort();
     files
 }
+
+/// Every bundled scenario file: `scenarios/` and its `classic/` and `random/` folders.
+pub fn all_bundled_scenarios() -> Vec<PathBuf> {
+    let mut files = bundled_scenarios();
+    for dir in ["classic", "random"] {
+        let mut more: Vec<_> = std::fs::read_dir(root().join("scenarios").join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
+        more.sort();
+        files.extend(more);
+    }
+    files
+}

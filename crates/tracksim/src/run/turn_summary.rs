@@ -1,0 +1,87 @@
+//! Commanded against achieved turns (issue 14.5), for `summary.json`: every stretch of a run
+//! with constant belt commands that asks the chassis to turn, with the turn its belt commands
+//! describe (the skid-steer kinematics the commands were made with) and the turn it drove.
+
+use crate::model::{Parent, VehicleModel};
+use crate::world::{Odometry, Sample};
+use serde::Serialize;
+
+/// One turn: a stretch of constant belt commands with a commanded yaw rate.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct TurnSummary {
+    /// The stretch of the run (start, end), s; the achieved figures average its second half.
+    pub window_s: [f64; 2],
+    /// Commanded forward speed, m/s (the chassis tracks' mean belt command).
+    pub commanded_speed_mps: f64,
+    /// Commanded yaw rate, rad/s (belt commands over the tracks' geometric separation).
+    pub commanded_yaw_rate_rad_s: f64,
+    /// Commanded radius, m (speed / yaw rate, positive to the left; 0 for a turn on the spot).
+    pub commanded_radius_m: f64,
+    /// Mean forward speed achieved, m/s.
+    pub achieved_speed_mps: f64,
+    /// Mean yaw rate achieved, rad/s.
+    pub achieved_yaw_rate_rad_s: f64,
+    /// Achieved radius, m (mean speed / mean yaw rate; positive to the left).
+    pub achieved_radius_m: f64,
+    /// Mean longitudinal offset of the instantaneous centre of rotation from the chassis
+    /// frame's origin, m (positive ahead).
+    pub icr_x_m: f64,
+}
+
+/// The turns of a run of `v` recorded as `samples`: stretches of at least four samples with
+/// constant belt commands and a commanded yaw rate of at least 0.01 rad/s.
+pub fn turn_summaries(v: &VehicleModel, samples: &[Sample]) -> Vec<TurnSummary> {
+    let offsets: Vec<Option<f64>> = v
+        .tracks
+        .iter()
+        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
+        .collect();
+    let kin = Odometry::new(
+        &offsets,
+        Odometry::geometric_separation(&offsets),
+        0.0,
+        0.0,
+        0.0,
+    );
+    let mut turns = Vec::new();
+    let mut start = 0;
+    for i in 1..=samples.len() {
+        if i < samples.len() && samples[i].belt_cmd == samples[start].belt_cmd {
+            continue;
+        }
+        if let Some(t) = turn(&kin, &samples[start..i]) {
+            turns.push(t);
+        }
+        start = i;
+    }
+    turns
+}
+
+/// The turn of one stretch of constant commands, if it is one.
+fn turn(kin: &Odometry, stretch: &[Sample]) -> Option<TurnSummary> {
+    let first = stretch.first()?;
+    let (v, w) = kin.twist(&first.belt_cmd);
+    if stretch.len() < 4 || w.abs() < 0.01 {
+        return None;
+    }
+    let end = stretch.last()?.t;
+    let half = &stretch[stretch.len() / 2..];
+    let n = half.len() as f64;
+    let speed = half
+        .iter()
+        .map(|s| s.linvel[0] * s.pose.yaw.cos() + s.linvel[1] * s.pose.yaw.sin())
+        .sum::<f64>()
+        / n;
+    let rate = half.iter().map(|s| s.angvel[2]).sum::<f64>() / n;
+    let icr_x: Vec<f64> = half.iter().filter_map(|s| s.icr.map(|c| c[0])).collect();
+    Some(TurnSummary {
+        window_s: [first.t, end],
+        commanded_speed_mps: v,
+        commanded_yaw_rate_rad_s: w,
+        commanded_radius_m: v / w,
+        achieved_speed_mps: speed,
+        achieved_yaw_rate_rad_s: rate,
+        achieved_radius_m: if rate.abs() > 1e-9 { speed / rate } else { 0.0 },
+        icr_x_m: icr_x.iter().sum::<f64>() / icr_x.len().max(1) as f64,
+    })
+}
