@@ -7,17 +7,76 @@
 //! belt speed becomes a result of the motor, the ground and the vehicle. Back-driven (`w < 0`,
 //! e.g. sliding back down a slope) a DC motor gives more than its stall torque; the driver's
 //! current limit (`T_limit`, else the stall torque) caps it.
+//!
+//! A measured torque-speed curve (`torque_speed`) can replace the line. With `voltage_v` and
+//! `stall_current_a` (and `no_load_current_a`) the motor also has the DC motor's electrical
+//! model: torque constant `k_t = T_stall / (I_stall - I_0)`, resistance `R = V / I_stall`,
+//! back-EMF constant `k_e = (V - I_0 R) / w_0`; at torque `T` and speed `w` the current is
+//! `I = T / k_t + I_0 sgn`, the terminal voltage `u = I R + k_e w` and the electrical power
+//! `u I` (negative when the motor brakes and the driver regenerates). The line's stall and
+//! no-load points satisfy these exactly.
 
 use crate::check::Checker;
 use crate::spec::MotorSpec;
 
+/// The DC motor's electrical constants, derived from its supply voltage, stall and no-load
+/// currents and its torque-speed line.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MotorElectrics {
+    /// Supply voltage, V.
+    pub voltage: f64,
+    /// No-load current, A.
+    pub no_load_current: f64,
+    /// Torque constant, N m / A.
+    pub torque_constant: f64,
+    /// Winding resistance, ohm.
+    pub resistance: f64,
+    /// Back-EMF constant, V s / rad.
+    pub back_emf_constant: f64,
+}
+
+/// The motor's electrical state at one instant.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ElectricalState {
+    /// Current, A (signed: positive drives the belt forwards).
+    pub current: f64,
+    /// Terminal voltage, V (signed).
+    pub voltage: f64,
+    /// Electrical power drawn from the supply, W (negative: regenerating).
+    pub power: f64,
+}
+
+impl MotorElectrics {
+    /// The electrical state at motor torque `torque` N m and motor speed `speed` rad/s (both
+    /// signed in the belt's forward sense).
+    pub fn state(&self, torque: f64, speed: f64) -> ElectricalState {
+        let sign = if torque != 0.0 {
+            torque.signum()
+        } else if speed != 0.0 {
+            speed.signum()
+        } else {
+            0.0
+        };
+        let current = torque / self.torque_constant + self.no_load_current * sign;
+        let voltage = current * self.resistance + self.back_emf_constant * speed;
+        ElectricalState {
+            current,
+            voltage,
+            power: voltage * current,
+        }
+    }
+}
+
 /// A compiled drive motor, SI units at the motor shaft unless said otherwise.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct DriveMotor {
-    /// Stall torque, N m.
+    /// Stall torque, N m (the curve's torque at speed 0).
     pub stall_torque: f64,
-    /// No-load speed, rad/s.
+    /// No-load speed, rad/s (where the curve reaches 0).
     pub no_load_speed: f64,
+    /// A measured torque-speed curve, `[speed rad/s, torque N m]` from 0 to the no-load speed
+    /// (None: the straight line between the stall and no-load points).
+    pub curve: Option<Vec<[f64; 2]>>,
     /// Gear ratio G (motor turns per sprocket turn).
     pub gear_ratio: f64,
     /// Gearbox efficiency eta, in (0, 1].
@@ -26,6 +85,8 @@ pub struct DriveMotor {
     pub sprocket_radius: f64,
     /// The driver's torque (current) limit, N m (None: the stall torque).
     pub torque_limit: Option<f64>,
+    /// The electrical model (None: torques and mechanical power only).
+    pub electrics: Option<MotorElectrics>,
 }
 
 impl DriveMotor {
@@ -34,14 +95,34 @@ impl DriveMotor {
         v.abs() * self.gear_ratio / self.sprocket_radius
     }
 
+    /// The torque-speed curve at motor speed `w` >= 0 rad/s, N m (0 from the no-load speed).
+    pub fn curve_torque(&self, w: f64) -> f64 {
+        let Some(pts) = &self.curve else {
+            return self.stall_torque * (1.0 - w / self.no_load_speed);
+        };
+        if w <= 0.0 {
+            return pts[0][1];
+        }
+        for p in pts.windows(2) {
+            let ([w0, t0], [w1, t1]) = (p[0], p[1]);
+            if w <= w1 {
+                return t0 + (t1 - t0) * (w - w0) / (w1 - w0);
+            }
+        }
+        0.0
+    }
+
     /// Largest motor torque at belt speed `v` m/s when driving towards the command `cmd` m/s,
-    /// N m: the torque-speed line at the motor speed in the driving direction (the stall torque
+    /// N m: the torque-speed curve at the motor speed in the driving direction (the stall torque
     /// for a held belt), capped by the driver's limit (else the stall torque), never negative.
     pub fn max_motor_torque(&self, v: f64, cmd: f64) -> f64 {
         let w = cmd.signum() * v * self.gear_ratio / self.sprocket_radius;
         let w = if cmd == 0.0 { 0.0 } else { w };
-        let line = self.stall_torque * (1.0 - w / self.no_load_speed);
-        line.clamp(0.0, self.torque_limit.unwrap_or(self.stall_torque))
+        let limit = self.torque_limit.unwrap_or(self.stall_torque);
+        if w < 0.0 {
+            return limit;
+        }
+        self.curve_torque(w).clamp(0.0, limit)
     }
 
     /// Largest belt force at belt speed `v` m/s towards the command `cmd` m/s, N.
@@ -49,9 +130,19 @@ impl DriveMotor {
         self.max_motor_torque(v, cmd) * self.gear_ratio * self.efficiency / self.sprocket_radius
     }
 
-    /// Motor torque that delivers belt force `force` N, N m.
+    /// Motor torque that delivers belt force `force` N, N m (the gearbox losses on top).
     pub fn motor_torque(&self, force: f64) -> f64 {
         force * self.sprocket_radius / (self.gear_ratio * self.efficiency)
+    }
+
+    /// The electrical state delivering belt force `force` N at belt speed `v` m/s (None without
+    /// the electrical model).
+    pub fn electrical(&self, force: f64, v: f64) -> Option<ElectricalState> {
+        let e = self.electrics?;
+        Some(e.state(
+            self.motor_torque(force),
+            v * self.gear_ratio / self.sprocket_radius,
+        ))
     }
 }
 
@@ -63,12 +154,7 @@ pub(crate) fn compile_motor(
     m: &MotorSpec,
     sprocket: Option<f64>,
 ) -> Option<DriveMotor> {
-    c.positive(&format!("{k}.stall_torque_nm"), m.stall_torque_nm, "N m");
-    c.positive(
-        &format!("{k}.no_load_speed_rad_s"),
-        m.no_load_speed_rad_s,
-        "rad/s",
-    );
+    let (stall, no_load, curve) = torque_curve(c, k, m)?;
     c.positive(&format!("{k}.gear_ratio"), m.gear_ratio, "");
     if !(m.efficiency.is_finite() && m.efficiency > 0.0 && m.efficiency <= 1.0) {
         c.push(
@@ -79,6 +165,7 @@ pub(crate) fn compile_motor(
     if let Some(l) = m.torque_limit_nm {
         c.positive(&format!("{k}.torque_limit_nm"), l, "N m");
     }
+    let electrics = electrics(c, k, m, stall, no_load, curve.is_some());
     let Some(r) = sprocket else {
         c.push(
             k.to_string(),
@@ -87,12 +174,118 @@ pub(crate) fn compile_motor(
         return None;
     };
     Some(DriveMotor {
-        stall_torque: m.stall_torque_nm,
-        no_load_speed: m.no_load_speed_rad_s,
+        stall_torque: stall,
+        no_load_speed: no_load,
+        curve,
         gear_ratio: m.gear_ratio,
         efficiency: m.efficiency,
         sprocket_radius: r,
         torque_limit: m.torque_limit_nm,
+        electrics,
+    })
+}
+
+/// Points of a torque-speed curve, `[speed rad/s, torque N m]`.
+type Curve = Vec<[f64; 2]>;
+
+/// The torque-speed curve: the line of `stall_torque_nm` and `no_load_speed_rad_s`, or the
+/// `torque_speed` points (from speed 0, speeds increasing, torques >= 0, ending at torque 0).
+fn torque_curve(
+    c: &mut Checker,
+    k: &str,
+    m: &MotorSpec,
+) -> Option<(f64, f64, Option<Curve>)> {
+    match (m.stall_torque_nm, m.no_load_speed_rad_s, &m.torque_speed) {
+        (Some(t), Some(w), None) => {
+            c.positive(&format!("{k}.stall_torque_nm"), t, "N m");
+            c.positive(&format!("{k}.no_load_speed_rad_s"), w, "rad/s");
+            Some((t, w, None))
+        }
+        (None, None, Some(pts)) => {
+            let key = format!("{k}.torque_speed");
+            let ok = pts.len() >= 2
+                && pts[0][0] == 0.0
+                && pts
+                    .iter()
+                    .all(|p| p[0].is_finite() && p[1].is_finite() && p[1] >= 0.0)
+                && pts.windows(2).all(|p| p[1][0] > p[0][0])
+                && pts[0][1] > 0.0
+                && pts[pts.len() - 1][1] == 0.0;
+            if !ok {
+                c.push(
+                    key,
+                    "must be [speed rad/s, torque N m] points from speed 0 (torque > 0, the stall \
+                     torque) with increasing speeds and torques >= 0, the last at torque 0 (the \
+                     no-load speed), e.g. [[0, 1.2], [300, 0.9], [500, 0]]",
+                );
+                return None;
+            }
+            Some((pts[0][1], pts[pts.len() - 1][0], Some(pts.clone())))
+        }
+        _ => {
+            c.push(
+                k.to_string(),
+                "give either `stall_torque_nm` and `no_load_speed_rad_s` (the DC motor's line) or \
+                 `torque_speed` (a measured curve), not both",
+            );
+            None
+        }
+    }
+}
+
+/// The electrical model from `voltage_v`, `stall_current_a`, `no_load_current_a`.
+fn electrics(
+    c: &mut Checker,
+    k: &str,
+    m: &MotorSpec,
+    stall: f64,
+    no_load: f64,
+    has_curve: bool,
+) -> Option<MotorElectrics> {
+    let (v, i_s) = match (m.voltage_v, m.stall_current_a) {
+        (None, None) => {
+            if m.no_load_current_a.is_some() {
+                c.push(
+                    format!("{k}.no_load_current_a"),
+                    "needs `voltage_v` and `stall_current_a` (the electrical model)",
+                );
+            }
+            return None;
+        }
+        (Some(v), Some(i)) => (v, i),
+        _ => {
+            c.push(
+                k.to_string(),
+                "the electrical model needs both `voltage_v` and `stall_current_a`",
+            );
+            return None;
+        }
+    };
+    if has_curve {
+        c.push(
+            k.to_string(),
+            "the electrical model is the DC motor's: give `stall_torque_nm` and \
+             `no_load_speed_rad_s` rather than `torque_speed`",
+        );
+        return None;
+    }
+    c.positive(&format!("{k}.voltage_v"), v, "V");
+    c.positive(&format!("{k}.stall_current_a"), i_s, "A");
+    let i_0 = m.no_load_current_a.unwrap_or(0.0);
+    if !(i_0.is_finite() && i_0 >= 0.0 && i_0 < i_s) {
+        c.push(
+            format!("{k}.no_load_current_a"),
+            format!("must be >= 0 A and below the stall current {i_s} A, got {i_0}"),
+        );
+        return None;
+    }
+    let resistance = v / i_s;
+    Some(MotorElectrics {
+        voltage: v,
+        no_load_current: i_0,
+        torque_constant: stall / (i_s - i_0),
+        resistance,
+        back_emf_constant: (v - i_0 * resistance) / no_load,
     })
 }
 
@@ -109,6 +302,7 @@ mod tests {
             efficiency: 0.5,
             sprocket_radius: 0.1,
             torque_limit: Some(0.8),
+            ..Default::default()
         };
         // At rest: the driver's limit 0.8 N m -> 0.8 * 10 * 0.5 / 0.1 = 40 N.
         assert!((m.max_belt_force(0.0, 0.3) - 40.0).abs() < 1e-12);
@@ -123,5 +317,51 @@ mod tests {
         assert_eq!(m.max_belt_force(1.0, 1.0), 0.0);
         assert_eq!(m.max_belt_force(2.0, 1.0), 0.0);
         assert!((m.motor_torque(25.0) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_measured_curve_is_interpolated_and_ends_at_the_no_load_speed() {
+        let m = DriveMotor {
+            stall_torque: 1.2,
+            no_load_speed: 500.0,
+            curve: Some(vec![[0.0, 1.2], [300.0, 0.9], [500.0, 0.0]]),
+            gear_ratio: 1.0,
+            efficiency: 1.0,
+            sprocket_radius: 1.0,
+            ..Default::default()
+        };
+        assert!((m.curve_torque(150.0) - 1.05).abs() < 1e-12);
+        assert!((m.curve_torque(400.0) - 0.45).abs() < 1e-12);
+        assert_eq!(m.curve_torque(600.0), 0.0);
+        assert!((m.max_motor_torque(0.0, 1.0) - 1.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_electrical_model_passes_through_the_datasheet_points() {
+        // 24 V, stall 2 N m at 20 A, no load 400 rad/s at 0.5 A.
+        let spec = MotorSpec {
+            stall_torque_nm: Some(2.0),
+            no_load_speed_rad_s: Some(400.0),
+            torque_speed: None,
+            gear_ratio: 1.0,
+            efficiency: 1.0,
+            torque_limit_nm: None,
+            voltage_v: Some(24.0),
+            stall_current_a: Some(20.0),
+            no_load_current_a: Some(0.5),
+        };
+        let mut c = Checker::default();
+        let m = compile_motor(&mut c, "tracks[0].motor", &spec, Some(1.0)).unwrap();
+        assert!(c.issues.is_empty());
+        let e = m.electrics.unwrap();
+        let stall = e.state(2.0, 0.0);
+        assert!((stall.current - 20.0).abs() < 1e-9 && (stall.voltage - 24.0).abs() < 1e-9);
+        let free = e.state(0.0, 400.0);
+        assert!((free.current - 0.5).abs() < 1e-9 && (free.voltage - 24.0).abs() < 1e-9);
+        // Half way along the line (1 N m at 200 rad/s) it still runs at the supply voltage.
+        let mid = e.state(1.0, 200.0);
+        assert!((mid.voltage - 24.0).abs() < 1e-9, "{mid:?}");
+        // Mechanical power out (200 W) is below the electrical power in (24 V x 10.25 A).
+        assert!((mid.power - 24.0 * 10.25).abs() < 1e-9);
     }
 }

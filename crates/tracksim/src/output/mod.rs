@@ -74,6 +74,13 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
                     format!("power_{n}_w"),
                 ]);
             }
+            if d.as_ref().is_some_and(|d| d.electrical.is_some()) {
+                h.extend([
+                    format!("current_{n}_a"),
+                    format!("voltage_{n}_v"),
+                    format!("electrical_power_{n}_w"),
+                ]);
+            }
         }
         if s.drawbar_n.is_some() {
             h.push("drawbar_n".into());
@@ -103,6 +110,12 @@ fn track_cells(s: &Sample) -> String {
             ",{:.6},{:.6},{:.6},{:.6},{:.6}",
             d.belt_force_n, d.max_belt_force_n, d.sprocket_torque_nm, d.motor_torque_nm, d.power_w
         ));
+        if let Some(e) = d.electrical {
+            line.push_str(&format!(
+                ",{:.6},{:.6},{:.6}",
+                e.current, e.voltage, e.power
+            ));
+        }
     }
     if let Some(p) = s.drawbar_n {
         line.push_str(&format!(",{p:.6}"));

@@ -23,7 +23,9 @@ pub use outcome::{Outcome, check_outcome};
 pub use scripted::Scripted;
 pub use summary::{SolverSummary, Summary, WallTimes};
 pub use timeline::Timeline;
-pub use track_summary::{OdometrySummary, TrackSummary, odometry_summary, track_summaries};
+pub use track_summary::{
+    DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,
+};
 pub use turn_summary::{TurnSummary, turn_summaries};
 
 use crate::error::Result;

@@ -22,6 +22,49 @@ pub struct TrackSummary {
     pub mean_normal_load_n: f64,
     /// Mean number of terrain contact points.
     pub mean_contacts: f64,
+    /// The drive motor's figures (tracks with `[tracks.motor]` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drive: Option<DriveSummary>,
+}
+
+/// A drive motor over a run: energies integrated over the trajectory rows (trapezoid rule at
+/// the output interval), peaks.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct DriveSummary {
+    /// Largest motor torque, N m (magnitude).
+    pub peak_motor_torque_nm: f64,
+    /// Mechanical energy delivered to the belt, J (negative: absorbed braking).
+    pub mechanical_energy_j: f64,
+    /// Largest motor current, A (magnitude; with the electrical model).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_current_a: Option<f64>,
+    /// Electrical energy drawn from the supply, J (with the electrical model; regeneration
+    /// counted negative).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub electrical_energy_j: Option<f64>,
+}
+
+/// The drive summary of track `i` (None if it has no motor).
+fn drive_summary(i: usize, samples: &[Sample]) -> Option<DriveSummary> {
+    let d = |s: &Sample| s.drive.get(i).copied().flatten();
+    d(samples.first()?)?;
+    let trapezoid = |f: &dyn Fn(&Sample) -> f64| {
+        samples
+            .windows(2)
+            .map(|w| 0.5 * (f(&w[0]) + f(&w[1])) * (w[1].t - w[0].t))
+            .sum::<f64>()
+    };
+    let peak = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(s).abs()).fold(0.0, f64::max);
+    let electrical = d(&samples[0])?.electrical.is_some();
+    let elec = |s: &Sample, g: fn(&crate::model::ElectricalState) -> f64| {
+        d(s).and_then(|x| x.electrical).map_or(0.0, |e| g(&e))
+    };
+    Some(DriveSummary {
+        peak_motor_torque_nm: peak(&|s| d(s).map_or(0.0, |x| x.motor_torque_nm)),
+        mechanical_energy_j: trapezoid(&|s| d(s).map_or(0.0, |x| x.power_w)),
+        peak_current_a: electrical.then(|| peak(&|s| elec(s, |e| e.current))),
+        electrical_energy_j: electrical.then(|| trapezoid(&|s| elec(s, |e| e.power))),
+    })
 }
 
 /// Odometry against the ground truth at the end of a run.
@@ -55,6 +98,7 @@ pub fn track_summaries(names: &[String], samples: &[Sample]) -> Vec<TrackSummary
                     .fold(0.0, f64::max),
                 mean_normal_load_n: mean(&|s| s.loads.get(i).map_or(0.0, |l| l.normal_n)),
                 mean_contacts: mean(&|s| s.loads.get(i).map_or(0.0, |l| l.contacts as f64)),
+                drive: drive_summary(i, samples),
             }
         })
         .collect()

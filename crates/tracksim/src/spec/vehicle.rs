@@ -29,10 +29,17 @@ pub struct VehicleSpec {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotorSpec {
-    /// Stall torque at the motor shaft, N m.
-    pub stall_torque_nm: f64,
+    /// Stall torque at the motor shaft, N m (with `no_load_speed_rad_s`: the DC motor's
+    /// linear torque-speed line).
+    #[serde(default)]
+    pub stall_torque_nm: Option<f64>,
     /// No-load speed of the motor shaft, rad/s.
-    pub no_load_speed_rad_s: f64,
+    #[serde(default)]
+    pub no_load_speed_rad_s: Option<f64>,
+    /// Instead of the line: the torque-speed curve as `[speed rad/s, torque N m]` points from
+    /// speed 0 up to the no-load speed (torque 0), interpolated linearly.
+    #[serde(default)]
+    pub torque_speed: Option<Vec<[f64; 2]>>,
     /// Gear ratio (motor turns per sprocket turn).
     pub gear_ratio: f64,
     /// Gearbox efficiency, in (0, 1].
@@ -40,6 +47,15 @@ pub struct MotorSpec {
     /// The driver's torque (current) limit at the motor shaft, N m (default: the stall torque).
     #[serde(default)]
     pub torque_limit_nm: Option<f64>,
+    /// Supply voltage, V (with `stall_current_a`: the electrical model, current and power).
+    #[serde(default)]
+    pub voltage_v: Option<f64>,
+    /// Current at stall at `voltage_v`, A.
+    #[serde(default)]
+    pub stall_current_a: Option<f64>,
+    /// Current at no load at `voltage_v`, A (default 0).
+    #[serde(default)]
+    pub no_load_current_a: Option<f64>,
 }
 
 /// Skid-steer odometry settings.

@@ -99,6 +99,9 @@ pub struct DriveSample {
     pub max_belt_force_n: f64,
     /// Mechanical power into the belt (force times measured belt speed), W.
     pub power_w: f64,
+    /// The motor's current, terminal voltage and electrical power (with the electrical
+    /// model of `[tracks.motor]`: `voltage_v`, `stall_current_a`).
+    pub electrical: Option<crate::model::ElectricalState>,
 }
 
 /// Yaw rate below which the instantaneous centre of rotation is not reported, rad/s.
@@ -293,6 +296,7 @@ impl Simulation {
                     motor_torque_nm: motor.motor_torque(force),
                     max_belt_force_n: max,
                     power_w: force * v,
+                    electrical: motor.electrical(force, v),
                 })
             })
             .collect()
