@@ -190,11 +190,7 @@ type Curve = Vec<[f64; 2]>;
 
 /// The torque-speed curve: the line of `stall_torque_nm` and `no_load_speed_rad_s`, or the
 /// `torque_speed` points (from speed 0, speeds increasing, torques >= 0, ending at torque 0).
-fn torque_curve(
-    c: &mut Checker,
-    k: &str,
-    m: &MotorSpec,
-) -> Option<(f64, f64, Option<Curve>)> {
+fn torque_curve(c: &mut Checker, k: &str, m: &MotorSpec) -> Option<(f64, f64, Option<Curve>)> {
     match (m.stall_torque_nm, m.no_load_speed_rad_s, &m.torque_speed) {
         (Some(t), Some(w), None) => {
             c.positive(&format!("{k}.stall_torque_nm"), t, "N m");

@@ -10,6 +10,7 @@ pub mod plot;
 pub mod replay;
 pub mod side_view;
 pub mod signals;
+pub mod vehicle_outline;
 
 pub use replay::{Scene, write_replay};
 pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};

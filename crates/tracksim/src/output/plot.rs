@@ -32,6 +32,8 @@ pub struct PlotInput<'a> {
     /// Optional extra outlines to draw in the side view, e.g. a step as a polygon (x, z) -- may
     /// be empty.
     pub outlines: &'a [Vec<(f64, f64)>],
+    /// The first run's vehicle outline at a few instants, drawn in the side view; may be empty.
+    pub snapshots: &'a [super::vehicle_outline::Snapshot],
 }
 
 /// Figure size in pixels.
@@ -256,6 +258,12 @@ where
             .flatten()
             .chain(input.ground_profile.iter())
             .chain(input.outlines.iter().flatten())
+            .chain(
+                input
+                    .snapshots
+                    .iter()
+                    .flat_map(|s| s.lines.iter().flatten()),
+            )
             .copied()
             .filter(|(a, b)| a.is_finite() && b.is_finite())
     };
@@ -340,6 +348,7 @@ where
             )))?;
         }
     }
+    draw_snapshots(&mut chart, input.snapshots)?;
     for (i, (run, pts)) in input.runs.iter().zip(&runs).enumerate() {
         let c = colour(i);
         let series = chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
@@ -363,6 +372,39 @@ where
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.4))
             .draw()?;
+    }
+    Ok(())
+}
+
+/// The vehicle's outlines at their instants, each labelled with its time above it.
+fn draw_snapshots<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    snapshots: &[super::vehicle_outline::Snapshot],
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
+    let ink = RGBColor(60, 60, 60);
+    for snap in snapshots {
+        for line in &snap.lines {
+            chart.draw_series(std::iter::once(PathElement::new(
+                line.clone(),
+                ink.mix(0.55).stroke_width(1),
+            )))?;
+        }
+        let pts = snap.lines.iter().flatten();
+        let top = pts.clone().map(|p| p.1).fold(f64::MIN, f64::max);
+        let mid = pts.clone().map(|p| p.0).sum::<f64>() / pts.count().max(1) as f64;
+        if top.is_finite() && mid.is_finite() {
+            chart.draw_series(std::iter::once(Text::new(
+                format!("{:.1} s", snap.t),
+                (mid, top),
+                (FONT, 13).into_font().color(&ink),
+            )))?;
+        }
     }
     Ok(())
 }
@@ -674,6 +716,7 @@ mod tests {
             runs: &runs,
             ground_profile: &profile,
             outlines: &outlines,
+            snapshots: &[],
         };
         // Set TRACKSIM_PLOT_DIR to keep the figure for a look.
         let keep = std::env::var_os("TRACKSIM_PLOT_DIR").map(PathBuf::from);
@@ -745,6 +788,7 @@ mod tests {
                 runs,
                 ground_profile: &[],
                 outlines: &[],
+                snapshots: &[],
             };
             let written = write_plots(&input, &dir, &format!("case{i}")).expect("plots written");
             let png = std::fs::read(&written[0]).expect("png exists");
@@ -766,6 +810,7 @@ mod tests {
             runs: &[],
             ground_profile: &[],
             outlines: &[],
+            snapshots: &[],
         };
         let err = write_plots(&input, &file, "p").expect_err("a file is not a directory");
         assert!(matches!(err, Error::Io { .. }), "{err}");
@@ -794,6 +839,7 @@ mod tests {
             runs: &runs,
             ground_profile: &profile,
             outlines: &[],
+            snapshots: &[],
         };
         let keep = std::env::var_os("TRACKSIM_PLOT_DIR").map(PathBuf::from);
         let dir = keep.clone().unwrap_or_else(|| temp_dir("long"));

@@ -7,6 +7,9 @@ use crate::run::RunResult;
 use crate::world::Sample;
 use std::path::Path;
 
+/// Instants at which the side view draws the vehicle's outline.
+const SNAPSHOTS: usize = 5;
+
 /// A polyline in the side view: (x, z) points, m.
 pub type SideLine = Vec<(f64, f64)>;
 
@@ -71,6 +74,7 @@ fn write_runs(
     }
     let results: Vec<&RunResult> = runs.iter().map(|(_, r)| *r).collect();
     let (profile, outlines) = side_view_terrain(sc, &results);
+    let snapshots = super::vehicle_outline::snapshots(&sc.vehicle, results[0], SNAPSHOTS);
     let runs: Vec<super::plot::PlotRun> = runs
         .iter()
         .map(|(label, r)| super::plot::PlotRun {
@@ -84,6 +88,7 @@ fn write_runs(
             runs: &runs,
             ground_profile: &profile,
             outlines: &outlines,
+            snapshots: &snapshots,
         },
         dir,
         stem,

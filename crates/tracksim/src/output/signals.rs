@@ -63,7 +63,14 @@ where
 {
     root.fill(&WHITE)?;
     let body = root.titled(title, (FONT, 24).into_font().style(FontStyle::Bold))?;
-    let panels = body.split_evenly((3, 2));
+    let first_drive = |r: &PlotRun| {
+        r.result
+            .samples
+            .first()
+            .and_then(|s| s.drive.iter().flatten().next().copied())
+    };
+    let drive = runs.iter().find_map(first_drive);
+    let panels = body.split_evenly((if drive.is_some() { 4 } else { 3 }, 2));
     let tracks = |r: &PlotRun| r.result.track_names.clone();
     let flippers = |r: &PlotRun| r.result.flipper_names.clone();
     draw_time_panel(&panels[0], "x (m)", &per_run(runs, |s| s.pose.x))?;
@@ -85,6 +92,32 @@ where
     draw_time_panel(&panels[4], "slip ratio", &slip)?;
     let traction = per_item(runs, tracks, |s, i| s.loads.get(i).map(|l| l.traction_n));
     draw_time_panel(&panels[5], "traction (N)", &traction)?;
+    if let Some(d) = drive {
+        let torque = per_item(runs, tracks, |s, i| {
+            s.drive
+                .get(i)
+                .copied()
+                .flatten()
+                .map(|d| d.sprocket_torque_nm)
+        });
+        draw_time_panel(&panels[6], "sprocket torque (N m)", &torque)?;
+        if d.electrical.is_some() {
+            let current = per_item(runs, tracks, |s, i| {
+                s.drive
+                    .get(i)
+                    .copied()
+                    .flatten()
+                    .and_then(|d| d.electrical)
+                    .map(|e| e.current)
+            });
+            draw_time_panel(&panels[7], "motor current (A)", &current)?;
+        } else {
+            let power = per_item(runs, tracks, |s, i| {
+                s.drive.get(i).copied().flatten().map(|d| d.power_w)
+            });
+            draw_time_panel(&panels[7], "belt power (W)", &power)?;
+        }
+    }
     Ok(())
 }
 

@@ -364,6 +364,7 @@ impl ValidationReport {
                     runs: &runs,
                     ground_profile: &p.profile,
                     outlines: &p.outlines,
+                    snapshots: &[],
                 },
                 dir,
                 &p.stem,
