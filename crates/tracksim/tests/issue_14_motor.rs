@@ -10,7 +10,7 @@ mod common;
 use common::root;
 use tracksim::Scripted;
 use tracksim::model::{DriveMotor, load_vehicle, read_toml};
-use tracksim::spec::{PerTrack, ScenarioSpec};
+use tracksim::spec::{CommandSpec, PerTrack, ScenarioSpec};
 
 const G: f64 = 9.81;
 const SLOPE_DEG: f64 = 20.0;
@@ -20,10 +20,16 @@ const EFFICIENCY: f64 = 0.8;
 /// PackBot on the 20 deg plate driving uphill at 0.1 m/s with motors of driver torque limit
 /// `torque` N m (a no-load speed far above what 0.1 m/s needs, so the limit decides).
 fn climb(torque: f64) -> tracksim::Scenario {
+    climb_with(torque, |c| c.belt_speed_mps = Some(PerTrack::All(0.1)))
+}
+
+/// [`climb`] with the first command set by `command`.
+fn climb_with(torque: f64, command: impl FnOnce(&mut CommandSpec)) -> tracksim::Scenario {
     let path = root().join("scenarios/packbot_parked_slope.toml");
     let mut spec: ScenarioSpec = read_toml(&path).unwrap();
     spec.simulation.duration_s = 3.0;
-    spec.commands[0].belt_speed_mps = Some(PerTrack::All(0.1));
+    spec.commands[0].belt_speed_mps = None;
+    command(&mut spec.commands[0]);
     let dir = root().join("scenarios");
     let mut vehicle = load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
     for t in &mut vehicle.tracks {
@@ -42,8 +48,12 @@ fn climb(torque: f64) -> tracksim::Scenario {
 
 /// Progress up the slope from 1 s to 3 s, m, and the mean delivered belt force then, N.
 fn progress(torque: f64) -> (f64, f64) {
-    let sc = climb(torque);
-    let mut sim = Scripted::new(&sc).unwrap();
+    progress_of(&climb(torque))
+}
+
+/// [`progress`] of scenario `sc`.
+fn progress_of(sc: &tracksim::Scenario) -> (f64, f64) {
+    let mut sim = Scripted::new(sc).unwrap();
     common::run_until(&mut sim, 1.0);
     let a = sim.body_pose();
     let (mut force, mut k) = (0.0, 0.0);
@@ -223,4 +233,65 @@ fn a_stalled_motor_draws_its_stall_current_and_a_running_one_loses_power_to_heat
     println!("running: belts {mech:.2} J, supply {elec:.2} J");
     assert!((mech - 30.9).abs() < 0.1 * 30.9, "{mech}");
     assert!(elec > mech / 0.8, "{mech} {elec}");
+}
+
+/// A torque command (`motor_torque_nm`): a current-controlled driver delivers the torque at
+/// any speed, so on the 20 deg slope 10 % below the static torque T* the PackBot slides back
+/// and 10 % above it climbs; the belts run below the no-load target, so the drive reports the
+/// commanded torque's belt force, T G eta / r per track (2 %).
+#[test]
+fn a_torque_command_climbs_above_the_static_torque_and_slides_below_it() {
+    let (up, _) = progress(1.0);
+    assert!(up > 0.0);
+    // T* from the statics, with the simulated mass (13.0 kg) and r = 0.082 m.
+    let m = 13.0;
+    let t_star = m * G * SLOPE_DEG.to_radians().sin() * 0.082 / (GEAR * EFFICIENCY * 2.0);
+    for (frac, climbs) in [(0.9, false), (1.1, true)] {
+        let t = frac * t_star;
+        let sc = climb_with(1.0, |c| c.motor_torque_nm = Some(PerTrack::All(t)));
+        let (up, force) = progress_of(&sc);
+        let expected = 2.0 * t * GEAR * EFFICIENCY / 0.082;
+        println!(
+            "torque {frac} T* = {t:.4} N m: {up:.4} m up in 2 s, belt force {force:.2} N (T G eta / r x 2 = {expected:.2} N)"
+        );
+        assert_eq!(up > 0.0, climbs, "{frac} T*: {up} m");
+        assert!((force - expected).abs() < 0.02 * expected, "force {force}");
+    }
+}
+
+/// A duty command (`motor_duty`): the DC motor follows its line scaled by the duty, so on
+/// flat ground with nothing to pull (0.5 N of rolling resistance) the belts settle at the
+/// duty times the no-load belt speed: 0.25 x 600 rad/s x 0.082 m / 50 = 0.246 m/s (2 %).
+#[test]
+fn a_duty_command_runs_at_the_duty_times_the_no_load_speed() {
+    let dir = root().join("scenarios/classic");
+    let mut spec: ScenarioSpec = read_toml(&dir.join("packbot_drawbar.toml")).unwrap();
+    spec.vehicle.file = Some("../../vehicles/packbot510_motors.toml".into());
+    spec.drawbar = None;
+    spec.simulation.duration_s = 4.0;
+    spec.commands[0].belt_speed_mps = None;
+    spec.commands[0].motor_duty = Some(PerTrack::All(0.25));
+    let v = load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
+    let sc = tracksim::compile_scenario(&spec, v, &dir).unwrap();
+    let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
+    let last = r.samples.last().unwrap();
+    let expected = 0.25 * 600.0 * 0.082 / 50.0;
+    println!(
+        "duty 0.25: belts {:?} m/s, body {:.4} m/s (expected {expected:.4})",
+        last.belt_speed, last.linvel[0]
+    );
+    for v in &last.belt_speed {
+        assert!((v - expected).abs() < 0.02 * expected, "belt {v}");
+    }
+    assert!((last.linvel[0] - expected).abs() < 0.02 * expected);
+    // A duty command on a track without a motor is refused, naming the key.
+    let mut bad = spec.clone();
+    bad.vehicle.file = Some("../../vehicles/packbot510.toml".into());
+    let v = load_vehicle(&dir.join(bad.vehicle.file.as_ref().unwrap())).unwrap();
+    let err = tracksim::compile_scenario(&bad, v, &dir).unwrap_err();
+    assert!(
+        err.iter()
+            .any(|i| i.to_string().contains("commands[0].motor_duty")),
+        "{err:?}"
+    );
 }

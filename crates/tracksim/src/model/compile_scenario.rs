@@ -5,7 +5,9 @@
 //! outcome (`outcome`). Every problem is reported with its key path, in that order, each once.
 
 use super::compliance::compile_compliance;
-use super::{Command, Controls, OutcomeModel, Scenario, SolverSettings, VehicleModel};
+use super::{
+    Command, Controls, MotorCommand, OutcomeModel, Scenario, SolverSettings, VehicleModel,
+};
 use crate::check::Checker;
 use crate::error::{Result, SpecIssue};
 use crate::spec::{
@@ -256,12 +258,118 @@ fn command(
         }
     }
     let flip = flipper_angles(c, k, cmd, vehicle);
+    let motor = motor_commands(c, k, cmd, vehicle);
+    if motor.iter().any(Option::is_some)
+        && (belt.iter().any(Option::is_some)
+            || cmd.forward_mps.is_some()
+            || cmd.yaw_rate_rad_s.is_some())
+    {
+        c.push(
+            k.to_string(),
+            "give speeds (belt_speed_mps, sprocket_rad_s, forward_mps) or motor_duty / \
+             motor_torque_nm in one command, not both",
+        );
+    }
     Command {
         t: cmd.t_s,
         controls: Controls {
             belt_speed: belt,
             flipper_angle: flip,
+            motor,
         },
+    }
+}
+
+/// Duty and torque commands per track index from a command's `motor_duty` / `motor_torque_nm`;
+/// each track named must have a drive motor (duty: the DC motor's line, not a curve).
+fn motor_commands(
+    c: &mut Checker,
+    k: &str,
+    cmd: &CommandSpec,
+    vehicle: &VehicleModel,
+) -> Vec<Option<MotorCommand>> {
+    let mut out = vec![None; vehicle.tracks.len()];
+    if cmd.motor_duty.is_some() && cmd.motor_torque_nm.is_some() {
+        c.push(
+            k.to_string(),
+            "give motor_duty or motor_torque_nm, not both",
+        );
+    }
+    let given = [
+        ("motor_duty", &cmd.motor_duty, true),
+        ("motor_torque_nm", &cmd.motor_torque_nm, false),
+    ];
+    for (key, values, duty) in given {
+        let Some(values) = values else { continue };
+        for (j, x, kk) in per_track_entries(c, k, key, values, vehicle) {
+            let t = &vehicle.tracks[j];
+            let Some(m) = &t.motor else {
+                c.push(
+                    kk,
+                    format!(
+                        "track \"{}\" has no [tracks.motor]; a duty or torque command needs one \
+                         (or give belt_speed_mps)",
+                        t.name
+                    ),
+                );
+                continue;
+            };
+            if duty && !(x.is_finite() && (-1.0..=1.0).contains(&x)) {
+                c.push(kk, format!("must be a duty cycle in [-1, 1], got {x}"));
+            } else if duty && m.curve.is_some() {
+                c.push(
+                    kk,
+                    "a duty cycle scales the DC motor's line: give the motor stall_torque_nm and \
+                     no_load_speed_rad_s rather than torque_speed, or command a torque",
+                );
+            } else if !x.is_finite() {
+                c.push(kk, format!("must be finite, got {x}"));
+            } else {
+                out[j] = Some(if duty {
+                    MotorCommand::Duty(x)
+                } else {
+                    MotorCommand::Torque(x)
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The (track index, value, key path) entries of a per-track value `values` at `k.key`: one
+/// for every track, or one per track name (unknown names reported).
+fn per_track_entries(
+    c: &mut Checker,
+    k: &str,
+    key: &str,
+    values: &PerTrack,
+    vehicle: &VehicleModel,
+) -> Vec<(usize, f64, String)> {
+    match values {
+        PerTrack::All(x) => (0..vehicle.tracks.len())
+            .map(|j| (j, *x, format!("{k}.{key}")))
+            .collect(),
+        PerTrack::ByName(m) => {
+            let mut e = Vec::new();
+            for (name, x) in m {
+                match vehicle.track_index(name) {
+                    Some(j) => e.push((j, *x, format!("{k}.{key}.{name}"))),
+                    None => c.push(
+                        format!("{k}.{key}.{name}"),
+                        format!(
+                            "no track called \"{name}\"; the vehicle has {}",
+                            vehicle
+                                .tracks
+                                .iter()
+                                .map(|t| format!("\"{}\"", t.name))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    ),
+                }
+            }
+            e
+        }
     }
 }
 
@@ -287,30 +395,7 @@ fn track_speeds(
     ];
     for (key, values, sprocket) in given {
         let Some(values) = values else { continue };
-        let entries: Vec<(usize, f64, String)> = match values {
-            PerTrack::All(x) => (0..nt).map(|j| (j, *x, format!("{k}.{key}"))).collect(),
-            PerTrack::ByName(m) => {
-                let mut e = Vec::new();
-                for (name, x) in m {
-                    match vehicle.track_index(name) {
-                        Some(j) => e.push((j, *x, format!("{k}.{key}.{name}"))),
-                        None => c.push(
-                            format!("{k}.{key}.{name}"),
-                            format!(
-                                "no track called \"{name}\"; the vehicle has {}",
-                                vehicle
-                                    .tracks
-                                    .iter()
-                                    .map(|t| format!("\"{}\"", t.name))
-                                    .collect::<Vec<_>>()
-                                    .join(", ")
-                            ),
-                        ),
-                    }
-                }
-                e
-            }
-        };
+        let entries = per_track_entries(c, k, key, values, vehicle);
         for (j, x, kk) in entries {
             let scale = if sprocket {
                 vehicle.tracks[j].sprocket_radius

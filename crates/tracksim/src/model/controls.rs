@@ -11,6 +11,20 @@ pub struct Controls {
     pub belt_speed: Vec<Option<f64>>,
     /// Flipper target angle per flipper index, rad.
     pub flipper_angle: Vec<Option<f64>>,
+    /// A duty or torque command per track index (tracks with a drive motor); replaces the
+    /// track's belt speed set-point until a belt speed is given again. May be empty.
+    pub motor: Vec<Option<MotorCommand>>,
+}
+
+/// A drive motor command other than a speed set-point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorCommand {
+    /// Duty cycle in [-1, 1]: the DC motor's torque-speed line scaled by it
+    /// (`T = T_stall (d - w / w_0)`), towards the no-load speed times `d`.
+    Duty(f64),
+    /// Motor shaft torque, N m (signed: positive drives forwards), delivered within the
+    /// torque-speed curve and the driver's limit.
+    Torque(f64),
 }
 
 impl Controls {
@@ -19,6 +33,7 @@ impl Controls {
         Controls {
             belt_speed: vec![None; v.tracks.len()],
             flipper_angle: vec![None; v.flippers.len()],
+            motor: vec![None; v.tracks.len()],
         }
     }
 

@@ -130,6 +130,38 @@ impl DriveMotor {
         self.max_motor_torque(v, cmd) * self.gear_ratio * self.efficiency / self.sprocket_radius
     }
 
+    /// Belt speed at the motor's no-load speed, m/s.
+    pub fn no_load_belt_speed(&self) -> f64 {
+        self.no_load_speed * self.sprocket_radius / self.gear_ratio
+    }
+
+    /// The belt speed a duty or torque command drives towards, m/s: the no-load belt speed
+    /// times the duty, or in the torque's direction.
+    pub fn command_target(&self, cmd: super::MotorCommand) -> f64 {
+        match cmd {
+            super::MotorCommand::Duty(d) => d * self.no_load_belt_speed(),
+            super::MotorCommand::Torque(t) => t.signum() * self.no_load_belt_speed(),
+        }
+    }
+
+    /// Largest belt force, N, under a duty or torque command at belt speed `v` m/s: for a duty
+    /// `d` the line scaled by it, `|T_stall (d - w / w_0)|` (it brakes above `d w_0`); for a
+    /// torque `t` its magnitude within the torque-speed curve in its direction; both within the
+    /// driver's limit.
+    pub fn commanded_belt_force(&self, cmd: super::MotorCommand, v: f64) -> f64 {
+        let limit = self.torque_limit.unwrap_or(self.stall_torque);
+        let torque = match cmd {
+            super::MotorCommand::Duty(d) => {
+                let w = v * self.gear_ratio / self.sprocket_radius;
+                (self.stall_torque * (d - w / self.no_load_speed)).abs()
+            }
+            super::MotorCommand::Torque(t) => t
+                .abs()
+                .min(self.max_motor_torque(v, self.command_target(cmd))),
+        };
+        torque.min(limit) * self.gear_ratio * self.efficiency / self.sprocket_radius
+    }
+
     /// Motor torque that delivers belt force `force` N, N m (the gearbox losses on top).
     pub fn motor_torque(&self, force: f64) -> f64 {
         force * self.sprocket_radius / (self.gear_ratio * self.efficiency)

@@ -272,4 +272,12 @@ pub struct CommandSpec {
     /// Body-level command: yaw rate, rad/s (positive turns left).
     #[serde(default)]
     pub yaw_rate_rad_s: Option<f64>,
+    /// Motor duty cycle in [-1, 1] (tracks with `[tracks.motor]`): the driver applies this
+    /// fraction of the supply, so the motor follows its torque-speed line scaled by it.
+    #[serde(default)]
+    pub motor_duty: Option<PerTrack>,
+    /// Motor torque at the shaft, N m (tracks with `[tracks.motor]`): a current-controlled
+    /// driver delivers it whatever the speed, within the torque-speed curve and its limit.
+    #[serde(default)]
+    pub motor_torque_nm: Option<PerTrack>,
 }

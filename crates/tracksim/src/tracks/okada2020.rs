@@ -40,7 +40,7 @@ use super::track::{BuildContext, LinkError, Track};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::geometry::Segment;
-use crate::model::DriveMotor;
+use crate::model::{DriveMotor, MotorCommand};
 use crate::model::{GrouserShape, TrackModel};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
@@ -117,6 +117,10 @@ pub struct SegmentLinks {
     error: LinkError,
     /// Drive motor (None: the links' motors hold the commanded speed whatever the load).
     motor: Option<DriveMotor>,
+    /// A duty or torque command in force (None: the speed set-point `speed_cmd`).
+    motor_cmd: Option<MotorCommand>,
+    /// The belt force the motor allowed in the last step, N.
+    force_limit: f64,
 }
 
 /// Share of a track's belt force that every link may deliver whatever its contact load (it
@@ -259,7 +263,7 @@ impl SegmentLinks {
                 links.push(Self::build_link(ctx, t, si, &shapes, &footprints));
             }
         }
-        let s = SegmentLinks {
+        let mut s = SegmentLinks {
             parent: ctx.parent,
             links,
             pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
@@ -270,10 +274,13 @@ impl SegmentLinks {
             wraps: 0,
             error: LinkError::default(),
             motor: t.motor.clone(),
+            motor_cmd: None,
+            force_limit: 0.0,
         };
         if let Some(m) = &s.motor {
             let loads = vec![0.0; s.links.len()];
-            s.limit_link_forces(ctx.world, m.max_belt_force(0.0, 0.0), &loads, 0.0);
+            s.force_limit = m.max_belt_force(0.0, 0.0);
+            s.limit_link_forces(ctx.world, s.force_limit, &loads, 0.0);
         }
         Ok(s)
     }
@@ -479,6 +486,7 @@ fn link_contact_load(world: &PhysicsWorld, body: RigidBodyHandle) -> f64 {
 impl Track for SegmentLinks {
     fn set_belt_speed(&mut self, world: &mut PhysicsWorld, v: f64) {
         self.speed_cmd = v;
+        self.motor_cmd = None;
         for l in &self.links {
             set_motor_velocity(world, l.joint, l.kind.motor_axis(), l.kind.motor_target(v));
         }
@@ -486,6 +494,21 @@ impl Track for SegmentLinks {
 
     fn commanded_belt_speed(&self) -> f64 {
         self.speed_cmd
+    }
+
+    fn set_motor_command(&mut self, world: &mut PhysicsWorld, cmd: MotorCommand) {
+        let Some(m) = &self.motor else { return };
+        let v = m.command_target(cmd);
+        self.set_belt_speed(world, v);
+        self.motor_cmd = Some(cmd);
+    }
+
+    fn holds_belt(&self) -> bool {
+        self.motor_cmd.is_none() && self.speed_cmd == 0.0
+    }
+
+    fn belt_force_limit(&self) -> Option<f64> {
+        self.motor.as_ref().map(|_| self.force_limit)
     }
 
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
@@ -552,7 +575,11 @@ impl Track for SegmentLinks {
         self.wraps = wraps;
         if let (Some(m), Some((loads, v))) = (self.motor.clone(), loaded) {
             self.speed_measured = v;
-            self.limit_link_forces(world, m.max_belt_force(v, self.speed_cmd), &loads, v);
+            self.force_limit = match self.motor_cmd {
+                None => m.max_belt_force(v, self.speed_cmd),
+                Some(cmd) => m.commanded_belt_force(cmd, v),
+            };
+            self.limit_link_forces(world, self.force_limit, &loads, v);
         }
     }
 

@@ -41,8 +41,21 @@ pub struct LinkError {
 pub trait Track: Send + Sync + std::fmt::Debug {
     /// Sets the commanded belt speed, m/s (positive drives forwards).
     fn set_belt_speed(&mut self, world: &mut PhysicsWorld, v: f64);
-    /// The commanded belt speed, m/s.
+    /// The commanded belt speed, m/s (under a duty or torque command, the speed it drives
+    /// towards: [`crate::model::DriveMotor::command_target`]).
     fn commanded_belt_speed(&self) -> f64;
+    /// Sets a duty or torque command (tracks with a drive motor; the model refuses it for the
+    /// others, so the default ignores it).
+    fn set_motor_command(&mut self, _world: &mut PhysicsWorld, _cmd: crate::model::MotorCommand) {}
+    /// Whether the belt is held (commanded to stand still): a speed set-point of 0; a duty or
+    /// torque command never holds.
+    fn holds_belt(&self) -> bool {
+        self.commanded_belt_speed() == 0.0
+    }
+    /// The largest belt force the drive motor allows this step, N (None without a motor).
+    fn belt_force_limit(&self) -> Option<f64> {
+        None
+    }
     /// Work after each physics step of `dt` s: integrate the belt position, measure the belt
     /// speed, and put the track's bodies where the method wants them (the paper's rollback).
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64);

@@ -117,7 +117,8 @@ impl Simulation {
         Ok(())
     }
 
-    /// Applies a step's controls: every `Some` belt speed (m/s) and flipper target (rad).
+    /// Applies a step's controls: every `Some` belt speed (m/s), flipper target (rad) and
+    /// motor duty or torque command.
     pub fn apply(&mut self, c: &Controls) {
         for (i, v) in c.belt_speed.iter().enumerate() {
             if let Some(v) = v {
@@ -129,6 +130,17 @@ impl Simulation {
                 self.set_flipper_angle(i, *a);
             }
         }
+        for (i, m) in c.motor.iter().enumerate() {
+            if let Some(m) = m {
+                self.set_motor_command(i, *m);
+            }
+        }
+    }
+
+    /// Sets a duty or torque command on track `i` (a track with a drive motor; others ignore
+    /// it). A later belt speed replaces it.
+    pub fn set_motor_command(&mut self, i: usize, cmd: crate::model::MotorCommand) {
+        self.tracks[i].set_motor_command(&mut self.world, cmd);
     }
 
     /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering, see

@@ -278,7 +278,9 @@ impl Simulation {
             .map(|((m, t), load)| {
                 let motor = m.motor.as_ref()?;
                 let v = t.measured_belt_speed();
-                let max = motor.max_belt_force(v, t.commanded_belt_speed());
+                let max = t
+                    .belt_force_limit()
+                    .unwrap_or_else(|| motor.max_belt_force(v, t.commanded_belt_speed()));
                 // Saturated (the belt runs more than 1 mm/s slower than commanded): the link
                 // motors deliver exactly their cap. Otherwise the controller holds the speed and
                 // the belt force is the terrain's pull on the belt (steady state, the links'

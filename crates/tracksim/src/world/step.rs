@@ -43,7 +43,7 @@ impl Simulation {
     /// Rapier's plain friction.
     fn braked_at_rest(&self) -> bool {
         let b = &self.world.bodies[self.body];
-        self.tracks.iter().all(|t| t.commanded_belt_speed() == 0.0)
+        self.tracks.iter().all(|t| t.holds_belt())
             && b.linvel().length() < STICK_SPEED_MPS
             && b.angvel().length() < STICK_RATE_RAD_S
     }
