@@ -290,9 +290,9 @@ def run_tracksim_bench(binary, duration, methods):
             if mm["error"] is None}
 
 
-def run_contact_floor(binary, grousers, bodies, iterations):
-    out = subprocess.run([binary, str(grousers), str(bodies), str(iterations)], check=True,
-                         capture_output=True, text=True).stdout
+def run_contact_floor(binary, args):
+    """The contact_floor example with its arguments GROUSERS BODIES ITERATIONS [SHAPE [GROUND]]."""
+    out = subprocess.run([binary, *args], check=True, capture_output=True, text=True).stdout
     # "36 grousers on 6 bodies, 4 iterations: 32.0 us/step (real-time factor 31), 156 contacts"
     us = float(out.split(":")[1].split("us/step")[0])
     contacts = int(out.split("),")[1].split("contacts")[0])
@@ -378,6 +378,20 @@ def report(info, summary, loads, climbs):
     for t in ts:
         lines.append(f"| {t} | " + " | ".join(
             f"{summary[t]['rtf_median'] / summary[k]['rtf_median']:.2f}" for k in mj) + " |")
+    floors = [k for k in summary if k.startswith("floor ")]
+    targets = [("mj_plates40", 25.0), ("mj_surfacevel", 0.25), ("wheels4", 0.6)] + \
+        [(k, 1 / 1.3) for k in floors]
+    cands = [t for t in ("okada2020", "okada2020_line_tips") if t in summary]
+    if cands:
+        lines += ["", "### Targets of issue 16 (RTF ratio, same run)", "",
+                  "| ratio | target | " + " | ".join(cands) + " |",
+                  "|---|---:|" + "---:|" * len(cands)]
+        for k, goal in targets:
+            if k not in summary:
+                continue
+            vals = [summary[c]["rtf_median"] / summary[k]["rtf_median"] for c in cands]
+            lines.append(f"| method / {k} | >= {goal:.2f} | " + " | ".join(
+                f"{v:.2f} ({'met' if v >= goal else 'not met'})" for v in vals) + " |")
     lines += ["", "### Every model, this machine, this day", "",
               "| model | RTF median | RTF min-max | us/step | contacts/step | speed m/s (2-10 s) | height m |",
               "|---|---:|---:|---:|---:|---:|---:|"]
@@ -406,8 +420,9 @@ def main():
     ap.add_argument("--duration", type=float, default=10.0, help="simulated s per run")
     ap.add_argument("--models", default=",".join(MODELS), help="MuJoCo models, comma-separated")
     ap.add_argument("--methods", default="", help="tracksim methods (default: all)")
-    ap.add_argument("--floor", default="36:6:4",
-                    help="contact_floor GROUSERS:BODIES:ITERATIONS, comma-separated list")
+    ap.add_argument("--floor", default="36:6:4:box:tile,36:6:4:capsule:tile",
+                    help="contact_floor runs GROUSERS:BODIES:ITERATIONS[:SHAPE[:GROUND]], "
+                         "comma-separated")
     ap.add_argument("--steps", default="", help="step heights to climb, m, e.g. 0.08,0.10,0.12")
     ap.add_argument("--out", default="bench_out/mujoco")
     a = ap.parse_args()
@@ -418,8 +433,7 @@ def main():
         if m not in MODELS:
             sys.exit(f"bench.py: unknown --models entry {m!r}; known: {', '.join(MODELS)}")
     methods = [m for m in a.methods.split(",") if m]
-    floors = [tuple(int(x) for x in f.split(":")) for f in a.floor.split(",") if f] \
-        if a.contact_floor else []
+    floors = [f.split(":") for f in a.floor.split(",") if f] if a.contact_floor else []
     info = machine()
     runs, loads = {}, []
     for r in range(a.repeat):
@@ -432,8 +446,7 @@ def main():
         for k, v in run_tracksim_bench(a.tracksim, a.duration, methods).items():
             runs.setdefault(k, []).append(v)
         for f in floors:
-            runs.setdefault(f"floor {f[0]} grousers/{f[1]} bodies/{f[2]} it", []).append(
-                run_contact_floor(a.contact_floor, *f))
+            runs.setdefault("floor " + ":".join(f), []).append(run_contact_floor(a.contact_floor, f))
     summary = summarise(runs)
     climbs = {}
     heights = [float(h) for h in a.steps.split(",") if h]

@@ -51,7 +51,9 @@ fn main() {
             0.0025,
         ),
         Some(other) => {
-            eprintln!("contact_floor: SHAPE must be `box`, `capsule`, `segment`, `roundbox` or `triangle`, got {other:?}");
+            eprintln!(
+                "contact_floor: SHAPE must be `box`, `capsule`, `segment`, `roundbox` or `triangle`, got {other:?}"
+            );
             std::process::exit(2)
         }
     };
@@ -62,7 +64,9 @@ fn main() {
     let ground = match std::env::args().nth(5).as_deref() {
         None | Some("plane") => ColliderBuilder::new(SharedShape::halfspace(Vector::Z)),
         // the simulations' 20 m flat-ground tile (40 m x 40 m x 1 m box, top at z = 0)
-        Some("tile") => ColliderBuilder::cuboid(20.0, 20.0, 0.5).translation(Vector::new(0.0, 0.0, -0.5)),
+        Some("tile") => {
+            ColliderBuilder::cuboid(20.0, 20.0, 0.5).translation(Vector::new(0.0, 0.0, -0.5))
+        }
         Some(other) => {
             eprintln!("contact_floor: GROUND must be `plane` or `tile`, got {other:?}");
             std::process::exit(2)

@@ -54,7 +54,13 @@ pub fn tip_shape(shape: &GrouserShape) -> Option<SharedShape> {
             let x_max = tip.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
             let y_min = pts.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
             let y_max = pts.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-            ((x_min + x_max) / 2.0, (x_max - x_min) / 2.0, y_min, y_max, z_top)
+            (
+                (x_min + x_max) / 2.0,
+                (x_max - x_min) / 2.0,
+                y_min,
+                y_max,
+                z_top,
+            )
         }
     };
     let r = x_half.max(MIN_TIP_RADIUS_M);
