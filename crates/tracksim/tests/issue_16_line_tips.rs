@@ -90,3 +90,22 @@ fn the_exact_hull_still_hooks_a_step() {
     // On top: past the edge at ride height (0.090 m) above the step, within 1 cm.
     assert!(p.x > 1.0 && (p.z - (h + 0.090)).abs() < 0.01, "{p:?}");
 }
+
+#[test]
+fn alternating_grouser_shapes_are_refused_with_the_fix() {
+    let sc = packbot(
+        |s| s.simulation.method = "okada2020_line_tips".into(),
+        |v| {
+            for t in &mut v.tracks {
+                let g = t.grousers.as_mut().unwrap();
+                let again = g.shapes[0].clone();
+                g.shapes.push(again);
+            }
+        },
+    );
+    let err = Scripted::new(&sc).err().expect("refused").to_string();
+    assert!(
+        err.contains("one grouser shape per track") && err.contains("use okada2020"),
+        "{err}"
+    );
+}
