@@ -7,7 +7,6 @@ mod common;
 use common::*;
 use rapier3d::prelude::ShapeType;
 use tracksim::Scripted;
-use tracksim::spec::BoxSpec;
 
 fn flat(method: &str) -> Scripted {
     let sc = packbot(
@@ -74,13 +73,7 @@ fn the_exact_hull_still_hooks_a_step() {
         |s| {
             s.simulation.method = "okada2020_line_tips".into();
             s.simulation.duration_s = 8.0;
-            s.terrain.boxes.push(BoxSpec {
-                centre_m: [1.5, 0.0, h / 2.0],
-                size_m: [2.0, 2.0, h],
-                yaw_deg: 0.0,
-                pitch_deg: 0.0,
-                friction: 0.6,
-            });
+            s.terrain.boxes.push(step_box(0.5, 2.0, h));
         },
         |_| {},
     );
