@@ -396,7 +396,7 @@ def report(info, summary, loads, climbs):
               "| model | RTF median | RTF min-max | us/step | contacts/step | speed m/s (2-10 s) | height m |",
               "|---|---:|---:|---:|---:|---:|---:|"]
     for k, s in summary.items():
-        sp = f"{s['speed']:.3f}" if "speed" in s else "-"
+        sp = f"{s['speed']:.3f}" if "speed" in s and math.isfinite(s["speed"]) else "-"
         hz = f"{s['height']:.4f}" if "height" in s else "-"
         lines.append(f"| {k} | {s['rtf_median']:.1f} | {s['rtf_min']:.1f}-{s['rtf_max']:.1f} | "
                      f"{s['us_per_step']:.1f} | {s['contacts']:.0f} | {sp} | {hz} |")

@@ -12,7 +12,9 @@ if [ ! -x "$here/.venv/bin/python" ]; then
   python3 -m venv "$here/.venv"
   "$here/.venv/bin/pip" install --quiet -r "$here/requirements.txt"
 fi
-(cd "$root" && cargo build --release -p tracksim-cli && cargo build --release -p tracksim --example contact_floor)
+# one invocation: the CLI and the example then share one feature resolution (two separate
+# builds recompile the library each time)
+(cd "$root" && cargo build --release -p tracksim-cli -p tracksim --bins --example contact_floor)
 exec "$here/.venv/bin/python" "$here/bench.py" \
   --tracksim "$target/release/tracksim" \
   --contact-floor "$target/release/examples/contact_floor" \
