@@ -5,9 +5,14 @@
 //! 38 mm apart, dealt out in turn, and slide at 0.3 m/s over a frictionless ground plane, dt
 //! 1 ms, 4 solver iterations (the defaults `tracksim bench` uses).
 //!
-//! `cargo run --release -p tracksim --example contact_floor [-- N [B [ITERATIONS]]]` (default
-//! N = 36: about the grousers within the 2 cm prediction distance of the ground in the bench
-//! case, whose 150 contact points include ~20 of the belts').
+//! `cargo run --release -p tracksim --example contact_floor [-- N [B [ITERATIONS [SHAPE]]]]`
+//! (default N = 36: about the grousers within the 2 cm prediction distance of the ground in the
+//! bench case, whose 150 contact points include ~20 of the belts'). SHAPE `box` (default) is the
+//! grouser cuboid (4 contact points per grouser); `capsule` the tip capsule of
+//! `okada2020_line_tips` (radius 2.5 mm across the belt at the tip: 2 points); `roundbox` a
+//! round cuboid of zero length along the belt with a 2.5 mm border (the grouser's envelope with
+//! a half-cylinder tip: still 4 points, its support feature is a degenerate face); `triangle`
+//! a rounded triangle across the belt, tip edge outwards (3 points).
 use rapier3d::prelude::*;
 use std::time::Instant;
 
@@ -27,13 +32,47 @@ fn main() {
     let n = arg(1, "GROUSERS", 36);
     let nb = arg(2, "BODIES", 6).max(1);
     let iterations = arg(3, "ITERATIONS", 4).max(1);
+    let shape = match std::env::args().nth(4).as_deref() {
+        None | Some("box") => SharedShape::cuboid(0.0025, 0.0375, 0.004),
+        Some("roundbox") => SharedShape::round_cuboid(0.0, 0.035, 0.0015, 0.0025),
+        Some("capsule") => SharedShape::capsule(
+            Vector::new(0.0, -0.035, -0.0015),
+            Vector::new(0.0, 0.035, -0.0015),
+            0.0025,
+        ),
+        Some("segment") => SharedShape::segment(
+            Vector::new(0.0, -0.0375, -0.004),
+            Vector::new(0.0, 0.0375, -0.004),
+        ),
+        Some("triangle") => SharedShape::round_triangle(
+            Vector::new(0.0, -0.035, -0.0015),
+            Vector::new(0.0, 0.035, -0.0015),
+            Vector::new(0.0, 0.0, 0.0015),
+            0.0025,
+        ),
+        Some(other) => {
+            eprintln!(
+                "contact_floor: SHAPE must be `box`, `capsule`, `segment`, `roundbox` or `triangle`, got {other:?}"
+            );
+            std::process::exit(2)
+        }
+    };
     let mut world = PhysicsWorld::new();
     world.gravity = Vector::new(0.0, 0.0, -9.81);
     world.integration_parameters.dt = 0.001;
     world.integration_parameters.num_solver_iterations = iterations;
-    world
-        .colliders
-        .insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Z)).friction(0.0));
+    let ground = match std::env::args().nth(5).as_deref() {
+        None | Some("plane") => ColliderBuilder::new(SharedShape::halfspace(Vector::Z)),
+        // the simulations' 20 m flat-ground tile (40 m x 40 m x 1 m box, top at z = 0)
+        Some("tile") => {
+            ColliderBuilder::cuboid(20.0, 20.0, 0.5).translation(Vector::new(0.0, 0.0, -0.5))
+        }
+        Some(other) => {
+            eprintln!("contact_floor: GROUND must be `plane` or `tile`, got {other:?}");
+            std::process::exit(2)
+        }
+    };
+    world.colliders.insert(ground.friction(0.0));
     let mut bodies = Vec::new();
     for i in 0..nb {
         let y = -0.5 + i as f32 * 0.2;
@@ -58,7 +97,7 @@ fn main() {
         let x = -0.3 + 0.0384 * i as f32;
         let y = 0.0;
         world.colliders.insert_with_parent(
-            ColliderBuilder::cuboid(0.0025, 0.0375, 0.004)
+            ColliderBuilder::new(shape.clone())
                 .translation(Vector::new(x, y, 0.0))
                 .density(0.0)
                 .friction(0.0),

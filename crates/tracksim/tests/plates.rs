@@ -6,7 +6,6 @@ mod common;
 use common::*;
 use tracksim::Method as TrackMethod;
 use tracksim::Scripted;
-use tracksim::spec::BoxSpec;
 
 /// Ride height of the body on the chain: cleat 0.008 + plate 0.010 + wheel radius 0.069 m
 /// (the wheel fits inside the 40-plate polygon on the 0.082 m belt loop).
@@ -52,13 +51,7 @@ fn climbs_a_low_step_and_stays_stable() {
     let h = 0.05;
     let mut sc = packbot(
         |s| {
-            s.terrain.boxes.push(BoxSpec {
-                centre_m: [1.2, 0.0, h / 2.0],
-                size_m: [1.4, 2.0, h],
-                yaw_deg: 0.0,
-                pitch_deg: 0.0,
-                friction: 0.6,
-            });
+            s.terrain.boxes.push(step_box(0.5, 1.4, h));
         },
         |_| {},
     );

@@ -4,7 +4,6 @@
 mod common;
 use common::*;
 use tracksim::Scripted;
-use tracksim::spec::BoxSpec;
 
 /// Front pulley centre height with 8 mm grousers on the ground: 0.082 + 0.008 m.
 const PULLEY_CENTRE_M: f64 = 0.090;
@@ -17,13 +16,7 @@ fn climbs(h: f64, grousers: bool) -> bool {
     let sc = packbot(
         |s| {
             s.simulation.duration_s = 8.0;
-            s.terrain.boxes.push(BoxSpec {
-                centre_m: [1.5, 0.0, h / 2.0],
-                size_m: [2.0, 2.0, h],
-                yaw_deg: 0.0,
-                pitch_deg: 0.0,
-                friction: 0.6,
-            });
+            s.terrain.boxes.push(step_box(0.5, 2.0, h));
             if !grousers {
                 s.vehicle.grouser_count = Some(0);
             }

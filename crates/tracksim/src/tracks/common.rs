@@ -14,9 +14,32 @@ pub const WORLD_GROUP: Group = Group::GROUP_1;
 /// Collision group of every collider of the vehicle.
 pub const VEHICLE_GROUP: Group = Group::GROUP_2;
 
-/// Collision groups of a terrain collider: member of [`WORLD_GROUP`], sees everything.
+/// Collision group of every terrain collider but the flat-ground tile (on top of
+/// [`WORLD_GROUP`]); what the exact grouser hulls of `okada2020_line_tips` see.
+pub const RELIEF_GROUP: Group = Group::GROUP_5;
+/// Collision group of the flat-ground tile (on top of [`WORLD_GROUP`]); what the grouser tip
+/// capsules of `okada2020_line_tips` see.
+pub const FLAT_GROUND_GROUP: Group = Group::GROUP_6;
+
+/// Collision groups of a terrain collider: member of [`WORLD_GROUP`] and [`RELIEF_GROUP`],
+/// sees everything.
 pub fn world_groups() -> InteractionGroups {
-    InteractionGroups::new(WORLD_GROUP, Group::ALL, InteractionTestMode::And)
+    InteractionGroups::new(
+        WORLD_GROUP.union(RELIEF_GROUP),
+        Group::ALL,
+        InteractionTestMode::And,
+    )
+}
+
+/// Collision groups of the flat-ground tile: member of [`WORLD_GROUP`] and
+/// [`FLAT_GROUND_GROUP`], sees everything. Every collider that sees the terrain sees it too
+/// (all vehicle colliders but the line-tip grousers' hulls).
+pub fn flat_ground_groups() -> InteractionGroups {
+    InteractionGroups::new(
+        WORLD_GROUP.union(FLAT_GROUND_GROUP),
+        Group::ALL,
+        InteractionTestMode::And,
+    )
 }
 
 /// Collision groups of a vehicle collider: it never touches its own vehicle.

@@ -15,6 +15,9 @@ pub enum Method {
     Okada2020,
     /// The paper's method without grousers, links restored every step: `okada2020_no_grousers`.
     Okada2020NoGrousers,
+    /// The paper's method with a 2-point tip capsule per grouser on the flat ground and the
+    /// exact grouser on all other terrain: `okada2020_line_tips` (issue 16.2).
+    Okada2020LineTips,
     /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
     /// (e.g. `wheels4`, `wheels13`).
     Wheels(usize),
@@ -30,6 +33,7 @@ impl Method {
     pub const COMPARED: &'static [Method] = &[
         Method::Okada2020,
         Method::Okada2020NoGrousers,
+        Method::Okada2020LineTips,
         Method::Wheels(4),
         Method::Wheels(13),
         Method::ConstraintToGround,
@@ -37,13 +41,14 @@ impl Method {
     ];
 
     /// Names accepted by [`Self::from_name`], for messages.
-    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
+    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
 
     /// Parses a method name.
     pub fn from_name(name: &str) -> Option<Method> {
         Some(match name {
             "okada2020" => Method::Okada2020,
             "okada2020_no_grousers" => Method::Okada2020NoGrousers,
+            "okada2020_line_tips" => Method::Okada2020LineTips,
             "constraint_to_ground" => Method::ConstraintToGround,
             "plates" => Method::Plates,
             _ => {
@@ -74,6 +79,7 @@ impl Method {
         match self {
             Method::Okada2020 => "okada2020".into(),
             Method::Okada2020NoGrousers => "okada2020_no_grousers".into(),
+            Method::Okada2020LineTips => "okada2020_line_tips".into(),
             Method::Wheels(k) => format!("wheels{k}"),
             Method::ConstraintToGround => "constraint_to_ground".into(),
             Method::Plates => "plates".into(),
@@ -93,6 +99,7 @@ impl Method {
                 };
                 Box::new(SegmentLinks::build(ctx, &smooth)?)
             }
+            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(ctx, track, true)?),
             Method::Wheels(k) => Box::new(Wheels::build(ctx, track, k)?),
             Method::ConstraintToGround => Box::new(ConstraintToGround::build(ctx, track)?),
             Method::Plates => Box::new(Plates::build(ctx, track)?),

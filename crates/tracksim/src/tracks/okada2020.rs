@@ -250,7 +250,18 @@ fn link_joint(kind: LinkKind, seg: &Segment) -> GenericJoint {
 impl SegmentLinks {
     /// Builds the segment links of `t` on `ctx.parent` (with `t`'s grousers, if it has any).
     pub fn build(ctx: &mut BuildContext, t: &TrackModel) -> Result<Self> {
+        Self::build_with(ctx, t, false)
+    }
+
+    /// [`Self::build`]; with `line_tips`, every grouser also gets a tip capsule for the flat
+    /// ground and its hull sees only the other terrain ([`super::line_tips`]).
+    pub fn build_with(ctx: &mut BuildContext, t: &TrackModel, line_tips: bool) -> Result<Self> {
         let shapes = grouser_shapes(t)?;
+        let tips = if line_tips {
+            super::line_tips::tip_shapes(t)?
+        } else {
+            Vec::new()
+        };
         let path = &t.path;
         let footprints = t
             .grousers
@@ -260,7 +271,7 @@ impl SegmentLinks {
         let mut links = Vec::new();
         for si in 0..path.segments().len() {
             if t.included[si] {
-                links.push(Self::build_link(ctx, t, si, &shapes, &footprints));
+                links.push(Self::build_link(ctx, t, si, (&shapes, &tips), &footprints));
             }
         }
         let mut s = SegmentLinks {
@@ -290,7 +301,7 @@ impl SegmentLinks {
         ctx: &mut BuildContext,
         t: &TrackModel,
         si: usize,
-        shapes: &[SharedShape],
+        (shapes, tips): (&[SharedShape], &[SharedShape]),
         footprints: &[(usize, crate::geometry::Frame)],
     ) -> Link {
         let world = &mut *ctx.world;
@@ -333,6 +344,13 @@ impl SegmentLinks {
                 let c = base(ColliderBuilder::new(shapes[shape_i].clone()).position(pose));
                 let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
                 grousers.push((ch, k));
+                if let Some(tip) = tips.get(shape_i) {
+                    world.colliders[ch].set_collision_groups(super::line_tips::hull_groups());
+                    let c = base(ColliderBuilder::new(tip.clone()).position(pose))
+                        .collision_groups(super::line_tips::tip_groups());
+                    let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
+                    grousers.push((ch, k));
+                }
             }
         }
         let joint = link_joint(kind, seg);

@@ -6,7 +6,9 @@ use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
 use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
-use crate::tracks::{BuildContext, Method, SLOP_TAG, Track, vehicle_groups, world_groups};
+use crate::tracks::{
+    BuildContext, Method, SLOP_TAG, Track, flat_ground_groups, vehicle_groups, world_groups,
+};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 use std::sync::Arc;
@@ -27,6 +29,11 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         Some((sc.start_xy.0 - origin.x, sc.start_xy.1 - origin.y)),
         origin,
     );
+    if let Some(tile) = ground_tile {
+        for &c in world.bodies[tile].colliders().to_vec().iter() {
+            world.colliders[c].set_collision_groups(flat_ground_groups());
+        }
+    }
     let start = start_pose(&sc, origin);
     let v = &sc.vehicle;
     let body = insert_chassis(&mut world, v, start)?;
@@ -68,7 +75,10 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
 /// Refuses a drive motor on a method that cannot take one (only the segment links feel the
 /// load at their joints).
 fn check_motors(sc: &Scenario, method: Method) -> Result<()> {
-    if matches!(method, Method::Okada2020 | Method::Okada2020NoGrousers) {
+    if matches!(
+        method,
+        Method::Okada2020 | Method::Okada2020NoGrousers | Method::Okada2020LineTips
+    ) {
         return Ok(());
     }
     let issues: Vec<crate::error::SpecIssue> = sc

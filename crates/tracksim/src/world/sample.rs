@@ -158,6 +158,29 @@ impl Simulation {
             .sum()
     }
 
+    /// Active solver contact points per touching contact pair: (the shape type of the pair's
+    /// vehicle collider, or of collider 1 if neither is terrain, and its number of points), in
+    /// the narrow phase's order. For checking what a collider representation costs
+    /// (`okada2020_line_tips`: 3 points per tip capsule on the flat-ground tile, 4 per box).
+    pub fn contact_points_per_pair(&self) -> Vec<(ShapeType, usize)> {
+        let cs = &self.world.colliders;
+        let terrain = |c: &Collider| c.collision_groups().memberships.contains(WORLD_GROUP);
+        self.world
+            .narrow_phase
+            .contact_pairs()
+            .filter_map(|p| {
+                let n: usize = p
+                    .manifolds()
+                    .iter()
+                    .map(|m| m.data.solver_contacts.len())
+                    .sum();
+                let (c1, c2) = (cs.get(p.collider1)?, cs.get(p.collider2)?);
+                let vehicle = if terrain(c1) { c2 } else { c1 };
+                (n > 0).then(|| (vehicle.shape().shape_type(), n))
+            })
+            .collect()
+    }
+
     /// Number of active solver contact points in the world and the deepest penetration (m, 0 if
     /// none) of any touching vehicle-terrain collider pair, measured from the colliders' current poses (the
     /// narrow phase's stored distances can be frames old for recycled pairs, and the contact

@@ -35,6 +35,18 @@ pub fn with_vehicle(
     compile_scenario(&spec, vehicle, &root().join("scenarios")).expect("scenario compiles")
 }
 
+/// A step for the PackBot tests: a box `depth` m long (x), 2 m wide, `h` m high, friction 0.6,
+/// its edge at x = `edge_x` m.
+pub fn step_box(edge_x: f64, depth: f64, h: f64) -> tracksim::spec::BoxSpec {
+    tracksim::spec::BoxSpec {
+        centre_m: [edge_x + depth / 2.0, 0.0, h / 2.0],
+        size_m: [depth, 2.0, h],
+        yaw_deg: 0.0,
+        pitch_deg: 0.0,
+        friction: 0.6,
+    }
+}
+
 /// Runs `sim` until time `t`, s.
 pub fn run_until(sim: &mut Scripted, t: f64) {
     while sim.time() < t - 1e-9 {

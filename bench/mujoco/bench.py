@@ -1,0 +1,472 @@
+"""Same-run benchmark: tracksim against MuJoCo on a PackBot-like vehicle (issue 16).
+
+Builds the PackBot 510 of ``vehicles/packbot510.toml`` in MuJoCo the way a user choosing a
+simulator would (MJCF written here, MuJoCo's default solver: Newton, 100 iterations, pyramidal
+cones; ``implicitfast`` integrator, as MuJoCo's documentation recommends with velocity
+actuators), with the tracks as
+
+- ``mj_surfacevel``: grouser-less tracks with a moving surface (``geom/surfacevel``): per side a
+  box for the runs (constant surface velocity) and two pulley cylinders (rotational surface
+  velocity), no degrees of freedom;
+- ``mj_wheels4`` / ``mj_wheels13``: 4 or 13 driven wheels per side reaching the grouser tips
+  (radius 0.09 m), as tracksim's ``wheels4`` / ``wheels13``;
+- ``mj_plates40``: a closed chain of 40 hinged plates with a 5 x 8 mm grouser each, closed by a
+  ``connect`` equality, wrapped round a driven sprocket and a free idler with flanges.
+
+Same dt (1 ms), drive (0.3 m/s), ground friction (0.6), masses (11 kg body, 1 kg per belt) and
+10 s simulated. Then ``tracksim bench --cases packbot`` (every method) runs once per repeat,
+interleaved with the MuJoCo models (mj..., tracksim, mj..., tracksim, ...) and, optionally,
+the ``contact_floor`` example. Only stepping is timed. Prints a markdown report (ratios first)
+and writes it with the raw figures (JSON) into ``--out``.
+
+``--steps`` also drives every model (MuJoCo and tracksim) at a 0.08 / 0.10 / 0.12 m step of
+friction 0.6, edge 0.5 m ahead, for 8 s: climbed when the body origin passes x = 1.2 m on top
+without tilting past 60 deg (``scenarios/packbot_step.toml``'s outcome).
+"""
+
+import argparse
+import json
+import math
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import mujoco
+import numpy as np
+
+DT = 0.001  # s
+SPEED = 0.3  # m/s, belt speed
+FRICTION = 0.6
+BODY = dict(mass=11.0, size=(0.50, 0.25, 0.10))  # kg, m (full sizes)
+BELT_MASS = 1.0  # kg per track
+TRACK_Y = 0.1625  # m, track mid-plane
+TRACK_W = 0.075  # m
+AXLE_X = 0.255  # m, pulley centres at +-AXLE_X, z = 0
+PULLEY_R = 0.082  # m, belt outer surface at the pulleys
+BELT_T = 0.01  # m
+GROUSER_H, GROUSER_L = 0.008, 0.005  # m
+GROUSERS = 40
+TIP_R = PULLEY_R + GROUSER_H  # m, 0.09: the grouser tips, the wheels' radius
+Z0 = TIP_R + 0.002  # m, initial body height: dropped 2 mm onto the ground
+STEP_EDGE_X = 0.5  # m
+SUCCESS_X = 1.2  # m
+MAX_TILT_DEG = 60.0
+
+# Collision bits: ground/terrain 1; body 8 (touches the terrain only); track parts touching the
+# terrain (surface-velocity geoms, wheels, plates) 2 or 4; chain wheels 16 (touch plates only).
+GROUND = 'contype="1" conaffinity="1"'
+BODYC = 'contype="8" conaffinity="1"'
+ONGROUND = 'contype="2" conaffinity="1"'
+PLATE = 'contype="4" conaffinity="17" solref="0.004 1"'
+CHAINWHEEL = 'contype="16" conaffinity="4"'
+PLATE_ARMATURE = 1e-5  # kg m^2, hinge armature of the plates (MuJoCo conditioning)
+
+
+def header(name, terrain):
+    return f"""<mujoco model="{name}">
+  <option timestep="{DT}" integrator="implicitfast" gravity="0 0 -9.81"/>
+  <default><geom friction="{FRICTION} 0.005 0.0001" condim="3"/></default>
+  <worldbody>
+    <geom name="ground" type="plane" size="20 20 0.1" {GROUND}/>
+{terrain}
+    <body name="chassis" pos="0 0 {Z0}">
+      <freejoint name="root"/>
+      <geom name="hull" type="box" size="{BODY['size'][0] / 2} {BODY['size'][1] / 2} {BODY['size'][2] / 2}" mass="{BODY['mass']}" {BODYC}/>
+"""
+
+
+def step_terrain(h):
+    if h is None:
+        return ""
+    return (f'    <geom name="step" type="box" pos="{STEP_EDGE_X + 1.0} 0 {h / 2}" '
+            f'size="1.0 1.5 {h / 2}" {GROUND}/>')
+
+
+def model_surfacevel(h):
+    """Grouser-less tracks with a moving surface: no degrees of freedom in the tracks."""
+    xml = header("surfacevel", step_terrain(h))
+    w = SPEED / PULLEY_R
+    for s, y in (("l", TRACK_Y), ("r", -TRACK_Y)):
+        # Runs: a box between the pulley centres; its whole surface moves at -SPEED along x
+        # (only the bottom face meets anything).
+        xml += (f'      <geom name="run_{s}" type="box" pos="0 {y} 0" '
+                f'size="{AXLE_X} {TRACK_W / 2} {PULLEY_R}" mass="{BELT_MASS / 2}" '
+                f'surfacevel="{-SPEED} 0 0 0 0 0" {ONGROUND}/>\n')
+        # Pulleys: cylinders about y (euler -90 0 0: geom z = world +y), surface turning at
+        # w = v / r, so that the bottom moves back and the front face down.
+        for e, x in (("rear", -AXLE_X), ("front", AXLE_X)):
+            xml += (f'      <geom name="{e}_{s}" type="cylinder" pos="{x} {y} 0" euler="-90 0 0" '
+                    f'size="{PULLEY_R} {TRACK_W / 2}" mass="{BELT_MASS / 4}" '
+                    f'surfacevel="0 0 0 0 0 {w}" {ONGROUND}/>\n')
+    xml += "    </body>\n  </worldbody>\n</mujoco>\n"
+    return xml, TIP_R - GROUSER_H
+
+
+def model_wheels(n, h):
+    """n driven wheels per side on the lower run, radius to the grouser tips."""
+    xml = header(f"wheels{n}", step_terrain(h))
+    acts = ""
+    for s, y in (("l", TRACK_Y), ("r", -TRACK_Y)):
+        for i in range(n):
+            x = -AXLE_X + 2 * AXLE_X * i / (n - 1)
+            xml += (f'      <body name="w{s}{i}" pos="{x} {y} 0">\n'
+                    f'        <joint name="j{s}{i}" type="hinge" axis="0 1 0"/>\n'
+                    f'        <geom type="cylinder" euler="-90 0 0" size="{TIP_R} {TRACK_W / 2}" '
+                    f'mass="{BELT_MASS / n}" {ONGROUND}/>\n      </body>\n')
+            acts += f'    <velocity joint="j{s}{i}" kv="20" ctrlrange="-100 100"/>\n'
+    xml += f"    </body>\n  </worldbody>\n  <actuator>\n{acts}  </actuator>\n</mujoco>\n"
+    return xml, TIP_R
+
+
+def chain_points(n):
+    """n hinge points at equal arc length on the plates' mid-thickness loop (track frame)."""
+    r = PULLEY_R - BELT_T / 2
+    straight, arc = 2 * AXLE_X, math.pi * r
+    total = 2 * straight + 2 * arc
+    pts = []
+    for k in range(n):
+        s = total * k / n
+        if s < straight:  # bottom run, rear to front
+            pts.append((-AXLE_X + s, -r))
+            continue
+        s -= straight
+        if s < arc:  # front arc, bottom to top
+            a = -math.pi / 2 + s / r
+            pts.append((AXLE_X + r * math.cos(a), r * math.sin(a)))
+            continue
+        s -= arc
+        if s < straight:  # top run, front to rear
+            pts.append((AXLE_X - s, r))
+            continue
+        s -= straight  # rear arc, top to bottom
+        a = math.pi / 2 + s / r
+        pts.append((-AXLE_X + r * math.cos(a), r * math.sin(a)))
+    return pts, r
+
+
+def model_plates(n, h):
+    """A closed chain of n hinged plates with grousers per side, sprocket-driven by friction."""
+    xml = header(f"plates{n}", step_terrain(h))
+    pts, r = chain_points(n)
+    # The chain lies on each wheel as a polygon: the plates' inner faces are nearest the centre
+    # at mid-chord; 1 mm clearance.
+    chord = math.dist(pts[0], pts[1])
+    wheel_r = math.sqrt(r * r - chord * chord / 4) - BELT_T / 2 - 0.001
+    half = math.asin(chord / (2 * r))
+    r_eff = chord / (2 * half)  # chain speed = w * r_eff on a polygon
+    acts, eqs = "", ""
+    for s, y in (("l", TRACK_Y), ("r", -TRACK_Y)):
+        for e, x in (("spr", -AXLE_X), ("idl", AXLE_X)):
+            fr = 'friction="1.5 0.005 0.0001"' if e == "spr" else 'friction="0.6 0.005 0.0001"'
+            xml += (f'      <body name="{e}{s}" pos="{x} {y} 0">\n'
+                    f'        <joint name="{e}{s}" type="hinge" axis="0 1 0"/>\n'
+                    f'        <geom type="cylinder" euler="-90 0 0" size="{wheel_r} {TRACK_W / 2}" '
+                    f'mass="0.5" {fr} {CHAINWHEEL}/>\n')
+            for fy in (-1, 1):
+                xml += (f'        <geom type="cylinder" pos="0 {fy * (TRACK_W / 2 + 0.002)} 0" '
+                        f'euler="-90 0 0" size="{wheel_r + 0.012} 0.001" mass="0.01" '
+                        f'{CHAINWHEEL}/>\n')
+            xml += "      </body>\n"
+        acts += f'    <velocity joint="spr{s}" kv="20" ctrlrange="-100 100"/>\n'
+    xml += "    </body>\n"
+    # The chains: plate k between hinge points k and k+1, nested (plate 0 free), the loop
+    # closed by a connect equality.
+    for s, y in (("l", TRACK_Y), ("r", -TRACK_Y)):
+        ind = "    "
+        prev = None
+        for k in range(n):
+            a, b = pts[k], pts[(k + 1) % n]
+            ang = math.atan2(b[1] - a[1], b[0] - a[0])  # chord direction in x-z
+            ln = math.dist(a, b)
+            if prev is None:
+                # the root plate's frame at hinge point a, x along the chord; rotation about y
+                # by -ang maps x to the chord (x-z plane, z up)
+                xml += (f'{ind}<body name="p{s}{k}" pos="{a[0]} {y} {a[1] + Z0}" '
+                        f'euler="0 {-math.degrees(ang)} 0">\n{ind}  <freejoint/>\n'
+                        f'{ind}  <site name="start{s}"/>\n')
+            else:
+                dang = ang - prev[1]
+                xml += (f'{ind}<body name="p{s}{k}" pos="{prev[0]} 0 0" '
+                        f'euler="0 {-math.degrees(dang)} 0">\n'
+                        f'{ind}  <joint type="hinge" axis="0 1 0" armature="{PLATE_ARMATURE}"/>\n')
+            plate_mass = BELT_MASS / n
+            # plate between x = 0 and x = ln (0.5 mm gap each end); the loop runs bottom run
+            # forward, up the front, so the outward normal is local -z
+            xml += (f'{ind}  <geom type="box" pos="{ln / 2} 0 0" '
+                    f'size="{ln / 2 - 0.0005} {TRACK_W / 2} {BELT_T / 2}" mass="{plate_mass * 0.8}" {PLATE}/>\n'
+                    f'{ind}  <geom type="box" pos="{ln / 2} 0 {-(BELT_T / 2 + GROUSER_H / 2)}" '
+                    f'size="{GROUSER_L / 2} {TRACK_W / 2} {GROUSER_H / 2}" mass="{plate_mass * 0.2}" {PLATE}/>\n')
+            if k == n - 1:
+                xml += f'{ind}  <site name="end{s}" pos="{ln} 0 0"/>\n'
+            prev = (ln, ang)
+            ind += "  "
+        for k in range(n):
+            ind = ind[:-2]
+            xml += f"{ind}</body>\n"
+        eqs += f'    <connect site1="end{s}" site2="start{s}"/>\n'
+    xml += (f"  </worldbody>\n  <equality>\n{eqs}  </equality>\n"
+            f"  <actuator>\n{acts}  </actuator>\n</mujoco>\n")
+    return xml, r_eff
+
+
+MODELS = {
+    "mj_surfacevel": lambda h: model_surfacevel(h),
+    "mj_wheels4": lambda h: model_wheels(4, h),
+    "mj_wheels13": lambda h: model_wheels(13, h),
+    "mj_plates40": lambda h: model_plates(GROUSERS, h),
+}
+
+
+def build(name, h=None):
+    xml, r = MODELS[name](h)
+    m = mujoco.MjModel.from_xml_string(xml)
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    return m, d, r
+
+
+def drive(m, d, r, v):
+    """Sets every velocity actuator to v / r (wheels, sprockets)."""
+    if m.nu:
+        d.ctrl[:] = v / r
+
+
+def tilt_deg(d):
+    q = d.qpos[3:7]  # chassis quaternion w x y z
+    # body z axis in world: third column of the rotation matrix
+    zz = 1 - 2 * (q[1] ** 2 + q[2] ** 2)
+    return math.degrees(math.acos(max(-1.0, min(1.0, zz))))
+
+
+def time_mujoco(name, duration):
+    m, d, r = build(name)
+    drive(m, d, r, SPEED)
+    steps = int(round(duration / DT))
+    chunk = 10
+    stepping, contacts, samples = 0.0, 0, 0
+    x2 = None
+    for i in range(steps // chunk):
+        t0 = time.perf_counter()
+        mujoco.mj_step(m, d, nstep=chunk)
+        stepping += time.perf_counter() - t0
+        contacts += d.ncon
+        samples += 1
+        if x2 is None and d.time >= 2.0:
+            x2, t2 = d.qpos[0], d.time
+        if not np.all(np.isfinite(d.qpos)):
+            raise RuntimeError(f"{name}: state not finite at t = {d.time:.3f} s")
+    speed = (d.qpos[0] - x2) / (d.time - t2) if x2 is not None else float("nan")
+    return dict(rtf=d.time / stepping, us_per_step=stepping * 1e6 / steps,
+                contacts=contacts / samples, speed=speed, height=float(d.qpos[2]),
+                lateral=float(d.qpos[1]), tilt=tilt_deg(d), nv=m.nv, nefc=int(d.nefc))
+
+
+def climb_mujoco(name, h, duration=8.0):
+    m, d, r = build(name, h)
+    drive(m, d, r, SPEED)
+    worst = 0.0
+    while d.time < duration:
+        mujoco.mj_step(m, d, nstep=10)
+        worst = max(worst, tilt_deg(d))
+        if not np.all(np.isfinite(d.qpos)) or worst > MAX_TILT_DEG:
+            break
+    ok = d.qpos[0] > SUCCESS_X and d.qpos[2] > h and worst <= MAX_TILT_DEG
+    return dict(climbed=bool(ok), x=float(d.qpos[0]), z=float(d.qpos[2]), max_tilt=worst)
+
+
+def run_tracksim_bench(binary, duration, methods):
+    cmd = [binary, "bench", "--repeat", "1", "--cases", "packbot", "--duration", str(duration),
+           "--json"]
+    if methods:
+        cmd += ["--methods", ",".join(methods)]
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    case = json.loads(out)["cases"][0]
+    return {mm["name"]: dict(rtf=mm["rtf_median"], us_per_step=mm["us_per_step"],
+                             contacts=mm["contacts_per_step"]) for mm in case["methods"]
+            if mm["error"] is None}
+
+
+def run_contact_floor(binary, args):
+    """The contact_floor example with its arguments GROUSERS BODIES ITERATIONS [SHAPE [GROUND]]."""
+    out = subprocess.run([binary, *args], check=True, capture_output=True, text=True).stdout
+    # "36 grousers on 6 bodies, 4 iterations: 32.0 us/step (real-time factor 31), 156 contacts"
+    us = float(out.split(":")[1].split("us/step")[0])
+    contacts = int(out.split("),")[1].split("contacts")[0])
+    return dict(rtf=1e3 / us, us_per_step=us, contacts=contacts)
+
+
+def climb_tracksim(binary, scenario, h, methods):
+    """Writes the step scenario with height h next to a copy of the vehicle path and runs it."""
+    vehicle = os.path.join(os.path.dirname(os.path.abspath(scenario)), "..", "vehicles",
+                           "packbot510.toml")
+    text = f"""description = "issue 16 step sweep, {h} m"
+[vehicle]
+file = "{os.path.abspath(vehicle)}"
+[terrain.ground]
+friction = {FRICTION}
+[[terrain.boxes]]
+centre_m = [{STEP_EDGE_X + 1.0}, 0.0, {h / 2}]
+size_m = [2.0, 3.0, {h}]
+friction = {FRICTION}
+[simulation]
+dt_s = {DT}
+duration_s = 8.0
+[outcome]
+success_x_m = {SUCCESS_X}
+max_tilt_deg = {MAX_TILT_DEG}
+[[commands]]
+t_s = 0.0
+belt_speed_mps = {SPEED}
+"""
+    res = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "step.toml")
+        with open(path, "w") as f:
+            f.write(text)
+        for meth in methods:
+            out = subprocess.run([binary, "run", path, "--method", meth, "--json", "--quiet",
+                                  "--no-plot", "--out", os.path.join(tmp, meth)],
+                                 capture_output=True, text=True)
+            if out.returncode != 0:
+                res[meth] = dict(climbed=False, error=out.stderr.strip()[-200:])
+                continue
+            s = json.loads(out.stdout)
+            res[meth] = dict(climbed=s.get("outcome") == "success", outcome=s.get("outcome"))
+    return res
+
+
+def machine():
+    cpu = "unknown"
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    cpu = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    return dict(cpu=cpu, nproc=os.cpu_count(), python=platform.python_version(),
+                mujoco=mujoco.__version__, date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()))
+
+
+def summarise(runs):
+    out = {}
+    for name, rs in runs.items():
+        rtf = [r["rtf"] for r in rs]
+        out[name] = dict(rtf_median=statistics.median(rtf), rtf_min=min(rtf), rtf_max=max(rtf),
+                         us_per_step=statistics.median(r["us_per_step"] for r in rs),
+                         contacts=statistics.median(r["contacts"] for r in rs), runs=rtf)
+        for key in ("speed", "height", "lateral", "tilt", "nv"):
+            if key in rs[0]:
+                out[name][key] = statistics.median(r[key] for r in rs)
+    return out
+
+
+def report(info, summary, loads, climbs):
+    mj = [k for k in summary if k.startswith("mj_")]
+    ts = [k for k in summary if not k.startswith("mj_") and not k.startswith("floor")]
+    lines = [f"Machine: {info['cpu']}, {info['nproc']} cores; MuJoCo {info['mujoco']}, "
+             f"Python {info['python']}; {info['date']}; load average (1 min) during the run "
+             f"{min(loads):.2f}-{max(loads):.2f}.", ""]
+    lines += ["### Ratios (tracksim method RTF / MuJoCo model RTF, medians of the same run)", "",
+              "| tracksim method | " + " | ".join(mj) + " |",
+              "|---|" + "---:|" * len(mj)]
+    for t in ts:
+        lines.append(f"| {t} | " + " | ".join(
+            f"{summary[t]['rtf_median'] / summary[k]['rtf_median']:.2f}" for k in mj) + " |")
+    floors = [k for k in summary if k.startswith("floor ")]
+    targets = [("mj_plates40", 25.0), ("mj_surfacevel", 0.25), ("wheels4", 0.6)] + \
+        [(k, 1 / 1.3) for k in floors]
+    cands = [t for t in ("okada2020", "okada2020_line_tips") if t in summary]
+    if cands:
+        lines += ["", "### Targets of issue 16 (RTF ratio, same run)", "",
+                  "| ratio | target | " + " | ".join(cands) + " |",
+                  "|---|---:|" + "---:|" * len(cands)]
+        for k, goal in targets:
+            if k not in summary:
+                continue
+            vals = [summary[c]["rtf_median"] / summary[k]["rtf_median"] for c in cands]
+            lines.append(f"| method / {k} | >= {goal:.2f} | " + " | ".join(
+                f"{v:.2f} ({'met' if v >= goal else 'not met'})" for v in vals) + " |")
+    lines += ["", "### Every model, this machine, this day", "",
+              "| model | RTF median | RTF min-max | us/step | contacts/step | speed m/s (2-10 s) | height m |",
+              "|---|---:|---:|---:|---:|---:|---:|"]
+    for k, s in summary.items():
+        sp = f"{s['speed']:.3f}" if "speed" in s and math.isfinite(s["speed"]) else "-"
+        hz = f"{s['height']:.4f}" if "height" in s else "-"
+        lines.append(f"| {k} | {s['rtf_median']:.1f} | {s['rtf_min']:.1f}-{s['rtf_max']:.1f} | "
+                     f"{s['us_per_step']:.1f} | {s['contacts']:.0f} | {sp} | {hz} |")
+    if climbs:
+        hs = sorted({h for c in climbs.values() for h in c})
+        lines += ["", "### Step climbing (friction 0.6, 0.3 m/s, 8 s)", "",
+                  "| model | " + " | ".join(f"{h:.2f} m" for h in hs) + " |",
+                  "|---|" + "---|" * len(hs)]
+        for k, c in climbs.items():
+            lines.append(f"| {k} | " + " | ".join(
+                ("yes" if c[h]["climbed"] else "no") if h in c else "-" for h in hs) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--tracksim", required=True, help="path to the release tracksim binary")
+    ap.add_argument("--contact-floor", help="path to the contact_floor example binary")
+    ap.add_argument("--scenario", required=True, help="scenarios/packbot_flat.toml")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--duration", type=float, default=10.0, help="simulated s per run")
+    ap.add_argument("--models", default=",".join(MODELS), help="MuJoCo models, comma-separated")
+    ap.add_argument("--methods", default="", help="tracksim methods (default: all)")
+    ap.add_argument("--floor", default="36:6:4:box:tile,36:6:4:capsule:tile",
+                    help="contact_floor runs GROUSERS:BODIES:ITERATIONS[:SHAPE[:GROUND]], "
+                         "comma-separated")
+    ap.add_argument("--steps", default="", help="step heights to climb, m, e.g. 0.08,0.10,0.12")
+    ap.add_argument("--out", default="bench_out/mujoco")
+    a = ap.parse_args()
+    if a.repeat < 1 or a.duration <= 0:
+        sys.exit("bench.py: --repeat must be >= 1 and --duration > 0")
+    models = [m for m in a.models.split(",") if m]
+    for m in models:
+        if m not in MODELS:
+            sys.exit(f"bench.py: unknown --models entry {m!r}; known: {', '.join(MODELS)}")
+    methods = [m for m in a.methods.split(",") if m]
+    floors = [f.split(":") for f in a.floor.split(",") if f] if a.contact_floor else []
+    info = machine()
+    runs, loads = {}, []
+    for r in range(a.repeat):
+        for m in models:
+            loads.append(os.getloadavg()[0])
+            print(f"[{r + 1}/{a.repeat}] {m}", file=sys.stderr, flush=True)
+            runs.setdefault(m, []).append(time_mujoco(m, a.duration))
+        loads.append(os.getloadavg()[0])
+        print(f"[{r + 1}/{a.repeat}] tracksim bench", file=sys.stderr, flush=True)
+        for k, v in run_tracksim_bench(a.tracksim, a.duration, methods).items():
+            runs.setdefault(k, []).append(v)
+        for f in floors:
+            runs.setdefault("floor " + ":".join(f), []).append(run_contact_floor(a.contact_floor, f))
+    summary = summarise(runs)
+    climbs = {}
+    heights = [float(h) for h in a.steps.split(",") if h]
+    for h in heights:
+        print(f"step {h} m", file=sys.stderr, flush=True)
+        for m in models:
+            climbs.setdefault(m, {})[h] = climb_mujoco(m, h)
+        ts = methods or [k for k in summary if not k.startswith(("mj_", "floor"))]
+        for k, v in climb_tracksim(a.tracksim, a.scenario, h, ts).items():
+            climbs.setdefault(k, {})[h] = v
+    text = report(info, summary, loads, climbs)
+    os.makedirs(a.out, exist_ok=True)
+    with open(os.path.join(a.out, "mujoco_bench.md"), "w") as f:
+        f.write(text)
+    with open(os.path.join(a.out, "mujoco_bench.json"), "w") as f:
+        json.dump(dict(machine=info, loads=loads, summary=summary, runs=runs,
+                       climbs={k: {str(h): v for h, v in c.items()} for k, c in climbs.items()}),
+                  f, indent=1)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
