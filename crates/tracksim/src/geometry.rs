@@ -217,7 +217,10 @@ impl fmt::Display for PathError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use PathError::*;
         match *self {
-            TooFewSegments(n) => write!(f, "a track loop needs at least 2 segments, got {n}"),
+            TooFewSegments(n) => write!(
+                f,
+                "a track loop needs at least 2 segments (or one full-circle arc), got {n}"
+            ),
             NotFinite { segment } => write!(f, "segment {segment}: a value is not finite"),
             NonPositiveLength { segment, length } => {
                 write!(
@@ -234,7 +237,7 @@ impl fmt::Display for PathError {
             ),
             BadArcAngle { segment, angle } => write!(
                 f,
-                "segment {segment}: arc angle must be non-zero and less than a full turn (360 deg), got {:.4} deg",
+                "segment {segment}: arc angle must be non-zero and less than a full turn (360 deg; exactly 360 deg only as the one segment of a wheel), got {:.4} deg",
                 angle.to_degrees()
             ),
             Gap { segment, next, gap } => write!(
@@ -298,7 +301,9 @@ impl TrackPath {
     pub fn new(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
         let mut errors = Vec::new();
         let n = segments.len();
-        if n < 2 {
+        // One segment closes only as a full circle (a wheel, paper Fig. 8).
+        let single_circle = n == 1 && !segments[0].is_straight();
+        if n < 2 && !single_circle {
             return Err(vec![PathError::TooFewSegments(n)]);
         }
         // Per-segment checks.
@@ -364,7 +369,12 @@ impl TrackPath {
                             radius: r,
                         });
                     }
-                    if angle == 0.0 || angle.abs() >= TAU - TANGENT_TOLERANCE_RAD {
+                    let bad_angle = if single_circle {
+                        (angle.abs() - TAU).abs() > TANGENT_TOLERANCE_RAD
+                    } else {
+                        angle == 0.0 || angle.abs() >= TAU - TANGENT_TOLERANCE_RAD
+                    };
+                    if bad_angle {
                         errors.push(PathError::BadArcAngle { segment: i, angle });
                     }
                     segs.push(s);
@@ -536,6 +546,22 @@ impl TrackPath {
             }
         }
         TrackPath::new(segments)
+    }
+
+    /// A full circle of `radius` m about the axis +y through (`x`, `plane_y`, `z`) (a wheel's
+    /// rolling circle), starting at its lowest point, traversed so that a positive belt speed
+    /// moves the bottom backwards (-x), i.e. rolls forwards.
+    pub fn circle(x: f64, z: f64, radius: f64, plane_y: f64) -> Result<Self, Vec<PathError>> {
+        if !(radius > 0.0 && radius.is_finite() && x.is_finite() && z.is_finite()) {
+            return Err(vec![PathError::BadPulley { pulley: 0, radius }]);
+        }
+        let centre = DVec3::new(x, plane_y, z);
+        TrackPath::new(vec![Segment::Arc {
+            start: centre - DVec3::Z * radius,
+            centre,
+            axis: DVec3::Y,
+            angle: TAU,
+        }])
     }
 
     /// The segments, in order of belt travel.

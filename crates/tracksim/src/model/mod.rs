@@ -14,7 +14,8 @@
 //!   overrides, terrain, simulation settings, commands, extra checks, outcome);
 //! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
-//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]).
+//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
+//! - `wheel.rs`: a lugged wheel's rolling circle ([`rolling_radius`]) and its lugs.
 
 #![warn(clippy::too_many_lines)]
 
@@ -30,6 +31,7 @@ mod randomize;
 mod scenario;
 mod template;
 mod vehicle;
+mod wheel;
 
 pub use compile_scenario::*;
 pub use compile_vehicle::*;
@@ -46,3 +48,4 @@ pub use randomize::*;
 pub use scenario::*;
 pub use template::*;
 pub use vehicle::*;
+pub use wheel::rolling_radius;

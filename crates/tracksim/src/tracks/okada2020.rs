@@ -217,7 +217,7 @@ fn belt_collider(t: &TrackModel, seg: &Segment, lateral: DVec3) -> (LinkKind, Co
                     axis: axis * angle.signum(),
                     radius,
                 },
-                ColliderBuilder::cylinder((t.width / 2.0) as f32, radius as f32)
+                ColliderBuilder::cylinder((t.width / 2.0) as f32, (radius - t.rim_inset) as f32)
                     .position(Pose::from_parts(f(centre), q(rot))),
             )
         }
