@@ -8,6 +8,8 @@
 //! - `compliance.rs`: a track's contact compliance ([`Compliance`], `[tracks.compliance]`) and
 //!   the rubber formulas giving its stiffness;
 //! - `motor.rs`: a track's drive motor ([`DriveMotor`], `[tracks.motor]`);
+//! - `conveyor.rs`: conveyors (tracks on the world, [`ConveyorModel`]) and loose boxes
+//!   ([`LooseBoxModel`]) of `[terrain]`;
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
@@ -24,6 +26,7 @@ mod compile_track;
 mod compile_vehicle;
 mod compliance;
 mod controls;
+mod conveyor;
 mod design;
 mod load;
 mod motor;
@@ -40,6 +43,7 @@ pub use compliance::{
     lug_tip_stiffness,
 };
 pub use controls::*;
+pub use conveyor::{ConveyorModel, LooseBoxModel};
 pub use design::*;
 pub use load::*;
 pub use motor::DriveMotor;

@@ -37,6 +37,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
+    let conveyors = super::conveyor::build_conveyors(&mut world, &sc, origin)?;
     let mut sim = Simulation {
         world,
         origin,
@@ -56,6 +57,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
+        conveyors,
     };
     sim.conserve_mass(&sc)?;
     place(&mut sim);

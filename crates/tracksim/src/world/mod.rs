@@ -7,6 +7,7 @@
 //! - [`compliance`]: grousers and belts as springs and dampers (`[tracks.compliance]`);
 //! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
+//! - [`conveyor`]: conveyors (tracks on the world) and loose boxes, built and stepped;
 //! - [`step`]: the stages of one step;
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
 //! - [`load`]: loading a scenario with the track method checked with every other key;
@@ -21,6 +22,7 @@
 pub mod build;
 pub mod compliance;
 pub mod contacts;
+pub mod conveyor;
 pub mod load;
 pub mod mass;
 pub mod odometry;
@@ -89,6 +91,8 @@ pub struct Simulation {
     flipper_names: Vec<String>,
     /// Dead reckoning from the measured belt speeds.
     odometry: Odometry,
+    /// Conveyors and loose boxes.
+    conveyors: conveyor::Conveyors,
 }
 
 impl Simulation {
