@@ -1,5 +1,5 @@
-//! Track paths: closed loops of straight and circular segments (paper Sec. III-A), and the
-//! grouser pattern distributed along them by arc length (Sec. III-B).
+//! Track paths: closed loops of straight and circular segments (paper Sec. III-A), planar or
+//! spatial (Fig. 8), and the grouser pattern distributed along them by arc length (Sec. III-B).
 //!
 //! All quantities are SI (m, rad) in `f64`, in the frame of the link the track hangs on (the
 //! *track frame*). Every length and pose is computed in closed form; nothing is sampled.
@@ -292,13 +292,22 @@ pub struct TrackPath {
     /// Arc length at which each segment starts, m.
     starts: Vec<f64>,
     length: f64,
-    /// Unit axis about which the loop turns positively (for a track: +y, lateral).
+    /// Unit axis about which the loop turns positively (for a track: +y, lateral); for a
+    /// spatial loop, the first frame's lateral axis.
     axis: DVec3,
+    /// A spatial loop's frame at the start of every segment (`None`: planar, the lateral axis
+    /// is `axis` everywhere).
+    frames: Option<Vec<DQuat>>,
+    /// A spatial loop's twist: the angle about the tangent by which the transported frame
+    /// comes back rotated after one lap, rad; taken out evenly along the loop.
+    twist: f64,
 }
 
 impl TrackPath {
-    /// Validates a loop of segments. Returns every problem found, each naming its segment.
-    pub fn new(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+    /// The checks every loop gets: each segment on its own, then position and tangent
+    /// continuity at every join, the closing one included. Returns the normalised segments and
+    /// the join problems (per-segment problems end the check).
+    fn checked_loop(segments: &[Segment]) -> Result<(Vec<Segment>, Vec<PathError>), Vec<PathError>> {
         let mut errors = Vec::new();
         let n = segments.len();
         // One segment closes only as a full circle (a wheel, paper Fig. 8).
@@ -406,6 +415,14 @@ impl TrackPath {
                 });
             }
         }
+        Ok((segs, errors))
+    }
+
+    /// Validates a loop of segments in one plane. Returns every problem found, each naming
+    /// its segment.
+    pub fn new(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+        let (segs, mut errors) = Self::checked_loop(&segments)?;
+        let n = segs.len();
         // Planarity and total turning: the first arc defines the loop's positive axis.
         let first_arc = segs.iter().find_map(|s| match *s {
             Segment::Arc { axis, angle, .. } => Some(axis * angle.signum()),
@@ -448,7 +465,77 @@ impl TrackPath {
             starts,
             length: acc,
             axis: loop_axis,
+            frames: None,
+            twist: 0.0,
         })
+    }
+
+    /// Validates a loop whose segments need not share a plane (paper Fig. 8: a belt that turns
+    /// a corner, objects on a three-dimensional trajectory): straights in any direction and
+    /// arcs about any axis, with the joins, tangents and closure of every loop checked. Its
+    /// frame ([`TrackPath::frame_at`]) is carried along the loop by each arc's rotation, with
+    /// the twist it has after one lap taken out evenly, so it is continuous everywhere,
+    /// across the closing join too. Its [`TrackPath::axis`] is the lateral axis at s = 0: the
+    /// signed axis of the first arc made square to the start tangent.
+    pub fn spatial(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+        let (segs, errors) = Self::checked_loop(&segments)?;
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let mut starts = Vec::with_capacity(segs.len());
+        let mut acc = 0.0;
+        for s in &segs {
+            starts.push(acc);
+            acc += s.length();
+        }
+        let t0 = segs[0].point_tangent(0.0).1;
+        let reference = segs
+            .iter()
+            .find_map(|s| match *s {
+                Segment::Arc { axis, angle, .. } => Some(axis * angle.signum()),
+                _ => None,
+            })
+            .unwrap_or(DVec3::Z);
+        let mut lateral = reference - t0 * t0.dot(reference);
+        if lateral.length() < 1e-6 {
+            lateral = t0.any_orthonormal_vector();
+        }
+        let lateral = lateral.normalize();
+        let mut q = DQuat::from_mat3(&glam::DMat3::from_cols(t0, lateral, t0.cross(lateral)));
+        let mut frames = Vec::with_capacity(segs.len());
+        for (i, seg) in segs.iter().enumerate() {
+            frames.push(q);
+            q = Self::transported(seg, q, seg.length());
+            let next = segs[(i + 1) % segs.len()].point_tangent(0.0).1;
+            q = (DQuat::from_rotation_arc(q * DVec3::X, next) * q).normalize();
+        }
+        let l_end = q * DVec3::Y;
+        let twist = t0.dot(lateral.cross(l_end)).atan2(lateral.dot(l_end));
+        Ok(TrackPath {
+            segments: segs,
+            starts,
+            length: acc,
+            axis: lateral,
+            frames: Some(frames),
+            twist,
+        })
+    }
+
+    /// Frame rotation `q` at the start of `seg` carried `s` m along it (arcs rotate it about
+    /// their axis with the tangent; straights keep it).
+    fn transported(seg: &Segment, q: DQuat, s: f64) -> DQuat {
+        match *seg {
+            Segment::Straight { .. } => q,
+            Segment::Arc { axis, angle, .. } => {
+                let r = seg.radius().unwrap_or(1.0);
+                DQuat::from_axis_angle(axis, angle.signum() * s / r) * q
+            }
+        }
+    }
+
+    /// True for a loop in one plane ([`TrackPath::new`]), false for [`TrackPath::spatial`].
+    pub fn is_planar(&self) -> bool {
+        self.frames.is_none()
     }
 
     /// Builds the belt that wraps the given pulleys on their outside, in the plane y = `plane_y`
@@ -599,6 +686,17 @@ impl TrackPath {
         let s = s.rem_euclid(self.length);
         let i = self.segment_at(s);
         let (p, t) = self.segments[i].point_tangent(s - self.starts[i]);
+        if let Some(frames) = &self.frames {
+            let q = Self::transported(&self.segments[i], frames[i], s - self.starts[i]);
+            let q = DQuat::from_axis_angle(t, -self.twist * s / self.length) * q;
+            let lateral = (q * DVec3::Y - t * t.dot(q * DVec3::Y)).normalize();
+            return Frame {
+                origin: p,
+                tangent: t,
+                lateral,
+                normal: t.cross(lateral),
+            };
+        }
         Frame {
             origin: p,
             tangent: t,
@@ -609,8 +707,13 @@ impl TrackPath {
 
     /// The same loop reflected to the other side of the vehicle (y -> -y).
     pub fn mirrored_y(&self) -> Self {
-        TrackPath::new(self.segments.iter().map(Segment::mirrored_y).collect())
-            .expect("a mirrored valid loop is valid")
+        let segs = self.segments.iter().map(Segment::mirrored_y).collect();
+        if self.is_planar() {
+            TrackPath::new(segs)
+        } else {
+            TrackPath::spatial(segs)
+        }
+        .expect("a mirrored valid loop is valid")
     }
 }
 
