@@ -290,7 +290,12 @@ fn track_path(
                     "only used with pulleys; explicit segments carry their own y",
                 );
             }
-            TrackPath::new(s.iter().map(segment).collect())
+            let segs = s.iter().map(segment).collect();
+            if p.spatial {
+                TrackPath::spatial(segs)
+            } else {
+                TrackPath::new(segs)
+            }
         }
         _ => {
             c.push(
@@ -309,7 +314,13 @@ fn track_path(
             return None;
         }
     };
-    if path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
+    if p.spatial && p.segments.is_none() {
+        c.push(
+            format!("{pk}.spatial"),
+            "only used with `segments` (pulleys and wheels lie in a plane)",
+        );
+    }
+    if path.is_planar() && path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
         c.push(
             pk.to_string(),
             "the loop must lie in an x-z plane and turn about +y (lower run moving backwards for a positive belt speed); reverse the segment order",

@@ -218,6 +218,11 @@ pub struct PathSpec {
     /// Explicit segments in order of belt travel (paper Sec. III-A).
     #[serde(default)]
     pub segments: Option<Vec<SegmentSpec>>,
+    /// The `segments` need not share a plane (straights in any direction, arcs about any axis;
+    /// conveyors only, paper Fig. 8): the loop then carries only its grousers (the objects it
+    /// moves), no belt surface.
+    #[serde(default)]
+    pub spatial: bool,
 }
 
 /// A pulley in the track's x-z plane.

@@ -98,6 +98,19 @@ impl Simulation {
             .collect()
     }
 
+    /// The conveyors' belts at run time (belt position and phase, grouser colliders, link
+    /// error), in file order.
+    pub fn conveyor_tracks(&self) -> &[Box<dyn Track>] {
+        &self.conveyors.belts
+    }
+
+    /// Forgets the largest link error every conveyor has seen so far.
+    pub fn reset_conveyor_link_errors(&mut self) {
+        for b in &mut self.conveyors.belts {
+            b.reset_link_error();
+        }
+    }
+
     /// Each conveyor's unwrapped belt position, m, and measured belt speed, m/s.
     pub fn conveyor_belts(&self) -> Vec<(f64, f64)> {
         self.conveyors
