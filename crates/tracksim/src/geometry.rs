@@ -307,7 +307,9 @@ impl TrackPath {
     /// The checks every loop gets: each segment on its own, then position and tangent
     /// continuity at every join, the closing one included. Returns the normalised segments and
     /// the join problems (per-segment problems end the check).
-    fn checked_loop(segments: &[Segment]) -> Result<(Vec<Segment>, Vec<PathError>), Vec<PathError>> {
+    fn checked_loop(
+        segments: &[Segment],
+    ) -> Result<(Vec<Segment>, Vec<PathError>), Vec<PathError>> {
         let mut errors = Vec::new();
         let n = segments.len();
         // One segment closes only as a full circle (a wheel, paper Fig. 8).

@@ -92,4 +92,3 @@ fn the_conveyor_carries_a_box_onto_the_step() {
     assert!((end.z - 0.38).abs() < 0.005, "box z {}", end.z);
     assert!(rest < 0.01, "box still moving at {rest} m/s");
 }
-

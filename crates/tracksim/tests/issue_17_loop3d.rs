@@ -34,7 +34,10 @@ fn objects_on_a_3d_loop_stay_on_their_path_over_a_long_run() {
             sim.step().unwrap();
         }
         if (sim.time() - 1.0).abs() < 1e-9 {
-            println!("link error in the first second: {:?}", sim.conveyor_tracks()[0].link_error());
+            println!(
+                "link error in the first second: {:?}",
+                sim.conveyor_tracks()[0].link_error()
+            );
             sim.sim.reset_conveyor_link_errors();
         }
         let belt = &sim.conveyor_tracks()[0];
@@ -72,7 +75,10 @@ fn objects_on_a_3d_loop_stay_on_their_path_over_a_long_run() {
     );
     assert_eq!(checks, 16 * 1200);
     assert!(worst < 1e-4, "an object left its path by {worst} m");
-    assert!(worst_angle < 1e-4 / 0.2, "an object turned off its path by {worst_angle}");
+    assert!(
+        worst_angle < 1e-4 / 0.2,
+        "an object turned off its path by {worst_angle}"
+    );
     // The solver's one-step joint error after the start-up second (measured 0.14 mm and
     // 0.38 mrad; 0.9 mm in the first second, when the belt jumps to 1 m/s): the rollback
     // removes it every step, so it never accumulates, and the distances above are after it.

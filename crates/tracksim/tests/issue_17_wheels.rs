@@ -55,7 +55,12 @@ fn lugged_wheels_climb_a_step_that_smooth_wheels_of_the_same_radius_cannot() {
         smooth.outcome.reason(),
         end(&smooth)
     );
-    assert_eq!(lugged.outcome.name(), "success", "{}", lugged.outcome.reason());
+    assert_eq!(
+        lugged.outcome.name(),
+        "success",
+        "{}",
+        lugged.outcome.reason()
+    );
     // On top: the body rests on the lug tips 0.12 m above the 0.08 m step (1 cm band for the
     // polygonal rolling, whose dip is R (1 - cos(15 deg)) = 4 mm, and the contact slop).
     let (x, z) = end(&lugged);

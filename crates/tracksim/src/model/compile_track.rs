@@ -341,8 +341,7 @@ fn wheel_path(
     c.finite(&format!("{pk}.plane_y_m"), &[plane_y]);
     c.finite(&wk, &[w.x_m, w.z_m]);
     c.positive(&format!("{wk}.radius_m"), w.radius_m, "m");
-    if !(w.radius_m > 0.0 && w.radius_m.is_finite() && w.x_m.is_finite() && w.z_m.is_finite())
-    {
+    if !(w.radius_m > 0.0 && w.radius_m.is_finite() && w.x_m.is_finite() && w.z_m.is_finite()) {
         return None;
     }
     let roll = super::rolling_radius(w.radius_m, grousers.as_ref());

@@ -29,7 +29,8 @@ pub(crate) fn build_conveyors(
     let mut out = Conveyors::default();
     for (i, cv) in sc.conveyors.iter().enumerate() {
         let frame = world.bodies.insert(
-            RigidBodyBuilder::fixed().pose(Pose::from_parts(f(cv.centre - origin), q(cv.rotation()))),
+            RigidBodyBuilder::fixed()
+                .pose(Pose::from_parts(f(cv.centre - origin), q(cv.rotation()))),
         );
         let mut ctx = BuildContext {
             world: &mut *world,
