@@ -127,33 +127,50 @@ impl Segment {
         matches!(self, Segment::Straight { .. })
     }
 
-    /// The same segment reflected through the track frame's x-z plane (y -> -y), for the
-    /// opposite side of a symmetric vehicle. Arc axes are pseudovectors, so the sense of travel
-    /// is kept.
-    pub fn mirrored_y(&self) -> Segment {
-        let m = |v: DVec3| DVec3::new(v.x, -v.y, v.z);
+    /// The same segment with its points mapped by `point`, its straight direction by
+    /// `direction` and its arc axis by `axis`.
+    fn mapped(
+        &self,
+        point: impl Fn(DVec3) -> DVec3,
+        direction: impl Fn(DVec3) -> DVec3,
+        axis: impl Fn(DVec3) -> DVec3,
+    ) -> Segment {
         match *self {
             Segment::Straight {
                 start,
-                direction,
+                direction: d,
                 length,
             } => Segment::Straight {
-                start: m(start),
-                direction: m(direction),
+                start: point(start),
+                direction: direction(d),
                 length,
             },
             Segment::Arc {
                 start,
                 centre,
-                axis,
+                axis: a,
                 angle,
             } => Segment::Arc {
-                start: m(start),
-                centre: m(centre),
-                axis: -m(axis),
+                start: point(start),
+                centre: point(centre),
+                axis: axis(a),
                 angle,
             },
         }
+    }
+
+    /// The same segment moved rigidly: rotated by `rotation` about the origin, then shifted by
+    /// `shift` m (e.g. a loop placed at a pose).
+    pub fn moved(&self, rotation: DQuat, shift: DVec3) -> Segment {
+        self.mapped(|v| rotation * v + shift, |v| rotation * v, |v| rotation * v)
+    }
+
+    /// The same segment reflected through the track frame's x-z plane (y -> -y), for the
+    /// opposite side of a symmetric vehicle. Arc axes are pseudovectors, so the sense of travel
+    /// is kept.
+    pub fn mirrored_y(&self) -> Segment {
+        let m = |v: DVec3| DVec3::new(v.x, -v.y, v.z);
+        self.mapped(m, m, |v| -m(v))
     }
 }
 

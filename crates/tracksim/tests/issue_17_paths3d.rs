@@ -98,33 +98,7 @@ fn climbing_stadium(p: &Params) -> (Vec<Segment>, f64) {
     let length = 2.0 * fa + 2.0 * rho * a + la + 2.0 * fb + 2.0 * rho * b + lb + 2.0 * PI * p.turn;
     // Place it at a random pose: the arcs' axes become arbitrary.
     let q = DQuat::from_axis_angle(p.axis, p.angle);
-    let m = |v: DVec3| q * v + p.shift;
-    let segs = k
-        .segs
-        .iter()
-        .map(|s| match *s {
-            Segment::Straight {
-                start,
-                direction,
-                length,
-            } => Segment::Straight {
-                start: m(start),
-                direction: q * direction,
-                length,
-            },
-            Segment::Arc {
-                start,
-                centre,
-                axis,
-                angle,
-            } => Segment::Arc {
-                start: m(start),
-                centre: m(centre),
-                axis: q * axis,
-                angle,
-            },
-        })
-        .collect();
+    let segs = k.segs.iter().map(|s| s.moved(q, p.shift)).collect();
     (segs, length)
 }
 
