@@ -92,3 +92,29 @@ fn the_conveyor_carries_a_box_onto_the_step() {
     assert!((end.z - 0.38).abs() < 0.005, "box z {}", end.z);
     assert!(rest < 0.01, "box still moving at {rest} m/s");
 }
+
+/// Bad conveyor and loose-box keys are reported with their key paths, all at once.
+#[test]
+fn bad_conveyor_keys_are_named() {
+    let path = root().join("scenarios/conveyor_box_step.toml");
+    let mut spec: ScenarioSpec = read_toml(&path).unwrap();
+    let cv = &mut spec.terrain.conveyors[0];
+    cv.belt_speed_mps = f64::NAN;
+    cv.belt.parent = "left".into();
+    cv.belt.path.spatial = true;
+    spec.terrain.loose_boxes[0].mass_kg = 0.0;
+    let dir = root().join("scenarios");
+    let vehicle = load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
+    let issues = tracksim::compile_scenario(&spec, vehicle, &dir).unwrap_err();
+    let keys: Vec<String> = issues.iter().map(|i| i.key.clone()).collect();
+    println!("{issues:?}");
+    for k in [
+        "terrain.conveyors[0].belt_speed_mps",
+        "terrain.conveyors[0].belt.parent",
+        "terrain.conveyors[0].belt.path.spatial",
+        "terrain.loose_boxes[0].mass_kg",
+    ] {
+        assert!(keys.iter().any(|x| x == k), "{k} missing from {keys:?}");
+    }
+    assert_eq!(keys.len(), 4, "{keys:?}");
+}

@@ -259,6 +259,12 @@ fn track_path(
     p: &PathSpec,
     grousers: &mut Option<GrouserModel>,
 ) -> Option<(TrackPath, f64)> {
+    if p.spatial && p.segments.is_none() {
+        c.push(
+            format!("{pk}.spatial"),
+            "only used with `segments` (pulleys and wheels lie in a plane)",
+        );
+    }
     if let Some(w) = &p.wheel {
         if p.pulleys.is_some() || p.segments.is_some() {
             c.push(
@@ -314,12 +320,6 @@ fn track_path(
             return None;
         }
     };
-    if p.spatial && p.segments.is_none() {
-        c.push(
-            format!("{pk}.spatial"),
-            "only used with `segments` (pulleys and wheels lie in a plane)",
-        );
-    }
     if path.is_planar() && path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
         c.push(
             pk.to_string(),

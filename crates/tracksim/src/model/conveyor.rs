@@ -61,8 +61,13 @@ pub(super) fn compile_conveyors(c: &mut Checker, specs: &[ConveyorSpec]) -> Vec<
                 );
             }
         }
+        // `parent` reported above: checked as "body" so it is not reported twice.
+        let b = crate::spec::TrackSpec {
+            parent: "body".into(),
+            ..b.clone()
+        };
         let mut belts = Vec::new();
-        super::compile_track::compile_track(c, &[], &bk, b, &mut belts);
+        super::compile_track::compile_track(c, &[], &bk, &b, &mut belts);
         if let Some(belt) = belts.into_iter().next() {
             out.push(ConveyorModel {
                 belt,
