@@ -36,8 +36,11 @@ fn step_run(smooth: bool) -> tracksim::RunResult {
 /// vertical; the contact force lies within the friction cone of half angle atan 0.5 = 26.6
 /// deg about it, so every newton it lifts comes with at least tan(43.9 deg) = 0.96 N pushing
 /// the rover back, which the front wheels must balance with traction of at most 0.5 times
-/// their load: the edge can carry at most 0.52 times the front load, 34 % of the weight, less
-/// than the rear wheels' share (half at rest, more with the nose up). A lug hooked over the
+/// their load: the edge can carry at most 0.52 times the front load, 34 % of the weight. It
+/// has to carry 65 %: the edge contact lies R sin(phi) = 0.113 m ahead of the rear axle, so
+/// with the centre of mass midway along the 0.5 m wheelbase the moments give it
+/// 0.25 / (0.25 + 0.137) of the weight (both horizontal forces act at the step's height, so
+/// they add no moment). A lug hooked over the
 /// edge instead pushes on it with its face, along the wheel's tangent, which lifts without
 /// needing friction, so the lugged wheel climbs.
 #[test]
