@@ -1,5 +1,5 @@
-//! Track paths: closed loops of straight and circular segments (paper Sec. III-A), and the
-//! grouser pattern distributed along them by arc length (Sec. III-B).
+//! Track paths: closed loops of straight and circular segments (paper Sec. III-A), planar or
+//! spatial (Fig. 8), and the grouser pattern distributed along them by arc length (Sec. III-B).
 //!
 //! All quantities are SI (m, rad) in `f64`, in the frame of the link the track hangs on (the
 //! *track frame*). Every length and pose is computed in closed form; nothing is sampled.
@@ -127,33 +127,50 @@ impl Segment {
         matches!(self, Segment::Straight { .. })
     }
 
-    /// The same segment reflected through the track frame's x-z plane (y -> -y), for the
-    /// opposite side of a symmetric vehicle. Arc axes are pseudovectors, so the sense of travel
-    /// is kept.
-    pub fn mirrored_y(&self) -> Segment {
-        let m = |v: DVec3| DVec3::new(v.x, -v.y, v.z);
+    /// The same segment with its points mapped by `point`, its straight direction by
+    /// `direction` and its arc axis by `axis`.
+    fn mapped(
+        &self,
+        point: impl Fn(DVec3) -> DVec3,
+        direction: impl Fn(DVec3) -> DVec3,
+        axis: impl Fn(DVec3) -> DVec3,
+    ) -> Segment {
         match *self {
             Segment::Straight {
                 start,
-                direction,
+                direction: d,
                 length,
             } => Segment::Straight {
-                start: m(start),
-                direction: m(direction),
+                start: point(start),
+                direction: direction(d),
                 length,
             },
             Segment::Arc {
                 start,
                 centre,
-                axis,
+                axis: a,
                 angle,
             } => Segment::Arc {
-                start: m(start),
-                centre: m(centre),
-                axis: -m(axis),
+                start: point(start),
+                centre: point(centre),
+                axis: axis(a),
                 angle,
             },
         }
+    }
+
+    /// The same segment moved rigidly: rotated by `rotation` about the origin, then shifted by
+    /// `shift` m (e.g. a loop placed at a pose).
+    pub fn moved(&self, rotation: DQuat, shift: DVec3) -> Segment {
+        self.mapped(|v| rotation * v + shift, |v| rotation * v, |v| rotation * v)
+    }
+
+    /// The same segment reflected through the track frame's x-z plane (y -> -y), for the
+    /// opposite side of a symmetric vehicle. Arc axes are pseudovectors, so the sense of travel
+    /// is kept.
+    pub fn mirrored_y(&self) -> Segment {
+        let m = |v: DVec3| DVec3::new(v.x, -v.y, v.z);
+        self.mapped(m, m, |v| -m(v))
     }
 }
 
@@ -217,7 +234,10 @@ impl fmt::Display for PathError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         use PathError::*;
         match *self {
-            TooFewSegments(n) => write!(f, "a track loop needs at least 2 segments, got {n}"),
+            TooFewSegments(n) => write!(
+                f,
+                "a track loop needs at least 2 segments (or one full-circle arc), got {n}"
+            ),
             NotFinite { segment } => write!(f, "segment {segment}: a value is not finite"),
             NonPositiveLength { segment, length } => {
                 write!(
@@ -234,7 +254,7 @@ impl fmt::Display for PathError {
             ),
             BadArcAngle { segment, angle } => write!(
                 f,
-                "segment {segment}: arc angle must be non-zero and less than a full turn (360 deg), got {:.4} deg",
+                "segment {segment}: arc angle must be non-zero and less than a full turn (360 deg; exactly 360 deg only as the one segment of a wheel), got {:.4} deg",
                 angle.to_degrees()
             ),
             Gap { segment, next, gap } => write!(
@@ -289,16 +309,29 @@ pub struct TrackPath {
     /// Arc length at which each segment starts, m.
     starts: Vec<f64>,
     length: f64,
-    /// Unit axis about which the loop turns positively (for a track: +y, lateral).
+    /// Unit axis about which the loop turns positively (for a track: +y, lateral); for a
+    /// spatial loop, the first frame's lateral axis.
     axis: DVec3,
+    /// A spatial loop's frame at the start of every segment (`None`: planar, the lateral axis
+    /// is `axis` everywhere).
+    frames: Option<Vec<DQuat>>,
+    /// A spatial loop's twist: the angle about the tangent by which the transported frame
+    /// comes back rotated after one lap, rad; taken out evenly along the loop.
+    twist: f64,
 }
 
 impl TrackPath {
-    /// Validates a loop of segments. Returns every problem found, each naming its segment.
-    pub fn new(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+    /// The checks every loop gets: each segment on its own, then position and tangent
+    /// continuity at every join, the closing one included. Returns the normalised segments and
+    /// the join problems (per-segment problems end the check).
+    fn checked_loop(
+        segments: &[Segment],
+    ) -> Result<(Vec<Segment>, Vec<PathError>), Vec<PathError>> {
         let mut errors = Vec::new();
         let n = segments.len();
-        if n < 2 {
+        // One segment closes only as a full circle (a wheel, paper Fig. 8).
+        let single_circle = n == 1 && !segments[0].is_straight();
+        if n < 2 && !single_circle {
             return Err(vec![PathError::TooFewSegments(n)]);
         }
         // Per-segment checks.
@@ -364,7 +397,12 @@ impl TrackPath {
                             radius: r,
                         });
                     }
-                    if angle == 0.0 || angle.abs() >= TAU - TANGENT_TOLERANCE_RAD {
+                    let bad_angle = if single_circle {
+                        (angle.abs() - TAU).abs() > TANGENT_TOLERANCE_RAD
+                    } else {
+                        angle == 0.0 || angle.abs() >= TAU - TANGENT_TOLERANCE_RAD
+                    };
+                    if bad_angle {
                         errors.push(PathError::BadArcAngle { segment: i, angle });
                     }
                     segs.push(s);
@@ -396,6 +434,14 @@ impl TrackPath {
                 });
             }
         }
+        Ok((segs, errors))
+    }
+
+    /// Validates a loop of segments in one plane. Returns every problem found, each naming
+    /// its segment.
+    pub fn new(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+        let (segs, mut errors) = Self::checked_loop(&segments)?;
+        let n = segs.len();
         // Planarity and total turning: the first arc defines the loop's positive axis.
         let first_arc = segs.iter().find_map(|s| match *s {
             Segment::Arc { axis, angle, .. } => Some(axis * angle.signum()),
@@ -438,7 +484,77 @@ impl TrackPath {
             starts,
             length: acc,
             axis: loop_axis,
+            frames: None,
+            twist: 0.0,
         })
+    }
+
+    /// Validates a loop whose segments need not share a plane (paper Fig. 8: a belt that turns
+    /// a corner, objects on a three-dimensional trajectory): straights in any direction and
+    /// arcs about any axis, with the joins, tangents and closure of every loop checked. Its
+    /// frame ([`TrackPath::frame_at`]) is carried along the loop by each arc's rotation, with
+    /// the twist it has after one lap taken out evenly, so it is continuous everywhere,
+    /// across the closing join too. Its [`TrackPath::axis`] is the lateral axis at s = 0: the
+    /// signed axis of the first arc made square to the start tangent.
+    pub fn spatial(segments: Vec<Segment>) -> Result<Self, Vec<PathError>> {
+        let (segs, errors) = Self::checked_loop(&segments)?;
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        let mut starts = Vec::with_capacity(segs.len());
+        let mut acc = 0.0;
+        for s in &segs {
+            starts.push(acc);
+            acc += s.length();
+        }
+        let t0 = segs[0].point_tangent(0.0).1;
+        let reference = segs
+            .iter()
+            .find_map(|s| match *s {
+                Segment::Arc { axis, angle, .. } => Some(axis * angle.signum()),
+                _ => None,
+            })
+            .unwrap_or(DVec3::Z);
+        let mut lateral = reference - t0 * t0.dot(reference);
+        if lateral.length() < 1e-6 {
+            lateral = t0.any_orthonormal_vector();
+        }
+        let lateral = lateral.normalize();
+        let mut q = DQuat::from_mat3(&glam::DMat3::from_cols(t0, lateral, t0.cross(lateral)));
+        let mut frames = Vec::with_capacity(segs.len());
+        for (i, seg) in segs.iter().enumerate() {
+            frames.push(q);
+            q = Self::transported(seg, q, seg.length());
+            let next = segs[(i + 1) % segs.len()].point_tangent(0.0).1;
+            q = (DQuat::from_rotation_arc(q * DVec3::X, next) * q).normalize();
+        }
+        let l_end = q * DVec3::Y;
+        let twist = t0.dot(lateral.cross(l_end)).atan2(lateral.dot(l_end));
+        Ok(TrackPath {
+            segments: segs,
+            starts,
+            length: acc,
+            axis: lateral,
+            frames: Some(frames),
+            twist,
+        })
+    }
+
+    /// Frame rotation `q` at the start of `seg` carried `s` m along it (arcs rotate it about
+    /// their axis with the tangent; straights keep it).
+    fn transported(seg: &Segment, q: DQuat, s: f64) -> DQuat {
+        match *seg {
+            Segment::Straight { .. } => q,
+            Segment::Arc { axis, angle, .. } => {
+                let r = seg.radius().unwrap_or(1.0);
+                DQuat::from_axis_angle(axis, angle.signum() * s / r) * q
+            }
+        }
+    }
+
+    /// True for a loop in one plane ([`TrackPath::new`]), false for [`TrackPath::spatial`].
+    pub fn is_planar(&self) -> bool {
+        self.frames.is_none()
     }
 
     /// Builds the belt that wraps the given pulleys on their outside, in the plane y = `plane_y`
@@ -538,6 +654,22 @@ impl TrackPath {
         TrackPath::new(segments)
     }
 
+    /// A full circle of `radius` m about the axis +y through (`x`, `plane_y`, `z`) (a wheel's
+    /// rolling circle), starting at its lowest point, traversed so that a positive belt speed
+    /// moves the bottom backwards (-x), i.e. rolls forwards.
+    pub fn circle(x: f64, z: f64, radius: f64, plane_y: f64) -> Result<Self, Vec<PathError>> {
+        if !(radius > 0.0 && radius.is_finite() && x.is_finite() && z.is_finite()) {
+            return Err(vec![PathError::BadPulley { pulley: 0, radius }]);
+        }
+        let centre = DVec3::new(x, plane_y, z);
+        TrackPath::new(vec![Segment::Arc {
+            start: centre - DVec3::Z * radius,
+            centre,
+            axis: DVec3::Y,
+            angle: TAU,
+        }])
+    }
+
     /// The segments, in order of belt travel.
     pub fn segments(&self) -> &[Segment] {
         &self.segments
@@ -573,6 +705,17 @@ impl TrackPath {
         let s = s.rem_euclid(self.length);
         let i = self.segment_at(s);
         let (p, t) = self.segments[i].point_tangent(s - self.starts[i]);
+        if let Some(frames) = &self.frames {
+            let q = Self::transported(&self.segments[i], frames[i], s - self.starts[i]);
+            let q = DQuat::from_axis_angle(t, -self.twist * s / self.length) * q;
+            let lateral = (q * DVec3::Y - t * t.dot(q * DVec3::Y)).normalize();
+            return Frame {
+                origin: p,
+                tangent: t,
+                lateral,
+                normal: t.cross(lateral),
+            };
+        }
         Frame {
             origin: p,
             tangent: t,
@@ -583,8 +726,13 @@ impl TrackPath {
 
     /// The same loop reflected to the other side of the vehicle (y -> -y).
     pub fn mirrored_y(&self) -> Self {
-        TrackPath::new(self.segments.iter().map(Segment::mirrored_y).collect())
-            .expect("a mirrored valid loop is valid")
+        let segs = self.segments.iter().map(Segment::mirrored_y).collect();
+        if self.is_planar() {
+            TrackPath::new(segs)
+        } else {
+            TrackPath::spatial(segs)
+        }
+        .expect("a mirrored valid loop is valid")
     }
 }
 

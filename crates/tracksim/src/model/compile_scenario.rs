@@ -42,6 +42,8 @@ pub fn compile_scenario_with(
     vehicle_overrides(&mut c, v, &mut vehicle);
     // Terrain.
     let terrain = crate::terrain::compile_terrain(&spec.terrain, base_dir, &mut c.issues);
+    let conveyors = super::conveyor::compile_conveyors(&mut c, &spec.terrain.conveyors);
+    let loose_boxes = super::conveyor::compile_loose_boxes(&mut c, &spec.terrain.loose_boxes);
     let s = &spec.simulation;
     let solver = simulation(&mut c, s);
     let mut commands = Vec::new();
@@ -87,6 +89,8 @@ pub fn compile_scenario_with(
         start_yaw: v.yaw_deg.to_radians(),
         start_pitch: v.pitch_deg.to_radians(),
         terrain,
+        conveyors,
+        loose_boxes,
         solver,
         duration: s.duration_s,
         output_interval: s.output_interval_s,

@@ -61,11 +61,12 @@ pub(super) fn compile_track(
         );
     }
     let combine = belt(c, k, t);
-    let grousers = match &t.grousers {
+    let mut grousers = match &t.grousers {
         None => None,
         Some(g) => grousers(c, k, t.width_m, g),
     };
-    let Some(path) = track_path(c, &format!("{k}.path"), &t.path) else {
+    let Some((path, rim_inset)) = track_path(c, &format!("{k}.path"), &t.path, &mut grousers)
+    else {
         return;
     };
     let included = included_segments(c, k, &t.omit_segments, path.segments().len());
@@ -75,6 +76,7 @@ pub(super) fn compile_track(
         path,
         width: t.width_m,
         belt_thickness: t.belt_thickness_m,
+        rim_inset,
         belt_mass: t.belt_mass_kg,
         friction: t.friction,
         combine,
@@ -247,9 +249,32 @@ fn grouser_shape(
     }
 }
 
-/// Path stage: builds the loop at key path `pk` from pulleys or explicit segments and checks
-/// that it turns about +y; `None` when it cannot be built (the problems are reported).
-fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
+/// Path stage: builds the loop at key path `pk` from pulleys, explicit segments or a wheel and
+/// checks that it turns about +y; `None` when it cannot be built (the problems are reported).
+/// Returns the rim inset of a wheel (0 otherwise), whose lugs in `grousers` it moves onto the
+/// rolling circle.
+fn track_path(
+    c: &mut Checker,
+    pk: &str,
+    p: &PathSpec,
+    grousers: &mut Option<GrouserModel>,
+) -> Option<(TrackPath, f64)> {
+    if p.spatial && p.segments.is_none() {
+        c.push(
+            format!("{pk}.spatial"),
+            "only used with `segments` (pulleys and wheels lie in a plane)",
+        );
+    }
+    if let Some(w) = &p.wheel {
+        if p.pulleys.is_some() || p.segments.is_some() {
+            c.push(
+                pk.to_string(),
+                "give exactly one of `pulleys`, `segments` or `wheel`",
+            );
+            return None;
+        }
+        return wheel_path(c, pk, p.plane_y_m.unwrap_or(0.0), w, grousers);
+    }
     let path = match (&p.pulleys, &p.segments) {
         (Some(q), None) => {
             let y = p.plane_y_m.unwrap_or(0.0);
@@ -271,12 +296,17 @@ fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
                     "only used with pulleys; explicit segments carry their own y",
                 );
             }
-            TrackPath::new(s.iter().map(segment).collect())
+            let segs = s.iter().map(segment).collect();
+            if p.spatial {
+                TrackPath::spatial(segs)
+            } else {
+                TrackPath::new(segs)
+            }
         }
         _ => {
             c.push(
                 pk.to_string(),
-                "give exactly one of `pulleys` (list of {x_m, z_m, radius_m}) or `segments`",
+                "give exactly one of `pulleys` (list of {x_m, z_m, radius_m}), `segments` or `wheel` ({x_m, z_m, radius_m})",
             );
             return None;
         }
@@ -290,13 +320,44 @@ fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
             return None;
         }
     };
-    if path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
+    if path.is_planar() && path.axis().dot(DVec3::Y) < 1.0 - 1e-6 {
         c.push(
             pk.to_string(),
             "the loop must lie in an x-z plane and turn about +y (lower run moving backwards for a positive belt speed); reverse the segment order",
         );
     }
-    Some(path)
+    Some((path, 0.0))
+}
+
+/// A lugged wheel's path (`{pk}.wheel`): its rolling circle, with the lugs moved onto it.
+fn wheel_path(
+    c: &mut Checker,
+    pk: &str,
+    plane_y: f64,
+    w: &crate::spec::PulleySpec,
+    grousers: &mut Option<GrouserModel>,
+) -> Option<(TrackPath, f64)> {
+    let wk = format!("{pk}.wheel");
+    c.finite(&format!("{pk}.plane_y_m"), &[plane_y]);
+    c.finite(&wk, &[w.x_m, w.z_m]);
+    c.positive(&format!("{wk}.radius_m"), w.radius_m, "m");
+    if !(w.radius_m > 0.0 && w.radius_m.is_finite() && w.x_m.is_finite() && w.z_m.is_finite()) {
+        return None;
+    }
+    let roll = super::rolling_radius(w.radius_m, grousers.as_ref());
+    let inset = roll - w.radius_m;
+    if let Some(g) = grousers {
+        super::wheel::inset_lugs(g, inset);
+    }
+    match TrackPath::circle(w.x_m, w.z_m, roll, plane_y) {
+        Ok(p) => Some((p, inset)),
+        Err(errs) => {
+            for e in &errs {
+                c.push(wk.clone(), e.to_string());
+            }
+            None
+        }
+    }
 }
 
 /// One explicit segment, angles to radians.

@@ -54,6 +54,12 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
         c.push("tracks", "a vehicle needs at least one track");
     }
     for (i, t) in spec.tracks.iter().enumerate() {
+        if t.path.spatial {
+            c.push(
+                format!("tracks[{i}].path.spatial"),
+                "a vehicle's track runs in a plane; spatial loops are for [[terrain.conveyors]]: remove `spatial`",
+            );
+        }
         compile_track(
             &mut c,
             &spec.flippers,

@@ -9,13 +9,16 @@
 //!   the rubber formulas giving its stiffness;
 //! - `motor.rs`: a track's drive motor ([`DriveMotor`], `[tracks.motor]`);
 //! - `drawbar.rs`: a drawbar load on the chassis ([`Drawbar`], `[drawbar]`);
+//! - `conveyor.rs`: conveyors (tracks on the world, [`ConveyorModel`]) and loose boxes
+//!   ([`LooseBoxModel`]) of `[terrain]`;
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
 //!   overrides, terrain, simulation settings, commands, extra checks, outcome);
 //! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
-//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]).
+//! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
+//! - `wheel.rs`: a lugged wheel's rolling circle ([`rolling_radius`]) and its lugs.
 
 #![warn(clippy::too_many_lines)]
 
@@ -24,6 +27,7 @@ mod compile_track;
 mod compile_vehicle;
 mod compliance;
 mod controls;
+mod conveyor;
 mod design;
 mod drawbar;
 mod load;
@@ -32,6 +36,7 @@ mod randomize;
 mod scenario;
 mod template;
 mod vehicle;
+mod wheel;
 
 pub use compile_scenario::*;
 pub use compile_vehicle::*;
@@ -40,6 +45,7 @@ pub use compliance::{
     lug_tip_stiffness,
 };
 pub use controls::*;
+pub use conveyor::{ConveyorModel, LooseBoxModel};
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use load::*;
@@ -49,3 +55,4 @@ pub use randomize::*;
 pub use scenario::*;
 pub use template::*;
 pub use vehicle::*;
+pub use wheel::rolling_radius;

@@ -78,6 +78,10 @@ pub struct Scenario {
     pub start_pitch: f64,
     /// The world.
     pub terrain: TerrainModel,
+    /// Conveyors (`[[terrain.conveyors]]`).
+    pub conveyors: Vec<super::ConveyorModel>,
+    /// Loose boxes (`[[terrain.loose_boxes]]`).
+    pub loose_boxes: Vec<super::LooseBoxModel>,
     /// Solver.
     pub solver: SolverSettings,
     /// Duration, s.

@@ -121,6 +121,9 @@ pub struct TrackModel {
     pub width: f64,
     /// Belt thickness, m.
     pub belt_thickness: f64,
+    /// A lugged wheel's rim depth below its path (the rolling circle), m: the rim collider's
+    /// radius is the path's less this; 0 for a belt.
+    pub rim_inset: f64,
     /// Belt mass, kg.
     pub belt_mass: f64,
     /// Friction coefficient.

@@ -7,13 +7,16 @@
 //! - `vehicle.rs`: vehicle files ([`VehicleSpec`] and its parts);
 //! - `scenario.rs`: scenario files ([`ScenarioSpec`] and its parts);
 //! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
-//! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]).
+//! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
+//! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
 
+mod conveyor;
 mod randomize;
 mod scenario;
 mod terrain;
 mod vehicle;
 
+pub use conveyor::*;
 pub use randomize::*;
 pub use scenario::*;
 pub use terrain::*;

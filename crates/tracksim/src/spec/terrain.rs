@@ -59,6 +59,12 @@ pub struct TerrainSpec {
     /// ASTM E2801-style gaps.
     #[serde(default)]
     pub gaps: Vec<GapSpec>,
+    /// Conveyors: tracks fixed in the world (compiled by the model layer).
+    #[serde(default)]
+    pub conveyors: Vec<super::ConveyorSpec>,
+    /// Loose boxes: free bodies (compiled by the model layer).
+    #[serde(default)]
+    pub loose_boxes: Vec<super::LooseBoxSpec>,
 }
 
 /// Flat ground.

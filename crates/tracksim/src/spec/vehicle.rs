@@ -214,19 +214,31 @@ pub struct ContactSpringSpec {
     pub damping_ns_per_m: f64,
 }
 
-/// A track path, either as pulleys or as explicit segments (exactly one of the two).
+/// A track path, as pulleys, as explicit segments, or as a lugged wheel (exactly one of the
+/// three).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PathSpec {
-    /// y of the track's mid-plane in the parent frame (pulley form only), m.
+    /// y of the track's mid-plane in the parent frame (pulley and wheel forms), m.
     #[serde(default)]
     pub plane_y_m: Option<f64>,
+    /// A lugged wheel (paper Fig. 8): its axle centre and rim radius (where the lugs stand,
+    /// `radius_m`); the track's `[grousers]` are its lugs, `width_m` its width, `belt_mass_kg`
+    /// the mass of the rim and lugs. It compiles to one full-circle segment link whose belt
+    /// speed is the wheel's rolling speed on flat ground.
+    #[serde(default)]
+    pub wheel: Option<PulleySpec>,
     /// Pulleys the belt wraps, in order around the loop (either sense).
     #[serde(default)]
     pub pulleys: Option<Vec<PulleySpec>>,
     /// Explicit segments in order of belt travel (paper Sec. III-A).
     #[serde(default)]
     pub segments: Option<Vec<SegmentSpec>>,
+    /// The `segments` need not share a plane (straights in any direction, arcs about any axis;
+    /// conveyors only, paper Fig. 8): the loop then carries only its grousers (the objects it
+    /// moves), no belt surface.
+    #[serde(default)]
+    pub spatial: bool,
 }
 
 /// A pulley in the track's x-z plane.

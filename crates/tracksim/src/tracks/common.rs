@@ -51,6 +51,28 @@ pub fn vehicle_groups() -> InteractionGroups {
     )
 }
 
+/// Collision group of loose objects (free boxes a conveyor or a vehicle can move).
+pub const LOOSE_GROUP: Group = Group::GROUP_3;
+
+/// Collision groups of a conveyor's belt and cleats: part of the world (the terrain's group,
+/// so height queries see it), touching the vehicle and loose objects but not the terrain (nor
+/// the terrain's relief and flat-ground groups of `okada2020_line_tips`).
+pub fn conveyor_groups() -> InteractionGroups {
+    InteractionGroups::new(
+        WORLD_GROUP,
+        Group::ALL
+            .difference(WORLD_GROUP)
+            .difference(RELIEF_GROUP)
+            .difference(FLAT_GROUND_GROUP),
+        InteractionTestMode::And,
+    )
+}
+
+/// Collision groups of a loose object: touches everything, other loose objects too.
+pub fn loose_groups() -> InteractionGroups {
+    InteractionGroups::new(LOOSE_GROUP, Group::ALL, InteractionTestMode::And)
+}
+
 /// `user_data` of a vehicle collider whose contacts only get the contact slop.
 pub const SLOP_TAG: u128 = 0x534c_4f50 << 64; // "SLOP"
 /// `user_data` high bits of a collider whose contacts go to its track (low 32 bits: the

@@ -221,7 +221,7 @@ fn belt_collider(t: &TrackModel, seg: &Segment, lateral: DVec3) -> (LinkKind, Co
                     axis: axis * angle.signum(),
                     radius,
                 },
-                ColliderBuilder::cylinder((t.width / 2.0) as f32, radius as f32)
+                ColliderBuilder::cylinder((t.width / 2.0) as f32, (radius - t.rim_inset) as f32)
                     .position(Pose::from_parts(f(centre), q(rot))),
             )
         }
@@ -307,7 +307,12 @@ impl SegmentLinks {
         let world = &mut *ctx.world;
         let path = &t.path;
         let seg = &path.segments()[si];
-        let lateral = path.axis();
+        // A spatial loop's lateral axis changes along it: the frame's at the segment's start.
+        let lateral = if path.is_planar() {
+            path.axis()
+        } else {
+            path.frame_at(path.segment_start(si)).lateral
+        };
         let parent_pose = *world.bodies[ctx.parent].position();
         let mass = (t.belt_mass * seg.length() / path.length()).max(ctx.min_link_mass);
         let mprops = link_mass_properties(t, si, mass, lateral);
@@ -325,9 +330,12 @@ impl SegmentLinks {
                 .collision_groups(groups)
         };
         let (kind, belt) = belt_collider(t, seg, lateral);
-        world
-            .colliders
-            .insert_with_parent(base(belt), h, &mut world.bodies);
+        // A spatial loop has no belt surface: it carries its grousers (objects) only.
+        if path.is_planar() {
+            world
+                .colliders
+                .insert_with_parent(base(belt), h, &mut world.bodies);
+        }
         // Grousers whose footprint lies on this segment at rest.
         let mut grousers = Vec::new();
         if let Some(g) = &t.grousers {

@@ -44,6 +44,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
+    let conveyors = super::conveyor::build_conveyors(&mut world, &sc, origin)?;
     let mut sim = Simulation {
         world,
         origin,
@@ -64,6 +65,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         scenario: sc.clone(),
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
         drawbar: None,
+        conveyors,
     };
     sim.conserve_mass(&sc)?;
     place(&mut sim);

@@ -8,6 +8,7 @@
 //! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
 //! - `drawbar`: the drawbar's pull on the chassis (`[drawbar]`);
+//! - [`conveyor`]: conveyors (tracks on the world) and loose boxes, built and stepped;
 //! - [`step`]: the stages of one step;
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
 //! - [`load`]: loading a scenario with the track method checked with every other key;
@@ -23,6 +24,7 @@ pub mod build;
 pub mod compliance;
 pub mod contacts;
 mod drawbar;
+pub mod conveyor;
 pub mod load;
 pub mod mass;
 pub mod odometry;
@@ -93,6 +95,8 @@ pub struct Simulation {
     odometry: Odometry,
     /// The drawbar (`[drawbar]`), if any.
     drawbar: Option<drawbar::DrawbarState>,
+    /// Conveyors and loose boxes.
+    conveyors: conveyor::Conveyors,
 }
 
 impl Simulation {

@@ -31,6 +31,7 @@ impl Simulation {
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
         }
+        self.conveyors.after_step(&mut self.world, self.dt);
         let tracks = &self.tracks;
         self.odometry
             .update_with(|i| tracks[i].measured_belt_speed(), self.dt);

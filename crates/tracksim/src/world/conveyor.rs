@@ -1,0 +1,123 @@
+//! The conveyor stage of [`Simulation::new`] and its state: every conveyor is a fixed body of
+//! the world carrying a track built by the paper's method (a track whose parent is the world,
+//! not a vehicle), its belt held at the file's speed; loose boxes are free bodies. Their
+//! colliders touch the vehicle and each other; the conveyor's do not touch the terrain.
+
+use super::{PoseRpy, Simulation};
+use crate::check::{f, q};
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::tracks::{BuildContext, Method, Track, conveyor_groups, loose_groups};
+use glam::{DQuat, DVec3};
+use rapier3d::prelude::*;
+
+/// What the conveyor stage adds to the world.
+#[derive(Debug, Default)]
+pub(crate) struct Conveyors {
+    /// Each conveyor's belt (segment links on its fixed frame body), running.
+    pub(crate) belts: Vec<Box<dyn Track>>,
+    /// The loose boxes' bodies, in file order.
+    pub(crate) loose: Vec<RigidBodyHandle>,
+}
+
+/// Builds the conveyors and loose boxes of `sc` in `world`, whose origin is at `origin` m.
+pub(crate) fn build_conveyors(
+    world: &mut PhysicsWorld,
+    sc: &Scenario,
+    origin: DVec3,
+) -> Result<Conveyors> {
+    let mut out = Conveyors::default();
+    for (i, cv) in sc.conveyors.iter().enumerate() {
+        let frame = world.bodies.insert(
+            RigidBodyBuilder::fixed()
+                .pose(Pose::from_parts(f(cv.centre - origin), q(cv.rotation()))),
+        );
+        let mut ctx = BuildContext {
+            world: &mut *world,
+            parent: frame,
+            index: sc.vehicle.tracks.len() + i,
+            groups: conveyor_groups(),
+            min_link_mass: sc.solver.min_link_mass,
+        };
+        let mut belt = Method::Okada2020.build(&mut ctx, &cv.belt)?;
+        belt.set_belt_speed(world, cv.speed);
+        out.belts.push(belt);
+    }
+    for b in &sc.loose_boxes {
+        let s = &b.solid;
+        let rot = DQuat::from_rotation_z(s.yaw);
+        let h = world.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .pose(Pose::from_parts(f(s.centre - origin), q(rot)))
+                .can_sleep(false),
+        );
+        let c = ColliderBuilder::cuboid(s.half.x as f32, s.half.y as f32, s.half.z as f32)
+            .mass(b.mass as f32)
+            .friction(s.friction as f32)
+            .collision_groups(loose_groups());
+        world.colliders.insert_with_parent(c, h, &mut world.bodies);
+        out.loose.push(h);
+    }
+    Ok(out)
+}
+
+impl Conveyors {
+    /// The belts' work after a physics step (the paper's rollback).
+    pub(crate) fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
+        for b in &mut self.belts {
+            b.after_step(world, dt);
+        }
+    }
+}
+
+impl Simulation {
+    /// Poses of the loose boxes (`[[terrain.loose_boxes]]`, in file order) in world
+    /// coordinates, m and rad.
+    pub fn loose_box_poses(&self) -> Vec<PoseRpy> {
+        self.conveyors
+            .loose
+            .iter()
+            .map(|h| {
+                let mut p = PoseRpy::from_pose(self.world.bodies[*h].position());
+                p.x += self.origin.x;
+                p.y += self.origin.y;
+                p.z += self.origin.z;
+                p
+            })
+            .collect()
+    }
+
+    /// Linear velocities of the loose boxes' centres of mass, m/s (world frame).
+    pub fn loose_box_velocities(&self) -> Vec<DVec3> {
+        self.conveyors
+            .loose
+            .iter()
+            .map(|h| {
+                let v = self.world.bodies[*h].linvel();
+                DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+            })
+            .collect()
+    }
+
+    /// The conveyors' belts at run time (belt position and phase, grouser colliders, link
+    /// error), in file order.
+    pub fn conveyor_tracks(&self) -> &[Box<dyn Track>] {
+        &self.conveyors.belts
+    }
+
+    /// Forgets the largest link error every conveyor has seen so far.
+    pub fn reset_conveyor_link_errors(&mut self) {
+        for b in &mut self.conveyors.belts {
+            b.reset_link_error();
+        }
+    }
+
+    /// Each conveyor's unwrapped belt position, m, and measured belt speed, m/s.
+    pub fn conveyor_belts(&self) -> Vec<(f64, f64)> {
+        self.conveyors
+            .belts
+            .iter()
+            .map(|b| (b.belt_position(), b.measured_belt_speed()))
+            .collect()
+    }
+}
