@@ -49,6 +49,10 @@ pub(super) fn compile_track(
     t: &TrackSpec,
     tracks: &mut Vec<TrackModel>,
 ) {
+    c.column_name(&format!("{k}.name"), &t.name);
+    if let Some(m) = &t.mirror {
+        c.column_name(&format!("{k}.mirror"), m);
+    }
     let parent = resolve_parent(c, flippers, format!("{k}.parent"), &t.parent);
     let mirror_parent = match &t.mirror_parent {
         Some(p) => resolve_parent(c, flippers, format!("{k}.mirror_parent"), p),
@@ -143,6 +147,9 @@ fn belt(c: &mut Checker, k: &str, t: &TrackSpec) -> CoefficientCombineRule {
     combine
 }
 
+/// Most grousers on one track (a grouser is a collider; the paper's PackBot has 40).
+pub const MAX_GROUSERS: usize = 2_000;
+
 /// Grouser stage: checks the `[grousers]` table of the track at `k` (belt width `track_width`
 /// m) and compiles it; `None` for a count of 0.
 fn grousers(c: &mut Checker, k: &str, track_width: f64, g: &GrouserSpec) -> Option<GrouserModel> {
@@ -151,6 +158,11 @@ fn grousers(c: &mut Checker, k: &str, track_width: f64, g: &GrouserSpec) -> Opti
         c.push(
             format!("{gk}.count"),
             "must be >= 1 (remove the [grousers] table for a track without grousers)",
+        );
+    } else if g.count > MAX_GROUSERS {
+        c.push(
+            format!("{gk}.count"),
+            format!("must be at most {MAX_GROUSERS} per track, got {}", g.count),
         );
     }
     c.finite(&format!("{gk}.offset_m"), &[g.offset_m]);

@@ -112,11 +112,10 @@ fn body(c: &mut Checker, b: &BodySpec) -> BodyModel {
 /// Flipper stage: checks flipper `i` of `all` and compiles it (initial angle to radians).
 fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> FlipperModel {
     let k = format!("flippers[{i}]");
-    if f.name.trim().is_empty() || f.name == "body" {
-        c.push(
-            format!("{k}.name"),
-            "must be a non-empty name other than \"body\"",
-        );
+    if f.name == "body" {
+        c.push(format!("{k}.name"), "must be a name other than \"body\"");
+    } else {
+        c.column_name(&format!("{k}.name"), &f.name);
     }
     if all[..i].iter().any(|g| g.name == f.name) {
         c.push(

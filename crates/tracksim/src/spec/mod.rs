@@ -7,10 +7,13 @@
 //! - `vehicle.rs`: vehicle files ([`VehicleSpec`] and its parts);
 //! - `scenario.rs`: scenario files ([`ScenarioSpec`] and its parts);
 //! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
-//! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]).
+//! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
+//! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
+//!   by position, no fixed-size array with extra entries.
 
 mod randomize;
 mod scenario;
+pub mod strict;
 mod terrain;
 mod vehicle;
 
