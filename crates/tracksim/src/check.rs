@@ -26,8 +26,9 @@ pub(crate) fn v3(a: [f64; 3]) -> DVec3 {
 pub const MAX_LENGTH_M: f64 = 1e5;
 /// Smallest positive length, m (1 um).
 pub const MIN_LENGTH_M: f64 = 1e-6;
-/// Largest speed (belt, forward), m/s, and yaw rate, rad/s.
-pub const MAX_SPEED_MPS: f64 = 100.0;
+/// Largest speed (belt, forward), m/s, and yaw rate, rad/s: far beyond any tracked vehicle
+/// (a run that fast goes unstable and exits 3), well within f32.
+pub const MAX_SPEED_MPS: f64 = 1000.0;
 /// Largest simulated duration, s (one day).
 pub const MAX_DURATION_S: f64 = 86_400.0;
 /// Largest number of physics steps in one run (`duration_s / dt_s`).
@@ -51,6 +52,16 @@ pub fn unit_range(unit: &str) -> (f64, f64) {
     }
 }
 
+/// A number for a message: plain when moderate, in exponent form when huge or tiny (a value
+/// of 1e300 is not printed as 301 digits).
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// Collects issues with key paths.
 #[derive(Default)]
 pub(crate) struct Checker {
@@ -64,22 +75,28 @@ impl Checker {
     pub(crate) fn positive(&mut self, key: &str, v: f64, unit: &str) {
         let (lo, hi) = unit_range(unit);
         if !(v.is_finite() && v > 0.0) {
-            self.push(key, format!("must be a finite number > 0 {unit}, got {v}"));
+            self.push(key, format!("must be a finite number > 0 {unit}, got {}", num(v)));
         } else if !(lo..=hi).contains(&v) {
             self.push(
                 key,
-                format!("must be between {lo:e} and {hi:e} {unit} (the engine is f32), got {v}"),
+                format!(
+                    "must be between {lo:e} and {hi:e} {unit} (the engine is f32), got {}",
+                    num(v)
+                ),
             );
         }
     }
     pub(crate) fn non_negative(&mut self, key: &str, v: f64, unit: &str) {
         let (_, hi) = unit_range(unit);
         if !(v.is_finite() && v >= 0.0) {
-            self.push(key, format!("must be a finite number >= 0 {unit}, got {v}"));
+            self.push(key, format!("must be a finite number >= 0 {unit}, got {}", num(v)));
         } else if v > hi {
             self.push(
                 key,
-                format!("must be at most {hi:e} {unit} (the engine is f32), got {v}"),
+                format!(
+                    "must be at most {hi:e} {unit} (the engine is f32), got {}",
+                    num(v)
+                ),
             );
         }
     }
@@ -96,7 +113,10 @@ impl Checker {
         } else if v.iter().any(|x| x.abs() > max) {
             self.push(
                 key,
-                format!("must be at most {max:e} in magnitude (the engine is f32), got {v:?}"),
+                format!(
+                    "must be at most {max:e} in magnitude (the engine is f32), got [{}]",
+                    v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+                ),
             );
         }
     }
@@ -123,7 +143,10 @@ impl Checker {
         if !(v.is_finite() && v.abs() <= max) {
             self.push(
                 key,
-                format!("must be a finite number between -{max} and {max} {unit}, got {v}"),
+                format!(
+                    "must be a finite number between -{max} and {max} {unit}, got {}",
+                    num(v)
+                ),
             );
         }
     }

@@ -192,14 +192,17 @@ pub fn duration_problem(duration: f64, dt: f64) -> Option<String> {
     use crate::check::{MAX_DURATION_S, MAX_STEPS};
     if !(duration.is_finite() && duration > 0.0 && duration <= MAX_DURATION_S) {
         return Some(format!(
-            "must be a number of seconds > 0 and at most {MAX_DURATION_S} (one day), got {duration}"
+            "must be a number of seconds > 0 and at most {MAX_DURATION_S} (one day), got {}",
+            crate::check::num(duration)
         ));
     }
     let steps = duration / dt;
     (dt > 0.0 && steps > MAX_STEPS).then(|| {
         format!(
-            "{duration} s in steps of {dt} s is {steps:.3e} steps, more than the limit of \
-             {MAX_STEPS:e}: shorten the run or lengthen the step"
+            "{} s in steps of {} s is {steps:.3e} steps, more than the limit of \
+             {MAX_STEPS:e}: shorten the run or lengthen the step",
+            crate::check::num(duration),
+            crate::check::num(dt)
         )
     })
 }
@@ -236,8 +239,9 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         c.push(
             "simulation.dt_s",
             format!(
-                "must be between {MIN_DT_S} and 0.01 s (tracks with grousers need 1-2 ms), got {}",
-                s.dt_s
+                "must be at least {MIN_DT_S:e} s and at most 0.01 s (tracks with grousers need \
+                 1-2 ms), got {}",
+                crate::check::num(s.dt_s)
             ),
         );
     }

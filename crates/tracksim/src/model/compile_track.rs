@@ -148,7 +148,7 @@ fn belt(c: &mut Checker, k: &str, t: &TrackSpec) -> CoefficientCombineRule {
 }
 
 /// Most grousers on one track (a grouser is a collider; the paper's PackBot has 40).
-pub const MAX_GROUSERS: usize = 2_000;
+pub const MAX_GROUSERS: usize = 10_000;
 
 /// Grouser stage: checks the `[grousers]` table of the track at `k` (belt width `track_width`
 /// m) and compiles it; `None` for a count of 0.
@@ -266,6 +266,15 @@ fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
         (Some(q), None) => {
             let y = p.plane_y_m.unwrap_or(0.0);
             c.finite(&format!("{pk}.plane_y_m"), &[y]);
+            let n = c.issues.len();
+            for (j, q) in q.iter().enumerate() {
+                c.finite(&format!("{pk}.pulleys[{j}].x_m"), &[q.x_m]);
+                c.finite(&format!("{pk}.pulleys[{j}].z_m"), &[q.z_m]);
+                c.positive(&format!("{pk}.pulleys[{j}].radius_m"), q.radius_m, "m");
+            }
+            if c.issues.len() != n {
+                return None;
+            }
             let pulleys: Vec<Pulley> = q
                 .iter()
                 .map(|q| Pulley {
@@ -282,6 +291,31 @@ fn track_path(c: &mut Checker, pk: &str, p: &PathSpec) -> Option<TrackPath> {
                     format!("{pk}.plane_y_m"),
                     "only used with pulleys; explicit segments carry their own y",
                 );
+            }
+            let n = c.issues.len();
+            for (j, seg) in s.iter().enumerate() {
+                let sk = format!("{pk}.segments[{j}]");
+                match seg {
+                    SegmentSpec::Straight {
+                        start_m, length_m, ..
+                    } => {
+                        c.finite(&format!("{sk}.start_m"), start_m);
+                        c.positive(&format!("{sk}.length_m"), *length_m, "m");
+                    }
+                    SegmentSpec::Arc {
+                        start_m,
+                        centre_m,
+                        angle_deg,
+                        ..
+                    } => {
+                        c.finite(&format!("{sk}.start_m"), start_m);
+                        c.finite(&format!("{sk}.centre_m"), centre_m);
+                        c.finite(&format!("{sk}.angle_deg"), &[*angle_deg]);
+                    }
+                }
+            }
+            if c.issues.len() != n {
+                return None;
             }
             TrackPath::new(s.iter().map(segment).collect())
         }
