@@ -356,7 +356,10 @@ fn run(a: RunArgs) -> Result<(), Failure> {
         }
     }
     if matches!(result.outcome, Outcome::Interrupted(_)) {
-        eprintln!("interrupted: wrote what was simulated into {}", a.out.display());
+        eprintln!(
+            "interrupted: wrote what was simulated into {}",
+            a.out.display()
+        );
         return Err(Failure::Interrupted);
     }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {

@@ -32,8 +32,8 @@ struct Ran {
 
 /// Runs the binary with `args` under [`LIMIT`] (killed past it: a hang fails the test).
 fn run(args: &[&str]) -> Ran {
-    use std::sync::atomic::{AtomicBool, Ordering};
     use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
     let t0 = Instant::now();
     let child = Command::new(bin())
         .args(args)
@@ -62,7 +62,10 @@ fn run(args: &[&str]) -> Ran {
     let o = child.wait_with_output().unwrap();
     done.store(true, Ordering::SeqCst);
     watchdog.join().unwrap();
-    assert!(!killed.load(Ordering::SeqCst), "{args:?} took more than {LIMIT:?}: a hang");
+    assert!(
+        !killed.load(Ordering::SeqCst),
+        "{args:?} took more than {LIMIT:?}: a hang"
+    );
     Ran {
         code: o.status.code(),
         text: String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout),
@@ -74,7 +77,11 @@ fn run(args: &[&str]) -> Ran {
 fn refused(what: &str, r: &Ran, key: &str) {
     assert!(!r.text.contains("panicked"), "{what}: panic: {}", r.text);
     assert_eq!(r.code, Some(2), "{what}: exit code, output:\n{}", r.text);
-    assert!(r.text.contains(key), "{what}: message lacks {key:?}:\n{}", r.text);
+    assert!(
+        r.text.contains(key),
+        "{what}: message lacks {key:?}:\n{}",
+        r.text
+    );
     assert!(
         r.text.len() <= MAX_MESSAGE,
         "{what}: message of {} bytes",
@@ -113,9 +120,19 @@ fn every_bad_scenario_of_the_corpus_is_refused_by_check_and_run_alike() {
         let c = run(&["check", f.to_str().unwrap()]);
         refused(&format!("check {name}"), &c, &key);
         let out = tmp.path().join(&name);
-        let r = run(&["run", f.to_str().unwrap(), "--quiet", "--no-plot", "--out", out.to_str().unwrap()]);
+        let r = run(&[
+            "run",
+            f.to_str().unwrap(),
+            "--quiet",
+            "--no-plot",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
         refused(&format!("run {name}"), &r, &key);
-        assert!(!out.join("summary.json").exists(), "run {name} wrote a summary");
+        assert!(
+            !out.join("summary.json").exists(),
+            "run {name} wrote a summary"
+        );
         eprintln!("{name}: refused in {:?} / {:?}", c.took, r.took);
     }
 }
@@ -128,7 +145,11 @@ fn every_bad_vehicle_of_the_corpus_is_refused_by_check_and_run_alike() {
     for f in files {
         let key = expected_key(&f);
         let name = f.file_name().unwrap().to_string_lossy().into_owned();
-        refused(&format!("check {name}"), &run(&["check", f.to_str().unwrap()]), &key);
+        refused(
+            &format!("check {name}"),
+            &run(&["check", f.to_str().unwrap()]),
+            &key,
+        );
         let s = tmp.path().join(format!("s_{name}"));
         std::fs::write(
             &s,
@@ -139,7 +160,14 @@ fn every_bad_vehicle_of_the_corpus_is_refused_by_check_and_run_alike() {
         )
         .unwrap();
         let out = tmp.path().join(&name);
-        let r = run(&["run", s.to_str().unwrap(), "--quiet", "--no-plot", "--out", out.to_str().unwrap()]);
+        let r = run(&[
+            "run",
+            s.to_str().unwrap(),
+            "--quiet",
+            "--no-plot",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
         refused(&format!("run with {name}"), &r, &key);
     }
 }
@@ -157,11 +185,25 @@ fn special_files_long_lines_and_huge_hulls_are_refused_quickly() {
     let d = tmp.path();
     // A FIFO as the scenario and as the vehicle file: never opened, so never blocks.
     let fifo = d.join("fifo.toml");
-    assert!(Command::new("mkfifo").arg(&fifo).status().unwrap().success());
-    refused("fifo scenario", &run(&["check", fifo.to_str().unwrap()]), "FIFO");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    refused(
+        "fifo scenario",
+        &run(&["check", fifo.to_str().unwrap()]),
+        "FIFO",
+    );
     let s = d.join("fifo_vehicle.toml");
     std::fs::write(&s, format!("[vehicle]\nfile = \"fifo.toml\"\n{FLAT}")).unwrap();
-    refused("fifo vehicle", &run(&["check", s.to_str().unwrap()]), "vehicle.file");
+    refused(
+        "fifo vehicle",
+        &run(&["check", s.to_str().unwrap()]),
+        "vehicle.file",
+    );
     refused("/dev/zero", &run(&["check", "/dev/zero"]), "a device");
     let out = d.join("o");
     refused(
@@ -177,16 +219,28 @@ fn special_files_long_lines_and_huge_hulls_are_refused_quickly() {
         format!(
             "{}{}",
             vehicle_line(),
-            FLAT.replace("duration_s = 0.2", &format!("duration_s = 0.2\nmethod = \"{long}\""))
+            FLAT.replace(
+                "duration_s = 0.2",
+                &format!("duration_s = 0.2\nmethod = \"{long}\"")
+            )
         ),
     )
     .unwrap();
-    refused("long line", &run(&["check", s.to_str().unwrap()]), "simulation.method");
+    refused(
+        "long line",
+        &run(&["check", s.to_str().unwrap()]),
+        "simulation.method",
+    );
     // A hull of 20,000 points: beyond the limit, refused without an n^3 scan.
     let pts: Vec<String> = (0..20_000)
         .map(|i| {
             let a = i as f64 * 0.618;
-            format!("[{:.4}, {:.4}, {:.4}]", 0.2 * a.cos(), 0.1 * a.sin(), 0.05 * (i % 7) as f64 / 7.0)
+            format!(
+                "[{:.4}, {:.4}, {:.4}]",
+                0.2 * a.cos(),
+                0.1 * a.sin(),
+                0.05 * (i % 7) as f64 / 7.0
+            )
         })
         .collect();
     let v = d.join("hull.toml");
@@ -196,7 +250,10 @@ fn special_files_long_lines_and_huge_hulls_are_refused_quickly() {
     .unwrap()
     .replace(
         "shape = { type = \"box\", size_m = [0.50, 0.25, 0.10] }",
-        &format!("shape = {{ type = \"convex\", points_m = [{}] }}", pts.join(", ")),
+        &format!(
+            "shape = {{ type = \"convex\", points_m = [{}] }}",
+            pts.join(", ")
+        ),
     );
     std::fs::write(&v, veh).unwrap();
     let r = run(&["check", v.to_str().unwrap()]);
@@ -205,7 +262,11 @@ fn special_files_long_lines_and_huge_hulls_are_refused_quickly() {
     let big = d.join("big.toml");
     let f = std::fs::File::create(&big).unwrap();
     f.set_len(17 << 20).unwrap();
-    refused("17 MiB file", &run(&["check", big.to_str().unwrap()]), "limit of");
+    refused(
+        "17 MiB file",
+        &run(&["check", big.to_str().unwrap()]),
+        "limit of",
+    );
 }
 
 #[test]
@@ -216,8 +277,16 @@ fn bad_flags_are_refused_with_the_limit() {
         let arg = format!("--duration={d}");
         refused(&arg, &run(&["run", f, &arg]), "--duration");
     }
-    refused("--jobs 2^63", &run(&["bench", "--jobs", "9223372036854775808"]), "--jobs");
-    refused("--repeat huge", &run(&["bench", "--repeat", "18446744073709551615"]), "--repeat");
+    refused(
+        "--jobs 2^63",
+        &run(&["bench", "--jobs", "9223372036854775808"]),
+        "--jobs",
+    );
+    refused(
+        "--repeat huge",
+        &run(&["bench", "--repeat", "18446744073709551615"]),
+        "--repeat",
+    );
 }
 
 #[test]
@@ -245,7 +314,11 @@ fn compare_with_every_method_unstable_exits_3() {
     // 500 m/s belts throw the PackBot off (as in cli.rs's exploding simulation).
     std::fs::write(
         &s,
-        format!("{}{}", vehicle_line(), FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = 500.0")),
+        format!(
+            "{}{}",
+            vehicle_line(),
+            FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = 500.0")
+        ),
     )
     .unwrap();
     let out = tmp.path().join("cmp");
@@ -260,17 +333,35 @@ fn compare_with_every_method_unstable_exits_3() {
     assert!(!r.text.contains("panicked"), "{}", r.text);
     assert_eq!(r.code, Some(3), "{}", r.text);
     assert!(r.text.contains("unstable"), "{}", r.text);
-    assert!(out.join("compare.csv").is_file(), "the table is written too");
+    assert!(
+        out.join("compare.csv").is_file(),
+        "the table is written too"
+    );
 }
 
 #[test]
 fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     let tmp = tempfile::tempdir().unwrap();
     let s = tmp.path().join("s.toml");
-    std::fs::write(&s, format!("{}{}", vehicle_line(), FLAT.replace("duration_s = 0.2", "duration_s = 3600.0"))).unwrap();
+    std::fs::write(
+        &s,
+        format!(
+            "{}{}",
+            vehicle_line(),
+            FLAT.replace("duration_s = 0.2", "duration_s = 3600.0")
+        ),
+    )
+    .unwrap();
     let out = tmp.path().join("o");
     let child = Command::new(bin())
-        .args(["run", s.to_str().unwrap(), "--quiet", "--no-plot", "--out", out.to_str().unwrap()])
+        .args([
+            "run",
+            s.to_str().unwrap(),
+            "--quiet",
+            "--no-plot",
+            "--out",
+            out.to_str().unwrap(),
+        ])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -278,7 +369,13 @@ fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     // Let it simulate a little (loading and building take well under a second).
     std::thread::sleep(Duration::from_secs(3));
     let pid = child.id().to_string();
-    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    assert!(
+        Command::new("kill")
+            .args(["-INT", &pid])
+            .status()
+            .unwrap()
+            .success()
+    );
     let t0 = Instant::now();
     let o = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
@@ -289,7 +386,10 @@ fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     assert_eq!(summary["outcome"], "interrupted", "{summary}");
     let t = summary["sim_time_s"].as_f64().unwrap();
     assert!(t > 0.0 && t < 3600.0, "simulated {t} s");
-    let rows = std::fs::read_to_string(out.join("trajectory.csv")).unwrap().lines().count();
+    let rows = std::fs::read_to_string(out.join("trajectory.csv"))
+        .unwrap()
+        .lines()
+        .count();
     // One row per 10 ms output interval plus the header and the row at the interruption.
     assert!(rows as f64 >= t / 0.01, "{rows} rows for {t} s");
     // No temporary file left behind.

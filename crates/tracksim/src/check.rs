@@ -75,7 +75,10 @@ impl Checker {
     pub(crate) fn positive(&mut self, key: &str, v: f64, unit: &str) {
         let (lo, hi) = unit_range(unit);
         if !(v.is_finite() && v > 0.0) {
-            self.push(key, format!("must be a finite number > 0 {unit}, got {}", num(v)));
+            self.push(
+                key,
+                format!("must be a finite number > 0 {unit}, got {}", num(v)),
+            );
         } else if !(lo..=hi).contains(&v) {
             self.push(
                 key,
@@ -87,9 +90,20 @@ impl Checker {
         }
     }
     pub(crate) fn non_negative(&mut self, key: &str, v: f64, unit: &str) {
-        let (_, hi) = unit_range(unit);
+        let (lo, hi) = unit_range(unit);
         if !(v.is_finite() && v >= 0.0) {
-            self.push(key, format!("must be a finite number >= 0 {unit}, got {}", num(v)));
+            self.push(
+                key,
+                format!("must be a finite number >= 0 {unit}, got {}", num(v)),
+            );
+        } else if v > 0.0 && v < lo {
+            self.push(
+                key,
+                format!(
+                    "must be 0 or at least {lo:e} {unit} (smaller is 0 to the f32 engine), got {}",
+                    num(v)
+                ),
+            );
         } else if v > hi {
             self.push(
                 key,

@@ -12,7 +12,10 @@ fn cut(s: String) -> String {
         return s;
     }
     let kept: String = s.chars().take(MAX_ISSUE_CHARS).collect();
-    format!("{kept} ... ({} characters cut)", s.chars().count() - MAX_ISSUE_CHARS)
+    format!(
+        "{kept} ... ({} characters cut)",
+        s.chars().count() - MAX_ISSUE_CHARS
+    )
 }
 
 /// One problem found in an input file, with the key path that holds it

@@ -49,7 +49,10 @@ pub fn check_regular(path: &Path, max_bytes: u64) -> Result<()> {
     if !meta.is_file() {
         return Err(io_error(
             path,
-            format!("is {}, not a regular file; give the path of a file", kind_of(&meta)),
+            format!(
+                "is {}, not a regular file; give the path of a file",
+                kind_of(&meta)
+            ),
         ));
     }
     if meta.len() > max_bytes {
@@ -165,7 +168,9 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let e = read_bounded(&dir, 100).unwrap_err().to_string();
         assert!(e.contains("a directory"), "{e}");
-        let e = read_bounded(Path::new("/dev/zero"), 100).unwrap_err().to_string();
+        let e = read_bounded(Path::new("/dev/zero"), 100)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("a device"), "{e}");
         let f = dir.join("big.toml");
         write_atomic(&f, &[b'#'; 101]).unwrap();
@@ -173,7 +178,10 @@ mod tests {
         assert!(e.contains("limit of 100 bytes"), "{e}");
         assert_eq!(read_bounded(&f, 101).unwrap().len(), 101);
         // No temporary file left beside the output.
-        let names: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        let names: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
         assert_eq!(names.len(), 1, "{names:?}");
         std::fs::remove_dir_all(&dir).ok();
     }

@@ -179,7 +179,8 @@ fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleM
 /// Checks that a run of `duration` s in steps of `dt` s stays within
 /// [`crate::check::MAX_STEPS`] steps (reported at `key`).
 fn check_steps(c: &mut Checker, key: &str, duration: f64, dt: f64) {
-    if let Some(m) = duration_problem(duration, dt).filter(|_| duration.is_finite() && duration > 0.0)
+    if let Some(m) =
+        duration_problem(duration, dt).filter(|_| duration.is_finite() && duration > 0.0)
     {
         c.push(key, m);
     }

@@ -184,10 +184,11 @@ impl ScenarioTemplate {
     fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
         let (doc, sampled) = self.randomizer.apply(&self.doc, values);
         let doc = toml::Value::Table(doc);
-        let spec: ScenarioSpec = crate::spec::strict::from_value(&doc).map_err(|e| Error::Parse {
-            path: self.path.clone(),
-            message: format!("with the [randomize] values {sampled:?}: {e}"),
-        })?;
+        let spec: ScenarioSpec =
+            crate::spec::strict::from_value(&doc).map_err(|e| Error::Parse {
+                path: self.path.clone(),
+                message: format!("with the [randomize] values {sampled:?}: {e}"),
+            })?;
         let vehicle = match &self.vehicle {
             Some(v) => v.clone(),
             None => scenario_vehicle(&self.path, &spec)?,

@@ -150,7 +150,11 @@ fn check_finite_csv(csv: &str) -> Result<()> {
             let lower = cell.to_ascii_lowercase();
             if lower.contains("nan") || lower.contains("inf") {
                 return Err(Error::Unstable {
-                    time_s: line.split(',').next().and_then(|t| t.parse().ok()).unwrap_or(0.0),
+                    time_s: line
+                        .split(',')
+                        .next()
+                        .and_then(|t| t.parse().ok())
+                        .unwrap_or(0.0),
                     body: "the trajectory".into(),
                     what: format!(
                         "has a non-finite value ({cell}) in column {}",

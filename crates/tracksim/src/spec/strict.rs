@@ -186,11 +186,22 @@ impl<'de, 'a> de::VariantAccess<'de> for Enum<'a> {
             path: self.path,
         })
     }
-    fn tuple_variant<V: Visitor<'de>>(self, len: usize, visitor: V) -> Result<V::Value, StrictError> {
+    fn tuple_variant<V: Visitor<'de>>(
+        self,
+        len: usize,
+        visitor: V,
+    ) -> Result<V::Value, StrictError> {
         let value = self
             .value
             .ok_or_else(|| StrictError::at(format!("{}: expected an array", self.path)))?;
-        de::Deserializer::deserialize_tuple(Strict { value, path: self.path }, len, visitor)
+        de::Deserializer::deserialize_tuple(
+            Strict {
+                value,
+                path: self.path,
+            },
+            len,
+            visitor,
+        )
     }
     fn struct_variant<V: Visitor<'de>>(
         self,
@@ -200,7 +211,15 @@ impl<'de, 'a> de::VariantAccess<'de> for Enum<'a> {
         let value = self
             .value
             .ok_or_else(|| StrictError::at(format!("{}: expected a table", self.path)))?;
-        de::Deserializer::deserialize_struct(Strict { value, path: self.path }, "", fields, visitor)
+        de::Deserializer::deserialize_struct(
+            Strict {
+                value,
+                path: self.path,
+            },
+            "",
+            fields,
+            visitor,
+        )
     }
 }
 
@@ -264,10 +283,9 @@ impl<'de, 'a> de::Deserializer<'de> for Strict<'a> {
         visitor: V,
     ) -> Result<V::Value, StrictError> {
         match self.value {
-            toml::Value::Array(a) if a.len() != len => Err(self.err(format!(
-                "must have exactly {len} entries, got {}",
-                a.len()
-            ))),
+            toml::Value::Array(a) if a.len() != len => {
+                Err(self.err(format!("must have exactly {len} entries, got {}", a.len())))
+            }
             _ => self.deserialize_any(visitor),
         }
     }
@@ -326,7 +344,12 @@ mod tests {
     fn every_bundled_file_reads_as_the_first_pass_reads_it() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let mut n = 0;
-        for dir in ["vehicles", "scenarios", "scenarios/random", "scenarios/classic"] {
+        for dir in [
+            "vehicles",
+            "scenarios",
+            "scenarios/random",
+            "scenarios/classic",
+        ] {
             let Ok(rd) = std::fs::read_dir(root.join(dir)) else {
                 continue;
             };

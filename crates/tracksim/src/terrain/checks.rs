@@ -54,8 +54,16 @@ pub(super) fn check_total(c: &mut Checker, terrain: &TerrainModel) {
             ),
         );
     }
-    let vertices: usize = terrain.heightfields.iter().map(|h| h.rows * h.cols).sum::<usize>()
-        + terrain.meshes.iter().map(|m| m.vertices.len()).sum::<usize>();
+    let vertices: usize = terrain
+        .heightfields
+        .iter()
+        .map(|h| h.rows * h.cols)
+        .sum::<usize>()
+        + terrain
+            .meshes
+            .iter()
+            .map(|m| m.vertices.len())
+            .sum::<usize>();
     if vertices > MAX_TERRAIN_VERTICES {
         c.push(
             "terrain",
