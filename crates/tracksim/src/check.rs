@@ -197,10 +197,9 @@ impl Checker {
             );
         }
         let pts: Vec<DVec3> = points.iter().map(|p| v3(*p)).collect();
-        if pts.len() >= 4 && pts.len() <= MAX_HULL_POINTS && pts.iter().all(|p| p.is_finite()) {
-            if hull_volume(&pts) < 1e-15 {
-                self.push(key, "points are coplanar: the hull has no volume");
-            }
+        let usable = pts.len() >= 4 && pts.len() <= MAX_HULL_POINTS;
+        if usable && pts.iter().all(|p| p.is_finite()) && hull_volume(&pts) < 1e-15 {
+            self.push(key, "points are coplanar: the hull has no volume");
         }
         pts
     }
