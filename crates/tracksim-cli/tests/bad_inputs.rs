@@ -109,6 +109,18 @@ fn toml_files(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// `tracksim run FILE --quiet --no-plot --out OUT`.
+fn run_quietly(file: &Path, out: &Path) -> Ran {
+    run(&[
+        "run",
+        file.to_str().unwrap(),
+        "--quiet",
+        "--no-plot",
+        "--out",
+        out.to_str().unwrap(),
+    ])
+}
+
 #[test]
 fn every_bad_scenario_of_the_corpus_is_refused_by_check_and_run_alike() {
     let tmp = tempfile::tempdir().unwrap();
@@ -120,14 +132,7 @@ fn every_bad_scenario_of_the_corpus_is_refused_by_check_and_run_alike() {
         let c = run(&["check", f.to_str().unwrap()]);
         refused(&format!("check {name}"), &c, &key);
         let out = tmp.path().join(&name);
-        let r = run(&[
-            "run",
-            f.to_str().unwrap(),
-            "--quiet",
-            "--no-plot",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let r = run_quietly(&f, &out);
         refused(&format!("run {name}"), &r, &key);
         assert!(
             !out.join("summary.json").exists(),
@@ -159,15 +164,7 @@ fn every_bad_vehicle_of_the_corpus_is_refused_by_check_and_run_alike() {
             ),
         )
         .unwrap();
-        let out = tmp.path().join(&name);
-        let r = run(&[
-            "run",
-            s.to_str().unwrap(),
-            "--quiet",
-            "--no-plot",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let r = run_quietly(&s, &tmp.path().join(&name));
         refused(&format!("run with {name}"), &r, &key);
     }
 }
@@ -177,6 +174,13 @@ const FLAT: &str = "[terrain.ground]\n[simulation]\nduration_s = 0.2\n[[commands
 fn vehicle_line() -> String {
     let v = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../vehicles/packbot510.toml");
     format!("[vehicle]\nfile = {:?}\n", v.to_str().unwrap())
+}
+
+/// Writes `dir/s.toml`: the PackBot on flat ground ([`FLAT`]) with `from` replaced by `to`.
+fn flat_scenario(dir: &Path, from: &str, to: &str) -> PathBuf {
+    let s = dir.join("s.toml");
+    std::fs::write(&s, format!("{}{}", vehicle_line(), FLAT.replace(from, to))).unwrap();
+    s
 }
 
 #[test]
@@ -310,17 +314,8 @@ fn a_closed_standard_output_ends_quietly() {
 #[test]
 fn compare_with_every_method_unstable_exits_3() {
     let tmp = tempfile::tempdir().unwrap();
-    let s = tmp.path().join("s.toml");
     // 500 m/s belts throw the PackBot off (as in cli.rs's exploding simulation).
-    std::fs::write(
-        &s,
-        format!(
-            "{}{}",
-            vehicle_line(),
-            FLAT.replace("belt_speed_mps = 0.3", "belt_speed_mps = 500.0")
-        ),
-    )
-    .unwrap();
+    let s = flat_scenario(tmp.path(), "belt_speed_mps = 0.3", "belt_speed_mps = 500.0");
     let out = tmp.path().join("cmp");
     let r = run(&[
         "compare",
@@ -342,16 +337,7 @@ fn compare_with_every_method_unstable_exits_3() {
 #[test]
 fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     let tmp = tempfile::tempdir().unwrap();
-    let s = tmp.path().join("s.toml");
-    std::fs::write(
-        &s,
-        format!(
-            "{}{}",
-            vehicle_line(),
-            FLAT.replace("duration_s = 0.2", "duration_s = 3600.0")
-        ),
-    )
-    .unwrap();
+    let s = flat_scenario(tmp.path(), "duration_s = 0.2", "duration_s = 3600.0");
     let out = tmp.path().join("o");
     let child = Command::new(bin())
         .args([
