@@ -298,10 +298,14 @@ fn command(
     vehicle: &VehicleModel,
     last_t: &mut f64,
 ) -> Command {
-    if !(cmd.t_s.is_finite() && cmd.t_s >= 0.0) {
+    if !(cmd.t_s.is_finite() && (0.0..=crate::check::MAX_DURATION_S).contains(&cmd.t_s)) {
         c.push(
             format!("{k}.t_s"),
-            format!("must be >= 0 s, got {}", cmd.t_s),
+            format!(
+                "must be >= 0 s and at most {} s (the longest run), got {}",
+                crate::check::MAX_DURATION_S,
+                crate::check::num(cmd.t_s)
+            ),
         );
     } else if cmd.t_s < *last_t {
         c.push(
