@@ -24,18 +24,31 @@ fn io_error(path: &Path, message: String) -> Error {
 
 /// What a path that is not a regular file is, for error messages.
 fn kind_of(meta: &std::fs::Metadata) -> &'static str {
-    use std::os::unix::fs::FileTypeExt;
     let t = meta.file_type();
     if t.is_dir() {
-        "a directory"
-    } else if t.is_fifo() {
-        "a FIFO (named pipe)"
+        return "a directory";
+    }
+    #[cfg(unix)]
+    {
+        if let Some(k) = unix_kind(&t) {
+            return k;
+        }
+    }
+    "not a regular file"
+}
+
+/// FIFOs, devices and sockets by name (Unix).
+#[cfg(unix)]
+fn unix_kind(t: &std::fs::FileType) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_fifo() {
+        Some("a FIFO (named pipe)")
     } else if t.is_char_device() || t.is_block_device() {
-        "a device"
+        Some("a device")
     } else if t.is_socket() {
-        "a socket"
+        Some("a socket")
     } else {
-        "not a regular file"
+        None
     }
 }
 

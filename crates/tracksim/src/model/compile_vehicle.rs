@@ -139,6 +139,9 @@ fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> F
     );
     c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
     let shape = f.shape.as_ref().map(|s| shape(c, &format!("{k}.shape"), s));
+    if let Some(com) = &f.centre_of_mass_m {
+        c.finite(&format!("{k}.centre_of_mass_m"), com);
+    }
     let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
     let inertia = match f.inertia_kgm2 {
         Some(i) => {
