@@ -167,6 +167,43 @@ fn check_finite_csv(csv: &str) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a summary with a non-finite number (serde writes it as `null`; the only optional
+/// field is `scenario`), as [`check_finite_csv`] does for the trajectory.
+fn check_finite_summary(result: &RunResult) -> Result<()> {
+    fn null_at(v: &serde_json::Value, at: &str) -> Option<String> {
+        match v {
+            serde_json::Value::Null => Some(at.to_string()),
+            serde_json::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, x)| null_at(x, &format!("{at}[{i}]"))),
+            serde_json::Value::Object(m) => m
+                .iter()
+                .filter(|(k, _)| !(at.is_empty() && k.as_str() == "scenario"))
+                .find_map(|(k, x)| {
+                    null_at(
+                        x,
+                        &if at.is_empty() {
+                            k.clone()
+                        } else {
+                            format!("{at}.{k}")
+                        },
+                    )
+                }),
+            _ => None,
+        }
+    }
+    let v = serde_json::to_value(&result.summary).expect("summary serialises");
+    match null_at(&v, "") {
+        None => Ok(()),
+        Some(key) => Err(Error::Unstable {
+            time_s: result.summary.sim_time_s,
+            body: "the summary".into(),
+            what: format!("has a non-finite value at {key}"),
+        }),
+    }
+}
+
 /// Writes `summary.json` and `trajectory.csv` into `dir` (created if needed), each atomically
 /// (a temporary file renamed into place); a trajectory with a non-finite value is refused
 /// ([`Error::Unstable`]) and nothing is written.
@@ -178,6 +215,7 @@ pub fn write_run(result: &RunResult, dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let csv = trajectory_csv(result);
     check_finite_csv(&csv)?;
+    check_finite_summary(result)?;
     let sp = dir.join("summary.json");
     let json = serde_json::to_string_pretty(&result.summary).expect("summary serialises");
     crate::files::write_atomic(&sp, (json + "\n").as_bytes())?;
