@@ -1,7 +1,8 @@
 //! The `tracksim` command: a thin layer over the `tracksim` library.
 //!
 //! Exit codes: 0 success, 1 the scenario's outcome was failure (with `--strict`), 2 bad input,
-//! 3 the simulation went unstable.
+//! 3 the simulation went unstable, 130 `run` interrupted by Ctrl-C (what was simulated is
+//! written, with the outcome "interrupted").
 
 use clap::{Parser, Subcommand};
 use std::io::IsTerminal;
@@ -202,9 +203,17 @@ enum Cmd {
     },
 }
 
+/// Set by the Ctrl-C handler of `run`: the run stops and writes what it simulated.
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Exit code of a run interrupted by Ctrl-C (128 + SIGINT, as shells report it).
+const EXIT_INTERRUPTED: u8 = 130;
+
 /// Why the command failed, mapped to an exit code.
 enum Failure {
     Outcome,
+    /// `run` was interrupted (its outputs are written); exit 130.
+    Interrupted,
     /// Already reported on standard output (by `check`); exit 2.
     Reported,
     Sim(Error),
@@ -235,7 +244,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
         sc.method = parse_method("--method", m)?.name();
     }
     if let Some(d) = a.duration {
-        sc.duration = check_duration(d)?;
+        sc.duration = check_duration(d, sc.solver.dt)?;
     }
     if let Some(c) = &a.commands {
         sc.commands = tracksim::model::load_commands(c, &sc.vehicle)?;
@@ -251,11 +260,21 @@ fn run(a: RunArgs) -> Result<(), Failure> {
         );
         b
     });
+    if let Err(e) = ctrlc::set_handler(|| {
+        use std::sync::atomic::Ordering;
+        if STOP.swap(true, Ordering::SeqCst) {
+            // A second Ctrl-C ends at once.
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+    }) {
+        eprintln!("warning: Ctrl-C will not write the outputs of an interrupted run: {e}");
+    }
     let wall = std::time::Instant::now();
     let result = tracksim::run_scenario_with(
         &sc,
         RunOptions {
             realtime: a.realtime,
+            stop: Some(&STOP),
         },
         |t, total| {
             if let Some(b) = &bar {
@@ -336,6 +355,13 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             out!("wrote      {}", w.display());
         }
     }
+    if matches!(result.outcome, Outcome::Interrupted(_)) {
+        eprintln!(
+            "interrupted: wrote what was simulated into {}",
+            a.out.display()
+        );
+        return Err(Failure::Interrupted);
+    }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
         return Err(Failure::Outcome);
     }
@@ -371,15 +397,12 @@ fn parse_methods(names: &[String]) -> Result<Vec<tracksim::Method>, Failure> {
     names.iter().map(|m| parse_method("--methods", m)).collect()
 }
 
-/// Checks a `--duration` value, s.
-fn check_duration(d: f64) -> Result<f64, Failure> {
-    if d.is_finite() && d > 0.0 {
-        Ok(d)
-    } else {
-        Err(bad_arg(
-            "--duration",
-            format!("must be a number of seconds > 0, got {d}"),
-        ))
+/// Checks a `--duration` value, s, for steps of `dt` s (the limits of
+/// `simulation.duration_s`).
+fn check_duration(d: f64, dt: f64) -> Result<f64, Failure> {
+    match tracksim::model::duration_problem(d, dt) {
+        None => Ok(d),
+        Some(m) => Err(bad_arg("--duration", m)),
     }
 }
 
@@ -392,11 +415,16 @@ fn compare(
 ) -> Result<(), Failure> {
     let mut sc = tracksim::load_scenario(file)?;
     if let Some(d) = duration {
-        sc.duration = check_duration(d)?;
+        sc.duration = check_duration(d, sc.solver.dt)?;
     }
     let methods = parse_methods(methods)?;
+    std::fs::create_dir_all(out).map_err(|source| Error::Io {
+        path: out.to_path_buf(),
+        source,
+    })?;
     let mut rows = Vec::new();
     let mut done = Vec::new();
+    let mut last_error = None;
     for m in &methods {
         sc.method = m.name();
         if !json {
@@ -418,11 +446,14 @@ fn compare(
                 }));
                 done.push((m.name(), r));
             }
-            Err(e) => rows.push(serde_json::json!({
-                "method": m.name(),
-                "outcome": "error",
-                "reason": e.to_string(),
-            })),
+            Err(e) => {
+                rows.push(serde_json::json!({
+                    "method": m.name(),
+                    "outcome": "error",
+                    "reason": e.to_string(),
+                }));
+                last_error = Some(e);
+            }
         }
     }
     let runs: Vec<(String, &tracksim::RunResult)> =
@@ -445,17 +476,14 @@ fn compare(
         ));
     }
     let csv_path = out.join("compare.csv");
-    std::fs::write(&csv_path, csv).map_err(|source| Error::Io {
-        path: csv_path.clone(),
-        source,
-    })?;
+    tracksim::files::write_atomic(&csv_path, csv.as_bytes())?;
     if json {
         out!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({ "methods": rows }))
                 .expect("serialises")
         );
-        return Ok(());
+        return no_method_ran(done.is_empty(), last_error);
     }
     out!("scenario {}", file.display());
     out!(
@@ -486,7 +514,16 @@ fn compare(
     for p in plots {
         out!("wrote {}", p.display());
     }
-    Ok(())
+    no_method_ran(done.is_empty(), last_error)
+}
+
+/// `compare` when no method produced a run: the last method's error (exit 3 if unstable),
+/// after the table and `compare.csv` are written.
+fn no_method_ran(none_ran: bool, last_error: Option<Error>) -> Result<(), Failure> {
+    match last_error {
+        Some(e) if none_ran => Err(Failure::Sim(e)),
+        _ => Ok(()),
+    }
 }
 
 fn validate(
@@ -556,9 +593,17 @@ fn data_root() -> PathBuf {
     }
 }
 
+/// Most `bench --repeat` runs per method.
+const MAX_REPEAT: usize = 1000;
+/// Most `bench --jobs` threads.
+const MAX_JOBS: usize = 1024;
+
 fn bench(a: BenchArgs) -> Result<(), Failure> {
-    if a.repeat == 0 {
-        return Err(bad_arg("--repeat", "must be at least 1".into()));
+    if a.repeat == 0 || a.repeat > MAX_REPEAT {
+        return Err(bad_arg(
+            "--repeat",
+            format!("must be from 1 to {MAX_REPEAT}, got {}", a.repeat),
+        ));
     }
     if a.solver_iterations.is_some_and(|n| n == 0 || n > 100) {
         return Err(bad_arg(
@@ -566,9 +611,12 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             "must be between 1 and 100".into(),
         ));
     }
-    check_duration(a.duration)?;
-    if a.jobs == Some(0) {
-        return Err(bad_arg("--jobs", "must be at least 1 thread".into()));
+    check_duration(a.duration, 0.001)?;
+    if let Some(j) = a.jobs.filter(|j| *j == 0 || *j > MAX_JOBS) {
+        return Err(bad_arg(
+            "--jobs",
+            format!("must be from 1 to {MAX_JOBS} threads, got {j}"),
+        ));
     }
     let methods = parse_methods(&a.methods)?;
     let root = data_root();
@@ -656,8 +704,8 @@ fn bench(a: BenchArgs) -> Result<(), Failure> {
             })
             .collect();
         let md: String = results.iter().map(|r| r.to_markdown() + "\n").collect();
-        std::fs::write(dir.join("bench.csv"), csv).map_err(io(&dir.join("bench.csv")))?;
-        std::fs::write(dir.join("bench.md"), md).map_err(io(&dir.join("bench.md")))?;
+        tracksim::files::write_atomic(&dir.join("bench.csv"), csv.as_bytes())?;
+        tracksim::files::write_atomic(&dir.join("bench.md"), md.as_bytes())?;
         if !quiet {
             out!(
                 "wrote {} and {}",
@@ -766,16 +814,8 @@ fn design_lines(v: &tracksim::VehicleModel) -> String {
 
 /// Tells a vehicle file from a scenario file by its top-level keys.
 fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let table: toml_table::Table =
-        text.parse()
-            .map_err(|e: toml_table::de::Error| Error::Parse {
-                path: path.to_path_buf(),
-                message: e.to_string(),
-            })?;
+    let text = tracksim::files::read_text_bounded(path, tracksim::files::MAX_TOML_BYTES)?;
+    let table: toml_table::Table = tracksim::model::parse_toml(path, &text)?;
     Ok(table.contains_key("body") || table.contains_key("tracks"))
 }
 
@@ -831,7 +871,8 @@ fn check(files: &[PathBuf]) -> Result<(), Failure> {
 }
 
 fn description(path: &Path) -> String {
-    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let text = tracksim::files::read_text_bounded(path, tracksim::files::MAX_TOML_BYTES)
+        .unwrap_or_default();
     text.parse::<toml_table::Table>()
         .ok()
         .and_then(|t| {
@@ -917,7 +958,10 @@ fn drive(a: DriveArgs) -> Result<(), Failure> {
             format!("must be a number > 0 (1 = real time), got {}", a.speed),
         ));
     }
-    let max_time = a.duration.map(check_duration).transpose()?;
+    let max_time = a
+        .duration
+        .map(|d| check_duration(d, sc.solver.dt))
+        .transpose()?;
     let hub = Hub::new();
     let scene_json = tracksim::output::Scene::new(&sc).to_json();
     let mut server = Server::start(
@@ -1073,6 +1117,7 @@ fn main() -> ExitCode {
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Outcome) => ExitCode::from(1),
+        Err(Failure::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(Failure::Reported) => ExitCode::from(2),
         Err(Failure::Sim(e)) => {
             eprintln!("error: {e}");

@@ -62,13 +62,27 @@ fn grid_axis(s: &str) -> Result<(String, Vec<f64>), Failure> {
     Ok((name.trim().to_string(), vals))
 }
 
+/// Most `sweep --jobs` threads.
+const MAX_SWEEP_JOBS: usize = 1024;
+/// Most `sweep --runs` (a run folder each; with `--grid`, per grid point).
+const MAX_SWEEP_RUNS: usize = 10_000_000;
+
 /// `tracksim sweep`.
 pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
     if let Some(m) = &a.method {
         parse_method("--method", m)?;
     }
-    if a.jobs == 0 {
-        return Err(bad_arg("--jobs", "must be at least 1".into()));
+    if a.jobs == 0 || a.jobs > MAX_SWEEP_JOBS {
+        return Err(bad_arg(
+            "--jobs",
+            format!("must be from 1 to {MAX_SWEEP_JOBS}, got {}", a.jobs),
+        ));
+    }
+    if a.runs == 0 || a.runs > MAX_SWEEP_RUNS {
+        return Err(bad_arg(
+            "--runs",
+            format!("must be from 1 to {MAX_SWEEP_RUNS}, got {}", a.runs),
+        ));
     }
     let shard = match &a.shard {
         Some(s) => Some(Shard::parse(s).map_err(|e| bad_arg("--shard", e))?),
@@ -85,6 +99,16 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
             .iter()
             .map(|g| grid_axis(g))
             .collect::<Result<Vec<_>, _>>()?;
+        let total = axes
+            .iter()
+            .try_fold(a.runs, |n, (_, v)| n.checked_mul(v.len()))
+            .filter(|n| *n <= MAX_SWEEP_RUNS);
+        if total.is_none() {
+            return Err(bad_arg(
+                "--grid",
+                format!("the grid points times --runs must be at most {MAX_SWEEP_RUNS} runs"),
+            ));
+        }
         SweepPlan::grid(&axes, a.runs, seed)
     };
     let opts = SweepOptions {

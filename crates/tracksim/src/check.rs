@@ -1,4 +1,7 @@
-//! Collecting input problems with their key paths.
+//! Collecting input problems with their key paths, and the limits of what the engine (f32)
+//! can represent: every checked number is also held to the range of its unit
+//! ([`unit_range`]), so a value finite in f64 but beyond f32 (a mass of 1e-300 kg, a belt
+//! speed of 1e39 m/s) is refused with the limit instead of running into NaN.
 
 use crate::error::SpecIssue;
 use glam::DVec3;
@@ -18,6 +21,47 @@ pub(crate) fn v3(a: [f64; 3]) -> DVec3 {
     DVec3::from_array(a)
 }
 
+/// Largest magnitude of a position or length, m: 100 km (Rapier is f32; the floating origin
+/// keeps the vehicle near the origin, but terrain and starts must stay within this range).
+pub const MAX_LENGTH_M: f64 = 1e5;
+/// Smallest positive length, m (1 um).
+pub const MIN_LENGTH_M: f64 = 1e-6;
+/// Largest speed (belt, forward), m/s, and yaw rate, rad/s: far beyond any tracked vehicle
+/// (a run that fast goes unstable and exits 3), well within f32.
+pub const MAX_SPEED_MPS: f64 = 1000.0;
+/// Largest simulated duration, s (one day).
+pub const MAX_DURATION_S: f64 = 86_400.0;
+/// Largest number of physics steps in one run (`duration_s / dt_s`).
+pub const MAX_STEPS: f64 = 1e8;
+/// Smallest physics step, s.
+pub const MIN_DT_S: f64 = 1e-5;
+/// Largest magnitude of any other checked number (angles in degrees, gains, ...).
+pub const MAX_PLAIN: f64 = 1e9;
+
+/// The range `(smallest positive value, largest magnitude)` allowed for a quantity in `unit`.
+pub fn unit_range(unit: &str) -> (f64, f64) {
+    match unit {
+        "m" => (MIN_LENGTH_M, MAX_LENGTH_M),
+        "kg" => (1e-6, 1e6),
+        "kg m^2" => (1e-12, 1e6),
+        "s" => (1e-6, MAX_DURATION_S),
+        "N m" => (1e-6, 1e7),
+        "N s/m" => (1e-9, 1e9),
+        "" => (1e-6, 1e4),
+        _ => (1e-12, MAX_PLAIN),
+    }
+}
+
+/// A number for a message: plain when moderate, in exponent form when huge or tiny (a value
+/// of 1e300 is not printed as 301 digits).
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
 /// Collects issues with key paths.
 #[derive(Default)]
 pub(crate) struct Checker {
@@ -29,18 +73,95 @@ impl Checker {
         self.issues.push(SpecIssue::new(key, msg));
     }
     pub(crate) fn positive(&mut self, key: &str, v: f64, unit: &str) {
+        let (lo, hi) = unit_range(unit);
         if !(v.is_finite() && v > 0.0) {
-            self.push(key, format!("must be a finite number > 0 {unit}, got {v}"));
+            self.push(
+                key,
+                format!("must be a finite number > 0 {unit}, got {}", num(v)),
+            );
+        } else if !(lo..=hi).contains(&v) {
+            self.push(
+                key,
+                format!(
+                    "must be between {lo:e} and {hi:e} {unit} (the engine is f32), got {}",
+                    num(v)
+                ),
+            );
         }
     }
     pub(crate) fn non_negative(&mut self, key: &str, v: f64, unit: &str) {
+        let (lo, hi) = unit_range(unit);
         if !(v.is_finite() && v >= 0.0) {
-            self.push(key, format!("must be a finite number >= 0 {unit}, got {v}"));
+            self.push(
+                key,
+                format!("must be a finite number >= 0 {unit}, got {}", num(v)),
+            );
+        } else if v > 0.0 && v < lo {
+            self.push(
+                key,
+                format!(
+                    "must be 0 or at least {lo:e} {unit} (smaller is 0 to the f32 engine), got {}",
+                    num(v)
+                ),
+            );
+        } else if v > hi {
+            self.push(
+                key,
+                format!(
+                    "must be at most {hi:e} {unit} (the engine is f32), got {}",
+                    num(v)
+                ),
+            );
         }
     }
+    /// Finite numbers of magnitude at most [`MAX_LENGTH_M`] (keys ending in `_m`) or
+    /// [`MAX_PLAIN`].
     pub(crate) fn finite(&mut self, key: &str, v: &[f64]) {
+        let max = if key.ends_with("_m") || key.contains("_m[") {
+            MAX_LENGTH_M
+        } else {
+            MAX_PLAIN
+        };
         if v.iter().any(|x| !x.is_finite()) {
             self.push(key, format!("must be finite numbers, got {v:?}"));
+        } else if v.iter().any(|x| x.abs() > max) {
+            self.push(
+                key,
+                format!(
+                    "must be at most {max:e} in magnitude (the engine is f32), got [{}]",
+                    v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")
+                ),
+            );
+        }
+    }
+    /// A track or flipper name, which becomes part of `trajectory.csv` column names: 1 to 64
+    /// ASCII letters, digits, `_` or `-` (no comma, quote, space or newline to break the CSV).
+    pub(crate) fn column_name(&mut self, key: &str, name: &str) {
+        let ok = (1..=64).contains(&name.len())
+            && name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || ch == '_' || ch == '-');
+        if !ok {
+            let shown: String = name.chars().take(64).collect();
+            self.push(
+                key,
+                format!(
+                    "must be 1 to 64 ASCII letters, digits, `_` or `-` (it names columns of \
+                     trajectory.csv), got {shown:?}"
+                ),
+            );
+        }
+    }
+    /// A finite number of magnitude at most `max` `unit`.
+    pub(crate) fn bounded(&mut self, key: &str, v: f64, max: f64, unit: &str) {
+        if !(v.is_finite() && v.abs() <= max) {
+            self.push(
+                key,
+                format!(
+                    "must be a finite number between -{max} and {max} {unit}, got {}",
+                    num(v)
+                ),
+            );
         }
     }
     pub(crate) fn unit_vector(&mut self, key: &str, v: [f64; 3]) -> DVec3 {
@@ -66,21 +187,46 @@ impl Checker {
         for (i, p) in points.iter().enumerate() {
             self.finite(&format!("{key}[{i}]"), p);
         }
+        if points.len() > MAX_HULL_POINTS {
+            self.push(
+                key,
+                format!(
+                    "at most {MAX_HULL_POINTS} points, got {}: simplify the shape",
+                    points.len()
+                ),
+            );
+        }
         let pts: Vec<DVec3> = points.iter().map(|p| v3(*p)).collect();
-        if pts.len() >= 4 && pts.iter().all(|p| p.is_finite()) {
-            let p0 = pts[0];
-            let mut max_vol: f64 = 0.0;
-            for a in &pts[1..] {
-                for b in &pts[1..] {
-                    for c in &pts[1..] {
-                        max_vol = max_vol.max((*a - p0).dot((*b - p0).cross(*c - p0)).abs());
-                    }
-                }
-            }
-            if max_vol < 1e-15 {
-                self.push(key, "points are coplanar: the hull has no volume");
-            }
+        let usable = pts.len() >= 4 && pts.len() <= MAX_HULL_POINTS;
+        if usable && pts.iter().all(|p| p.is_finite()) && hull_volume(&pts) < 1e-15 {
+            self.push(key, "points are coplanar: the hull has no volume");
         }
         pts
     }
+}
+
+/// Most points of one convex shape.
+pub const MAX_HULL_POINTS: usize = 10_000;
+
+/// Volume of the convex hull of `pts`, m^3 (parry's quickhull, O(n log n); 0 when the points
+/// are coplanar or the hull cannot be built).
+pub(crate) fn hull_volume(pts: &[DVec3]) -> f64 {
+    use rapier3d::parry::transformation::try_convex_hull;
+    let fp: Vec<_> = pts.iter().map(|p| f(*p)).collect();
+    let Ok((verts, tris)) = try_convex_hull(&fp) else {
+        return 0.0;
+    };
+    if tris.is_empty() {
+        return 0.0;
+    }
+    // Volume of the closed triangle mesh by the divergence theorem, about its first vertex.
+    let o = verts[0];
+    let vol: f32 = tris
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| verts[i as usize] - o);
+            a.dot(b.cross(c))
+        })
+        .sum();
+    f64::from(vol.abs()) / 6.0
 }

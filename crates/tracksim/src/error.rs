@@ -4,6 +4,20 @@
 use std::fmt;
 use std::path::PathBuf;
 
+/// Longest key or message of a [`SpecIssue`], characters.
+pub const MAX_ISSUE_CHARS: usize = 1000;
+
+fn cut(s: String) -> String {
+    if s.len() <= MAX_ISSUE_CHARS {
+        return s;
+    }
+    let kept: String = s.chars().take(MAX_ISSUE_CHARS).collect();
+    format!(
+        "{kept} ... ({} characters cut)",
+        s.chars().count() - MAX_ISSUE_CHARS
+    )
+}
+
 /// One problem found in an input file, with the key path that holds it
 /// (for example `tracks[1].path.pulleys[0].radius_m`).
 #[derive(Clone, Debug, PartialEq)]
@@ -15,11 +29,12 @@ pub struct SpecIssue {
 }
 
 impl SpecIssue {
-    /// Creates an issue at `key`.
+    /// Creates an issue at `key`; a message (or key) longer than [`MAX_ISSUE_CHARS`]
+    /// characters is cut (a value from the file is never echoed whole: it may be 50 MB).
     pub fn new(key: impl Into<String>, message: impl Into<String>) -> Self {
         SpecIssue {
-            key: key.into(),
-            message: message.into(),
+            key: cut(key.into()),
+            message: cut(message.into()),
         }
     }
 }

@@ -5,7 +5,8 @@
 //! Consideration of Friction and Grouser Geometry" (ICRA 2020), on the Rapier physics engine.
 //!
 //! Layers, each importing only the ones above it in this list (docs/ARCHITECTURE.md):
-//! - [`error`], `check` (problem lists with key paths, f64 -> f32 conversions): the base;
+//! - [`error`], `check` (problem lists with key paths, f64 -> f32 conversions, limits),
+//!   [`files`] (bounded reading of regular files, atomic writes): the base;
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
 //! - [`terrain`]: terrain kinds compiled and checked, file parsers, insertion into Rapier;
@@ -28,6 +29,7 @@ pub mod cases;
 pub(crate) mod check;
 pub mod env;
 pub mod error;
+pub mod files;
 pub mod geometry;
 pub mod live;
 pub mod model;

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// not import each other.
 const LAYERS: &[&[&str]] = &[
     &["error"],
-    &["check"],
+    &["check", "files"],
     &["spec"],
     &["geometry"],
     &["terrain"],

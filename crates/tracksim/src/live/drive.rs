@@ -9,7 +9,7 @@
 //! `trajectory.csv`.
 
 use super::hub::{DriveControl, Hub};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::{Controls, Scenario};
 use crate::run::{Outcome, RunResult, Summary, WallTimes, check_outcome, outcome};
 use crate::spec::CommandSpec;
@@ -332,10 +332,7 @@ impl Session {
             ("controls.csv", self.controls_csv()),
         ] {
             let p = dir.join(name);
-            std::fs::write(&p, text).map_err(|source| Error::Io {
-                path: p.clone(),
-                source,
-            })?;
+            crate::files::write_atomic(&p, text.as_bytes())?;
             written.push(p);
         }
         Ok(written)

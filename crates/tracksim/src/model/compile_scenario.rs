@@ -44,6 +44,9 @@ pub fn compile_scenario_with(
     let terrain = crate::terrain::compile_terrain(&spec.terrain, base_dir, &mut c.issues);
     let conveyors = super::conveyor::compile_conveyors(&mut c, &spec.terrain.conveyors);
     let loose_boxes = super::conveyor::compile_loose_boxes(&mut c, &spec.terrain.loose_boxes);
+    if c.issues.is_empty() {
+        check_start_height(&mut c, v, &terrain);
+    }
     let s = &spec.simulation;
     let solver = simulation(&mut c, s);
     let mut commands = Vec::new();
@@ -122,7 +125,10 @@ pub fn compile_commands(
 /// friction, body mass (inertia scaled with it), belt mass, contact compliance and grouser
 /// count to `vehicle`.
 fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleModel) {
-    c.finite("vehicle.x_m", &[v.x_m, v.y_m, v.yaw_deg, v.pitch_deg]);
+    c.finite("vehicle.x_m", &[v.x_m]);
+    c.finite("vehicle.y_m", &[v.y_m]);
+    c.finite("vehicle.yaw_deg", &[v.yaw_deg]);
+    c.finite("vehicle.pitch_deg", &[v.pitch_deg]);
     if let Some(z) = v.z_m {
         c.finite("vehicle.z_m", &[z]);
     }
@@ -156,6 +162,12 @@ fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleM
                 "the vehicle's tracks have no grousers to count; add a [tracks.grousers] table to the vehicle file (0 is the only count that applies)",
             );
         }
+        if n > super::MAX_GROUSERS {
+            c.push(
+                "vehicle.grouser_count",
+                format!("must be at most {} per track, got {n}", super::MAX_GROUSERS),
+            );
+        }
         for t in &mut vehicle.tracks {
             if n == 0 {
                 t.grousers = None;
@@ -175,25 +187,93 @@ fn vehicle_overrides(c: &mut Checker, v: &VehicleRefSpec, vehicle: &mut VehicleM
     }
 }
 
+/// Checks that a run of `duration` s in steps of `dt` s stays within
+/// [`crate::check::MAX_STEPS`] steps (reported at `key`).
+fn check_steps(c: &mut Checker, key: &str, duration: f64, dt: f64) {
+    if let Some(m) =
+        duration_problem(duration, dt).filter(|_| duration.is_finite() && duration > 0.0)
+    {
+        c.push(key, m);
+    }
+}
+
+/// What is wrong with a run of `duration` s in steps of `dt` s, if anything: it must be
+/// finite, > 0, at most [`crate::check::MAX_DURATION_S`] (one day) and at most
+/// [`crate::check::MAX_STEPS`] steps (for `--duration` and `simulation.duration_s`).
+pub fn duration_problem(duration: f64, dt: f64) -> Option<String> {
+    use crate::check::{MAX_DURATION_S, MAX_STEPS};
+    if !(duration.is_finite() && duration > 0.0 && duration <= MAX_DURATION_S) {
+        return Some(format!(
+            "must be a number of seconds > 0 and at most {MAX_DURATION_S} (one day), got {}",
+            crate::check::num(duration)
+        ));
+    }
+    let steps = duration / dt;
+    (dt > 0.0 && steps > MAX_STEPS).then(|| {
+        format!(
+            "{} s in steps of {} s is {steps:.3e} steps, more than the limit of \
+             {MAX_STEPS:e}: shorten the run or lengthen the step",
+            crate::check::num(duration),
+            crate::check::num(dt)
+        )
+    })
+}
+
+/// Largest contact prediction distance, m.
+const MAX_PREDICTION_M: f64 = 0.1;
+
+/// Depth below the terrain surface at which a given start height `vehicle.z_m` of the body
+/// origin is refused, m (the body origin lies inside the chassis, above the track bottoms).
+const MAX_START_BELOW_TERRAIN_M: f64 = 0.05;
+
+/// Refuses a start height `z` m of the body origin more than [`MAX_START_BELOW_TERRAIN_M`]
+/// below the terrain at the start (x, y).
+fn check_start_height(c: &mut Checker, v: &VehicleRefSpec, terrain: &crate::terrain::TerrainModel) {
+    let Some(z) = v.z_m else { return };
+    if let Some(h) = terrain.height_at(v.x_m, v.y_m)
+        && z < h - MAX_START_BELOW_TERRAIN_M
+    {
+        c.push(
+            "vehicle.z_m",
+            format!(
+                "{z} m is {:.3} m below the terrain surface at the start ({h:.3} m): the vehicle \
+                 would start inside it; raise z_m or leave it out (placed just above the terrain)",
+                h - z
+            ),
+        );
+    }
+}
+
 /// Simulation-settings stage: checks `[simulation]` and compiles the solver settings.
 fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
-    if !(s.dt_s.is_finite() && s.dt_s > 0.0 && s.dt_s <= 0.01) {
+    use crate::check::MIN_DT_S;
+    if !(s.dt_s.is_finite() && (MIN_DT_S..=0.01).contains(&s.dt_s)) {
         c.push(
             "simulation.dt_s",
             format!(
-                "must be > 0 and at most 0.01 s (tracks with grousers need 1-2 ms), got {}",
-                s.dt_s
+                "must be at least {MIN_DT_S:e} s and at most 0.01 s (tracks with grousers need \
+                 1-2 ms), got {}",
+                crate::check::num(s.dt_s)
             ),
         );
     }
     c.positive("simulation.duration_s", s.duration_s, "s");
+    check_steps(c, "simulation.duration_s", s.duration_s, s.dt_s);
     c.positive("simulation.output_interval_s", s.output_interval_s, "s");
     c.non_negative("simulation.min_link_mass_kg", s.min_link_mass_kg, "kg");
-    c.positive(
-        "simulation.prediction_distance_m",
-        s.prediction_distance_m,
-        "m",
-    );
+    if !(s.prediction_distance_m.is_finite()
+        && s.prediction_distance_m > 0.0
+        && s.prediction_distance_m <= MAX_PREDICTION_M)
+    {
+        c.push(
+            "simulation.prediction_distance_m",
+            format!(
+                "must be > 0 and at most {MAX_PREDICTION_M} m (contacts are predicted this far \
+                 ahead; the default is 0.02), got {}",
+                s.prediction_distance_m
+            ),
+        );
+    }
     if !(s.contact_slop_m.is_finite() && (0.0..=0.02).contains(&s.contact_slop_m)) {
         c.push(
             "simulation.contact_slop_m",
@@ -229,10 +309,14 @@ fn command(
     vehicle: &VehicleModel,
     last_t: &mut f64,
 ) -> Command {
-    if !(cmd.t_s.is_finite() && cmd.t_s >= 0.0) {
+    if !(cmd.t_s.is_finite() && (0.0..=crate::check::MAX_DURATION_S).contains(&cmd.t_s)) {
         c.push(
             format!("{k}.t_s"),
-            format!("must be >= 0 s, got {}", cmd.t_s),
+            format!(
+                "must be >= 0 s and at most {} s (the longest run), got {}",
+                crate::check::MAX_DURATION_S,
+                crate::check::num(cmd.t_s)
+            ),
         );
     } else if cmd.t_s < *last_t {
         c.push(
@@ -252,12 +336,9 @@ fn command(
                     "give forward_mps/yaw_rate_rad_s or per-track speeds, not both",
                 );
             }
-            if !(v_fwd.is_finite() && w.is_finite()) {
-                c.push(
-                    k.to_string(),
-                    "forward_mps and yaw_rate_rad_s must be finite",
-                );
-            }
+            let max = crate::check::MAX_SPEED_MPS;
+            c.bounded(&format!("{k}.forward_mps"), v_fwd, max, "m/s");
+            c.bounded(&format!("{k}.yaw_rate_rad_s"), w, max, "rad/s");
             belt = Controls::twist(vehicle, v_fwd, w).belt_speed;
         }
     }
@@ -406,8 +487,9 @@ fn track_speeds(
             } else {
                 Some(1.0)
             };
-            if !x.is_finite() {
-                c.push(kk, format!("must be finite, got {x}"));
+            let unit = if sprocket { "rad/s" } else { "m/s" };
+            if !(x.is_finite() && x.abs() <= crate::check::MAX_SPEED_MPS) {
+                c.bounded(&kk, x, crate::check::MAX_SPEED_MPS, unit);
             } else if let Some(f) = scale {
                 belt[j] = Some(x * f);
             } else {
@@ -434,11 +516,8 @@ fn flipper_angles(
     let mut flip = vec![None; vehicle.flippers.len()];
     for (name, a) in &cmd.flipper_angle_deg {
         match vehicle.flipper_index(name) {
-            Some(j) if a.is_finite() => flip[j] = Some(a.to_radians()),
-            Some(_) => c.push(
-                format!("{k}.flipper_angle_deg.{name}"),
-                format!("must be finite, got {a}"),
-            ),
+            Some(j) if a.is_finite() && a.abs() <= 3600.0 => flip[j] = Some(a.to_radians()),
+            Some(_) => c.bounded(&format!("{k}.flipper_angle_deg.{name}"), *a, 3600.0, "deg"),
             None => c.push(
                 format!("{k}.flipper_angle_deg.{name}"),
                 format!("no flipper called \"{name}\""),

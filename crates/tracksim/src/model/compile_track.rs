@@ -49,6 +49,10 @@ pub(super) fn compile_track(
     t: &TrackSpec,
     tracks: &mut Vec<TrackModel>,
 ) {
+    c.column_name(&format!("{k}.name"), &t.name);
+    if let Some(m) = &t.mirror {
+        c.column_name(&format!("{k}.mirror"), m);
+    }
     let parent = resolve_parent(c, flippers, format!("{k}.parent"), &t.parent);
     let mirror_parent = match &t.mirror_parent {
         Some(p) => resolve_parent(c, flippers, format!("{k}.mirror_parent"), p),
@@ -145,6 +149,9 @@ fn belt(c: &mut Checker, k: &str, t: &TrackSpec) -> CoefficientCombineRule {
     combine
 }
 
+/// Most grousers on one track (a grouser is a collider; the paper's PackBot has 40).
+pub const MAX_GROUSERS: usize = 10_000;
+
 /// Grouser stage: checks the `[grousers]` table of the track at `k` (belt width `track_width`
 /// m) and compiles it; `None` for a count of 0.
 fn grousers(c: &mut Checker, k: &str, track_width: f64, g: &GrouserSpec) -> Option<GrouserModel> {
@@ -153,6 +160,11 @@ fn grousers(c: &mut Checker, k: &str, track_width: f64, g: &GrouserSpec) -> Opti
         c.push(
             format!("{gk}.count"),
             "must be >= 1 (remove the [grousers] table for a track without grousers)",
+        );
+    } else if g.count > MAX_GROUSERS {
+        c.push(
+            format!("{gk}.count"),
+            format!("must be at most {MAX_GROUSERS} per track, got {}", g.count),
         );
     }
     c.finite(&format!("{gk}.offset_m"), &[g.offset_m]);
@@ -279,6 +291,15 @@ fn track_path(
         (Some(q), None) => {
             let y = p.plane_y_m.unwrap_or(0.0);
             c.finite(&format!("{pk}.plane_y_m"), &[y]);
+            let n = c.issues.len();
+            for (j, q) in q.iter().enumerate() {
+                c.finite(&format!("{pk}.pulleys[{j}].x_m"), &[q.x_m]);
+                c.finite(&format!("{pk}.pulleys[{j}].z_m"), &[q.z_m]);
+                c.positive(&format!("{pk}.pulleys[{j}].radius_m"), q.radius_m, "m");
+            }
+            if c.issues.len() != n {
+                return None;
+            }
             let pulleys: Vec<Pulley> = q
                 .iter()
                 .map(|q| Pulley {
@@ -295,6 +316,31 @@ fn track_path(
                     format!("{pk}.plane_y_m"),
                     "only used with pulleys; explicit segments carry their own y",
                 );
+            }
+            let n = c.issues.len();
+            for (j, seg) in s.iter().enumerate() {
+                let sk = format!("{pk}.segments[{j}]");
+                match seg {
+                    SegmentSpec::Straight {
+                        start_m, length_m, ..
+                    } => {
+                        c.finite(&format!("{sk}.start_m"), start_m);
+                        c.positive(&format!("{sk}.length_m"), *length_m, "m");
+                    }
+                    SegmentSpec::Arc {
+                        start_m,
+                        centre_m,
+                        angle_deg,
+                        ..
+                    } => {
+                        c.finite(&format!("{sk}.start_m"), start_m);
+                        c.finite(&format!("{sk}.centre_m"), centre_m);
+                        c.finite(&format!("{sk}.angle_deg"), &[*angle_deg]);
+                    }
+                }
+            }
+            if c.issues.len() != n {
+                return None;
             }
             let segs = s.iter().map(segment).collect();
             if p.spatial {

@@ -118,11 +118,10 @@ fn body(c: &mut Checker, b: &BodySpec) -> BodyModel {
 /// Flipper stage: checks flipper `i` of `all` and compiles it (initial angle to radians).
 fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> FlipperModel {
     let k = format!("flippers[{i}]");
-    if f.name.trim().is_empty() || f.name == "body" {
-        c.push(
-            format!("{k}.name"),
-            "must be a non-empty name other than \"body\"",
-        );
+    if f.name == "body" {
+        c.push(format!("{k}.name"), "must be a name other than \"body\"");
+    } else {
+        c.column_name(&format!("{k}.name"), &f.name);
     }
     if all[..i].iter().any(|g| g.name == f.name) {
         c.push(
@@ -146,6 +145,9 @@ fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> F
     );
     c.finite(&format!("{k}.initial_angle_deg"), &[f.initial_angle_deg]);
     let shape = f.shape.as_ref().map(|s| shape(c, &format!("{k}.shape"), s));
+    if let Some(com) = &f.centre_of_mass_m {
+        c.finite(&format!("{k}.centre_of_mass_m"), com);
+    }
     let com = f.centre_of_mass_m.map(v3).unwrap_or(v3(f.pivot_m));
     let inertia = match f.inertia_kgm2 {
         Some(i) => {

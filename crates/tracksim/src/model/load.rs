@@ -8,16 +8,43 @@ use crate::error::{Error, Result, SpecIssue};
 use crate::spec::{ScenarioSpec, VehicleSpec};
 use std::path::Path;
 
-/// Reads and parses a TOML file into `T`, naming the file in every error.
+/// Reads and parses a TOML file into `T`, naming the file in every error: a regular file of
+/// at most [`crate::files::MAX_TOML_BYTES`], parsed with line and column in errors, then read
+/// again strictly ([`crate::spec::strict`]: no table given as an array, no array too long).
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
+    let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
+    parse_toml(path, &text)
+}
+
+/// Parses TOML `text` (of the file `path`) into `T` as [`read_toml`] does.
+pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
+    let parse = |message: String| Error::Parse {
         path: path.to_path_buf(),
-        source,
-    })?;
-    toml::from_str(&text).map_err(|e| Error::Parse {
-        path: path.to_path_buf(),
-        message: e.to_string(),
-    })
+        message: shorten(&message),
+    };
+    let doc: toml::Table = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
+    let typed: T = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
+    crate::spec::strict::from_value::<T>(&toml::Value::Table(doc)).map_err(|e| parse(e.0))?;
+    Ok(typed)
+}
+
+/// Longest line of a parser message kept whole, characters (a 50 MB line is not echoed).
+const MAX_MESSAGE_LINE_CHARS: usize = 200;
+
+/// Cuts every line of a parser message to [`MAX_MESSAGE_LINE_CHARS`] characters.
+pub(crate) fn shorten(message: &str) -> String {
+    message
+        .lines()
+        .map(|l| {
+            if l.chars().count() > MAX_MESSAGE_LINE_CHARS {
+                let cut: String = l.chars().take(MAX_MESSAGE_LINE_CHARS).collect();
+                format!("{cut} ... (line cut)")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// Loads and compiles a vehicle file.
@@ -87,7 +114,7 @@ pub(crate) fn scenario_vehicle(path: &Path, spec: &ScenarioSpec) -> Result<Vehic
     match (&spec.vehicle.file, &spec.vehicle.inline) {
         (Some(file), None) => {
             let vpath = dir.join(file);
-            if !vpath.is_file() {
+            if !vpath.exists() {
                 return Err(invalid(vec![SpecIssue::new(
                     "vehicle.file",
                     format!(
@@ -95,6 +122,9 @@ pub(crate) fn scenario_vehicle(path: &Path, spec: &ScenarioSpec) -> Result<Vehic
                         vpath.display()
                     ),
                 )]));
+            }
+            if let Err(e) = crate::files::check_regular(&vpath, crate::files::MAX_TOML_BYTES) {
+                return Err(invalid(vec![SpecIssue::new("vehicle.file", e.to_string())]));
             }
             load_vehicle(&vpath)
         }

@@ -39,6 +39,7 @@ mod vehicle;
 mod wheel;
 
 pub use compile_scenario::*;
+pub use compile_track::MAX_GROUSERS;
 pub use compile_vehicle::*;
 pub use compliance::{
     Compliance, ContactSpring, belt_compression_stiffness, lug_compression_stiffness,

@@ -54,14 +54,8 @@ impl ScenarioTemplate {
                 file_seed: spec.simulation.seed,
             });
         }
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        let mut doc: toml::Table = toml::from_str(&text).map_err(|e| Error::Parse {
-            path: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+        let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
+        let mut doc: toml::Table = super::load::parse_toml(path, &text)?;
         doc.remove("randomize");
         let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
         let vehicle = match spec.vehicle.inline {
@@ -189,13 +183,12 @@ impl ScenarioTemplate {
 
     fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
         let (doc, sampled) = self.randomizer.apply(&self.doc, values);
+        let doc = toml::Value::Table(doc);
         let spec: ScenarioSpec =
-            toml::Value::Table(doc)
-                .try_into()
-                .map_err(|e: toml::de::Error| Error::Parse {
-                    path: self.path.clone(),
-                    message: format!("with the [randomize] values {sampled:?}: {}", e.message()),
-                })?;
+            crate::spec::strict::from_value(&doc).map_err(|e| Error::Parse {
+                path: self.path.clone(),
+                message: format!("with the [randomize] values {sampled:?}: {e}"),
+            })?;
         let vehicle = match &self.vehicle {
             Some(v) => v.clone(),
             None => scenario_vehicle(&self.path, &spec)?,

@@ -18,7 +18,6 @@ pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_
 use crate::error::{Error, Result};
 use crate::run::RunResult;
 use crate::world::Sample;
-use std::io::Write;
 use std::path::Path;
 
 /// The CSV header of `trajectory.csv`.
@@ -161,20 +160,86 @@ pub fn trajectory_csv(result: &RunResult) -> String {
     text
 }
 
-/// Writes `summary.json` and `trajectory.csv` into `dir` (created if needed).
+/// Refuses a trajectory with a non-finite value (NaN or infinite) in any cell: such a run is
+/// reported as unstable (exit code 3), never written as a result.
+fn check_finite_csv(csv: &str) -> Result<()> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    for line in lines {
+        for (i, cell) in line.split(',').enumerate() {
+            let lower = cell.to_ascii_lowercase();
+            if lower.contains("nan") || lower.contains("inf") {
+                return Err(Error::Unstable {
+                    time_s: line
+                        .split(',')
+                        .next()
+                        .and_then(|t| t.parse().ok())
+                        .unwrap_or(0.0),
+                    body: "the trajectory".into(),
+                    what: format!(
+                        "has a non-finite value ({cell}) in column {}",
+                        header.get(i).copied().unwrap_or("?")
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a summary with a non-finite number (serde writes it as `null`; the only optional
+/// field is `scenario`), as [`check_finite_csv`] does for the trajectory.
+fn check_finite_summary(result: &RunResult) -> Result<()> {
+    fn null_at(v: &serde_json::Value, at: &str) -> Option<String> {
+        match v {
+            serde_json::Value::Null => Some(at.to_string()),
+            serde_json::Value::Array(a) => a
+                .iter()
+                .enumerate()
+                .find_map(|(i, x)| null_at(x, &format!("{at}[{i}]"))),
+            serde_json::Value::Object(m) => m
+                .iter()
+                .filter(|(k, _)| !(at.is_empty() && k.as_str() == "scenario"))
+                .find_map(|(k, x)| {
+                    null_at(
+                        x,
+                        &if at.is_empty() {
+                            k.clone()
+                        } else {
+                            format!("{at}.{k}")
+                        },
+                    )
+                }),
+            _ => None,
+        }
+    }
+    let v = serde_json::to_value(&result.summary).expect("summary serialises");
+    match null_at(&v, "") {
+        None => Ok(()),
+        Some(key) => Err(Error::Unstable {
+            time_s: result.summary.sim_time_s,
+            body: "the summary".into(),
+            what: format!("has a non-finite value at {key}"),
+        }),
+    }
+}
+
+/// Writes `summary.json` and `trajectory.csv` into `dir` (created if needed), each atomically
+/// (a temporary file renamed into place); a trajectory with a non-finite value is refused
+/// ([`Error::Unstable`]) and nothing is written.
 pub fn write_run(result: &RunResult, dir: &Path) -> Result<()> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| Error::Io { path, source }
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let csv = trajectory_csv(result);
+    check_finite_csv(&csv)?;
+    check_finite_summary(result)?;
     let sp = dir.join("summary.json");
     let json = serde_json::to_string_pretty(&result.summary).expect("summary serialises");
-    std::fs::write(&sp, json + "\n").map_err(io(&sp))?;
+    crate::files::write_atomic(&sp, (json + "\n").as_bytes())?;
     let tp = dir.join("trajectory.csv");
-    let mut out = std::io::BufWriter::new(std::fs::File::create(&tp).map_err(io(&tp))?);
-    out.write_all(trajectory_csv(result).as_bytes())
-        .map_err(io(&tp))?;
-    out.flush().map_err(io(&tp))?;
+    crate::files::write_atomic(&tp, csv.as_bytes())?;
     Ok(())
 }

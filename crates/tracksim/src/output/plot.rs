@@ -115,21 +115,18 @@ pub(super) fn write_png_svg(
             "the embedded DejaVu Sans font could not be loaded",
         ));
     }
-    {
-        let root = BitMapBackend::new(&png, SIZE).into_drawing_area();
+    crate::files::write_atomic_path(&png, |tmp| {
+        let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
         png_draw(&root).map_err(|e| io_error(&png, format!("drawing failed: {e}")))?;
-        root.present().map_err(|e| io_error(&png, e))?;
-    }
+        root.present().map_err(|e| io_error(&png, e))
+    })?;
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, SIZE).into_drawing_area();
         svg_draw(&root).map_err(|e| io_error(&svg, format!("drawing failed: {e}")))?;
         root.present().map_err(|e| io_error(&svg, e))?;
     }
-    std::fs::write(&svg, text).map_err(|source| Error::Io {
-        path: svg.clone(),
-        source,
-    })?;
+    crate::files::write_atomic(&svg, text.as_bytes())?;
     Ok(vec![png, svg])
 }
 

@@ -370,8 +370,8 @@ pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let scene = dir.join("scene.json");
-    std::fs::write(&scene, Scene::new(sc).to_json()).map_err(io(&scene))?;
+    crate::files::write_atomic(&scene, Scene::new(sc).to_json().as_bytes())?;
     let belts = dir.join("belts.csv");
-    std::fs::write(&belts, belts_csv(result)).map_err(io(&belts))?;
+    crate::files::write_atomic(&belts, belts_csv(result).as_bytes())?;
     Ok(vec![scene, belts])
 }

@@ -53,6 +53,9 @@ pub struct RunResult {
 pub struct RunOptions {
     /// Pace the simulation to the wall clock (never faster than real time).
     pub realtime: bool,
+    /// When set (by a Ctrl-C handler), the run stops at the next step and returns what was
+    /// simulated so far with [`Outcome::Interrupted`].
+    pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
 /// Runs a scenario for its duration (or until its outcome is decided, if it says to stop).
@@ -77,6 +80,21 @@ pub fn run_scenario_with(
     let mut outcome = None;
     let mut outcome_time = 0.0;
     for i in 1..=steps {
+        if opts
+            .stop
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+        {
+            if samples.last().is_some_and(|s| s.t < sim.time()) {
+                samples.push(sim.sample());
+            }
+            outcome = Some(Outcome::Interrupted(format!(
+                "interrupted at t = {:.3} s of {:.3} s",
+                sim.time(),
+                sc.duration
+            )));
+            outcome_time = sim.time();
+            break;
+        }
         let t0 = Instant::now();
         sim.step()?;
         stepping += t0.elapsed().as_secs_f64();

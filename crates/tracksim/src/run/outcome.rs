@@ -12,6 +12,8 @@ pub enum Outcome {
     Failure(String),
     /// Ran to the end; no success condition was set.
     Completed,
+    /// Stopped before its end from outside (Ctrl-C): the reason says when.
+    Interrupted(String),
 }
 
 impl Outcome {
@@ -21,13 +23,14 @@ impl Outcome {
             Outcome::Success(_) => "success",
             Outcome::Failure(_) => "failure",
             Outcome::Completed => "completed",
+            Outcome::Interrupted(_) => "interrupted",
         }
     }
 
     /// Why, in words.
     pub fn reason(&self) -> String {
         match self {
-            Outcome::Success(r) | Outcome::Failure(r) => r.clone(),
+            Outcome::Success(r) | Outcome::Failure(r) | Outcome::Interrupted(r) => r.clone(),
             Outcome::Completed => "ran to the end".into(),
         }
     }

@@ -9,10 +9,13 @@
 //! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
 //! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
 //! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
+//! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
+//!   by position, no fixed-size array with extra entries.
 
 mod conveyor;
 mod randomize;
 mod scenario;
+pub mod strict;
 mod terrain;
 mod vehicle;
 

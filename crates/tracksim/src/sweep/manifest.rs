@@ -95,7 +95,7 @@ fn io(path: &Path) -> impl FnOnce(std::io::Error) -> Error {
 
 pub(super) fn write_run_json(path: &Path, line: &ManifestLine) -> Result<()> {
     let text = serde_json::to_string(line).expect("manifest line serialises");
-    std::fs::write(path, text + "\n").map_err(io(path))
+    crate::files::write_atomic(path, (text + "\n").as_bytes())
 }
 
 /// Writes lines to a JSON-lines file (through a temporary file renamed into place).
@@ -104,9 +104,7 @@ pub(super) fn write_lines(path: &Path, lines: &[ManifestLine]) -> Result<()> {
         .iter()
         .map(|l| serde_json::to_string(l).expect("manifest line serialises") + "\n")
         .collect();
-    let tmp = path.with_extension("jsonl.tmp");
-    std::fs::write(&tmp, text).map_err(io(&tmp))?;
-    std::fs::rename(&tmp, path).map_err(io(path))
+    crate::files::write_atomic(path, text.as_bytes())
 }
 
 /// Every finished run in a sweep folder (`runs/run-*/run.json`), in index order.

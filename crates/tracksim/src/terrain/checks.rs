@@ -37,6 +37,44 @@ pub(super) const MAX_GRID_VERTICES: usize = 4_000_000;
 /// Largest number of boxes one generator may make.
 pub(super) const MAX_GENERATED_BOXES: usize = 100_000;
 
+/// Largest number of boxes and cylinders of a whole terrain (given and generated).
+pub const MAX_TERRAIN_SHAPES: usize = 100_000;
+/// Largest number of height-field vertices of a whole terrain.
+pub const MAX_TERRAIN_VERTICES: usize = 16_000_000;
+
+/// Reports a terrain beyond the limits of the whole: shapes and grid vertices.
+pub(super) fn check_total(c: &mut Checker, terrain: &TerrainModel) {
+    let shapes = terrain.boxes.len() + terrain.cylinders.len();
+    if shapes > MAX_TERRAIN_SHAPES {
+        c.push(
+            "terrain",
+            format!(
+                "{shapes} boxes and cylinders in all, more than the limit of \
+                 {MAX_TERRAIN_SHAPES}: use fewer or larger ones, or a height field"
+            ),
+        );
+    }
+    let vertices: usize = terrain
+        .heightfields
+        .iter()
+        .map(|h| h.rows * h.cols)
+        .sum::<usize>()
+        + terrain
+            .meshes
+            .iter()
+            .map(|m| m.vertices.len())
+            .sum::<usize>();
+    if vertices > MAX_TERRAIN_VERTICES {
+        c.push(
+            "terrain",
+            format!(
+                "{vertices} height-field and mesh vertices in all, more than the limit of \
+                 {MAX_TERRAIN_VERTICES}: downsample them"
+            ),
+        );
+    }
+}
+
 /// Reports a terrain with nothing to drive on (only when nothing else is wrong).
 pub(super) fn check_not_empty(c: &mut Checker, terrain: &TerrainModel) {
     let empty = terrain.ground.is_none()

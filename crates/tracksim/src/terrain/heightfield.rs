@@ -48,14 +48,13 @@ impl HeightFieldModel {
 
 /// Reads a PNG height map: (columns, rows, values in [0, 1] row-major, row 0 = top row).
 fn load_png(path: &Path) -> Result<(usize, usize, Vec<f64>), String> {
-    let bytes = std::fs::read(path).map_err(|e| {
+    let bytes = crate::files::read_bounded(path, crate::files::MAX_PNG_BYTES).map_err(|e| {
         format!(
-            "cannot read {}: {e}; give the path of a greyscale PNG file relative to the \
-             scenario's folder",
-            path.display()
+            "cannot read {e}; give the path of a greyscale PNG file relative to the scenario's \
+             folder"
         )
     })?;
-    parse::png::decode(&bytes, path)
+    parse::png::decode(&bytes, path, MAX_GRID_VERTICES)
 }
 
 /// Checks one PNG height map (key `k`, file relative to `base_dir`) and reads it.
@@ -88,15 +87,6 @@ pub(super) fn compile(
         }
     };
     let (w, h, vals) = img?;
-    if w * h > MAX_GRID_VERTICES {
-        c.push(
-            format!("{k}.file"),
-            format!(
-                "{} has {w} x {h} pixels, more than {MAX_GRID_VERTICES}: downsample it",
-                path.display()
-            ),
-        );
-    }
     if c.issues.len() != n {
         return None;
     }

@@ -53,15 +53,14 @@ pub(super) fn compile(
             return None;
         }
     };
-    let bytes = match std::fs::read(&path) {
+    let bytes = match crate::files::read_bounded(&path, crate::files::MAX_MESH_BYTES) {
         Ok(b) => b,
         Err(e) => {
             c.push(
                 format!("{k}.file"),
                 format!(
-                    "cannot read {}: {e}; give the path of an .stl or .obj file relative to the \
-                     scenario's folder",
-                    path.display()
+                    "cannot read {e}; give the path of an .stl or .obj file relative to the \
+                     scenario's folder"
                 ),
             );
             return None;

@@ -118,6 +118,7 @@ pub fn compile_terrain(
         gap::compile(&mut c, &format!("terrain.gaps[{i}]"), s, &mut terrain);
     }
     checks::check_not_empty(&mut c, &terrain);
+    checks::check_total(&mut c, &terrain);
     issues.extend(c.issues);
     terrain
 }

@@ -37,7 +37,7 @@ pub use turning::spin_ratio_coulomb;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel, load_vehicle};
 use crate::output::{SideLine, side_view_terrain};
-use crate::run::{Outcome, RunResult, run_scenario};
+use crate::run::{RunResult, run_scenario};
 use crate::spec::ScenarioSpec;
 use crate::tracks::Method as TrackMethod;
 use crate::world::compile_scenario;
@@ -274,10 +274,7 @@ fn progress_words(r: &Result<RunResult>) -> String {
             "{} after {:.1} s simulated ({})",
             r.outcome.name(),
             r.summary.sim_time_s,
-            match &r.outcome {
-                Outcome::Success(s) | Outcome::Failure(s) => s.as_str(),
-                Outcome::Completed => "ran to the end",
-            }
+            r.outcome.reason()
         ),
         Err(e) => format!("error: {e}"),
     }

@@ -343,11 +343,11 @@ impl ValidationReport {
         std::fs::create_dir_all(dir).map_err(io(dir))?;
         let mut written = Vec::new();
         let md = dir.join("report.md");
-        std::fs::write(&md, self.to_markdown()).map_err(io(&md))?;
+        crate::files::write_atomic(&md, self.to_markdown().as_bytes())?;
         written.push(md);
         let js = dir.join("report.json");
         let json = serde_json::to_string_pretty(self).expect("report serialises");
-        std::fs::write(&js, json + "\n").map_err(io(&js))?;
+        crate::files::write_atomic(&js, (json + "\n").as_bytes())?;
         written.push(js);
         for p in &self.plots {
             let runs: Vec<crate::output::plot::PlotRun> = p

@@ -240,8 +240,7 @@ fn judge(name: &str, ran: &Ran, h: f64) -> StepRun {
                 Outcome::Success(_) if !on_top => {
                     format!("passed x but only {:.3} m above the step top", last.z - h)
                 }
-                Outcome::Success(s) | Outcome::Failure(s) => s.clone(),
-                Outcome::Completed => "ran to the end".into(),
+                other => other.reason(),
             };
             StepRun {
                 case: name.into(),

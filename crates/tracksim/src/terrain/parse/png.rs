@@ -5,10 +5,12 @@ use std::path::Path;
 
 /// Decodes a PNG height map (8 or 16 bit greyscale, optionally with alpha, which is ignored):
 /// (columns, rows, values in [0, 1] row-major, row 0 = top row). `path` only names the file in
-/// error messages.
+/// error messages. An image of more than `max_pixels` pixels is refused from its header,
+/// before anything is decoded.
 pub(in crate::terrain) fn decode(
     bytes: &[u8],
     path: &Path,
+    max_pixels: usize,
 ) -> Result<(usize, usize, Vec<f64>), String> {
     let bad = |e: &dyn std::fmt::Display| {
         format!(
@@ -20,6 +22,13 @@ pub(in crate::terrain) fn decode(
     let mut dec = png::Decoder::new(std::io::Cursor::new(bytes));
     dec.set_transformations(png::Transformations::EXPAND);
     let mut reader = dec.read_info().map_err(|e| bad(&e))?;
+    let (w, h) = (reader.info().width as u64, reader.info().height as u64);
+    if w * h > max_pixels as u64 {
+        return Err(format!(
+            "{} has {w} x {h} pixels, more than {max_pixels}: downsample it",
+            path.display()
+        ));
+    }
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| bad(&"image too large"))?;
