@@ -159,3 +159,42 @@ test('view: the replay page plays the recorded run', async () => {
     view.child.kill();
   }
 });
+
+test('view: conveyors, loose boxes and a spatial loop are drawn and move (issue 17)', async () => {
+  const run = path.join(tmp, 'conveyor');
+  execFileSync(bin, ['run', 'scenarios/conveyor_box_step.toml', '--out', run, '--quiet', '--no-plot'], { cwd: root });
+  const scene = JSON.parse(fs.readFileSync(path.join(run, 'scene.json'), 'utf8'));
+  assert.equal(scene.conveyors.length, 1);
+  assert.equal(scene.loose_boxes.length, 1);
+  // belts.csv carries the conveyor's belt and the box's pose: the box is carried forwards.
+  const belts = fs.readFileSync(path.join(run, 'belts.csv'), 'utf8').trim().split('\n');
+  const head = belts[0].split(',');
+  const bx = head.indexOf('box_0_x_m');
+  assert.ok(bx > 0 && head.includes('conveyor_position_0_m'), belts[0]);
+  const last = belts[belts.length - 1].split(',').map(Number);
+  const first = belts[1].split(',').map(Number);
+  assert.ok(last[bx] > first[bx] + 0.1, `box x ${first[bx]} -> ${last[bx]}`);
+  const view = start(['view', run, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await ctx.newPage();
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    await page.goto(url);
+    await page.waitForFunction(() => window.tracksim?.replayEnd > 0 && window.tracksim.frames > 10, null, { timeout: 60000 });
+    assert.deepEqual(errors, []);
+    assert.equal(await page.evaluate(() => window.tracksim.conveyors), 1);
+    assert.equal(await page.evaluate(() => window.tracksim.looseBoxes), 1);
+    const shot = await page.screenshot({ path: path.join(artifacts, 'conveyor.png') });
+    assert.ok((await pixelStd(page, shot)) > 5);
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+  // The spatial loop's scene carries a lateral axis per sample.
+  const loop = path.join(tmp, 'loop3d');
+  execFileSync(bin, ['run', 'scenarios/loop3d_objects.toml', '--out', loop, '--quiet', '--no-plot', '--duration', '1'], { cwd: root });
+  const s3 = JSON.parse(fs.readFileSync(path.join(loop, 'scene.json'), 'utf8'));
+  assert.ok(s3.conveyors[0].track.laterals.length === 3 * s3.conveyors[0].track.s_m.length);
+});

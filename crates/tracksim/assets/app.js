@@ -95,16 +95,18 @@ const flipperPivots = v.flippers.map((f) => {
 });
 const beltMat = new THREE.MeshStandardMaterial({ color: 0x1d1d1d, roughness: 0.8, side: THREE.DoubleSide });
 const grouserMat = new THREE.MeshStandardMaterial({ color: 0x3a3a3a, roughness: 0.5 });
-const tracks = v.tracks.map((tr) => {
-  const parent = tr.parent < 0 ? robot : flipperPivots[tr.parent].inner;
+// A belt along its sampled loop (lateral per sample for a loop that leaves its plane), with
+// instanced grousers; `parent` is the frame its points are in.
+function buildTrack(tr, parent) {
   const n = tr.s_m.length;
   const lat = new THREE.Vector3().fromArray(tr.lateral);
+  const latAt = (i) => (tr.laterals ? new THREE.Vector3().fromArray(tr.laterals, 3 * i) : lat);
   const pos = [];
   const idx = [];
   for (let i = 0; i < n; i++) {
     const p = new THREE.Vector3().fromArray(tr.points_m, 3 * i);
-    const a = p.clone().addScaledVector(lat, 0.5 * tr.width_m);
-    const b = p.clone().addScaledVector(lat, -0.5 * tr.width_m);
+    const a = p.clone().addScaledVector(latAt(i), 0.5 * tr.width_m);
+    const b = p.clone().addScaledVector(latAt(i), -0.5 * tr.width_m);
     pos.push(a.x, a.y, a.z, b.x, b.y, b.z);
     const j = (i + 1) % n;
     idx.push(2 * i, 2 * i + 1, 2 * j, 2 * j, 2 * i + 1, 2 * j + 1);
@@ -126,12 +128,34 @@ const tracks = v.tracks.map((tr) => {
     });
   }
   return { tr, lat, instanced };
+}
+const tracks = v.tracks.map((tr) => buildTrack(tr, tr.parent < 0 ? robot : flipperPivots[tr.parent].inner));
+
+// ---------- conveyors (tracks on the world) and loose boxes ----------
+const conveyors = (scene.conveyors ?? []).map((c) => {
+  const frame = new THREE.Group();
+  frame.position.fromArray(c.centre_m);
+  frame.rotation.z = c.yaw_rad;
+  world.add(frame);
+  return buildTrack(c.track, frame);
 });
+const looseMat = new THREE.MeshStandardMaterial({ color: 0xb5651d, roughness: 0.7 });
+const looseBoxes = (scene.loose_boxes ?? []).map((b) => {
+  const m = new THREE.Mesh(new THREE.BoxGeometry(2 * b.half_m[0], 2 * b.half_m[1], 2 * b.half_m[2]), looseMat);
+  m.position.fromArray(b.centre_m); // the start; a replay moves it (a live view does not)
+  m.rotation.z = b.yaw_rad;
+  world.add(m);
+  return m;
+});
+api.conveyors = conveyors.length;
+api.looseBoxes = looseBoxes.length;
+conveyors.forEach((c) => placeGrousers(c, 0));
 
 // Grousers at arc length offset + k * pitch + s along the path, s the belt's unwrapped
 // position: they run with the belt (the simulation's one-pitch rollback of the links is not
 // drawn, only the belt's true motion).
 const mtx = new THREE.Matrix4();
+const latA = new THREE.Vector3(), latB = new THREE.Vector3();
 const pA = new THREE.Vector3(), pB = new THREE.Vector3(), nA = new THREE.Vector3(), nB = new THREE.Vector3(), tan = new THREE.Vector3();
 function placeGrousers(track, beltPos) {
   const { tr, lat, instanced } = track;
@@ -147,8 +171,9 @@ function placeGrousers(track, beltPos) {
     nA.fromArray(tr.normals, 3 * i); nB.fromArray(tr.normals, 3 * j);
     pA.lerp(pB, w);
     nA.lerp(nB, w).normalize();
-    tan.crossVectors(lat, nA).normalize(); // normal = tangent x lateral
-    mtx.makeBasis(tan, lat, nA).setPosition(pA);
+    const l = tr.laterals ? latA.fromArray(tr.laterals, 3 * i).lerp(latB.fromArray(tr.laterals, 3 * j), w).normalize() : lat;
+    tan.crossVectors(l, nA).normalize(); // normal = tangent x lateral
+    mtx.makeBasis(tan, l, nA).setPosition(pA);
     instanced[k % ns].setMatrixAt(Math.floor(k / ns), mtx);
   }
   for (const im of instanced) im.instanceMatrix.needsUpdate = true;
@@ -327,6 +352,8 @@ if (!live) {
     flip: flipperNames.map((n) => c(`flipper_${n}_rad`)),
     speed: trackNames.map((n) => c(`belt_speed_${n}_mps`)),
     beltPos: trackNames.map((n) => belts.col(`belt_position_${n}_m`)),
+    conveyorPos: conveyors.map((_, i) => belts.col(`conveyor_position_${i}_m`)),
+    boxPose: looseBoxes.map((_, i) => ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((c) => belts.col(`box_${i}_${c}`))),
     end: traj.rows[traj.rows.length - 1][0],
   };
   api.replayEnd = replay.end;
@@ -361,6 +388,13 @@ function replayFrame() {
   const br = lerpRow(replay.belts.rows, playTime);
   const [x, y, z, roll, pitch, yaw] = replay.pose.map((i) => r[i]);
   pose(x, y, z, roll, pitch, yaw, replay.flip.map((i) => r[i]), replay.beltPos.map((i) => br[i]));
+  conveyors.forEach((c, i) => placeGrousers(c, br[replay.conveyorPos[i]] ?? 0));
+  looseBoxes.forEach((m, i) => {
+    const [bx, by, bz, br_, bp, byaw] = replay.boxPose[i].map((k) => br[k]);
+    m.position.set(bx, by, bz);
+    euler.set(br_, bp, byaw, 'ZYX');
+    m.quaternion.setFromEuler(euler);
+  });
   $('scrub').value = String(playTime / (replay.end || 1));
   $('clock').textContent = `${fmt(playTime, 2)} / ${fmt(replay.end, 2)} s`;
   const s = replay.summary;

@@ -172,6 +172,32 @@ pub struct SceneTrack {
     pub normals: Vec<f64>,
     /// Grousers, if any.
     pub grousers: Option<SceneGrousers>,
+    /// Unit lateral axes at `s_m`, flat, for a loop that leaves its plane (a spatial conveyor
+    /// loop); absent for a planar loop, whose lateral is `lateral` everywhere.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub laterals: Option<Vec<f64>>,
+}
+
+/// A conveyor: its belt in its own frame, placed in the world.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneConveyor {
+    /// Origin of the conveyor's frame, m.
+    pub centre_m: [f64; 3],
+    /// Yaw of the conveyor's frame, rad.
+    pub yaw_rad: f64,
+    /// The belt (`parent` -1: the conveyor's frame).
+    pub track: SceneTrack,
+}
+
+/// A loose box: its size (its poses are in `belts.csv`).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneLooseBox {
+    /// Half extents, m.
+    pub half_m: [f64; 3],
+    /// Centre at the start, m.
+    pub centre_m: [f64; 3],
+    /// Yaw at the start, rad.
+    pub yaw_rad: f64,
 }
 
 /// The vehicle as the page draws it (body frame).
@@ -206,6 +232,10 @@ pub struct Scene {
     pub terrain: SceneTerrain,
     /// Vehicle.
     pub vehicle: SceneVehicle,
+    /// Conveyors (`[[terrain.conveyors]]`), their belt positions in `belts.csv`.
+    pub conveyors: Vec<SceneConveyor>,
+    /// Loose boxes (`[[terrain.loose_boxes]]`), their poses in `belts.csv`.
+    pub loose_boxes: Vec<SceneLooseBox>,
 }
 
 fn arr(v: DVec3) -> [f64; 3] {
@@ -264,19 +294,59 @@ fn terrain(t: &TerrainModel) -> SceneTerrain {
     }
 }
 
-/// Samples a loop every [`PATH_SAMPLE_M`] at most: (s, points, normals).
-fn sample_path(path: &TrackPath) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+/// A loop sampled by arc length.
+struct PathSamples {
+    s: Vec<f64>,
+    points: Vec<f64>,
+    normals: Vec<f64>,
+    /// Lateral axes, if any differs from the loop's axis (a spatial loop).
+    laterals: Option<Vec<f64>>,
+}
+
+/// Samples a loop every [`PATH_SAMPLE_M`] at most.
+fn sample_path(path: &TrackPath) -> PathSamples {
     let l = path.length();
     let n = ((l / PATH_SAMPLE_M).ceil() as usize).max(16);
-    let (mut s, mut p, mut nr) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut s, mut p, mut nr, mut lat) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut planar = true;
     for i in 0..n {
         let si = l * i as f64 / n as f64;
         let f = path.frame_at(si);
         s.push(si);
         p.extend(arr(f.origin));
         nr.extend(arr(f.normal));
+        lat.extend(arr(f.lateral));
+        planar &= (f.lateral - path.axis()).length() < 1e-9;
     }
-    (s, p, nr)
+    PathSamples {
+        s,
+        points: p,
+        normals: nr,
+        laterals: (!planar).then_some(lat),
+    }
+}
+
+/// The scene form of track `t`, hanging on `parent` (-1: the chassis or a conveyor's frame).
+fn scene_track(t: &crate::model::TrackModel, parent: i64) -> SceneTrack {
+    let ps = sample_path(&t.path);
+    SceneTrack {
+        name: t.name.clone(),
+        parent,
+        width_m: t.width,
+        thickness_m: t.belt_thickness,
+        length_m: t.path.length(),
+        lateral: arr(t.path.axis()),
+        s_m: ps.s,
+        points_m: ps.points,
+        normals: ps.normals,
+        grousers: t.grousers.as_ref().map(|g| SceneGrousers {
+            count: g.layout.count,
+            offset_m: g.layout.offset,
+            pitch_m: g.layout.pitch(&t.path),
+            shapes: g.shapes.iter().map(grouser_mesh).collect(),
+        }),
+        laterals: ps.laterals,
+    }
 }
 
 fn vehicle(v: &VehicleModel) -> SceneVehicle {
@@ -298,27 +368,11 @@ fn vehicle(v: &VehicleModel) -> SceneVehicle {
             .tracks
             .iter()
             .map(|t| {
-                let (s_m, points_m, normals) = sample_path(&t.path);
-                SceneTrack {
-                    name: t.name.clone(),
-                    parent: match t.parent {
-                        Parent::Body => -1,
-                        Parent::Flipper(i) => i as i64,
-                    },
-                    width_m: t.width,
-                    thickness_m: t.belt_thickness,
-                    length_m: t.path.length(),
-                    lateral: arr(t.path.axis()),
-                    s_m,
-                    points_m,
-                    normals,
-                    grousers: t.grousers.as_ref().map(|g| SceneGrousers {
-                        count: g.layout.count,
-                        offset_m: g.layout.offset,
-                        pitch_m: g.layout.pitch(&t.path),
-                        shapes: g.shapes.iter().map(grouser_mesh).collect(),
-                    }),
-                }
+                let parent = match t.parent {
+                    Parent::Body => -1,
+                    Parent::Flipper(i) => i as i64,
+                };
+                scene_track(t, parent)
             })
             .collect(),
     }
@@ -336,6 +390,24 @@ impl Scene {
             success_x_m: sc.outcome.success_x,
             terrain: terrain(&sc.terrain),
             vehicle: vehicle(&sc.vehicle),
+            conveyors: sc
+                .conveyors
+                .iter()
+                .map(|c| SceneConveyor {
+                    centre_m: arr(c.centre),
+                    yaw_rad: c.yaw,
+                    track: scene_track(&c.belt, -1),
+                })
+                .collect(),
+            loose_boxes: sc
+                .loose_boxes
+                .iter()
+                .map(|b| SceneLooseBox {
+                    half_m: arr(b.solid.half),
+                    centre_m: arr(b.solid.centre),
+                    yaw_rad: b.solid.yaw,
+                })
+                .collect(),
         }
     }
 
@@ -345,17 +417,33 @@ impl Scene {
     }
 }
 
-/// The text of `belts.csv`: `t_s`, then the unwrapped belt position per track, m.
+/// The text of `belts.csv`: `t_s`, then the unwrapped belt position per track, m; then per
+/// conveyor `i` its belt position `conveyor_position_i_m`, and per loose box `i` its pose
+/// `box_i_x_m`, `_y_m`, `_z_m`, `_roll_rad`, `_pitch_rad`, `_yaw_rad` (world frame, REP 103).
 pub fn belts_csv(result: &RunResult) -> String {
     let mut text = String::from("t_s");
     for n in &result.track_names {
         text.push_str(&format!(",belt_position_{n}_m"));
     }
+    let first = result.samples.first();
+    for i in 0..first.map_or(0, |s| s.conveyor_position.len()) {
+        text.push_str(&format!(",conveyor_position_{i}_m"));
+    }
+    for i in 0..first.map_or(0, |s| s.loose_poses.len()) {
+        for c in ["x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"] {
+            text.push_str(&format!(",box_{i}_{c}"));
+        }
+    }
     text.push('\n');
     for s in &result.samples {
         text.push_str(&format!("{:.6}", s.t));
-        for p in &s.belt_position {
+        for p in s.belt_position.iter().chain(&s.conveyor_position) {
             text.push_str(&format!(",{p:.6}"));
+        }
+        for p in &s.loose_poses {
+            for v in [p.x, p.y, p.z, p.roll, p.pitch, p.yaw] {
+                text.push_str(&format!(",{v:.6}"));
+            }
         }
         text.push('\n');
     }

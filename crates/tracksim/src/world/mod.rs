@@ -23,8 +23,8 @@
 pub mod build;
 pub mod compliance;
 pub mod contacts;
-mod drawbar;
 pub mod conveyor;
+mod drawbar;
 pub mod load;
 pub mod mass;
 pub mod odometry;

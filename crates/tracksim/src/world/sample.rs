@@ -82,6 +82,10 @@ pub struct Sample {
     pub icr: Option<[f64; 2]>,
     /// The drawbar's pull on the chassis, N (`None` without `[drawbar]`).
     pub drawbar_n: Option<f64>,
+    /// Unwrapped belt position of every conveyor, m (`[[terrain.conveyors]]`; for the replay).
+    pub conveyor_position: Vec<f64>,
+    /// Pose of every loose box, world frame (`[[terrain.loose_boxes]]`; for the replay).
+    pub loose_poses: Vec<PoseRpy>,
 }
 
 /// What a track's drive motor does (`[tracks.motor]`).
@@ -287,6 +291,8 @@ impl Simulation {
             icr: self.icr(),
             drawbar_n: self.drawbar_pull(),
             drive: self.drive(),
+            conveyor_position: self.conveyor_belts().iter().map(|b| b.0).collect(),
+            loose_poses: self.loose_box_poses(),
         }
     }
 
