@@ -149,7 +149,6 @@ const looseBoxes = (scene.loose_boxes ?? []).map((b) => {
 });
 api.conveyors = conveyors.length;
 api.looseBoxes = looseBoxes.length;
-conveyors.forEach((c) => placeGrousers(c, 0));
 
 // Grousers at arc length offset + k * pitch + s along the path, s the belt's unwrapped
 // position: they run with the belt (the simulation's one-pitch rollback of the links is not
@@ -178,6 +177,8 @@ function placeGrousers(track, beltPos) {
   }
   for (const im of instanced) im.instanceMatrix.needsUpdate = true;
 }
+// Cleats at their start (a replay moves them; the live state does not stream conveyors).
+conveyors.forEach((c) => placeGrousers(c, 0));
 
 const euler = new THREE.Euler();
 function pose(x, y, z, roll, pitch, yaw, flippers, beltPositions) {
