@@ -79,6 +79,21 @@ async function canvasStd(page) {
   });
 }
 
+/** Opens a replay page and waits until it plays; a page error fails at once with its text. */
+async function openReplay(ctx, url) {
+  const page = await ctx.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  await page.goto(url);
+  try {
+    await page.waitForFunction(() => window.tracksim?.replayEnd > 0 && window.tracksim.frames > 10, null, { timeout: 60000 });
+  } catch (e) {
+    throw new Error(`${e.message}; page errors: ${errors.join(' | ') || 'none'}`);
+  }
+  assert.deepEqual(errors, []);
+  return page;
+}
+
 const out = path.join(tmp, 'drive');
 
 test('drive: the page loads, draws, and the forward key moves the robot', async () => {
@@ -137,12 +152,7 @@ test('view: the replay page plays the recorded run', async () => {
   const url = await view.url;
   const ctx = await browser();
   try {
-    const page = await ctx.newPage();
-    const errors = [];
-    page.on('pageerror', (e) => errors.push(String(e)));
-    await page.goto(url);
-    await page.waitForFunction(() => window.tracksim?.replayEnd > 0 && window.tracksim.frames > 10, null, { timeout: 60000 });
-    assert.deepEqual(errors, []);
+    const page = await openReplay(ctx, url);
     const t0 = await page.evaluate(() => window.tracksim.replayTime);
     await page.waitForFunction((t) => window.tracksim.replayTime > t + 0.5, t0, { timeout: 30000 });
     const shot = await page.screenshot({ path: path.join(artifacts, 'view.png') });
@@ -178,12 +188,7 @@ test('view: conveyors, loose boxes and a spatial loop are drawn and move (issue 
   const url = await view.url;
   const ctx = await browser();
   try {
-    const page = await ctx.newPage();
-    const errors = [];
-    page.on('pageerror', (e) => errors.push(String(e)));
-    await page.goto(url);
-    await page.waitForFunction(() => window.tracksim?.replayEnd > 0 && window.tracksim.frames > 10, null, { timeout: 60000 });
-    assert.deepEqual(errors, []);
+    const page = await openReplay(ctx, url);
     assert.equal(await page.evaluate(() => window.tracksim.conveyors), 1);
     assert.equal(await page.evaluate(() => window.tracksim.looseBoxes), 1);
     const shot = await page.screenshot({ path: path.join(artifacts, 'conveyor.png') });
