@@ -107,7 +107,7 @@ enum Cmd {
         /// Methods, comma-separated (default: all).
         #[arg(long, value_delimiter = ',')]
         methods: Vec<String>,
-        /// Cases, comma-separated: packbot, quince, rough (default: all).
+        /// Cases, comma-separated: packbot, packbot_open_top, quince, rough (default: all).
         #[arg(long, value_delimiter = ',')]
         cases: Vec<String>,
         /// Batch mode: run many independent PackBot simulations on this many threads and

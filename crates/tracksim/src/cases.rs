@@ -25,6 +25,11 @@ pub const CASES: &[Case] = &[
         about: "the paper's Table II case: PackBot 510 at 0.3 m/s on flat ground",
     },
     Case {
+        name: "packbot_open_top",
+        file: "scenarios/packbot_flat_open_top.toml",
+        about: "the Table II case with the top runs as links without colliders (issue 16.5)",
+    },
+    Case {
         name: "quince_flat",
         file: "scenarios/quince_flat.toml",
         about: "Quince (6 tracks, 4 flippers) on flat ground",
@@ -59,6 +64,7 @@ pub const CASES: &[Case] = &[
 /// The cases `tracksim bench` times, in table order: (short name given to `--cases`, case).
 pub const BENCH: &[(&str, &str)] = &[
     ("packbot", "packbot_flat"),
+    ("packbot_open_top", "packbot_open_top"),
     ("quince", "quince_flat"),
     ("rough", "packbot_rough"),
 ];

@@ -73,7 +73,9 @@ pub(super) fn compile_track(
     else {
         return;
     };
-    let included = included_segments(c, k, &t.omit_segments, path.segments().len());
+    let n = path.segments().len();
+    let included = included_segments(c, k, &t.omit_segments, n);
+    let touching = touching_segments(c, k, t, &included, n);
     let model = TrackModel {
         name: t.name.clone(),
         parent,
@@ -86,6 +88,7 @@ pub(super) fn compile_track(
         combine,
         sprocket_radius: t.sprocket_pitch_radius_m,
         included,
+        touching,
         grousers,
         compliance: t
             .compliance
@@ -453,4 +456,44 @@ fn included_segments(c: &mut Checker, k: &str, omit: &[usize], n: usize) -> Vec<
         c.push(format!("{k}.omit_segments"), "cannot omit every segment");
     }
     included
+}
+
+/// Contact-free stage: which included segments carry colliders, from
+/// `{k}.no_contact_segments` (a segment there keeps its link, without colliders).
+fn touching_segments(
+    c: &mut Checker,
+    k: &str,
+    t: &TrackSpec,
+    included: &[bool],
+    n: usize,
+) -> Vec<bool> {
+    let mut touching = included.to_vec();
+    for (j, &o) in t.no_contact_segments.iter().enumerate() {
+        let key = format!("{k}.no_contact_segments[{j}]");
+        if o >= n {
+            c.push(
+                key,
+                format!(
+                    "segment {o} does not exist; the loop has segments 0..{}",
+                    n - 1
+                ),
+            );
+        } else if !included[o] {
+            c.push(
+                key,
+                format!(
+                    "segment {o} is omitted (`omit_segments`): remove it from one of the two lists"
+                ),
+            );
+        } else {
+            touching[o] = false;
+        }
+    }
+    if touching.iter().all(|x| !x) {
+        c.push(
+            format!("{k}.no_contact_segments"),
+            "every segment would be without contact: the track could touch nothing",
+        );
+    }
+    touching
 }

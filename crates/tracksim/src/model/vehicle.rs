@@ -134,6 +134,8 @@ pub struct TrackModel {
     pub sprocket_radius: Option<f64>,
     /// Which segments get a link (false: omitted).
     pub included: Vec<bool>,
+    /// Which included segments carry colliders (false: a link for the belt's momentum only).
+    pub touching: Vec<bool>,
     /// Grousers, if any.
     pub grousers: Option<GrouserModel>,
     /// Contact compliance of the grousers and the belt (default: rigid).

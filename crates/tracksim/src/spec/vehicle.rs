@@ -176,6 +176,10 @@ pub struct TrackSpec {
     /// Indices of segments that never touch anything and need no link (e.g. the top run).
     #[serde(default)]
     pub omit_segments: Vec<usize>,
+    /// Indices of segments that never touch anything but keep their link (its mass, joint and
+    /// motor: the belt's momentum) without colliders, e.g. the top run (okada2020 family).
+    #[serde(default)]
+    pub no_contact_segments: Vec<usize>,
     /// The loop.
     pub path: PathSpec,
     /// Grousers; none if absent.

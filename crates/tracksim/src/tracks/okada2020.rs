@@ -330,15 +330,18 @@ impl SegmentLinks {
                 .collision_groups(groups)
         };
         let (kind, belt) = belt_collider(t, seg, lateral);
+        // A segment without contact keeps its body, joint and motor (the belt's momentum) and
+        // carries nothing to collide with.
+        let touching = t.touching[si];
         // A spatial loop has no belt surface: it carries its grousers (objects) only.
-        if path.is_planar() {
+        if path.is_planar() && touching {
             world
                 .colliders
                 .insert_with_parent(base(belt), h, &mut world.bodies);
         }
         // Grousers whose footprint lies on this segment at rest.
         let mut grousers = Vec::new();
-        if let Some(g) = &t.grousers {
+        if let Some(g) = t.grousers.as_ref().filter(|_| touching) {
             for (k, (gs, frame)) in footprints.iter().enumerate() {
                 if *gs != si {
                     continue;
