@@ -40,6 +40,9 @@ fn main() {
             Vector::new(0.0, 0.035, -0.0015),
             0.0025,
         ),
+        // a cylinder across the belt (parry's cylinder axis is local y) of the grouser's
+        // thickness, at the tip
+        Some("cylinder") => SharedShape::cylinder(0.0375, 0.0025),
         Some("segment") => SharedShape::segment(
             Vector::new(0.0, -0.0375, -0.004),
             Vector::new(0.0, 0.0375, -0.004),
@@ -52,7 +55,7 @@ fn main() {
         ),
         Some(other) => {
             eprintln!(
-                "contact_floor: SHAPE must be `box`, `capsule`, `segment`, `roundbox` or `triangle`, got {other:?}"
+                "contact_floor: SHAPE must be `box`, `capsule`, `cylinder`, `segment`, `roundbox` or `triangle`, got {other:?}"
             );
             std::process::exit(2)
         }

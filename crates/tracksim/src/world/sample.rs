@@ -157,7 +157,7 @@ impl Simulation {
         self.world
             .narrow_phase
             .contact_pairs()
-            .flat_map(|p| p.manifolds())
+            .flat_map(|p| p.solver_manifolds())
             .map(|m| m.data.solver_contacts.len())
             .sum()
     }
@@ -174,7 +174,7 @@ impl Simulation {
             .contact_pairs()
             .filter_map(|p| {
                 let n: usize = p
-                    .manifolds()
+                    .solver_manifolds()
                     .iter()
                     .map(|m| m.data.solver_contacts.len())
                     .sum();
@@ -195,7 +195,7 @@ impl Simulation {
         let cs = &self.world.colliders;
         for p in self.world.narrow_phase.contact_pairs() {
             let active: usize = p
-                .manifolds()
+                .solver_manifolds()
                 .iter()
                 .map(|m| m.data.solver_contacts.len())
                 .sum();
