@@ -283,6 +283,15 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
             ),
         );
     }
+    if s.stabilization_iterations > 16 {
+        c.push(
+            "simulation.stabilization_iterations",
+            format!(
+                "must be between 0 and 16 (Rapier's default 1; 0 leaves penetrations and joint errors uncorrected), got {}",
+                s.stabilization_iterations
+            ),
+        );
+    }
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -292,6 +301,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
     SolverSettings {
         dt: s.dt_s,
         iterations: s.solver_iterations,
+        stabilization_iterations: s.stabilization_iterations,
         contact_clustering: s.contact_clustering,
         min_link_mass: s.min_link_mass_kg,
         prediction_distance: s.prediction_distance_m,

@@ -12,6 +12,8 @@ pub struct SolverSettings {
     pub dt: f64,
     /// Solver iterations.
     pub iterations: usize,
+    /// Position-correction passes per solver iteration (Rapier's default 1).
+    pub stabilization_iterations: usize,
     /// Contact clustering on or off.
     pub contact_clustering: bool,
     /// Smallest segment link mass, kg.
@@ -31,6 +33,7 @@ impl Default for SolverSettings {
         SolverSettings {
             dt: 0.001,
             iterations: 4,
+            stabilization_iterations: 1,
             contact_clustering: false,
             min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,

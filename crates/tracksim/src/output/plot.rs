@@ -616,6 +616,7 @@ mod tests {
                 solver: SolverSummary {
                     dt_s: 0.001,
                     iterations: 4,
+                    stabilization_iterations: 1,
                     contact_clustering: false,
                     min_link_mass_kg: 0.02,
                     prediction_distance_m: 0.02,

@@ -86,6 +86,8 @@ pub struct SolverSummary {
     pub dt_s: f64,
     /// Solver iterations.
     pub iterations: usize,
+    /// Position-correction passes per solver iteration.
+    pub stabilization_iterations: usize,
     /// Contact clustering.
     pub contact_clustering: bool,
     /// Smallest segment link mass, kg.
@@ -104,6 +106,7 @@ impl SolverSummary {
         SolverSummary {
             dt_s: sc.solver.dt,
             iterations: sc.solver.iterations,
+            stabilization_iterations: sc.solver.stabilization_iterations,
             contact_clustering: sc.solver.contact_clustering,
             min_link_mass_kg: sc.solver.min_link_mass,
             prediction_distance_m: sc.solver.prediction_distance,

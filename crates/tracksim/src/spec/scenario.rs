@@ -161,6 +161,12 @@ pub struct SimulationSpec {
     /// Solver iterations per step.
     #[serde(default = "default_iterations")]
     pub solver_iterations: usize,
+    /// Position-correction (stabilization) passes per solver iteration (Rapier's
+    /// `num_internal_stabilization_iterations`, default 1): the pass that pushes penetrations
+    /// and joint errors out. Quince's Table IV climbs need 2 at 4 solver iterations, or 8
+    /// solver iterations (BENCHMARKS.md, issue 16.6).
+    #[serde(default = "default_stabilization")]
+    pub stabilization_iterations: usize,
     /// Rapier contact clustering (merges coplanar contacts of compound shapes).
     #[serde(default)]
     pub contact_clustering: bool,
@@ -208,6 +214,7 @@ impl Default for SimulationSpec {
             duration_s: default_duration(),
             output_interval_s: default_output_interval(),
             solver_iterations: default_iterations(),
+            stabilization_iterations: default_stabilization(),
             contact_clustering: false,
             min_link_mass_kg: default_min_link_mass(),
             prediction_distance_m: default_prediction(),
@@ -217,6 +224,10 @@ impl Default for SimulationSpec {
             seed: 0,
         }
     }
+}
+
+fn default_stabilization() -> usize {
+    1
 }
 
 fn default_min_link_mass() -> f64 {

@@ -131,6 +131,7 @@ fn new_world(solver: &SolverSettings) -> PhysicsWorld {
     let ip = &mut world.integration_parameters;
     ip.dt = solver.dt as f32;
     ip.num_solver_iterations = solver.iterations;
+    ip.num_internal_stabilization_iterations = solver.stabilization_iterations;
     ip.contact_clustering = solver.contact_clustering;
     ip.normalized_prediction_distance = solver.prediction_distance as f32;
     world
