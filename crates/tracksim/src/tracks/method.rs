@@ -1,7 +1,7 @@
 //! The track methods by name: the one place where a name in a file becomes an implementation.
 
 use super::constraint_to_ground::ConstraintToGround;
-use super::okada2020::{SegmentLinks, Variant};
+use super::okada2020::SegmentLinks;
 use super::plates::Plates;
 use super::track::{BuildContext, Track};
 use super::wheels::Wheels;
@@ -18,10 +18,6 @@ pub enum Method {
     /// The paper's method with a 2-point tip capsule per grouser on the flat ground and the
     /// exact grouser on all other terrain: `okada2020_line_tips` (issue 16.2).
     Okada2020LineTips,
-    /// The paper's method with the chassis tracks' links as multibody (reduced-coordinate)
-    /// joints of the chassis's articulation instead of impulse joints (a flipper's tracks keep
-    /// impulse joints): `okada2020_multibody` (issue 16.3).
-    Okada2020Multibody,
     /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
     /// (e.g. `wheels4`, `wheels13`).
     Wheels(usize),
@@ -45,7 +41,7 @@ impl Method {
     ];
 
     /// Names accepted by [`Self::from_name`], for messages.
-    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"okada2020_multibody\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
+    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
 
     /// Parses a method name.
     pub fn from_name(name: &str) -> Option<Method> {
@@ -53,7 +49,6 @@ impl Method {
             "okada2020" => Method::Okada2020,
             "okada2020_no_grousers" => Method::Okada2020NoGrousers,
             "okada2020_line_tips" => Method::Okada2020LineTips,
-            "okada2020_multibody" => Method::Okada2020Multibody,
             "constraint_to_ground" => Method::ConstraintToGround,
             "plates" => Method::Plates,
             _ => {
@@ -85,7 +80,6 @@ impl Method {
             Method::Okada2020 => "okada2020".into(),
             Method::Okada2020NoGrousers => "okada2020_no_grousers".into(),
             Method::Okada2020LineTips => "okada2020_line_tips".into(),
-            Method::Okada2020Multibody => "okada2020_multibody".into(),
             Method::Wheels(k) => format!("wheels{k}"),
             Method::ConstraintToGround => "constraint_to_ground".into(),
             Method::Plates => "plates".into(),
@@ -105,25 +99,7 @@ impl Method {
                 };
                 Box::new(SegmentLinks::build(ctx, &smooth)?)
             }
-            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(
-                ctx,
-                track,
-                Variant {
-                    line_tips: true,
-                    ..Variant::default()
-                },
-            )?),
-            Method::Okada2020Multibody => Box::new(SegmentLinks::build_with(
-                ctx,
-                track,
-                // A flipper's tracks keep impulse joints: a flipper as the root of their
-                // articulation, on its impulse joint to the chassis's articulation, was flung
-                // off within 15 ms (PackBot with flippers, Quince; BENCHMARKS.md).
-                Variant {
-                    multibody: matches!(track.parent, crate::model::Parent::Body),
-                    ..Variant::default()
-                },
-            )?),
+            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(ctx, track, true)?),
             Method::Wheels(k) => Box::new(Wheels::build(ctx, track, k)?),
             Method::ConstraintToGround => Box::new(ConstraintToGround::build(ctx, track)?),
             Method::Plates => Box::new(Plates::build(ctx, track)?),

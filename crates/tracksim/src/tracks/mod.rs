@@ -5,7 +5,6 @@
 //! - [`okada2020`]: the paper's segment links with grousers and rollback (and its no-grouser
 //!   variant);
 //! - [`line_tips`]: the segment links with a 2-point tip collider per grouser on flat ground;
-//! - [`multibody`]: the segment links as multibody joints of their parent's articulation;
 //! - [`wheels`]: multiple wheels along the lower run;
 //! - [`constraint_to_ground`]: one rigid outline whose contacts get the belt's surface velocity;
 //! - [`plates`]: a closed chain of plates on hinges around sprocket and idler.
@@ -16,7 +15,6 @@ pub mod common;
 pub mod constraint_to_ground;
 pub mod line_tips;
 mod method;
-pub mod multibody;
 pub mod okada2020;
 pub mod plates;
 mod track;

@@ -79,11 +79,6 @@ impl LinkKind {
             LinkKind::Turn { .. } => JointAxis::AngX,
         }
     }
-    /// The joint coordinate of the link when the belt has moved by `phi` m: m along a
-    /// straight, rad about an arc.
-    fn coordinate(&self, phi: f64) -> f32 {
-        self.motor_target(phi)
-    }
     fn motor_target(&self, v: f64) -> f32 {
         match *self {
             LinkKind::Slide { .. } => v as f32,
@@ -92,28 +87,10 @@ impl LinkKind {
     }
 }
 
-/// The joint holding a link to its parent.
-#[derive(Clone, Copy, Debug)]
-enum LinkJoint {
-    /// An impulse joint (`okada2020`): the solver holds the link, with an error.
-    Impulse(ImpulseJointHandle),
-    /// A multibody joint (`okada2020_multibody`): the link's pose is its joint coordinate.
-    Multibody(MultibodyJointHandle),
-}
-
-/// Which variant of the segment links to build.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Variant {
-    /// A 2-point tip capsule per grouser for the flat ground ([`super::line_tips`]).
-    pub line_tips: bool,
-    /// Links as multibody joints of their parent's articulation ([`super::multibody`]).
-    pub multibody: bool,
-}
-
 #[derive(Debug)]
 struct Link {
     body: RigidBodyHandle,
-    joint: LinkJoint,
+    joint: ImpulseJointHandle,
     kind: LinkKind,
     local_com: Vector,
     /// Grouser colliders with their slot index k on the loop.
@@ -144,27 +121,6 @@ pub struct SegmentLinks {
     motor_cmd: Option<MotorCommand>,
     /// The belt force the motor allowed in the last step, N.
     force_limit: f64,
-}
-
-impl Link {
-    /// Sets the link's velocity motor to belt speed `v` m/s, and its largest force to `cap`
-    /// (N along a straight, N m about an arc) if given.
-    fn set_motor(&self, world: &mut PhysicsWorld, v: f64, cap: Option<f64>) {
-        let (axis, target) = (self.kind.motor_axis(), self.kind.motor_target(v));
-        match self.joint {
-            LinkJoint::Impulse(j) => {
-                set_motor_velocity(world, j, axis, target);
-                if let Some(cap) = cap
-                    && let Some(j) = world.impulse_joints.get_mut(j, false)
-                {
-                    j.data.set_motor_max_force(axis, cap as f32);
-                }
-            }
-            LinkJoint::Multibody(j) => {
-                super::multibody::set_motor(world, j, axis, target, cap.map(|c| c as f32));
-            }
-        }
-    }
 }
 
 /// Share of a track's belt force that every link may deliver whatever its contact load (it
@@ -294,16 +250,14 @@ fn link_joint(kind: LinkKind, seg: &Segment) -> GenericJoint {
 impl SegmentLinks {
     /// Builds the segment links of `t` on `ctx.parent` (with `t`'s grousers, if it has any).
     pub fn build(ctx: &mut BuildContext, t: &TrackModel) -> Result<Self> {
-        Self::build_with(ctx, t, Variant::default())
+        Self::build_with(ctx, t, false)
     }
 
-    /// [`Self::build`] as `variant` says: with `line_tips`, every grouser also gets a tip
-    /// capsule for the flat ground and its hull sees only the other terrain
-    /// ([`super::line_tips`]); with `multibody`, the links are multibody joints of their
-    /// parent's articulation ([`super::multibody`]).
-    pub fn build_with(ctx: &mut BuildContext, t: &TrackModel, variant: Variant) -> Result<Self> {
+    /// [`Self::build`]; with `line_tips`, every grouser also gets a tip capsule for the flat
+    /// ground and its hull sees only the other terrain ([`super::line_tips`]).
+    pub fn build_with(ctx: &mut BuildContext, t: &TrackModel, line_tips: bool) -> Result<Self> {
         let shapes = grouser_shapes(t)?;
-        let tips = if variant.line_tips {
+        let tips = if line_tips {
             super::line_tips::tip_shapes(t)?
         } else {
             Vec::new()
@@ -317,14 +271,7 @@ impl SegmentLinks {
         let mut links = Vec::new();
         for si in 0..path.segments().len() {
             if t.included[si] {
-                links.push(Self::build_link(
-                    ctx,
-                    t,
-                    si,
-                    (&shapes, &tips),
-                    &footprints,
-                    variant.multibody,
-                )?);
+                links.push(Self::build_link(ctx, t, si, (&shapes, &tips), &footprints));
             }
         }
         let mut s = SegmentLinks {
@@ -356,8 +303,7 @@ impl SegmentLinks {
         si: usize,
         (shapes, tips): (&[SharedShape], &[SharedShape]),
         footprints: &[(usize, crate::geometry::Frame)],
-        multibody: bool,
-    ) -> Result<Link> {
+    ) -> Link {
         let world = &mut *ctx.world;
         let path = &t.path;
         let seg = &path.segments()[si];
@@ -416,18 +362,14 @@ impl SegmentLinks {
             }
         }
         let joint = link_joint(kind, seg);
-        let joint = if multibody {
-            LinkJoint::Multibody(super::multibody::insert(world, ctx.parent, h, joint)?)
-        } else {
-            LinkJoint::Impulse(world.impulse_joints.insert(ctx.parent, h, joint, true))
-        };
-        Ok(Link {
+        let j = world.impulse_joints.insert(ctx.parent, h, joint, true);
+        Link {
             body: h,
-            joint,
+            joint: j,
             kind,
             local_com: mprops.local_com,
             grousers,
-        })
+        }
     }
 
     /// Phase in `[-p/2, p/2)`, m, and the number of wraps it implies.
@@ -525,7 +467,15 @@ impl SegmentLinks {
                 LinkKind::Slide { .. } => force,
                 LinkKind::Turn { radius, .. } => force * radius,
             };
-            l.set_motor(world, target, Some(cap));
+            set_motor_velocity(
+                world,
+                l.joint,
+                l.kind.motor_axis(),
+                l.kind.motor_target(target),
+            );
+            if let Some(j) = world.impulse_joints.get_mut(l.joint, false) {
+                j.data.set_motor_max_force(l.kind.motor_axis(), cap as f32);
+            }
         }
     }
 
@@ -564,7 +514,7 @@ impl Track for SegmentLinks {
         self.speed_cmd = v;
         self.motor_cmd = None;
         for l in &self.links {
-            l.set_motor(world, v, None);
+            set_motor_velocity(world, l.joint, l.kind.motor_axis(), l.kind.motor_target(v));
         }
     }
 
@@ -610,7 +560,6 @@ impl Track for SegmentLinks {
         let parent_angvel = parent.angvel();
         let parent_com = parent.center_of_mass();
         let mut measured = 0.0;
-        let mut coords = Vec::new();
         for l in &self.links {
             let expected = parent_pose * l.kind.shift(phi);
             let link = &bodies[l.body];
@@ -640,21 +589,8 @@ impl Track for SegmentLinks {
                         * radius
                 }
             };
-            match l.joint {
-                // Snap to the exact pose, keeping the world velocity the solver gave.
-                LinkJoint::Impulse(_) => bodies[l.body].set_position(expected, false),
-                // The joint coordinate at the phase, keeping the joint velocity.
-                LinkJoint::Multibody(j) => {
-                    coords.push((j, l.kind.motor_axis(), l.kind.coordinate(phi)));
-                }
-            }
-        }
-        for &(j, axis, c) in &coords {
-            super::multibody::set_coordinate(world, j, axis, c);
-        }
-        // One articulation per parent: its forward kinematics once, for all the links.
-        if let Some(&(j, _, _)) = coords.first() {
-            super::multibody::forward_kinematics(world, j);
+            // Snap to the exact pose, keeping the world velocity the solver gave.
+            bodies[l.body].set_position(expected, false);
         }
         if !self.links.is_empty() {
             self.speed_measured = measured / self.links.len() as f64;

@@ -79,10 +79,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
 fn check_motors(sc: &Scenario, method: Method) -> Result<()> {
     if matches!(
         method,
-        Method::Okada2020
-            | Method::Okada2020NoGrousers
-            | Method::Okada2020LineTips
-            | Method::Okada2020Multibody
+        Method::Okada2020 | Method::Okada2020NoGrousers | Method::Okada2020LineTips
     ) {
         return Ok(());
     }
