@@ -278,16 +278,21 @@ def climb_mujoco(name, h, duration=8.0):
     return dict(climbed=bool(ok), x=float(d.qpos[0]), z=float(d.qpos[2]), max_tilt=worst)
 
 
-def run_tracksim_bench(binary, duration, methods):
-    cmd = [binary, "bench", "--repeat", "1", "--cases", "packbot", "--duration", str(duration),
+#: The suffix of a tracksim row run on the bench case `packbot_open_top` (the PackBot with its
+#: top runs as links without colliders, vehicles/packbot510_open_top.toml).
+OPEN_TOP = " (open top)"
+
+
+def run_tracksim_bench(binary, duration, methods, case="packbot", suffix=""):
+    cmd = [binary, "bench", "--repeat", "1", "--cases", case, "--duration", str(duration),
            "--json"]
     if methods:
         cmd += ["--methods", ",".join(methods)]
     out = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
     case = json.loads(out)["cases"][0]
-    return {mm["name"]: dict(rtf=mm["rtf_median"], us_per_step=mm["us_per_step"],
-                             contacts=mm["contacts_per_step"]) for mm in case["methods"]
-            if mm["error"] is None}
+    return {mm["name"] + suffix: dict(rtf=mm["rtf_median"], us_per_step=mm["us_per_step"],
+                                      contacts=mm["contacts_per_step"])
+            for mm in case["methods"] if mm["error"] is None}
 
 
 def run_contact_floor(binary, args):
@@ -301,8 +306,16 @@ def run_contact_floor(binary, args):
 
 def climb_tracksim(binary, scenario, h, methods):
     """Writes the step scenario with height h next to a copy of the vehicle path and runs it."""
-    vehicle = os.path.join(os.path.dirname(os.path.abspath(scenario)), "..", "vehicles",
-                           "packbot510.toml")
+    vehicles = os.path.join(os.path.dirname(os.path.abspath(scenario)), "..", "vehicles")
+    res = {}
+    for meth in methods:
+        file = "packbot510_open_top.toml" if meth.endswith(OPEN_TOP) else "packbot510.toml"
+        res.update(climb_tracksim_one(binary, os.path.join(vehicles, file), h, meth))
+    return res
+
+
+def climb_tracksim_one(binary, vehicle, h, meth):
+    """One method (a name ending in OPEN_TOP: that method on `vehicle`) at step height h."""
     text = f"""description = "issue 16 step sweep, {h} m"
 [vehicle]
 file = "{os.path.abspath(vehicle)}"
@@ -327,15 +340,15 @@ belt_speed_mps = {SPEED}
         path = os.path.join(tmp, "step.toml")
         with open(path, "w") as f:
             f.write(text)
-        for meth in methods:
-            out = subprocess.run([binary, "run", path, "--method", meth, "--json", "--quiet",
-                                  "--no-plot", "--out", os.path.join(tmp, meth)],
-                                 capture_output=True, text=True)
-            if out.returncode != 0:
-                res[meth] = dict(climbed=False, error=out.stderr.strip()[-200:])
-                continue
-            s = json.loads(out.stdout)
-            res[meth] = dict(climbed=s.get("outcome") == "success", outcome=s.get("outcome"))
+        name = meth.removesuffix(OPEN_TOP)
+        out = subprocess.run([binary, "run", path, "--method", name, "--json", "--quiet",
+                              "--no-plot", "--out", os.path.join(tmp, "out")],
+                             capture_output=True, text=True)
+        if out.returncode != 0:
+            res[meth] = dict(climbed=False, error=out.stderr.strip()[-200:])
+            return res
+        s = json.loads(out.stdout)
+        res[meth] = dict(climbed=s.get("outcome") == "success", outcome=s.get("outcome"))
     return res
 
 
@@ -381,7 +394,8 @@ def report(info, summary, loads, climbs):
     floors = [k for k in summary if k.startswith("floor ")]
     targets = [("mj_plates40", 25.0), ("mj_surfacevel", 0.25), ("wheels4", 0.6)] + \
         [(k, 1 / 1.3) for k in floors]
-    cands = [t for t in ("okada2020", "okada2020_line_tips") if t in summary]
+    cands = [t for t in ("okada2020", "okada2020" + OPEN_TOP, "okada2020_line_tips")
+             if t in summary]
     if cands:
         lines += ["", "### Targets of issue 16 (RTF ratio, same run)", "",
                   "| ratio | target | " + " | ".join(cands) + " |",
@@ -444,6 +458,9 @@ def main():
         loads.append(os.getloadavg()[0])
         print(f"[{r + 1}/{a.repeat}] tracksim bench", file=sys.stderr, flush=True)
         for k, v in run_tracksim_bench(a.tracksim, a.duration, methods).items():
+            runs.setdefault(k, []).append(v)
+        for k, v in run_tracksim_bench(a.tracksim, a.duration, ["okada2020"], "packbot_open_top",
+                                       OPEN_TOP).items():
             runs.setdefault(k, []).append(v)
         for f in floors:
             runs.setdefault("floor " + ":".join(f), []).append(run_contact_floor(a.contact_floor, f))
