@@ -394,7 +394,8 @@ def report(info, summary, loads, climbs):
     floors = [k for k in summary if k.startswith("floor ")]
     targets = [("mj_plates40", 25.0), ("mj_surfacevel", 0.25), ("wheels4", 0.6)] + \
         [(k, 1 / 1.3) for k in floors]
-    cands = [t for t in ("okada2020", "okada2020" + OPEN_TOP, "okada2020_line_tips")
+    cands = [t for t in ("okada2020", "okada2020" + OPEN_TOP, "okada2020_clustered",
+                         "okada2020_clustered" + OPEN_TOP, "okada2020_line_tips")
              if t in summary]
     if cands:
         lines += ["", "### Targets of issue 16 (RTF ratio, same run)", "",
@@ -459,7 +460,8 @@ def main():
         print(f"[{r + 1}/{a.repeat}] tracksim bench", file=sys.stderr, flush=True)
         for k, v in run_tracksim_bench(a.tracksim, a.duration, methods).items():
             runs.setdefault(k, []).append(v)
-        for k, v in run_tracksim_bench(a.tracksim, a.duration, ["okada2020"], "packbot_open_top",
+        for k, v in run_tracksim_bench(a.tracksim, a.duration,
+                                       ["okada2020", "okada2020_clustered"], "packbot_open_top",
                                        OPEN_TOP).items():
             runs.setdefault(k, []).append(v)
         for f in floors:

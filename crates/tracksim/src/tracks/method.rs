@@ -1,7 +1,7 @@
 //! The track methods by name: the one place where a name in a file becomes an implementation.
 
 use super::constraint_to_ground::ConstraintToGround;
-use super::okada2020::SegmentLinks;
+use super::okada2020::{GrouserColliders, SegmentLinks};
 use super::plates::Plates;
 use super::track::{BuildContext, Track};
 use super::wheels::Wheels;
@@ -18,6 +18,9 @@ pub enum Method {
     /// The paper's method with a 2-point tip capsule per grouser on the flat ground and the
     /// exact grouser on all other terrain: `okada2020_line_tips` (issue 16.2).
     Okada2020LineTips,
+    /// The paper's method with each link's grousers as one compound collider and Rapier's
+    /// contact clustering: `okada2020_clustered` (issue 16.2).
+    Okada2020Clustered,
     /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
     /// (e.g. `wheels4`, `wheels13`).
     Wheels(usize),
@@ -34,6 +37,7 @@ impl Method {
         Method::Okada2020,
         Method::Okada2020NoGrousers,
         Method::Okada2020LineTips,
+        Method::Okada2020Clustered,
         Method::Wheels(4),
         Method::Wheels(13),
         Method::ConstraintToGround,
@@ -41,7 +45,7 @@ impl Method {
     ];
 
     /// Names accepted by [`Self::from_name`], for messages.
-    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
+    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"okada2020_clustered\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
 
     /// Parses a method name.
     pub fn from_name(name: &str) -> Option<Method> {
@@ -49,6 +53,7 @@ impl Method {
             "okada2020" => Method::Okada2020,
             "okada2020_no_grousers" => Method::Okada2020NoGrousers,
             "okada2020_line_tips" => Method::Okada2020LineTips,
+            "okada2020_clustered" => Method::Okada2020Clustered,
             "constraint_to_ground" => Method::ConstraintToGround,
             "plates" => Method::Plates,
             _ => {
@@ -80,6 +85,7 @@ impl Method {
             Method::Okada2020 => "okada2020".into(),
             Method::Okada2020NoGrousers => "okada2020_no_grousers".into(),
             Method::Okada2020LineTips => "okada2020_line_tips".into(),
+            Method::Okada2020Clustered => "okada2020_clustered".into(),
             Method::Wheels(k) => format!("wheels{k}"),
             Method::ConstraintToGround => "constraint_to_ground".into(),
             Method::Plates => "plates".into(),
@@ -99,7 +105,16 @@ impl Method {
                 };
                 Box::new(SegmentLinks::build(ctx, &smooth)?)
             }
-            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(ctx, track, true)?),
+            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(
+                ctx,
+                track,
+                GrouserColliders::LineTips,
+            )?),
+            Method::Okada2020Clustered => Box::new(SegmentLinks::build_with(
+                ctx,
+                track,
+                GrouserColliders::Compound,
+            )?),
             Method::Wheels(k) => Box::new(Wheels::build(ctx, track, k)?),
             Method::ConstraintToGround => Box::new(ConstraintToGround::build(ctx, track)?),
             Method::Plates => Box::new(Plates::build(ctx, track)?),

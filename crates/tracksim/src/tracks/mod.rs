@@ -4,6 +4,7 @@
 //!
 //! - [`okada2020`]: the paper's segment links with grousers and rollback (and its no-grouser
 //!   variant);
+//! - [`clustered`]: the segment links with each link's grousers as one compound, clustered;
 //! - [`line_tips`]: the segment links with a 2-point tip collider per grouser on flat ground;
 //! - [`wheels`]: multiple wheels along the lower run;
 //! - [`constraint_to_ground`]: one rigid outline whose contacts get the belt's surface velocity;
@@ -11,6 +12,7 @@
 
 #![warn(clippy::too_many_lines)]
 
+pub mod clustered;
 pub mod common;
 pub mod constraint_to_ground;
 pub mod line_tips;

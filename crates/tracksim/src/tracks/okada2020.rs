@@ -87,14 +87,33 @@ impl LinkKind {
     }
 }
 
+/// How a track's grousers become colliders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GrouserColliders {
+    /// One collider per grouser (`okada2020`).
+    Separate,
+    /// Each grouser's hull for the relief and a tip capsule for the flat ground
+    /// (`okada2020_line_tips`, [`super::line_tips`]).
+    LineTips,
+    /// The grousers of a link as one compound, with contact clustering
+    /// (`okada2020_clustered`, [`super::clustered`]).
+    Compound,
+}
+
 #[derive(Debug)]
 struct Link {
     body: RigidBodyHandle,
     joint: ImpulseJointHandle,
     kind: LinkKind,
     local_com: Vector,
-    /// Grouser colliders with their slot index k on the loop.
+    /// Grouser colliders with their slot index k on the loop (a compound: once, with its first
+    /// slot).
     grousers: Vec<(ColliderHandle, usize)>,
+    /// The compound of the link's grousers for every phase of the shape pattern
+    /// Each compound collider of the link's grousers with its shape for every phase of the
+    /// shape pattern ([`super::clustered::compounds`]; empty unless
+    /// [`GrouserColliders::Compound`]).
+    compounds: Vec<(ColliderHandle, Vec<SharedShape>)>,
 }
 
 /// A track of segment links (the paper's method).
@@ -250,14 +269,17 @@ fn link_joint(kind: LinkKind, seg: &Segment) -> GenericJoint {
 impl SegmentLinks {
     /// Builds the segment links of `t` on `ctx.parent` (with `t`'s grousers, if it has any).
     pub fn build(ctx: &mut BuildContext, t: &TrackModel) -> Result<Self> {
-        Self::build_with(ctx, t, false)
+        Self::build_with(ctx, t, GrouserColliders::Separate)
     }
 
-    /// [`Self::build`]; with `line_tips`, every grouser also gets a tip capsule for the flat
-    /// ground and its hull sees only the other terrain ([`super::line_tips`]).
-    pub fn build_with(ctx: &mut BuildContext, t: &TrackModel, line_tips: bool) -> Result<Self> {
+    /// [`Self::build`] with the grousers made colliders as `how` says.
+    pub fn build_with(
+        ctx: &mut BuildContext,
+        t: &TrackModel,
+        how: GrouserColliders,
+    ) -> Result<Self> {
         let shapes = grouser_shapes(t)?;
-        let tips = if line_tips {
+        let tips = if how == GrouserColliders::LineTips {
             super::line_tips::tip_shapes(t)?
         } else {
             Vec::new()
@@ -271,7 +293,13 @@ impl SegmentLinks {
         let mut links = Vec::new();
         for si in 0..path.segments().len() {
             if t.included[si] {
-                links.push(Self::build_link(ctx, t, si, (&shapes, &tips), &footprints));
+                links.push(Self::build_link(
+                    ctx,
+                    t,
+                    si,
+                    (&shapes, &tips, how),
+                    &footprints,
+                ));
             }
         }
         let mut s = SegmentLinks {
@@ -301,7 +329,7 @@ impl SegmentLinks {
         ctx: &mut BuildContext,
         t: &TrackModel,
         si: usize,
-        (shapes, tips): (&[SharedShape], &[SharedShape]),
+        (shapes, tips, how): (&[SharedShape], &[SharedShape], GrouserColliders),
         footprints: &[(usize, crate::geometry::Frame)],
     ) -> Link {
         let world = &mut *ctx.world;
@@ -341,6 +369,7 @@ impl SegmentLinks {
         }
         // Grousers whose footprint lies on this segment at rest.
         let mut grousers = Vec::new();
+        let mut parts = Vec::new();
         if let Some(g) = t.grousers.as_ref().filter(|_| touching) {
             for (k, (gs, frame)) in footprints.iter().enumerate() {
                 if *gs != si {
@@ -352,6 +381,10 @@ impl SegmentLinks {
                     GrouserShape::Convex(_) => DVec3::ZERO,
                 };
                 let pose = Pose::from_parts(f(frame.to_track(centre)), q(frame.rotation()));
+                if how == GrouserColliders::Compound {
+                    parts.push((pose, k));
+                    continue;
+                }
                 let c = base(ColliderBuilder::new(shapes[shape_i].clone()).position(pose));
                 let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
                 grousers.push((ch, k));
@@ -364,6 +397,14 @@ impl SegmentLinks {
                 }
             }
         }
+        let mut compounds = Vec::new();
+        for group in parts.chunks(super::clustered::GROUSERS_PER_COMPOUND) {
+            let phases = super::clustered::compounds(group, shapes);
+            let c = base(ColliderBuilder::new(phases[0].clone()));
+            let ch = world.colliders.insert_with_parent(c, h, &mut world.bodies);
+            grousers.push((ch, group[0].1));
+            compounds.push((ch, phases));
+        }
         let joint = link_joint(kind, seg);
         let j = world.impulse_joints.insert(ctx.parent, h, joint, true);
         Link {
@@ -372,6 +413,7 @@ impl SegmentLinks {
             kind,
             local_com: mprops.local_com,
             grousers,
+            compounds,
         }
     }
 
@@ -384,6 +426,14 @@ impl SegmentLinks {
     fn reassign_shapes(&self, world: &mut PhysicsWorld, wraps: i64) {
         let m = self.shapes.len() as i64;
         for l in &self.links {
+            if !l.compounds.is_empty() {
+                for (ch, phases) in &l.compounds {
+                    if let Some(c) = world.colliders.get_mut(*ch) {
+                        c.set_shape(phases[wraps.rem_euclid(m) as usize].clone());
+                    }
+                }
+                continue;
+            }
             for &(ch, k) in &l.grousers {
                 let idx = (k as i64 - wraps).rem_euclid(m) as usize;
                 if let Some(c) = world.colliders.get_mut(ch) {

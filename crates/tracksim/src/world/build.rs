@@ -22,6 +22,9 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         })?;
     check_motors(&sc, method)?;
     let mut world = new_world(&sc.solver);
+    if method == Method::Okada2020Clustered {
+        crate::tracks::clustered::world_settings(&mut world.integration_parameters);
+    }
     let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
     let ground_tile = sc.terrain.insert_into(
         &mut world,

@@ -1,0 +1,64 @@
+//! Clustered grousers (`okada2020_clustered`, issue 16.2): the paper's segment links with
+//! every [`GROUSERS_PER_COMPOUND`] consecutive grousers of a link in one compound collider, and
+//! Rapier's contact clustering on.
+//!
+//! Rapier solves each contact manifold as one constraint, and the manifolds of one body one
+//! after the other (they share the body): with one collider per grouser the bottom run of a
+//! PackBot track is 13 manifolds of 4 points on one body, most of what the paper's method pays
+//! per step (BENCHMARKS.md, the contact floor). In a compound, contact clustering merges the
+//! manifolds whose normals agree within ~5 deg into one of at most 4 points
+//! (`rapier3d::geometry::contact_clustering`): on flat ground a group of grousers stands on the
+//! outer corners of its first and last grouser, the support the group's 16 points spanned.
+//! Where the grousers meet a step edge, a riser or a tread, each contact plane is its own
+//! cluster: the grousers' edges still hook.
+//!
+//! Three settings come with it (`world_settings`), each measured (tests/issue_16_clustered.rs,
+//! BENCHMARKS.md):
+//! - groups, not whole links: 4 points for a whole bottom run cannot carry the pressure
+//!   distribution along the track that skid steering turns against (the PackBot's spin turn
+//!   nearly stopped: 0.53 rad in 6 s); groups of 4 grousers turn as single grousers do;
+//! - Rapier's contacts are soft, a spring per solver point whose stiffness is proportional to
+//!   the point's effective mass (`SpringCoefficients::cfm_coeff`): the same load on 4 times
+//!   fewer points sinks deeper, so both contact natural frequencies are raised by
+//!   [`CONTACT_FREQUENCY_SCALE`] = sqrt(4) (stiffness goes as its square);
+//! - Coulomb friction (a friction row per point) instead of Rapier's default twist model, whose
+//!   one twist row per manifold resisted the turn of a cluster much more than Coulomb friction.
+
+use rapier3d::prelude::*;
+
+/// Consecutive grousers of a link in one compound collider (on flat ground one cluster of at
+/// most 4 points where they had 4 each). Groups of 3, 4 and 6 turned the PackBot in place at
+/// 0.77, 0.76 and 0.77 of the no-slip rate (1 per compound 0.79, a whole link nearly not at
+/// all); 4 ran faster than 3, as fast as 6.
+pub const GROUSERS_PER_COMPOUND: usize = 4;
+
+/// Factor on Rapier's contact natural frequencies (30 Hz against dynamic bodies, 60 Hz against
+/// fixed ones) under this method: sqrt([`GROUSERS_PER_COMPOUND`]) keeps the contact stiffness
+/// of the grousers' points with one cluster's (the PackBot's flat ride height within 0.01 mm).
+pub const CONTACT_FREQUENCY_SCALE: f32 = 2.0;
+
+/// The world settings the method needs: contact clustering on, Coulomb friction, stiffer
+/// contact springs.
+pub fn world_settings(ip: &mut IntegrationParameters) {
+    ip.contact_clustering = true;
+    ip.friction_model = FrictionModel::Coulomb;
+    ip.contact_softness.natural_frequency *= CONTACT_FREQUENCY_SCALE;
+    ip.static_contact_softness.natural_frequency *= CONTACT_FREQUENCY_SCALE;
+}
+
+/// The compound of a link's grousers: `parts` (pose on the link, shape), for every phase of
+/// a pattern of `m` shapes in turn: entry `w` holds grouser slot k with shape
+/// `(k - w) mod m` (`SegmentLinks::reassign_shapes`'s rule). One entry for a single shape.
+pub fn compounds(parts: &[(Pose, usize)], shapes: &[SharedShape]) -> Vec<SharedShape> {
+    let m = shapes.len().max(1);
+    (0..m)
+        .map(|w| {
+            SharedShape::compound(
+                parts
+                    .iter()
+                    .map(|&(pose, k)| (pose, shapes[(k + m - w % m) % m].clone()))
+                    .collect(),
+            )
+        })
+        .collect()
+}
