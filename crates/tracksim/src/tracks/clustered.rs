@@ -29,7 +29,8 @@ use rapier3d::prelude::*;
 /// Consecutive grousers of a link in one compound collider (on flat ground one cluster of at
 /// most 4 points where they had 4 each). Groups of 3, 4 and 6 turned the PackBot in place at
 /// 0.77, 0.76 and 0.77 of the no-slip rate (1 per compound 0.79, a whole link nearly not at
-/// all); 4 ran faster than 3, as fast as 6.
+/// all; springs stiffened x4 in that sweep, x2 as shipped: 0.76 for 4); 4 ran faster than 3,
+/// as fast as 6.
 pub const GROUSERS_PER_COMPOUND: usize = 4;
 
 /// Factor on Rapier's contact natural frequencies (30 Hz against dynamic bodies, 60 Hz against
