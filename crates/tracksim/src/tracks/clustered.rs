@@ -63,3 +63,26 @@ pub fn compounds(parts: &[(Pose, usize)], shapes: &[SharedShape]) -> Vec<SharedS
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_phase_gives_every_slot_the_shape_the_separate_grousers_would_have() {
+        let shapes = [SharedShape::cuboid(0.1, 0.1, 0.1), SharedShape::ball(0.2)];
+        let parts: Vec<(Pose, usize)> = (3..7)
+            .map(|k| (Pose::from_translation(Vector::new(k as f32, 0.0, 0.0)), k))
+            .collect();
+        let phases = compounds(&parts, &shapes);
+        assert_eq!(phases.len(), 2);
+        for (w, c) in phases.iter().enumerate() {
+            let c = c.as_compound().unwrap();
+            for ((_, part), &(_, k)) in c.shapes().iter().zip(&parts) {
+                // SegmentLinks::reassign_shapes: slot k gets shape (k - wraps) mod m.
+                let want = (k + 2 - w % 2) % 2;
+                assert_eq!(part.as_ball().is_some(), want == 1, "phase {w}, slot {k}");
+            }
+        }
+    }
+}

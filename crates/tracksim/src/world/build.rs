@@ -318,6 +318,16 @@ fn shape_points(shape: &dyn rapier3d::parry::shape::Shape) -> Vec<Vector> {
             .collect()
     } else if let Some(c) = shape.as_convex_polyhedron() {
         c.points().to_vec()
+    } else if let Some(c) = shape.as_compound() {
+        // The grouser groups of `okada2020_clustered`: their parts, each in its pose.
+        c.shapes()
+            .iter()
+            .flat_map(|(pose, part)| {
+                shape_points(&**part)
+                    .into_iter()
+                    .map(move |p| pose.transform_point(p))
+            })
+            .collect()
     } else {
         let a = shape.compute_local_aabb();
         vec![a.mins, a.maxs, Vector::new(a.mins.x, a.maxs.y, a.mins.z)]
