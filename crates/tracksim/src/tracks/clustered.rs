@@ -47,6 +47,23 @@ pub fn world_settings(ip: &mut IntegrationParameters) {
     ip.static_contact_softness.natural_frequency *= CONTACT_FREQUENCY_SCALE;
 }
 
+/// Puts a segment's grouser slots `parts` (pose, slot k of `n` on the loop) in their order
+/// along the segment, so that groups hold neighbours: the slots of one segment are a run of
+/// consecutive k, which wraps past `n - 1` to 0 on the segment holding the loop's first slot.
+pub fn order_along_segment(parts: &mut [(Pose, usize)], n: usize) {
+    parts.sort_by_key(|p| p.1);
+    // A wrapped run (e.g. 38, 39, 0, 1 of 40) sorts as 0, 1, 38, 39: start after the gap.
+    let wraps =
+        parts.first().is_some_and(|p| p.1 == 0) && parts.last().is_some_and(|p| p.1 + 1 == n);
+    if let Some(i) = parts
+        .windows(2)
+        .position(|w| w[1].1 > w[0].1 + 1)
+        .filter(|_| wraps)
+    {
+        parts.rotate_left(i + 1);
+    }
+}
+
 /// The compound of a link's grousers: `parts` (pose on the link, shape), for every phase of
 /// a pattern of `m` shapes in turn: entry `w` holds grouser slot k with shape
 /// `(k - w) mod m` (`SegmentLinks::reassign_shapes`'s rule). One entry for a single shape.
@@ -67,6 +84,21 @@ pub fn compounds(parts: &[(Pose, usize)], shapes: &[SharedShape]) -> Vec<SharedS
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_segment_holding_the_first_slot_is_grouped_in_its_order_along_the_loop() {
+        let mut parts: Vec<(Pose, usize)> = [0, 1, 38, 39, 2]
+            .iter()
+            .map(|&k| (Pose::IDENTITY, k))
+            .collect();
+        order_along_segment(&mut parts, 40);
+        let ks: Vec<usize> = parts.iter().map(|p| p.1).collect();
+        assert_eq!(ks, [38, 39, 0, 1, 2]);
+        let mut plain: Vec<(Pose, usize)> =
+            [5, 3, 4].iter().map(|&k| (Pose::IDENTITY, k)).collect();
+        order_along_segment(&mut plain, 40);
+        assert_eq!(plain.iter().map(|p| p.1).collect::<Vec<_>>(), [3, 4, 5]);
+    }
 
     #[test]
     fn each_phase_gives_every_slot_the_shape_the_separate_grousers_would_have() {

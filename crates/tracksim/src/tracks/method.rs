@@ -18,8 +18,8 @@ pub enum Method {
     /// The paper's method with a 2-point tip capsule per grouser on the flat ground and the
     /// exact grouser on all other terrain: `okada2020_line_tips` (issue 16.2).
     Okada2020LineTips,
-    /// The paper's method with each link's grousers as one compound collider and Rapier's
-    /// contact clustering: `okada2020_clustered` (issue 16.2).
+    /// The paper's method with every 4 consecutive grousers of a link in one compound collider
+    /// and Rapier's contact clustering: `okada2020_clustered` (issue 16.2).
     Okada2020Clustered,
     /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
     /// (e.g. `wheels4`, `wheels13`).

@@ -109,7 +109,6 @@ struct Link {
     /// Grouser colliders with their slot index k on the loop (a compound: once, with its first
     /// slot).
     grousers: Vec<(ColliderHandle, usize)>,
-    /// The compound of the link's grousers for every phase of the shape pattern
     /// Each compound collider of the link's grousers with its shape for every phase of the
     /// shape pattern ([`super::clustered::compounds`]; empty unless
     /// [`GrouserColliders::Compound`]).
@@ -397,6 +396,7 @@ impl SegmentLinks {
                 }
             }
         }
+        super::clustered::order_along_segment(&mut parts, footprints.len());
         let mut compounds = Vec::new();
         for group in parts.chunks(super::clustered::GROUSERS_PER_COMPOUND) {
             let phases = super::clustered::compounds(group, shapes);
