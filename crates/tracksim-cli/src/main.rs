@@ -351,6 +351,14 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             s.outcome_reason,
             s.outcome_time_s
         );
+        if !sc.expect.is_empty() {
+            let misses = tracksim::run::check_expectations(&sc.expect, &result);
+            if misses.is_empty() {
+                out!("expect     met (the file's [expect] table)");
+            } else {
+                out!("expect     MISSED: {}", misses.join("; "));
+            }
+        }
         for w in &written {
             out!("wrote      {}", w.display());
         }

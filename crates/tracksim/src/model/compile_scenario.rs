@@ -64,6 +64,7 @@ pub fn compile_scenario_with(
         c.issues.push(issue);
     }
     let outcome = outcome(&mut c, &spec.outcome);
+    let expect = super::expect::compile_expect(&mut c, &spec.expect);
     let drawbar = spec
         .drawbar
         .as_ref()
@@ -80,6 +81,7 @@ pub fn compile_scenario_with(
     }
     Ok(Scenario {
         outcome,
+        expect,
         drawbar,
         method: s.method.clone(),
         seed: s.seed,
@@ -307,6 +309,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         prediction_distance: s.prediction_distance_m,
         contact_slop: s.contact_slop_m,
         held_friction_in_bias_pass: s.held_friction_in_bias_pass,
+        contact_recycling: s.contact_recycling,
     }
 }
 

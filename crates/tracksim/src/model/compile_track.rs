@@ -40,6 +40,31 @@ fn combine_rule(s: &str) -> Option<CoefficientCombineRule> {
     })
 }
 
+/// The radius sprocket commands (`sprocket_rad_s`) and a motor's torque act at, m: the file's
+/// `sprocket_pitch_radius_m`, or for a lugged wheel its rolling radius (the path circle: the
+/// rim plus `rim_inset`), so that a command of w rad/s turns the wheel at w rad/s whatever
+/// the lugs (issue 23.6). A wheel whose file states another radius contradicts itself and is
+/// refused.
+fn command_radius(c: &mut Checker, k: &str, t: &TrackSpec, rim_inset: f64) -> Option<f64> {
+    let Some(w) = &t.path.wheel else {
+        return t.sprocket_pitch_radius_m;
+    };
+    let rolling = w.radius_m + rim_inset;
+    if let Some(r) = t.sprocket_pitch_radius_m
+        && (r - rolling).abs() > 1e-6 * rolling
+    {
+        c.push(
+            format!("{k}.sprocket_pitch_radius_m"),
+            format!(
+                "a wheel's commands act at its rolling radius, derived from the rim and the lugs \
+                 ({rolling:.4} m here), so that sprocket_rad_s turns the wheel at that rate; got \
+                 {r} m: remove the key"
+            ),
+        );
+    }
+    Some(rolling)
+}
+
 /// Checks track `t` (key path `k`) and appends it, then its mirror image if it has one, to
 /// `tracks`; appends nothing when its path cannot be built.
 pub(super) fn compile_track(
@@ -73,6 +98,7 @@ pub(super) fn compile_track(
     else {
         return;
     };
+    let sprocket_radius = command_radius(c, k, t, rim_inset);
     let n = path.segments().len();
     let included = included_segments(c, k, &t.omit_segments, n);
     let touching = touching_segments(c, k, t, &included, n);
@@ -86,7 +112,7 @@ pub(super) fn compile_track(
         belt_mass: t.belt_mass_kg,
         friction: t.friction,
         combine,
-        sprocket_radius: t.sprocket_pitch_radius_m,
+        sprocket_radius,
         included,
         touching,
         grousers,
@@ -95,9 +121,10 @@ pub(super) fn compile_track(
             .as_ref()
             .map(|s| compile_compliance(c, &format!("{k}.compliance"), s))
             .unwrap_or_default(),
-        motor: t.motor.as_ref().and_then(|m| {
-            super::compile_motor(c, &format!("{k}.motor"), m, t.sprocket_pitch_radius_m)
-        }),
+        motor: t
+            .motor
+            .as_ref()
+            .and_then(|m| super::compile_motor(c, &format!("{k}.motor"), m, sprocket_radius)),
     };
     if let Some(m) = &t.mirror {
         let mut mirrored = model.clone();

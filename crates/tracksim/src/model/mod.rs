@@ -11,6 +11,7 @@
 //! - `drawbar.rs`: a drawbar load on the chassis ([`Drawbar`], `[drawbar]`);
 //! - `conveyor.rs`: conveyors (tracks on the world, [`ConveyorModel`]) and loose boxes
 //!   ([`LooseBoxModel`]) of `[terrain]`;
+//! - `expect.rs`: a scenario's `[expect]` table ([`Expectation`]);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
@@ -30,6 +31,7 @@ mod controls;
 mod conveyor;
 mod design;
 mod drawbar;
+mod expect;
 mod load;
 mod motor;
 mod randomize;
@@ -49,6 +51,7 @@ pub use controls::*;
 pub use conveyor::{ConveyorModel, LooseBoxModel};
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
+pub use expect::{Expectation, Range};
 pub use load::*;
 pub(crate) use motor::compile_motor;
 pub use motor::{DriveMotor, ElectricalState, MotorElectrics};

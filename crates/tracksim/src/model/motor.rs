@@ -6,7 +6,14 @@
 //! speed in the direction `d` it drives (the sign of the command); beyond it the belt slows: the
 //! belt speed becomes a result of the motor, the ground and the vehicle. Back-driven (`w < 0`,
 //! e.g. sliding back down a slope) a DC motor gives more than its stall torque; the driver's
-//! current limit (`T_limit`, else the stall torque) caps it.
+//! current limit (`T_limit`, else the stall torque) caps it. Held (a zero speed command) the
+//! motor holds up to that limit too.
+//!
+//! The gearbox loses power in the direction the power flows (issue 23.5): motoring (belt force
+//! and belt speed in one direction) the motor gives `T = F r / (G eta)` for a belt force `F`,
+//! so the belt gets eta of the shaft power; back-driven (braking, holding) it sees only
+//! `T = F r eta / G`, so at most eta of the belt's power reaches the motor, and a torque `T`
+//! holds a belt force up to `T G / (eta r)` (the gear's friction helps).
 //!
 //! A measured torque-speed curve (`torque_speed`) can replace the line. With `voltage_v` and
 //! `stall_current_a` (and `no_load_current_a`) the motor also has the DC motor's electrical
@@ -57,6 +64,9 @@ impl MotorElectrics {
         } else {
             0.0
         };
+        // The no-load current overcomes the motor's own friction, which opposes its motion:
+        // it follows the speed (the torque only at standstill).
+        let sign = if speed != 0.0 { speed.signum() } else { sign };
         let current = torque / self.torque_constant + self.no_load_current * sign;
         let voltage = current * self.resistance + self.back_emf_constant * speed;
         ElectricalState {
@@ -125,9 +135,24 @@ impl DriveMotor {
         self.curve_torque(w).clamp(0.0, limit)
     }
 
-    /// Largest belt force at belt speed `v` m/s towards the command `cmd` m/s, N.
+    /// Largest belt force at belt speed `v` m/s towards the command `cmd` m/s, N: motoring
+    /// (the belt runs the command's way or stands) the torque-speed curve through the gear
+    /// (`T G eta / r`); back-driven (the belt runs against the command) or held (`cmd` = 0)
+    /// the driver's torque limit through the gear the other way (`T G / (eta r)`).
     pub fn max_belt_force(&self, v: f64, cmd: f64) -> f64 {
-        self.max_motor_torque(v, cmd) * self.gear_ratio * self.efficiency / self.sprocket_radius
+        let motoring = cmd != 0.0 && v * cmd >= 0.0;
+        self.belt_force_of_torque(self.max_motor_torque(v, cmd), motoring)
+    }
+
+    /// Belt force that motor torque `torque` N m (>= 0) holds or drives, N: `T G eta / r`
+    /// when motoring, `T G / (eta r)` when back-driven.
+    pub fn belt_force_of_torque(&self, torque: f64, motoring: bool) -> f64 {
+        let gear = if motoring {
+            self.efficiency
+        } else {
+            1.0 / self.efficiency
+        };
+        torque * self.gear_ratio * gear / self.sprocket_radius
     }
 
     /// Belt speed at the motor's no-load speed, m/s.
@@ -150,21 +175,32 @@ impl DriveMotor {
     /// driver's limit.
     pub fn commanded_belt_force(&self, cmd: super::MotorCommand, v: f64) -> f64 {
         let limit = self.torque_limit.unwrap_or(self.stall_torque);
-        let torque = match cmd {
+        let (torque, motoring) = match cmd {
             super::MotorCommand::Duty(d) => {
                 let w = v * self.gear_ratio / self.sprocket_radius;
-                (self.stall_torque * (d - w / self.no_load_speed)).abs()
+                let t = self.stall_torque * (d - w / self.no_load_speed);
+                // Motoring while the torque pushes the way the belt runs (or starts it).
+                (t.abs(), t * v > 0.0 || (v == 0.0 && t != 0.0))
             }
-            super::MotorCommand::Torque(t) => t
-                .abs()
-                .min(self.max_motor_torque(v, self.command_target(cmd))),
+            super::MotorCommand::Torque(t) => (
+                t.abs()
+                    .min(self.max_motor_torque(v, self.command_target(cmd))),
+                t * v >= 0.0,
+            ),
         };
-        torque.min(limit) * self.gear_ratio * self.efficiency / self.sprocket_radius
+        self.belt_force_of_torque(torque.min(limit), motoring)
     }
 
-    /// Motor torque that delivers belt force `force` N, N m (the gearbox losses on top).
-    pub fn motor_torque(&self, force: f64) -> f64 {
-        force * self.sprocket_radius / (self.gear_ratio * self.efficiency)
+    /// Motor torque at belt force `force` N and belt speed `v` m/s, N m: motoring (`F v > 0`,
+    /// or standing) the gearbox losses on top (`F r / (G eta)`), back-driven (`F v < 0`) taken
+    /// off (`F r eta / G`).
+    pub fn motor_torque(&self, force: f64, v: f64) -> f64 {
+        let gear = if force * v < 0.0 {
+            self.efficiency
+        } else {
+            1.0 / self.efficiency
+        };
+        force * self.sprocket_radius * gear / self.gear_ratio
     }
 
     /// The electrical state delivering belt force `force` N at belt speed `v` m/s (None without
@@ -172,7 +208,7 @@ impl DriveMotor {
     pub fn electrical(&self, force: f64, v: f64) -> Option<ElectricalState> {
         let e = self.electrics?;
         Some(e.state(
-            self.motor_torque(force),
+            self.motor_torque(force, v),
             v * self.gear_ratio / self.sprocket_radius,
         ))
     }
@@ -337,14 +373,61 @@ mod tests {
         // 0.5 m/s in the driving direction (either way): 50 rad/s, the line gives 0.5 N m -> 25 N.
         assert!((m.max_belt_force(0.5, 0.6) - 25.0).abs() < 1e-12);
         assert!((m.max_belt_force(-0.5, -0.6) - 25.0).abs() < 1e-12);
-        // Back-driven (moving against the command): the driver's limit.
-        assert!((m.max_belt_force(-0.5, 0.6) - 40.0).abs() < 1e-12);
+        // Back-driven (moving against the command): the driver's limit, the gear's friction
+        // helping: 0.8 * 10 / (0.5 * 0.1) = 160 N.
+        assert!((m.max_belt_force(-0.5, 0.6) - 160.0).abs() < 1e-12);
         // Held belt: the limit both ways.
-        assert!((m.max_belt_force(0.2, 0.0) - 40.0).abs() < 1e-12);
+        assert!((m.max_belt_force(0.2, 0.0) - 160.0).abs() < 1e-12);
+        assert!((m.max_belt_force(0.0, 0.0) - 160.0).abs() < 1e-12);
         // At and past the no-load speed (1 m/s): nothing.
         assert_eq!(m.max_belt_force(1.0, 1.0), 0.0);
         assert_eq!(m.max_belt_force(2.0, 1.0), 0.0);
-        assert!((m.motor_torque(25.0) - 0.5).abs() < 1e-12);
+        // Motoring: the gear's losses on top; braking: taken off.
+        assert!((m.motor_torque(25.0, 0.5) - 0.5).abs() < 1e-12);
+        assert!((m.motor_torque(-25.0, 0.5) + 0.125).abs() < 1e-12);
+    }
+
+    /// The motor and its gearbox create no energy (issue 23.5): motoring, the supply gives at
+    /// least the belt's power; braking, it gets back at most eta of what the belt absorbs; a
+    /// back-driven gear passes at most eta of the power to the motor shaft.
+    #[test]
+    fn electrical_power_bounds_the_belt_power_both_ways() {
+        for (stall, w0, v_s, i_s, i_0, eta) in [
+            (0.07, 600.0, 24.0, 1.9, 0.15, 0.8), // packbot510_motors
+            (0.07, 600.0, 24.0, 1.9, 0.15, 0.5),
+            (2.0, 400.0, 24.0, 20.0, 0.5, 0.9),
+        ] {
+            let spec = MotorSpec {
+                stall_torque_nm: Some(stall),
+                no_load_speed_rad_s: Some(w0),
+                torque_speed: None,
+                gear_ratio: 50.0,
+                efficiency: eta,
+                torque_limit_nm: None,
+                voltage_v: Some(v_s),
+                stall_current_a: Some(i_s),
+                no_load_current_a: Some(i_0),
+            };
+            let mut c = Checker::default();
+            let m = compile_motor(&mut c, "m", &spec, Some(0.082)).unwrap();
+            let v_max = m.no_load_belt_speed();
+            for i in -10..=10 {
+                let v = v_max * i as f64 / 10.0;
+                for j in -10..=10 {
+                    let force = m.belt_force_of_torque(stall, true) * j as f64 / 10.0;
+                    let belt = force * v;
+                    let shaft = m.motor_torque(force, v) * v * m.gear_ratio / m.sprocket_radius;
+                    let e = m.electrical(force, v).unwrap();
+                    if belt > 0.0 {
+                        assert!(shaft >= belt - 1e-9, "{shaft} < {belt}");
+                        assert!(e.power >= belt - 1e-9, "motoring {} < {belt}", e.power);
+                    } else if belt < 0.0 {
+                        assert!(-shaft <= eta * -belt + 1e-9, "{shaft} vs {belt}");
+                        assert!(-e.power <= eta * -belt + 1e-9, "regen {} > {belt}", e.power);
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -26,6 +26,8 @@ pub struct SolverSettings {
     /// pass: without it a braked vehicle creeps down a slope well inside the friction cone
     /// (docs/DESIGN.md).
     pub held_friction_in_bias_pass: bool,
+    /// Rapier's contact recycling (`simulation.contact_recycling`).
+    pub contact_recycling: bool,
 }
 
 impl Default for SolverSettings {
@@ -39,6 +41,7 @@ impl Default for SolverSettings {
             prediction_distance: 0.02,
             contact_slop: 0.0,
             held_friction_in_bias_pass: true,
+            contact_recycling: true,
         }
     }
 }
@@ -95,6 +98,8 @@ pub struct Scenario {
     pub commands: Vec<Command>,
     /// Outcome conditions.
     pub outcome: OutcomeModel,
+    /// What a run must show (`[expect]`; empty: nothing checked).
+    pub expect: super::Expectation,
     /// A drawbar load on the chassis (`[drawbar]`), if any.
     pub drawbar: Option<super::Drawbar>,
     /// Track method name (`simulation.method`), resolved by the track layer

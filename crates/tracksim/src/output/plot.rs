@@ -622,6 +622,7 @@ mod tests {
                     prediction_distance_m: 0.02,
                     contact_slop_m: 0.0,
                     held_friction_in_bias_pass: true,
+                    contact_recycling: true,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,

@@ -5,12 +5,14 @@
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`outcome`]: success and failure conditions;
+//! - [`expect`]: a run checked against its scenario's `[expect]` table;
 //! - [`summary`]: the numbers of `summary.json`;
 //! - [`track_summary`]: per-track figures and the odometry error in it;
 //! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
 //! - [`turn_summary`]: commanded against achieved turns.
 
 pub mod drawbar_summary;
+pub mod expect;
 pub mod outcome;
 pub mod scripted;
 pub mod summary;
@@ -19,6 +21,7 @@ pub mod track_summary;
 pub mod turn_summary;
 
 pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
+pub use expect::check_expectations;
 pub use outcome::{Outcome, check_outcome};
 pub use scripted::Scripted;
 pub use summary::{SolverSummary, Summary, WallTimes};

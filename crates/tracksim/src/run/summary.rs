@@ -98,6 +98,8 @@ pub struct SolverSummary {
     pub contact_slop_m: f64,
     /// Friction in Rapier's position-correction pass while every belt is held.
     pub held_friction_in_bias_pass: bool,
+    /// `simulation.contact_recycling`.
+    pub contact_recycling: bool,
 }
 
 impl SolverSummary {
@@ -112,6 +114,7 @@ impl SolverSummary {
             prediction_distance_m: sc.solver.prediction_distance,
             contact_slop_m: sc.solver.contact_slop,
             held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
+            contact_recycling: sc.solver.contact_recycling,
         }
     }
 }

@@ -9,10 +9,12 @@
 //! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
 //! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
 //! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
+//! - `expect.rs`: a scenario's `[expect]` table ([`ExpectSpec`]): what a run must show.
 //! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
 //!   by position, no fixed-size array with extra entries.
 
 mod conveyor;
+mod expect;
 mod randomize;
 mod scenario;
 pub mod strict;
@@ -20,6 +22,7 @@ mod terrain;
 mod vehicle;
 
 pub use conveyor::*;
+pub use expect::*;
 pub use randomize::*;
 pub use scenario::*;
 pub use terrain::*;

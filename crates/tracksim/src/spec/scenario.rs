@@ -35,6 +35,10 @@ pub struct ScenarioSpec {
     /// A drawbar load on the chassis (`[drawbar]`): the classic drawbar-pull test.
     #[serde(default)]
     pub drawbar: Option<DrawbarSpec>,
+    /// What a run must show (`[expect]`): checked by `run` and the bundled-scenario test, no
+    /// effect on the simulation.
+    #[serde(default)]
+    pub expect: super::ExpectSpec,
 }
 
 /// A drawbar load (`[drawbar]`): a horizontal pull on a hitch of the chassis, backwards along
@@ -190,6 +194,11 @@ pub struct SimulationSpec {
     /// it drags (3-5 % lower speed on flat ground, docs/DESIGN.md).
     #[serde(default = "default_true")]
     pub held_friction_in_bias_pass: bool,
+    /// Rapier's contact recycling (default true): a contact pair whose relative pose moved
+    /// less than 5 cm since its last full update keeps its contacts, with anchors and normal
+    /// frozen in world space (up to 11 deg of rotation of either body).
+    #[serde(default = "default_true")]
+    pub contact_recycling: bool,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -220,6 +229,7 @@ impl Default for SimulationSpec {
             prediction_distance_m: default_prediction(),
             contact_slop_m: 0.0,
             held_friction_in_bias_pass: true,
+            contact_recycling: true,
             method: default_method(),
             seed: 0,
         }

@@ -139,7 +139,15 @@ pub struct SegmentLinks {
     motor_cmd: Option<MotorCommand>,
     /// The belt force the motor allowed in the last step, N.
     force_limit: f64,
+    /// With a motor and a zero command, the belt position it holds, m (None: not held).
+    hold: Option<f64>,
 }
+
+/// Time constant of a held motor's return to the belt position it holds, s: the driver's
+/// position hold. Without it the solver's small velocity error at a zero command was
+/// integrated into the belt position (the measured speed drives the phase) and a parked robot
+/// crept 0.5-7 mm/s up a 20 deg slope on its held motors (issue 23.5).
+const HOLD_TIME_S: f64 = 0.05;
 
 /// Share of a track's belt force that every link may deliver whatever its contact load (it
 /// has to move its own mass), of an even split.
@@ -314,6 +322,7 @@ impl SegmentLinks {
             motor: t.motor.clone(),
             motor_cmd: None,
             force_limit: 0.0,
+            hold: None,
         };
         if let Some(m) = &s.motor {
             let loads = vec![0.0; s.links.len()];
@@ -510,8 +519,11 @@ impl SegmentLinks {
                 1.0 / n
             };
             let mut force = total * share;
+            // Held (a zero command), every link holds still: an unloaded link held at the
+            // measured belt speed fed any creep back into the belt (the phase placement moves
+            // every link with it), and a parked robot crept up a 20 deg slope (issue 23.5).
             let target = if *load > 0.0 {
-                self.speed_cmd
+                self.hold_target()
             } else {
                 force += world.bodies[l.body].mass() as f64 * 9.81;
                 belt
@@ -529,6 +541,15 @@ impl SegmentLinks {
             if let Some(j) = world.impulse_joints.get_mut(l.joint, false) {
                 j.data.set_motor_max_force(l.kind.motor_axis(), cap as f32);
             }
+        }
+    }
+
+    /// The loaded links' target speed, m/s: the command, or held, the return to the held
+    /// position over [`HOLD_TIME_S`].
+    fn hold_target(&self) -> f64 {
+        match self.hold {
+            Some(h) => (h - self.position) / HOLD_TIME_S,
+            None => self.speed_cmd,
         }
     }
 
@@ -642,7 +663,9 @@ impl Track for SegmentLinks {
                         * radius
                 }
             };
-            // Snap to the exact pose, keeping the world velocity the solver gave.
+            // Snap to the exact pose, keeping the world velocity the solver gave (which
+            // keeps the momentum: carrying the relative twist over to the new pose instead
+            // gives the belt a net impulse every pitch, paid by the chassis through the joint).
             bodies[l.body].set_position(expected, false);
         }
         if !self.links.is_empty() {
@@ -654,6 +677,8 @@ impl Track for SegmentLinks {
         self.wraps = wraps;
         if let (Some(m), Some((loads, v))) = (self.motor.clone(), loaded) {
             self.speed_measured = v;
+            self.hold = (self.speed_cmd == 0.0 && self.motor_cmd.is_none())
+                .then(|| self.hold.unwrap_or(self.position));
             self.force_limit = match self.motor_cmd {
                 None => m.max_belt_force(v, self.speed_cmd),
                 Some(cmd) => m.commanded_belt_force(cmd, v),

@@ -136,6 +136,7 @@ fn new_world(solver: &SolverSettings) -> PhysicsWorld {
     ip.num_solver_iterations = solver.iterations;
     ip.num_internal_stabilization_iterations = solver.stabilization_iterations;
     ip.contact_clustering = solver.contact_clustering;
+    ip.contact_recycling = solver.contact_recycling;
     ip.normalized_prediction_distance = solver.prediction_distance as f32;
     world
 }

@@ -11,7 +11,13 @@
 //! A shift translates every body (the terrain's fixed bodies too) by the same whole number of
 //! metres: for bodies within a factor of two of the shift the f32 subtraction is exact
 //! (Sterbenz), contact manifolds and joints are held in body frames, so the physics does not
-//! see it.
+//! see it, with one exception: Rapier's contact recycling (`contact_recycling`, on by default)
+//! keeps a pair whose *relative* pose barely moved with its solver contacts frozen in world
+//! space (anchors and normal). A shift moves every body by the same amount, so every resting
+//! pair would be recycled with contact points one shift away from the bodies: on a slope, mesh
+//! or height field that was a kick of metres per second at the first step after the shift
+//! (issue 23.1). The step after a shift therefore runs with recycling off, so every pair's
+//! contacts are computed afresh at the new place.
 
 use super::Simulation;
 use glam::DVec3;
@@ -37,12 +43,13 @@ impl Simulation {
         self.origin
     }
 
-    /// Shifts the world when the chassis has left the neighbourhood of the local origin.
-    pub(crate) fn follow_origin(&mut self) {
+    /// Shifts the world when the chassis has left the neighbourhood of the local origin;
+    /// returns whether it did (the next step must then not recycle contacts: module docs).
+    pub(crate) fn follow_origin(&mut self) -> bool {
         let p = self.world.bodies[self.body].translation();
         let (dx, dy) = (shift_for(p.x as f64), shift_for(p.y as f64));
         if dx == 0.0 && dy == 0.0 {
-            return;
+            return false;
         }
         let d = Vector::new(dx as f32, dy as f32, 0.0);
         for (_, b) in self.world.bodies.iter_mut() {
@@ -51,5 +58,6 @@ impl Simulation {
             b.set_position(pose, false);
         }
         self.origin += DVec3::new(dx, dy, 0.0);
+        true
     }
 }

@@ -324,7 +324,7 @@ impl Simulation {
                 Some(DriveSample {
                     belt_force_n: force,
                     sprocket_torque_nm: force * motor.sprocket_radius,
-                    motor_torque_nm: motor.motor_torque(force),
+                    motor_torque_nm: motor.motor_torque(force, v),
                     max_belt_force_n: max,
                     power_w: force * v,
                     electrical: motor.electrical(force, v),

@@ -14,7 +14,7 @@ pub const STICK_RATE_RAD_S: f32 = 0.01;
 impl Simulation {
     /// Advances the simulation by one time step with the controls set so far.
     pub fn step(&mut self) -> Result<()> {
-        self.follow_origin();
+        let shifted = self.follow_origin();
         self.recentre_ground_tile();
         self.apply_drawbar();
         self.world.integration_parameters.friction_in_bias_pass =
@@ -25,7 +25,11 @@ impl Simulation {
             springs: &self.springs,
             dt: self.dt as f32,
         };
+        // After an origin shift no pair may keep contacts frozen at the old place.
+        let recycling = self.world.integration_parameters.contact_recycling;
+        self.world.integration_parameters.contact_recycling = recycling && !shifted;
         self.world.step_with_events(&hooks, &());
+        self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
         for t in &mut self.tracks {
