@@ -804,8 +804,13 @@ fn design_lines(v: &tracksim::VehicleModel) -> String {
         }
     }
     if let Some(c) = d.ground_clearance_m {
+        let how = if c >= 0.0 {
+            "body above the track bottoms"
+        } else {
+            "the body hangs BELOW the track bottoms: see the warning"
+        };
         text.push_str(&format!(
-            "\n       ground clearance {:.1} mm (body above the track bottoms)",
+            "\n       ground clearance {:.1} mm ({how})",
             c * 1000.0
         ));
     }

@@ -310,6 +310,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         contact_slop: s.contact_slop_m,
         held_friction_in_bias_pass: s.held_friction_in_bias_pass,
         contact_recycling: s.contact_recycling,
+        floating_origin: s.floating_origin,
     }
 }
 

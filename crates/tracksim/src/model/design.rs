@@ -136,6 +136,16 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
                 (rear - lo.x) * 1000.0
             ));
         }
+        if lo.z < bottom - 1e-6 {
+            warnings.push(format!(
+                "the body hangs {:.1} mm below the bottoms of its tracks (grouser tips): it rests \
+                 on the ground, not on its tracks (raise the body or lower the pulleys)",
+                (bottom - lo.z) * 1000.0
+            ));
+        }
+        for t in &on_body {
+            track_inside_body(t, lo, hi, &mut warnings);
+        }
         com_inside_footprint(v, &on_body, &mut warnings);
     }
     DesignReport {
@@ -150,6 +160,37 @@ pub fn design_report(v: &VehicleModel) -> DesignReport {
 /// frame) against the chassis box `lo..hi`: bisection on the angle `a` of a plane rising
 /// forward, tangent to the tracks' profile from below the front; the chassis meets the ramp
 /// first when one of its (x, z) corners lies beyond that plane.
+/// Warns when the belt of track `t` (on the chassis) runs through the chassis's box
+/// `lo`..`hi`: its band (plane y +- width / 2) overlaps the body's width and part of its loop
+/// lies inside the body's side view. Colliders of one vehicle never collide, so such a belt
+/// runs through the body silently (issue 23.7). A body filling the space inside a loop, as
+/// Quince's does, is not warned about.
+fn track_inside_body(t: &TrackModel, lo: DVec3, hi: DVec3, warnings: &mut Vec<String>) {
+    let pts = loop_points(t);
+    let (y_lo, y_hi) = pts.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
+        (a.min(p.y - t.width / 2.0), b.max(p.y + t.width / 2.0))
+    });
+    let overlap_y = y_hi.min(hi.y) - y_lo.max(lo.y);
+    let inside = pts
+        .iter()
+        .filter(|p| p.x > lo.x && p.x < hi.x && p.z > lo.z && p.z < hi.z)
+        .count();
+    if overlap_y > 1e-6 && inside > 0 {
+        warnings.push(format!(
+            "track {} runs inside the body: its belt (y {:.3} to {:.3} m) overlaps the body's \
+             width (y {:.3} to {:.3} m) by {:.1} mm and {:.0} % of its loop lies within the \
+             body's side view (one vehicle's parts do not collide: move the track outwards)",
+            t.name,
+            y_lo,
+            y_hi,
+            lo.y,
+            hi.y,
+            overlap_y * 1000.0,
+            100.0 * inside as f64 / pts.len() as f64
+        ));
+    }
+}
+
 fn approach_angle(pts: &[(DVec3, f64)], lo: DVec3, hi: DVec3) -> f64 {
     let n = pts.len().max(1) as f64;
     let (cx, cz) = pts

@@ -28,6 +28,8 @@ pub struct SolverSettings {
     pub held_friction_in_bias_pass: bool,
     /// Rapier's contact recycling (`simulation.contact_recycling`).
     pub contact_recycling: bool,
+    /// The floating origin (`simulation.floating_origin`).
+    pub floating_origin: bool,
 }
 
 impl Default for SolverSettings {
@@ -42,6 +44,7 @@ impl Default for SolverSettings {
             contact_slop: 0.0,
             held_friction_in_bias_pass: true,
             contact_recycling: true,
+            floating_origin: true,
         }
     }
 }

@@ -623,6 +623,7 @@ mod tests {
                     contact_slop_m: 0.0,
                     held_friction_in_bias_pass: true,
                     contact_recycling: true,
+                    floating_origin: true,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,

@@ -100,6 +100,8 @@ pub struct SolverSummary {
     pub held_friction_in_bias_pass: bool,
     /// `simulation.contact_recycling`.
     pub contact_recycling: bool,
+    /// `simulation.floating_origin`.
+    pub floating_origin: bool,
 }
 
 impl SolverSummary {
@@ -115,6 +117,7 @@ impl SolverSummary {
             contact_slop_m: sc.solver.contact_slop,
             held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
             contact_recycling: sc.solver.contact_recycling,
+            floating_origin: sc.solver.floating_origin,
         }
     }
 }

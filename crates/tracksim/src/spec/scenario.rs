@@ -199,6 +199,10 @@ pub struct SimulationSpec {
     /// frozen in world space (up to 11 deg of rotation of either body).
     #[serde(default = "default_true")]
     pub contact_recycling: bool,
+    /// Keep the f32 Rapier world near the vehicle by whole-metre shifts (default true; see
+    /// `world/origin.rs`). Off only to compare: far from the origin f32 rounding biases speeds.
+    #[serde(default = "default_true")]
+    pub floating_origin: bool,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -230,6 +234,7 @@ impl Default for SimulationSpec {
             contact_slop_m: 0.0,
             held_friction_in_bias_pass: true,
             contact_recycling: true,
+            floating_origin: true,
             method: default_method(),
             seed: 0,
         }

@@ -14,7 +14,7 @@ pub const STICK_RATE_RAD_S: f32 = 0.01;
 impl Simulation {
     /// Advances the simulation by one time step with the controls set so far.
     pub fn step(&mut self) -> Result<()> {
-        let shifted = self.follow_origin();
+        let shifted = self.scenario.solver.floating_origin && self.follow_origin();
         self.recentre_ground_tile();
         self.apply_drawbar();
         self.world.integration_parameters.friction_in_bias_pass =
