@@ -245,8 +245,9 @@ fn default_stabilization() -> usize {
     1
 }
 
+/// `model::MIN_LINK_MASS_KG` (this layer imports nothing; the model's doc says why 0.1 kg).
 fn default_min_link_mass() -> f64 {
-    0.5
+    0.1
 }
 
 fn default_dt() -> f64 {
