@@ -141,7 +141,14 @@ fn a_compliant_grouser_deflects_by_force_over_stiffness_and_holds_still() {
             };
         }
     };
-    let rest = |s: &mut tracksim::spec::ScenarioSpec| s.commands.clear();
+    // Links of 0.5 kg (the floor this law was measured with before issue 23 lowered the
+    // default to 0.1 kg): the per-contact bound below allows the +-30 % load scatter of those
+    // links; the 0.25 kg links of the file scatter further from step to step (one contact at
+    // 57 % of its F / k) while the mean law holds.
+    let rest = |s: &mut tracksim::spec::ScenarioSpec| {
+        s.commands.clear();
+        s.simulation.min_link_mass_kg = 0.5;
+    };
     let mut rigid = Simulation::new(&common::packbot(rest, |_| {})).unwrap();
     let mut sim = Simulation::new(&common::packbot(rest, soft)).unwrap();
     let (mut z, mut forces) = (Vec::new(), Vec::new());

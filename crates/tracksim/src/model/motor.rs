@@ -17,11 +17,14 @@
 //!
 //! A measured torque-speed curve (`torque_speed`) can replace the line. With `voltage_v` and
 //! `stall_current_a` (and `no_load_current_a`) the motor also has the DC motor's electrical
-//! model: torque constant `k_t = T_stall / (I_stall - I_0)`, resistance `R = V / I_stall`,
-//! back-EMF constant `k_e = (V - I_0 R) / w_0`; at torque `T` and speed `w` the current is
-//! `I = T / k_t + I_0 sgn`, the terminal voltage `u = I R + k_e w` and the electrical power
-//! `u I` (negative when the motor brakes and the driver regenerates). The line's stall and
-//! no-load points satisfy these exactly.
+//! model, with one motor constant `k` (N m/A = V s/rad: torque per amp and back-EMF per rad/s
+//! are the same constant, or the motor would create energy) and a resistance `R`, both taken
+//! from the line and the supply: stall `T_stall = k (V / R - I_0)`, no load `V = I_0 R + k w_0`,
+//! i.e. `T_stall w_0 R = (V - I_0 R)^2`. At torque `T` and speed `w` the current is
+//! `I = T / k + I_0 sgn(w)`, the terminal voltage `u = I R + k w` and the electrical power `u I`
+//! (negative when the motor brakes and the driver regenerates); `u I - T w = I^2 R + k I_0 |w|`
+//! >= 0. The stall current the file gives must agree with `V / R` within 10 % (a datasheet
+//! whose torque constant exceeds its back-EMF constant, issue 23.5, is refused).
 
 use crate::check::Checker;
 use crate::spec::MotorSpec;
@@ -343,13 +346,34 @@ fn electrics(
         );
         return None;
     }
-    let resistance = v / i_s;
+    // One motor constant for torque and back-EMF: R from T_s w_0 R = (V - I_0 R)^2 (the
+    // smaller root, which tends to V^2 / (T_s w_0) as I_0 -> 0), then k = (V - I_0 R) / w_0.
+    let b = 2.0 * v * i_0 + stall * no_load;
+    let resistance = if i_0 > 0.0 {
+        (b - (b * b - 4.0 * i_0 * i_0 * v * v).max(0.0).sqrt()) / (2.0 * i_0 * i_0)
+    } else {
+        v * v / (stall * no_load)
+    };
+    let k_m = (v - i_0 * resistance) / no_load;
+    let i_stall = v / resistance;
+    if (i_s - i_stall).abs() > 0.1 * i_stall {
+        c.push(
+            format!("{k}.stall_current_a"),
+            format!(
+                "a DC motor of {stall} N m stall torque and {no_load} rad/s no-load speed at {v} V \
+                 (no-load current {i_0} A) draws {i_stall:.3} A at stall; got {i_s} A, more than \
+                 10 % off (its torque per amp and back-EMF per rad/s would differ and the motor \
+                 would create energy): give {i_stall:.3} A or check the datasheet"
+            ),
+        );
+        return None;
+    }
     Some(MotorElectrics {
         voltage: v,
         no_load_current: i_0,
-        torque_constant: stall / (i_s - i_0),
+        torque_constant: k_m,
         resistance,
-        back_emf_constant: (v - i_0 * resistance) / no_load,
+        back_emf_constant: k_m,
     })
 }
 
@@ -393,9 +417,9 @@ mod tests {
     #[test]
     fn electrical_power_bounds_the_belt_power_both_ways() {
         for (stall, w0, v_s, i_s, i_0, eta) in [
-            (0.07, 600.0, 24.0, 1.9, 0.15, 0.8), // packbot510_motors
-            (0.07, 600.0, 24.0, 1.9, 0.15, 0.5),
-            (2.0, 400.0, 24.0, 20.0, 0.5, 0.9),
+            (0.07, 600.0, 24.0, 2.04, 0.15, 0.8), // packbot510_motors
+            (0.07, 600.0, 24.0, 2.04, 0.15, 0.5),
+            (2.0, 400.0, 24.0, 34.0, 0.5, 0.9),
         ] {
             let spec = MotorSpec {
                 stall_torque_nm: Some(stall),
@@ -413,8 +437,13 @@ mod tests {
             let v_max = m.no_load_belt_speed();
             for i in -10..=10 {
                 let v = v_max * i as f64 / 10.0;
+                // Motoring within the torque-speed line (the supply's voltage reaches no
+                // further), braking up to the stall torque.
+                let w = v.abs() * m.gear_ratio / m.sprocket_radius;
+                let line = m.curve_torque(w).max(0.0);
                 for j in -10..=10 {
-                    let force = m.belt_force_of_torque(stall, true) * j as f64 / 10.0;
+                    let t = if j > 0 { line } else { stall } * j as f64 / 10.0;
+                    let force = m.belt_force_of_torque(t.abs(), j > 0) * t.signum() * v.signum();
                     let belt = force * v;
                     let shaft = m.motor_torque(force, v) * v * m.gear_ratio / m.sprocket_radius;
                     let e = m.electrical(force, v).unwrap();
@@ -449,7 +478,8 @@ mod tests {
 
     #[test]
     fn the_electrical_model_passes_through_the_datasheet_points() {
-        // 24 V, stall 2 N m at 20 A, no load 400 rad/s at 0.5 A.
+        // 24 V, stall 2 N m, no load 400 rad/s at 0.5 A: R from 800 R = (24 - 0.5 R)^2,
+        // 0.69918 ohm, stall current 34.326 A.
         let spec = MotorSpec {
             stall_torque_nm: Some(2.0),
             no_load_speed_rad_s: Some(400.0),
@@ -458,21 +488,39 @@ mod tests {
             efficiency: 1.0,
             torque_limit_nm: None,
             voltage_v: Some(24.0),
-            stall_current_a: Some(20.0),
+            stall_current_a: Some(34.0),
             no_load_current_a: Some(0.5),
         };
         let mut c = Checker::default();
         let m = compile_motor(&mut c, "tracks[0].motor", &spec, Some(1.0)).unwrap();
         assert!(c.issues.is_empty());
         let e = m.electrics.unwrap();
+        assert_eq!(e.torque_constant, e.back_emf_constant);
         let stall = e.state(2.0, 0.0);
-        assert!((stall.current - 20.0).abs() < 1e-9 && (stall.voltage - 24.0).abs() < 1e-9);
+        assert!((stall.voltage - 24.0).abs() < 1e-9, "{stall:?}");
+        assert!((stall.current - 24.0 / e.resistance).abs() < 1e-9);
         let free = e.state(0.0, 400.0);
         assert!((free.current - 0.5).abs() < 1e-9 && (free.voltage - 24.0).abs() < 1e-9);
         // Half way along the line (1 N m at 200 rad/s) it still runs at the supply voltage.
         let mid = e.state(1.0, 200.0);
         assert!((mid.voltage - 24.0).abs() < 1e-9, "{mid:?}");
-        // Mechanical power out (200 W) is below the electrical power in (24 V x 10.25 A).
-        assert!((mid.power - 24.0 * 10.25).abs() < 1e-9);
+        // A stall current far from the one the line and the supply imply is refused.
+        let bad = MotorSpec {
+            stall_current_a: Some(20.0),
+            ..spec
+        };
+        let mut c = Checker::default();
+        let _ = compile_motor(&mut c, "tracks[0].motor", &bad, Some(1.0));
+        assert_eq!(c.issues.len(), 1, "{:?}", c.issues);
+        assert!(
+            c.issues[0]
+                .to_string()
+                .contains("tracks[0].motor.stall_current_a")
+        );
+        assert!(
+            c.issues[0].to_string().contains("34.326 A"),
+            "{:?}",
+            c.issues
+        );
     }
 }
