@@ -448,6 +448,7 @@ fn compare(
                     "outcome": s.outcome,
                     "reason": s.outcome_reason,
                     "distance_m": s.distance_m,
+                    "progress_m": s.progress_m,
                     "mean_speed_mps": s.mean_speed_mps,
                     "real_time_factor": s.real_time_factor,
                     "final_z_m": s.final_pose.z,
@@ -468,14 +469,15 @@ fn compare(
         done.iter().map(|(n, r)| (n.clone(), r)).collect();
     let plots = tracksim::output::write_compare_plots(&sc, &runs, out)?;
     let mut csv = String::from(
-        "method,outcome,distance_m,mean_speed_mps,real_time_factor,final_z_m,reason\n",
+        "method,outcome,progress_m,distance_m,mean_speed_mps,real_time_factor,final_z_m,reason\n",
     );
     for r in &rows {
         let num = |k: &str| r[k].as_f64().map(|v| format!("{v:.4}")).unwrap_or_default();
         csv.push_str(&format!(
-            "{},{},{},{},{},{},\"{}\"\n",
+            "{},{},{},{},{},{},{},\"{}\"\n",
             r["method"].as_str().unwrap_or(""),
             r["outcome"].as_str().unwrap_or(""),
+            num("progress_m"),
             num("distance_m"),
             num("mean_speed_mps"),
             num("real_time_factor"),
@@ -495,9 +497,10 @@ fn compare(
     }
     out!("scenario {}", file.display());
     out!(
-        "{:<24} {:<10} {:>10} {:>12} {:>8}  reason",
+        "{:<24} {:<10} {:>10} {:>10} {:>12} {:>8}  reason",
         "method",
         "outcome",
+        "progress m",
         "distance m",
         "speed m/s",
         "RTF"
@@ -509,9 +512,10 @@ fn compare(
                 .unwrap_or_else(|| "-".into())
         };
         out!(
-            "{:<24} {:<10} {:>10} {:>12} {:>8}  {}",
+            "{:<24} {:<10} {:>10} {:>10} {:>12} {:>8}  {}",
             r["method"].as_str().unwrap_or(""),
             r["outcome"].as_str().unwrap_or(""),
+            num("progress_m", 3),
             num("distance_m", 3),
             num("mean_speed_mps", 4),
             num("real_time_factor", 1),

@@ -56,6 +56,8 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
             format!("belt_cmd_{n}_mps"),
             format!("slip_{n}"),
             format!("traction_{n}_n"),
+            format!("friction_traction_{n}_n"),
+            format!("reaction_{n}_n"),
             format!("normal_load_{n}_n"),
             format!("contacts_{n}"),
         ]);
@@ -95,8 +97,14 @@ fn track_cells(s: &Sample) -> String {
     let mut line = String::new();
     for (i, l) in s.loads.iter().enumerate() {
         line.push_str(&format!(
-            ",{:.6},{:.6},{:.6},{:.6},{}",
-            s.belt_cmd[i], s.slip[i], l.traction_n, l.normal_n, l.contacts
+            ",{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{}",
+            s.belt_cmd[i],
+            s.slip[i],
+            l.traction_n,
+            l.friction_traction_n,
+            l.reaction_n,
+            l.normal_n,
+            l.contacts
         ));
     }
     let [x, y, yaw] = s.odom;

@@ -16,8 +16,16 @@ pub struct TrackSummary {
     pub mean_slip: f64,
     /// Mean traction along the chassis's forward axis, N.
     pub mean_traction_n: f64,
-    /// Largest forward traction, N (0 if it never pushed forwards).
+    /// Largest forward traction, N (0 if it never pushed forwards): friction and the
+    /// surfaces' reactions together.
     pub max_traction_n: f64,
+    /// Mean friction traction (the belt's grip: what drives), N.
+    pub mean_friction_traction_n: f64,
+    /// Largest forward friction traction, N (0 if it never pushed forwards).
+    pub max_friction_traction_n: f64,
+    /// Mean forward component of the surfaces' normal reactions, N (negative: an obstacle
+    /// pushes back, e.g. a wall the track is pressed against).
+    pub mean_reaction_n: f64,
     /// Mean normal load, N.
     pub mean_normal_load_n: f64,
     /// Mean number of terrain contact points.
@@ -96,6 +104,14 @@ pub fn track_summaries(names: &[String], samples: &[Sample]) -> Vec<TrackSummary
                     .iter()
                     .filter_map(|s| s.loads.get(i).map(|l| l.traction_n))
                     .fold(0.0, f64::max),
+                mean_friction_traction_n: mean(&|s| {
+                    s.loads.get(i).map_or(0.0, |l| l.friction_traction_n)
+                }),
+                max_friction_traction_n: samples
+                    .iter()
+                    .filter_map(|s| s.loads.get(i).map(|l| l.friction_traction_n))
+                    .fold(0.0, f64::max),
+                mean_reaction_n: mean(&|s| s.loads.get(i).map_or(0.0, |l| l.reaction_n)),
                 mean_normal_load_n: mean(&|s| s.loads.get(i).map_or(0.0, |l| l.normal_n)),
                 mean_contacts: mean(&|s| s.loads.get(i).map_or(0.0, |l| l.contacts as f64)),
                 drive: drive_summary(i, samples),

@@ -26,8 +26,15 @@ pub struct TrackLoad {
     /// Sum of the contact normal forces (the load the track carries), N.
     pub normal_n: f64,
     /// The terrain's whole contact force on the track (normal and friction) along the chassis's
-    /// forward axis (body x), N: positive pushes the vehicle forwards.
+    /// forward axis (body x), N: positive pushes the vehicle forwards. The sum of the two below.
     pub traction_n: f64,
+    /// The friction part of [`Self::traction_n`], N: the belt's grip on the surfaces it
+    /// touches, what drives the vehicle (and brakes it).
+    pub friction_traction_n: f64,
+    /// The normal part of [`Self::traction_n`], N: the reaction of the surfaces pushing on the
+    /// track, forward component (a wall or a step's riser the track is pressed against reads
+    /// negative; on a slope the ground's normal force has a part along the chassis's x too).
+    pub reaction_n: f64,
 }
 
 impl Simulation {
@@ -74,9 +81,16 @@ impl Simulation {
                     load.contacts += 1;
                 }
                 // Impulses on collider 1: the normal one pushes it against the normal.
-                let f = -m.data.normal * normal + friction.unwrap_or(Vector::ZERO) * substeps;
+                let n = -m.data.normal * normal;
+                let t = friction.unwrap_or(Vector::ZERO) * substeps;
                 load.normal_n += normal as f64 * inv_dt;
-                load.traction_n += (sign * f).dot(forward) as f64 * inv_dt;
+                let (rn, ft) = (
+                    (sign * n).dot(forward) as f64 * inv_dt,
+                    (sign * t).dot(forward) as f64 * inv_dt,
+                );
+                load.reaction_n += rn;
+                load.friction_traction_n += ft;
+                load.traction_n += rn + ft;
             }
         }
         loads
