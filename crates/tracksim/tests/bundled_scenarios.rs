@@ -11,14 +11,17 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::Path;
 use std::sync::Mutex;
 
 /// Runs one file to its end; `Err` lists what it missed.
-fn run_to_end(file: &PathBuf) -> Result<String, String> {
+fn run_to_end(file: &Path) -> Result<String, String> {
     let sc = tracksim::load_scenario(file).map_err(|e| e.to_string())?;
     if sc.expect.is_empty() {
-        return Err("has no [expect] table: say what the scenario must show".into());
+        return Err(format!(
+            "{}: has no [expect] table: say what the scenario must show",
+            file.display()
+        ));
     }
     let r = tracksim::run_scenario(&sc, |_, _| {}).map_err(|e| e.to_string())?;
     let misses = tracksim::run::check_expectations(&sc.expect, &r);
@@ -68,7 +71,7 @@ fn every_bundled_scenario_does_what_its_file_says() {
     for (f, r) in &results {
         match r {
             Ok(line) => println!("{line}"),
-            Err(e) => failed.push(format!("{}: {e}", f.display())),
+            Err(e) => failed.push(e.clone()),
         }
     }
     assert!(failed.is_empty(), "\n{}", failed.join("\n"));

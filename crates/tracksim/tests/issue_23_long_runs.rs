@@ -30,6 +30,15 @@ fn run_toml(text: &str) -> RunResult {
     tracksim::run_scenario(&sc, |_, _| {}).unwrap()
 }
 
+/// The PackBot at 0.3 m/s on flat ground of friction 0.6, with `simulation` lines in its
+/// `[simulation]` table and `extra` tables after it.
+fn flat_drive(simulation: &str, extra: &str) -> String {
+    format!(
+        "[vehicle]\nfile = \"../vehicles/packbot510.toml\"\n[terrain.ground]\nfriction = 0.6\n\
+         [simulation]\n{simulation}\n{extra}\n[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n"
+    )
+}
+
 /// The bundled file `name` with `edit` applied to its spec, run to its end.
 fn run_file(name: &str, edit: impl FnOnce(&mut ScenarioSpec)) -> RunResult {
     let path = root().join("scenarios").join(name);
@@ -60,20 +69,10 @@ fn kinetic_energy(r: &RunResult, s: &Sample) -> f64 {
 
 #[test]
 fn a_ten_minute_straight_drive_keeps_its_heading() {
-    let r = run_toml(
-        r#"
-        [vehicle]
-        file = "../vehicles/packbot510.toml"
-        [terrain.ground]
-        friction = 0.6
-        [simulation]
-        duration_s = 600.0
-        output_interval_s = 1.0
-        [[commands]]
-        t_s = 0.0
-        belt_speed_mps = 0.3
-        "#,
-    );
+    let r = run_toml(&flat_drive(
+        "duration_s = 600.0\noutput_interval_s = 1.0",
+        "",
+    ));
     let p = &r.summary.final_pose;
     println!(
         "600 s: x {:.2} m, y {:.3} m ({:.3} %), yaw {:.3} deg",
@@ -101,22 +100,10 @@ fn a_ten_minute_straight_drive_keeps_its_heading() {
 fn a_spring_tether_near_the_friction_limit_never_spins_the_robot_up() {
     // 150 N/m behind a 13 kg robot on friction 0.6: the tether stalls it near 0.5 m, where
     // the pull (~77-90 N) meets what friction gives; the belts keep running (stick-slip).
-    let r = run_toml(
-        r#"
-        [vehicle]
-        file = "../vehicles/packbot510.toml"
-        [terrain.ground]
-        friction = 0.6
-        [simulation]
-        duration_s = 30.0
-        [drawbar]
-        stiffness_n_per_m = 150.0
-        hitch_m = [-0.25, 0.0, 0.0]
-        [[commands]]
-        t_s = 0.0
-        belt_speed_mps = 0.3
-        "#,
-    );
+    let r = run_toml(&flat_drive(
+        "duration_s = 30.0",
+        "[drawbar]\nstiffness_n_per_m = 150.0\nhitch_m = [-0.25, 0.0, 0.0]",
+    ));
     let max_rate = r
         .samples
         .iter()

@@ -22,8 +22,8 @@
 //! from the line and the supply: stall `T_stall = k (V / R - I_0)`, no load `V = I_0 R + k w_0`,
 //! i.e. `T_stall w_0 R = (V - I_0 R)^2`. At torque `T` and speed `w` the current is
 //! `I = T / k + I_0 sgn(w)`, the terminal voltage `u = I R + k w` and the electrical power `u I`
-//! (negative when the motor brakes and the driver regenerates); `u I - T w = I^2 R + k I_0 |w|`
-//! >= 0. The stall current the file gives must agree with `V / R` within 10 % (a datasheet
+//! (negative when the motor brakes and the driver regenerates), and `u I - T w = I^2 R +
+//! k I_0 |w|` is never negative. The stall current the file gives must agree with `V / R` within 10 % (a datasheet
 //! whose torque constant exceeds its back-EMF constant, issue 23.5, is refused).
 
 use crate::check::Checker;
