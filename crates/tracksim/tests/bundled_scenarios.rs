@@ -68,7 +68,7 @@ fn every_bundled_scenario_does_what_its_file_says() {
     let results = results.into_inner().unwrap();
     assert_eq!(results.len(), files.len());
     let mut failed = Vec::new();
-    for (f, r) in &results {
+    for (_, r) in &results {
         match r {
             Ok(line) => println!("{line}"),
             Err(e) => failed.push(e.clone()),
