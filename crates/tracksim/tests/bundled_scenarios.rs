@@ -76,3 +76,28 @@ fn every_bundled_scenario_does_what_its_file_says() {
     }
     assert!(failed.is_empty(), "\n{}", failed.join("\n"));
 }
+
+/// A bad `[expect]` table is refused with its keys named, every problem at once.
+#[test]
+fn bad_expect_keys_are_named() {
+    let dir = common::root().join("scenarios");
+    let mut spec: tracksim::spec::ScenarioSpec =
+        tracksim::model::read_toml(&dir.join("packbot_flat.toml")).unwrap();
+    spec.expect.outcome = Some("win".into());
+    spec.expect.final_z_m = Some([0.2, 0.1]);
+    spec.expect.mean_speed_mps = Some([f64::NAN, 0.3]);
+    let v = tracksim::model::load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
+    let issues = tracksim::compile_scenario(&spec, v, &dir).unwrap_err();
+    let text = issues
+        .iter()
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join("\n");
+    for key in [
+        "expect.outcome",
+        "expect.final_z_m",
+        "expect.mean_speed_mps",
+    ] {
+        assert!(text.contains(key), "{key} missing from {text}");
+    }
+}

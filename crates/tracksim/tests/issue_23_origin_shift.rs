@@ -45,8 +45,8 @@ fn differences(spec: &ScenarioSpec, dir: &std::path::Path) -> (f64, f64, usize) 
         dp = dp.max(d.iter().map(|v| v * v).sum::<f64>().sqrt());
         let e: f64 = (0..3).map(|i| (x.linvel[i] - y.linvel[i]).powi(2)).sum();
         dv = dv.max(e.sqrt());
-        // Count the origin shifts the floating run made (its x crosses odd half... whole
-        // metres past 2 m): at least one must have happened in the window.
+        // The floating run shifts when its x passes 2 m, then each further metre (roughly:
+        // the shift rounds): at least one must have happened in the window.
         if x.pose.x > 2.0 + shifts as f64 {
             shifts += 1;
         }

@@ -519,9 +519,8 @@ impl SegmentLinks {
                 1.0 / n
             };
             let mut force = total * share;
-            // Held (a zero command), every link holds still: an unloaded link held at the
-            // measured belt speed fed any creep back into the belt (the phase placement moves
-            // every link with it), and a parked robot crept up a 20 deg slope (issue 23.5).
+            // Loaded links run at the command, or held, back to the held belt position
+            // ([`Self::hold_target`]); unloaded ones follow the belt.
             let target = if *load > 0.0 {
                 self.hold_target()
             } else {

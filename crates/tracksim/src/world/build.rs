@@ -54,6 +54,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         method,
         slop: sc.solver.contact_slop as f32,
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
+        has_motors: sc.vehicle.tracks.iter().any(|t| t.motor.is_some()),
         springs,
         ground_tile,
         body,

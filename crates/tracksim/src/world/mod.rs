@@ -78,6 +78,8 @@ pub struct Simulation {
     /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
     /// Rapier's position-correction pass (the brake holds).
     held_friction_in_bias_pass: bool,
+    /// Some track of the vehicle has a drive motor (`[tracks.motor]`).
+    has_motors: bool,
     /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index.
     springs: Vec<compliance::SolverSpring>,
     /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).

@@ -32,13 +32,7 @@ impl Simulation {
         // robot down 20 deg at 0.9 mm/s; with fresh contacts 0.017 mm/s. Held without motors
         // the links come back to the same pose every step and recycling holds them exactly
         // (0.23 mm/s of creep with fresh contacts), so it stays on.
-        let held_on_motors = held
-            && self
-                .scenario
-                .vehicle
-                .tracks
-                .iter()
-                .any(|t| t.motor.is_some());
+        let held_on_motors = held && self.has_motors;
         let recycling = self.world.integration_parameters.contact_recycling;
         self.world.integration_parameters.contact_recycling =
             recycling && !shifted && !held_on_motors;
