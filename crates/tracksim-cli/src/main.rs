@@ -239,16 +239,17 @@ struct RunArgs {
 }
 
 fn run(a: RunArgs) -> Result<(), Failure> {
-    let mut sc = tracksim::load_scenario(&a.file)?;
-    if let Some(m) = &a.method {
-        sc.method = parse_method("--method", m)?.name();
-    }
-    if let Some(d) = a.duration {
-        sc.duration = check_duration(d, sc.solver.dt)?;
-    }
-    if let Some(c) = &a.commands {
-        sc.commands = tracksim::model::load_commands(c, &sc.vehicle)?;
-    }
+    let overrides = tracksim::Overrides {
+        method: a
+            .method
+            .as_deref()
+            .map(|m| parse_method("--method", m))
+            .transpose()?,
+        duration_s: a.duration,
+        commands: a.commands.clone(),
+        ..Default::default()
+    };
+    let sc = tracksim::load_scenario_with(&a.file, &overrides)?;
     let show_bar = !a.quiet && !a.json && std::io::stderr().is_terminal();
     let bar = show_bar.then(|| {
         let b = indicatif::ProgressBar::new(1000);
@@ -351,8 +352,7 @@ fn run(a: RunArgs) -> Result<(), Failure> {
             s.outcome_reason,
             s.outcome_time_s
         );
-        let overridden = a.method.is_some() || a.duration.is_some() || a.commands.is_some();
-        if !sc.expect.is_empty() && overridden {
+        if !sc.expect.is_empty() && !sc.overridden.is_empty() {
             out!("expect     not checked: --method, --duration or --commands changed the run");
         } else if !sc.expect.is_empty() {
             let misses = tracksim::run::check_expectations(&sc.expect, &result);
@@ -437,7 +437,7 @@ fn compare(
     let mut done = Vec::new();
     let mut last_error = None;
     for m in &methods {
-        sc.method = m.name();
+        sc.method = *m;
         if !json {
             eprintln!("running {} ...", m.name());
         }
@@ -760,7 +760,7 @@ fn bench_batch(
         let base = bench_scenario(a, path)?;
         for m in methods {
             let mut sc = base.clone();
-            sc.method = m.name();
+            sc.method = *m;
             if !a.json {
                 eprintln!(
                     "batch: {runs} {name} runs of {} s with {m} on {jobs} threads ...",
@@ -968,10 +968,15 @@ struct DriveArgs {
 
 fn drive(a: DriveArgs) -> Result<(), Failure> {
     use tracksim::live::{DriveOptions, Hub, Mode, Server};
-    let mut sc = tracksim::load_scenario(&a.file)?;
-    if let Some(m) = &a.method {
-        sc.method = parse_method("--method", m)?.name();
-    }
+    let overrides = tracksim::Overrides {
+        method: a
+            .method
+            .as_deref()
+            .map(|m| parse_method("--method", m))
+            .transpose()?,
+        ..Default::default()
+    };
+    let sc = tracksim::load_scenario_with(&a.file, &overrides)?;
     if !(a.speed.is_finite() && a.speed > 0.0) {
         return Err(bad_arg(
             "--speed",

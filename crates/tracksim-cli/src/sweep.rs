@@ -69,9 +69,14 @@ const MAX_SWEEP_RUNS: usize = 10_000_000;
 
 /// `tracksim sweep`.
 pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
-    if let Some(m) = &a.method {
-        parse_method("--method", m)?;
-    }
+    let overrides = tracksim::Overrides {
+        method: a
+            .method
+            .as_deref()
+            .map(|m| parse_method("--method", m))
+            .transpose()?,
+        ..Default::default()
+    };
     if a.jobs == 0 || a.jobs > MAX_SWEEP_JOBS {
         return Err(bad_arg(
             "--jobs",
@@ -89,7 +94,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
         None => Shard::from_env(|k| std::env::var(k).ok(), a.shard_count)
             .map_err(|e| bad_arg("shard environment", e))?,
     };
-    let template = tracksim::load_template(&a.file)?;
+    let template = tracksim::ScenarioTemplate::load_with(&a.file, &overrides)?;
     let seed = a.seed.unwrap_or(template.file_seed());
     let plan = if a.grid.is_empty() {
         SweepPlan::random(a.runs, seed)
@@ -116,7 +121,6 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
         jobs: a.jobs,
         shard,
         resume: a.resume,
-        method: a.method.clone(),
     };
     let bar = (!a.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr())).then(|| {
         let b = indicatif::ProgressBar::new(0);

@@ -88,7 +88,7 @@ impl PyScenario {
         d.set_item("description", &sc.description)?;
         d.set_item("duration_s", sc.duration)?;
         d.set_item("dt_s", sc.solver.dt)?;
-        d.set_item("method", &sc.method)?;
+        d.set_item("method", sc.method.name())?;
         let v = &sc.vehicle;
         d.set_item("vehicle", &v.name)?;
         d.set_item(
@@ -681,7 +681,6 @@ fn sweep(
         jobs: jobs.max(1),
         shard,
         resume,
-        method: None,
     };
     let report = py
         .detach(|| tracksim::sweep::run_sweep(&t, &plan, &opts, |_, _| {}))

@@ -12,7 +12,7 @@ fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("packbot_flat_step");
     for m in TrackMethod::COMPARED {
         let mut sc = sc.clone();
-        sc.method = m.name();
+        sc.method = *m;
         let Ok(mut sim) = Scripted::new(&sc) else {
             continue;
         };

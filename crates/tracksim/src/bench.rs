@@ -2,9 +2,9 @@
 //! and interleaved so that machine noise hits all methods alike.
 
 use crate::error::Result;
+use crate::model::Method as TrackMethod;
 use crate::model::Scenario;
 use crate::run::Scripted;
-use crate::tracks::Method as TrackMethod;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -89,7 +89,7 @@ fn median(v: &[f64]) -> f64 {
 /// Runs `sc` once with `method`: (real-time factor, us per step, contacts per step).
 pub fn time_one(sc: &Scenario, method: TrackMethod) -> Result<(f64, f64, f64)> {
     let mut sc = sc.clone();
-    sc.method = method.name();
+    sc.method = method;
     let mut sim = Scripted::new(&sc)?;
     let steps = (sc.duration / sc.solver.dt).round().max(1.0) as u64;
     let mut stepping = 0.0;

@@ -91,7 +91,7 @@ impl Case {
 
     /// Loads the case's scenario from the repository root `root`.
     pub fn load(&self, root: &Path) -> Result<Scenario> {
-        crate::world::load_scenario(&self.path(root))
+        crate::model::load_scenario(&self.path(root))
     }
 }
 

@@ -11,8 +11,8 @@
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
 //! - [`terrain`]: terrain kinds compiled and checked, file parsers, insertion into Rapier;
 //! - [`model`]: the compiled, checked, immutable vehicle and scenario (SI units);
-//! - [`tracks`]: the track methods behind one trait, and the one place a method name becomes
-//!   an implementation;
+//! - [`tracks`]: the track methods behind one trait, and the one place a [`Method`] becomes an
+//!   implementation;
 //! - [`world`]: the running state ([`Simulation`]), its build stages, contact handling, one
 //!   step, samples;
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
@@ -43,10 +43,12 @@ pub mod validate;
 pub mod world;
 
 pub use error::{Error, Result, SpecIssue};
-pub use model::{Controls, Scenario, ScenarioTemplate, VehicleModel, load_vehicle};
+pub use model::{
+    Controls, Method, Overrides, Scenario, ScenarioTemplate, VehicleModel, compile_scenario,
+    load_scenario, load_scenario_with, load_template, load_vehicle,
+};
 pub use run::{
     Outcome, RunOptions, RunResult, Scripted, Summary, Timeline, run_scenario, run_scenario_with,
 };
 pub use toml;
-pub use tracks::Method;
-pub use world::{Simulation, compile_scenario, load_scenario, load_template};
+pub use world::Simulation;

@@ -24,7 +24,7 @@ fn methods() -> Vec<String> {
 fn hash_run(file: &std::path::Path, method: &str) -> String {
     let mut sc = tracksim::load_scenario(file).unwrap_or_else(|e| panic!("{e}"));
     sc.duration = GOLDEN_DURATION_S;
-    sc.method = method.to_string();
+    sc.method = tracksim::Method::from_name(method).expect("a method name");
     let text = match tracksim::run_scenario(&sc, |_, _| {}) {
         Ok(r) => tracksim::output::trajectory_csv(&r),
         Err(e) => format!("error: {e}"),

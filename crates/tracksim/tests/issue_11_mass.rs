@@ -30,7 +30,7 @@ fn every_bundled_vehicle_weighs_what_its_file_says_under_every_method() {
     for f in &files {
         for m in Method::COMPARED {
             let mut sc = tracksim::load_scenario(f).unwrap();
-            sc.method = m.name();
+            sc.method = *m;
             let Ok(sim) = Simulation::new(&sc) else {
                 continue; // e.g. plates on a vehicle whose loops they cannot wrap
             };

@@ -123,7 +123,7 @@ fn a_motor_stalls_below_the_static_torque_and_climbs_above_it() {
 #[test]
 fn a_motor_on_a_method_without_one_is_refused() {
     let mut sc = climb(1.0);
-    sc.method = "wheels4".into();
+    sc.method = tracksim::Method::Wheels(4);
     let Err(err) = Scripted::new(&sc).map(|_| ()) else {
         panic!("a motor on wheels4 was accepted");
     };

@@ -9,7 +9,7 @@ use tracksim::{Outcome, Scripted};
 
 fn scenario(file: &str, method: TrackMethod) -> tracksim::Scenario {
     let mut sc = tracksim::load_scenario(&root().join(file)).unwrap();
-    sc.method = method.name();
+    sc.method = method;
     sc
 }
 

@@ -14,7 +14,7 @@ const RIDE_HEIGHT_M: f64 = 0.087;
 #[test]
 fn drives_at_the_commanded_speed_on_flat_ground() {
     let mut sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
-    sc.method = TrackMethod::Plates.name();
+    sc.method = TrackMethod::Plates;
     assert_eq!(sc.solver.dt, 0.001);
     let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 2.0);
@@ -55,7 +55,7 @@ fn climbs_a_low_step_and_stays_stable() {
         },
         |_| {},
     );
-    sc.method = TrackMethod::Plates.name();
+    sc.method = TrackMethod::Plates;
     let mut sim = Scripted::new(&sc).unwrap();
     let mut max_pitch: f64 = 0.0;
     while sim.time() < 4.0 - 1e-9 {

@@ -1,12 +1,12 @@
 //! Compiling a [`ScenarioSpec`] with an already compiled vehicle into a [`Scenario`], in named
 //! stages run in this order: vehicle overrides (`vehicle_overrides`), terrain
 //! ([`crate::terrain::compile_terrain`]), simulation settings (`simulation`), commands
-//! (`command`, `track_speeds`, `flipper_angles`), the upper layers' [`ExtraChecks`], then the
-//! outcome (`outcome`). Every problem is reported with its key path, in that order, each once.
+//! (`command`, `track_speeds`, `flipper_angles`), the track method and what it can model
+//! (`method`), then the outcome (`outcome`). Every problem is reported with its key path, in that order, each once.
 
 use super::compliance::compile_compliance;
 use super::{
-    Command, Controls, MotorCommand, OutcomeModel, Scenario, SolverSettings, VehicleModel,
+    Command, Controls, Method, MotorCommand, OutcomeModel, Scenario, SolverSettings, VehicleModel,
 };
 use crate::check::Checker;
 use crate::error::{Result, SpecIssue};
@@ -15,27 +15,12 @@ use crate::spec::{
 };
 use std::path::Path;
 
-/// Checks of keys the model layer does not interpret (e.g. `simulation.method`, resolved by the
-/// track layer), reported with the model's own problems.
-pub type ExtraChecks = fn(&ScenarioSpec) -> Vec<SpecIssue>;
-
-/// Compiles a scenario whose vehicle is already loaded (no check of the method name: see
-/// [`compile_scenario_with`]).
+/// Compiles a scenario whose vehicle is already loaded (files named by the scenario are found
+/// relative to `base_dir`), reporting every problem with its key path at once.
 pub fn compile_scenario(
-    spec: &ScenarioSpec,
-    vehicle: VehicleModel,
-    base_dir: &Path,
-) -> Result<Scenario, Vec<SpecIssue>> {
-    compile_scenario_with(spec, vehicle, base_dir, |_| Vec::new())
-}
-
-/// Compiles a scenario whose vehicle is already loaded; `extra` adds the problems of keys that
-/// upper layers interpret, so that every problem is reported at once.
-pub fn compile_scenario_with(
     spec: &ScenarioSpec,
     mut vehicle: VehicleModel,
     base_dir: &Path,
-    extra: ExtraChecks,
 ) -> Result<Scenario, Vec<SpecIssue>> {
     let mut c = Checker::default();
     let v = &spec.vehicle;
@@ -60,9 +45,16 @@ pub fn compile_scenario_with(
             &mut last_t,
         ));
     }
-    for issue in extra(spec) {
-        c.issues.push(issue);
-    }
+    let method = match Method::parse("simulation.method", &s.method) {
+        Ok(m) => {
+            c.issues.extend(method_problems(m, &vehicle));
+            m
+        }
+        Err(issue) => {
+            c.issues.push(issue);
+            Method::Okada2020
+        }
+    };
     let outcome = outcome(&mut c, &spec.outcome);
     let expect = super::expect::compile_expect(&mut c, &spec.expect);
     let drawbar = spec
@@ -83,7 +75,8 @@ pub fn compile_scenario_with(
         outcome,
         expect,
         drawbar,
-        method: s.method.clone(),
+        method,
+        overridden: Vec::new(),
         seed: s.seed,
         randomized: Default::default(),
         source: None,
@@ -101,6 +94,27 @@ pub fn compile_scenario_with(
         output_interval: s.output_interval_s,
         commands,
     })
+}
+
+/// What `method` cannot model on `vehicle`: a drive motor on a method other than the segment
+/// links (only they feel the load at their joints), one problem per track, keyed by it.
+pub fn method_problems(method: Method, vehicle: &VehicleModel) -> Vec<SpecIssue> {
+    if method.models_motors() {
+        return Vec::new();
+    }
+    vehicle
+        .tracks
+        .iter()
+        .filter(|t| t.motor.is_some())
+        .map(|t| {
+            SpecIssue::new(
+                format!("track {} motor", t.name),
+                format!(
+                    "a drive motor is modelled by okada2020 and okada2020_no_grousers only, not {method}: run with --method okada2020 or remove [tracks.motor]",
+                ),
+            )
+        })
+        .collect()
 }
 
 /// Compiles a list of `[[commands]]` (e.g. a `commands.toml` written by `tracksim drive`) for

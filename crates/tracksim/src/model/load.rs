@@ -1,8 +1,9 @@
 //! Reading files: TOML parsing with the file named in every error, and loading of vehicle and
 //! scenario files (a scenario's vehicle file is found relative to the scenario's folder).
 
+use super::overrides::OverrideCommands;
 use super::{
-    ExtraChecks, Scenario, ScenarioTemplate, VehicleModel, compile_scenario_with, compile_vehicle,
+    Overrides, Scenario, ScenarioTemplate, VehicleModel, compile_scenario, compile_vehicle,
 };
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::{ScenarioSpec, VehicleSpec};
@@ -56,50 +57,67 @@ pub fn load_vehicle(path: &Path) -> Result<VehicleModel> {
     })
 }
 
-/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`).
-#[derive(serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-struct CommandsFile {
-    #[serde(default)]
-    commands: Vec<crate::spec::CommandSpec>,
+/// Loads a scenario file and the vehicle file it names (relative to the scenario's folder),
+/// reporting every problem with its key path. A file with a `[randomize]` table is sampled
+/// with its own `simulation.seed` ([`ScenarioTemplate`] samples other seeds).
+pub fn load_scenario(path: &Path) -> Result<Scenario> {
+    load_scenario_with(path, &Overrides::default())
 }
 
-/// Loads a file of `[[commands]]` (the format of a scenario's) for `vehicle`: the commands
-/// that replace a scenario's (`tracksim run --commands FILE`).
-pub fn load_commands(path: &Path, vehicle: &VehicleModel) -> Result<Vec<super::Command>> {
-    let f: CommandsFile = read_toml(path)?;
-    super::compile_commands(&f.commands, vehicle).map_err(|issues| Error::Invalid {
-        path: path.to_path_buf(),
-        issues,
-    })
+/// [`load_scenario`] with `overrides` written into the file's keys before it is compiled: an
+/// overridden value is checked like the file's own (its problems keyed "KEY (overridden:
+/// FLAG)"),
+/// and [`Scenario::overridden`] lists the keys.
+pub fn load_scenario_with(path: &Path, overrides: &Overrides) -> Result<Scenario> {
+    ScenarioTemplate::load_with(path, overrides)?.file_scenario()
 }
 
-/// Loads a scenario file and the vehicle file it names (relative to the scenario's folder);
-/// `extra` as in [`compile_scenario_with`]. A file with a `[randomize]` table is sampled with
-/// its own `simulation.seed` ([`ScenarioTemplate`] samples other seeds).
-pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
-    let spec: ScenarioSpec = read_toml(path)?;
-    if !spec.randomize.is_empty() {
-        let seed = spec.simulation.seed;
-        return ScenarioTemplate::from_spec(path, spec, extra)?.instantiate(seed);
+/// Loads a scenario file to be compiled for any seed (its `[randomize]` table sampled from
+/// it), with every key checked as by [`load_scenario`] ([`ScenarioTemplate::load`]).
+pub fn load_template(path: &Path) -> Result<ScenarioTemplate> {
+    ScenarioTemplate::load(path)
+}
+
+/// Reads a scenario file into its spec and its table, with `overrides` written into both.
+pub(crate) fn read_scenario(
+    path: &Path,
+    overrides: &Overrides,
+) -> Result<(ScenarioSpec, toml::Table)> {
+    let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
+    let spec: ScenarioSpec = parse_toml(path, &text)?;
+    let mut doc: toml::Table = parse_toml(path, &text)?;
+    if overrides.is_empty() {
+        return Ok((spec, doc));
     }
-    load_scenario_with_spec(path, &spec, extra)
+    overrides.apply(&mut doc);
+    let spec = crate::spec::strict::from_value(&toml::Value::Table(doc.clone())).map_err(|e| {
+        Error::Parse {
+            path: path.to_path_buf(),
+            message: format!("with the overrides of {}: {e}", overrides.keys().join(", ")),
+        }
+    })?;
+    Ok((spec, doc))
 }
 
-/// Compiles the parsed scenario file at `path` (without sampling `[randomize]`).
-pub(crate) fn load_scenario_with_spec(
+/// Compiles the parsed scenario file at `path` (without sampling `[randomize]`) with the
+/// commands of an override file, if any.
+pub(crate) fn compile_file(
     path: &Path,
     spec: &ScenarioSpec,
-    extra: ExtraChecks,
+    vehicle: VehicleModel,
+    overrides: &Overrides,
+    commands: Option<&OverrideCommands>,
 ) -> Result<Scenario> {
     let dir = path.parent().unwrap_or(Path::new("."));
-    let vehicle = scenario_vehicle(path, spec)?;
-    let mut sc =
-        compile_scenario_with(spec, vehicle, dir, extra).map_err(|issues| Error::Invalid {
-            path: path.to_path_buf(),
-            issues,
-        })?;
+    let mut sc = compile_scenario(spec, vehicle, dir).map_err(|issues| Error::Invalid {
+        path: path.to_path_buf(),
+        issues: overrides.mark(issues),
+    })?;
+    if let Some(c) = commands {
+        sc.commands = c.compile(&sc.vehicle)?;
+    }
     sc.source = Some(path.to_path_buf());
+    sc.overridden = overrides.keys();
     Ok(sc)
 }
 

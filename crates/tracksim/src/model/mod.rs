@@ -13,10 +13,13 @@
 //!   ([`LooseBoxModel`]) of `[terrain]`;
 //! - `expect.rs`: a scenario's `[expect]` table ([`Expectation`]);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
+//! - `method.rs`: the track method as data ([`Method`]: names, what it models);
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
-//! - `compile_scenario.rs`: [`compile_scenario`] / [`compile_scenario_with`] (vehicle
-//!   overrides, terrain, simulation settings, commands, extra checks, outcome);
-//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario_with`]);
+//! - `compile_scenario.rs`: [`compile_scenario`] (vehicle overrides, terrain, simulation
+//!   settings with the method, commands, outcome);
+//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario`],
+//!   [`load_scenario_with`] with [`Overrides`]);
+//! - `overrides.rs`: what a caller changes in a file before it is compiled ([`Overrides`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
 //! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
 //! - `wheel.rs`: a lugged wheel's rolling circle ([`rolling_radius`]) and its lugs.
@@ -33,7 +36,9 @@ mod design;
 mod drawbar;
 mod expect;
 mod load;
+mod method;
 mod motor;
+mod overrides;
 mod randomize;
 mod scenario;
 mod template;
@@ -53,8 +58,10 @@ pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use expect::{Expectation, Range};
 pub use load::*;
+pub use method::Method;
 pub(crate) use motor::compile_motor;
 pub use motor::{DriveMotor, ElectricalState, MotorElectrics};
+pub use overrides::{Overrides, load_commands};
 pub use randomize::*;
 pub use scenario::*;
 pub use template::*;

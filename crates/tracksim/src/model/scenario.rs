@@ -110,9 +110,12 @@ pub struct Scenario {
     pub expect: super::Expectation,
     /// A drawbar load on the chassis (`[drawbar]`), if any.
     pub drawbar: Option<super::Drawbar>,
-    /// Track method name (`simulation.method`), resolved by the track layer
-    /// (`tracks::Method::from_name`).
-    pub method: String,
+    /// Track method (`simulation.method`).
+    pub method: super::Method,
+    /// The keys a caller's [`super::Overrides`] set over the file's values (e.g.
+    /// `simulation.method`); empty for a file run as it is. A run of an overridden scenario is
+    /// not checked against the file's `[expect]` table.
+    pub overridden: Vec<String>,
     /// Seed.
     pub seed: u64,
     /// The values drawn for the file's `[randomize]` parameters, by name, in the units of their

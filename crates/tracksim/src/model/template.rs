@@ -3,7 +3,9 @@
 //! file again except the terrain's own data files.
 
 use super::load::scenario_vehicle;
-use super::{ExtraChecks, Randomizer, Scenario, VehicleModel, compile_scenario_with, read_toml};
+use super::load::{compile_file, read_scenario};
+use super::overrides::OverrideCommands;
+use super::{Overrides, Randomizer, Scenario, VehicleModel};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::ScenarioSpec;
 use std::collections::BTreeMap;
@@ -20,42 +22,45 @@ pub struct ScenarioTemplate {
     vehicle: Option<VehicleModel>,
     /// The compiled scenario of a file without `[randomize]`.
     fixed: Option<Scenario>,
-    /// The upper layers' checks.
-    extra: ExtraChecks,
+    /// What the caller changed in the file before compiling it.
+    overrides: Overrides,
+    /// The commands of the overrides' commands file, read once.
+    commands: Option<OverrideCommands>,
     /// The file's `simulation.seed`.
     file_seed: u64,
 }
 
 impl ScenarioTemplate {
-    /// Reads a scenario file; `extra` as in [`compile_scenario_with`]. Every problem is
-    /// reported as by `load_scenario`, and a `[randomize]` table is checked too: its keys, and
-    /// the scenario compiled with every parameter at its low end and at its high end.
-    pub fn load(path: &Path, extra: ExtraChecks) -> Result<Self> {
-        let spec: ScenarioSpec = read_toml(path)?;
-        Self::from_spec(path, spec, extra)
+    /// Reads a scenario file. Every problem is reported as by [`super::load_scenario`], and a
+    /// `[randomize]` table is checked too: its keys, and the scenario compiled with every
+    /// parameter at its low end and at its high end.
+    pub fn load(path: &Path) -> Result<Self> {
+        Self::load_with(path, &Overrides::default())
     }
 
-    /// [`ScenarioTemplate::load`] of an already parsed file.
-    pub(crate) fn from_spec(path: &Path, spec: ScenarioSpec, extra: ExtraChecks) -> Result<Self> {
+    /// [`ScenarioTemplate::load`] with `overrides` written into the file's keys before every
+    /// compilation (a `[randomize]` parameter naming an overridden key still draws it).
+    pub fn load_with(path: &Path, overrides: &Overrides) -> Result<Self> {
+        let (spec, mut doc) = read_scenario(path, overrides)?;
         let invalid = |issues| Error::Invalid {
             path: path.to_path_buf(),
             issues,
         };
+        let commands = overrides.read_commands()?;
         if spec.randomize.is_empty() {
-            let mut sc = super::load::load_scenario_with_spec(path, &spec, extra)?;
-            sc.source = Some(path.to_path_buf());
+            let vehicle = scenario_vehicle(path, &spec)?;
+            let sc = compile_file(path, &spec, vehicle, overrides, commands.as_ref())?;
             return Ok(ScenarioTemplate {
                 path: path.to_path_buf(),
                 doc: toml::Table::new(),
                 randomizer: Randomizer::default(),
                 vehicle: None,
                 fixed: Some(sc),
-                extra,
+                overrides: overrides.clone(),
+                commands,
                 file_seed: spec.simulation.seed,
             });
         }
-        let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
-        let mut doc: toml::Table = super::load::parse_toml(path, &text)?;
         doc.remove("randomize");
         let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
         let vehicle = match spec.vehicle.inline {
@@ -68,7 +73,8 @@ impl ScenarioTemplate {
             randomizer,
             vehicle,
             fixed: None,
-            extra,
+            overrides: overrides.clone(),
+            commands,
             file_seed: spec.simulation.seed,
         };
         // Checked at both ends of every range.
@@ -193,14 +199,13 @@ impl ScenarioTemplate {
             Some(v) => v.clone(),
             None => scenario_vehicle(&self.path, &spec)?,
         };
-        let dir = self.path.parent().unwrap_or(Path::new("."));
-        let mut sc = compile_scenario_with(&spec, vehicle, dir, self.extra).map_err(|issues| {
-            Error::Invalid {
-                path: self.path.clone(),
-                issues,
-            }
-        })?;
-        sc.source = Some(self.path.clone());
+        let mut sc = compile_file(
+            &self.path,
+            &spec,
+            vehicle,
+            &self.overrides,
+            self.commands.as_ref(),
+        )?;
         sc.seed = seed;
         sc.randomized = sampled;
         Ok(sc)

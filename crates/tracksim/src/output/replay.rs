@@ -384,7 +384,7 @@ impl Scene {
         Scene {
             format: SCENE_FORMAT,
             description: sc.description.clone(),
-            method: sc.method.clone(),
+            method: sc.method.name(),
             dt_s: sc.solver.dt,
             output_interval_s: sc.output_interval,
             success_x_m: sc.outcome.success_x,

@@ -172,8 +172,6 @@ pub struct SweepOptions {
     pub shard: Option<Shard>,
     /// Skip runs whose folder is complete instead of refusing to overwrite them.
     pub resume: bool,
-    /// Track method overriding the file's (`None`: the file's).
-    pub method: Option<String>,
 }
 
 /// What a sweep did.
@@ -268,7 +266,7 @@ pub fn run_sweep(
                     }
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let Some(r) = todo.get(k) else { return };
-                    if let Err(e) = run_one(template, r, &runs_dir, opts.method.as_deref()) {
+                    if let Err(e) = run_one(template, r, &runs_dir) {
                         if let Ok(mut slot) = first_error.lock() {
                             slot.get_or_insert(e);
                         }
@@ -299,20 +297,12 @@ pub fn run_sweep(
 }
 
 /// Simulates one run and moves its complete folder into place.
-fn run_one(
-    template: &ScenarioTemplate,
-    r: &RunSpec,
-    runs_dir: &Path,
-    method: Option<&str>,
-) -> Result<()> {
+fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path) -> Result<()> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
         move |source| Error::Io { path, source }
     };
-    let mut sc = template.instantiate_with(r.seed, &r.fixed)?;
-    if let Some(m) = method {
-        sc.method = m.to_string();
-    }
+    let sc = template.instantiate_with(r.seed, &r.fixed)?;
     let final_dir = runs_dir.join(run_dir_name(r.index));
     let tmp = runs_dir.join(format!(
         ".{}.tmp-{}",

@@ -1,135 +1,57 @@
-//! The track methods by name: the one place where a name in a file becomes an implementation.
+//! The one place where a [`Method`] (data, parsed in the model layer) becomes an
+//! implementation: the track of a vehicle or a conveyor, and the world settings a method needs.
 
 use super::constraint_to_ground::ConstraintToGround;
 use super::okada2020::{GrouserColliders, SegmentLinks};
 use super::plates::Plates;
 use super::track::{BuildContext, Track};
 use super::wheels::Wheels;
-use crate::error::{Result, SpecIssue};
-use crate::model::TrackModel;
+use crate::error::Result;
+use crate::model::{Method, TrackModel};
+use rapier3d::prelude::IntegrationParameters;
 
-/// Track methods (how tracks are modelled), all built from the same vehicle description.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Method {
-    /// The paper's segment links with grousers (Okada et al. 2020): `okada2020`.
-    Okada2020,
-    /// The paper's method without grousers, links restored every step: `okada2020_no_grousers`.
-    Okada2020NoGrousers,
-    /// The paper's method with a 2-point tip capsule per grouser on the flat ground and the
-    /// exact grouser on all other terrain: `okada2020_line_tips` (issue 16.2).
-    Okada2020LineTips,
-    /// The paper's method with every 4 consecutive grousers of a link in one compound collider
-    /// and Rapier's contact clustering: `okada2020_clustered` (issue 16.2).
-    Okada2020Clustered,
-    /// k wheels per track along the lower run on velocity-driven revolute joints: `wheelsK`
-    /// (e.g. `wheels4`, `wheels13`).
-    Wheels(usize),
-    /// One rigid outline per track whose contacts get the belt's surface velocity (Pecka et al.
-    /// 2017, Gazebo's TrackController): `constraint_to_ground`.
-    ConstraintToGround,
-    /// A closed chain of plates on hinges around sprocket and idler: `plates`.
-    Plates,
-}
-
-impl Method {
-    /// The methods `tracksim compare` runs, in table order.
-    pub const COMPARED: &'static [Method] = &[
-        Method::Okada2020,
-        Method::Okada2020NoGrousers,
-        Method::Okada2020LineTips,
-        Method::Okada2020Clustered,
-        Method::Wheels(4),
-        Method::Wheels(13),
-        Method::ConstraintToGround,
-        Method::Plates,
-    ];
-
-    /// Names accepted by [`Self::from_name`], for messages.
-    pub const NAMES: &'static str = "\"okada2020\", \"okada2020_no_grousers\", \"okada2020_line_tips\", \"okada2020_clustered\", \"wheelsK\" (K = 1..100, e.g. \"wheels4\"), \"constraint_to_ground\", \"plates\"";
-
-    /// Parses a method name.
-    pub fn from_name(name: &str) -> Option<Method> {
-        Some(match name {
-            "okada2020" => Method::Okada2020,
-            "okada2020_no_grousers" => Method::Okada2020NoGrousers,
-            "okada2020_line_tips" => Method::Okada2020LineTips,
-            "okada2020_clustered" => Method::Okada2020Clustered,
-            "constraint_to_ground" => Method::ConstraintToGround,
-            "plates" => Method::Plates,
-            _ => {
-                let k: usize = name.strip_prefix("wheels")?.parse().ok()?;
-                if !(1..=100).contains(&k) {
-                    return None;
-                }
-                Method::Wheels(k)
-            }
-        })
-    }
-
-    /// Parses the method name a file gives under `key`, or says what is accepted.
-    pub fn parse(key: &str, name: &str) -> std::result::Result<Method, SpecIssue> {
-        Method::from_name(name).ok_or_else(|| {
-            SpecIssue::new(
-                key,
-                format!(
-                    "unknown track method \"{name}\"; use one of {}",
-                    Method::NAMES
-                ),
-            )
-        })
-    }
-
-    /// The method's name.
-    pub fn name(&self) -> String {
-        match self {
-            Method::Okada2020 => "okada2020".into(),
-            Method::Okada2020NoGrousers => "okada2020_no_grousers".into(),
-            Method::Okada2020LineTips => "okada2020_line_tips".into(),
-            Method::Okada2020Clustered => "okada2020_clustered".into(),
-            Method::Wheels(k) => format!("wheels{k}"),
-            Method::ConstraintToGround => "constraint_to_ground".into(),
-            Method::Plates => "plates".into(),
+/// Builds one track of the vehicle with `method` on `ctx.parent`. Only the paper's method and
+/// the plate chain (as cleats) keep the grousers; the multiple wheels reach the grouser tips.
+pub fn build_track(
+    method: Method,
+    ctx: &mut BuildContext,
+    track: &TrackModel,
+) -> Result<Box<dyn Track>> {
+    Ok(match method {
+        Method::Okada2020 => Box::new(SegmentLinks::build(ctx, track)?),
+        Method::Okada2020NoGrousers => {
+            let smooth = TrackModel {
+                grousers: None,
+                ..track.clone()
+            };
+            Box::new(SegmentLinks::build(ctx, &smooth)?)
         }
-    }
-
-    /// Builds one track of the vehicle with this method on `ctx.parent`. Only the paper's
-    /// method and the plate chain (as cleats) keep the grousers; the multiple wheels reach the
-    /// grouser tips.
-    pub fn build(&self, ctx: &mut BuildContext, track: &TrackModel) -> Result<Box<dyn Track>> {
-        Ok(match *self {
-            Method::Okada2020 => Box::new(SegmentLinks::build(ctx, track)?),
-            Method::Okada2020NoGrousers => {
-                let smooth = TrackModel {
-                    grousers: None,
-                    ..track.clone()
-                };
-                Box::new(SegmentLinks::build(ctx, &smooth)?)
-            }
-            Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(
-                ctx,
-                track,
-                GrouserColliders::LineTips,
-            )?),
-            Method::Okada2020Clustered => Box::new(SegmentLinks::build_with(
-                ctx,
-                track,
-                GrouserColliders::Compound,
-            )?),
-            Method::Wheels(k) => Box::new(Wheels::build(ctx, track, k)?),
-            Method::ConstraintToGround => Box::new(ConstraintToGround::build(ctx, track)?),
-            Method::Plates => Box::new(Plates::build(ctx, track)?),
-        })
-    }
+        Method::Okada2020LineTips => Box::new(SegmentLinks::build_with(
+            ctx,
+            track,
+            GrouserColliders::LineTips,
+        )?),
+        Method::Okada2020Clustered => Box::new(SegmentLinks::build_with(
+            ctx,
+            track,
+            GrouserColliders::Compound,
+        )?),
+        Method::Wheels(k) => Box::new(Wheels::build(ctx, track, k)?),
+        Method::ConstraintToGround => Box::new(ConstraintToGround::build(ctx, track)?),
+        Method::Plates => Box::new(Plates::build(ctx, track)?),
+    })
 }
 
-impl std::fmt::Display for Method {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.name())
-    }
+/// The belt of a conveyor (a track whose parent is a fixed frame of the world): the paper's
+/// segment links with grousers, whatever the vehicle's method.
+pub fn build_conveyor_belt(ctx: &mut BuildContext, track: &TrackModel) -> Result<Box<dyn Track>> {
+    Ok(Box::new(SegmentLinks::build(ctx, track)?))
 }
 
-impl From<Method> for String {
-    fn from(m: Method) -> String {
-        m.name()
+/// The settings of the world's integration parameters that `method` needs (the contact
+/// clustering of `okada2020_clustered`); the others change nothing.
+pub fn configure_world(method: Method, params: &mut IntegrationParameters) {
+    if method == Method::Okada2020Clustered {
+        super::clustered::world_settings(params);
     }
 }

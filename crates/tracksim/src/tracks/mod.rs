@@ -1,6 +1,6 @@
 //! Track methods as plug-ins: one file per method behind the [`Track`] trait, one dispatch
-//! point ([`Method::build`]), and the parts they share ([`common`]). The world holds a list of
-//! `Box<dyn Track>` and never names a method.
+//! point ([`build_track`], from the model's [`crate::model::Method`]), and the parts they share
+//! ([`common`]). The world holds a list of `Box<dyn Track>` and never names a method.
 //!
 //! - [`okada2020`]: the paper's segment links with grousers and rollback (and its no-grouser
 //!   variant);
@@ -23,7 +23,7 @@ mod track;
 pub mod wheels;
 
 pub use common::*;
-pub use method::Method;
+pub use method::{build_conveyor_belt, build_track, configure_world};
 pub use track::{BuildContext, LinkError, Track, TrackContact};
 
 /// Phase of a belt at unwrapped `position` m for grouser pitch `pitch` m: `position` minus the

@@ -1,5 +1,5 @@
 //! The one interface every track method implements (Chrono::Vehicle's `ChTrackAssembly`): the
-//! world builds tracks through [`crate::tracks::Method::build`] and then only talks to this trait.
+//! world builds tracks through [`crate::tracks::build_track`] and then only talks to this trait.
 
 use rapier3d::prelude::*;
 

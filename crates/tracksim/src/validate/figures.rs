@@ -6,8 +6,8 @@
 use super::report::{Case, PlotJob, ValidationReport};
 use super::{Jobs, Ran, Runs, full_side_view};
 use crate::error::Result;
+use crate::model::Method as TrackMethod;
 use crate::run::{Outcome, RunResult};
-use crate::tracks::Method as TrackMethod;
 use std::path::Path;
 
 /// Named case of paper Fig. 2 (a bump the track climbs and 4 wheels do not).
@@ -43,16 +43,16 @@ fn present(root: &Path, name: &str) -> bool {
 pub(super) fn add_jobs(jobs: &mut Jobs, method: TrackMethod, root: &Path) -> Result<()> {
     if present(root, BUMP) {
         let mut sc = crate::cases::load(root, BUMP)?;
-        sc.method = method.name();
+        sc.method = method;
         let mut w = sc.clone();
-        w.method = WHEELS.name();
+        w.method = WHEELS;
         let (tested, reference) = bump_names(method);
         jobs.add(tested, sc)?;
         jobs.add(reference, w)?;
     }
     if present(root, WALL) {
         let mut sc = crate::cases::load(root, WALL)?;
-        sc.method = method.name();
+        sc.method = method;
         jobs.add(wall_name(method), sc)?;
     }
     Ok(())

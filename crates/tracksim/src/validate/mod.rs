@@ -35,12 +35,12 @@ pub use table_iv::quince_step_scenario;
 pub use turning::spin_ratio_coulomb;
 
 use crate::error::{Error, Result};
+use crate::model::Method as TrackMethod;
+use crate::model::compile_scenario;
 use crate::model::{Scenario, VehicleModel, load_vehicle};
 use crate::output::{SideLine, side_view_terrain};
 use crate::run::{RunResult, run_scenario};
 use crate::spec::ScenarioSpec;
-use crate::tracks::Method as TrackMethod;
-use crate::world::compile_scenario;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};

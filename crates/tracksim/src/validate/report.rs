@@ -5,9 +5,9 @@ use super::{
     TABLE_IV_CONTACT_SLOP_M,
 };
 use crate::error::{Error, Result};
+use crate::model::Method as TrackMethod;
 use crate::output::SideLine;
 use crate::run::RunResult;
-use crate::tracks::Method as TrackMethod;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 

@@ -7,10 +7,10 @@ use super::{
     compile, pose_at,
 };
 use crate::error::Result;
+use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};
 use crate::output::SideLine;
 use crate::run::RunResult;
-use crate::tracks::Method as TrackMethod;
 use std::path::Path;
 
 const SLOPE_SETTLE_S: f64 = 1.0;

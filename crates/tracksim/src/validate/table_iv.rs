@@ -9,9 +9,9 @@ use super::{
     TABLE_IV_CONTACT_SLOP_M, ValidationOptions, compile, full_side_view,
 };
 use crate::error::Result;
+use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};
 use crate::run::{Outcome, RunResult};
-use crate::tracks::Method as TrackMethod;
 use std::path::Path;
 
 /// The paper's Table IV rows: front sub-track angle (deg), step height (mm), and the result of

@@ -7,9 +7,9 @@ use super::{
 };
 use crate::error::Result;
 use crate::geometry::Segment;
+use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};
 use crate::run::RunResult;
-use crate::tracks::Method as TrackMethod;
 use std::path::Path;
 
 const TURN_SETTLE_S: f64 = 2.0;

@@ -5,9 +5,9 @@ use super::origin::shift_for;
 use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
-use crate::model::{CollisionShape, Parent, Scenario, SolverSettings, VehicleModel};
+use crate::model::{CollisionShape, Method, Parent, Scenario, SolverSettings, VehicleModel};
 use crate::tracks::{
-    BuildContext, Method, SLOP_TAG, Track, flat_ground_groups, vehicle_groups, world_groups,
+    BuildContext, SLOP_TAG, Track, flat_ground_groups, vehicle_groups, world_groups,
 };
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
@@ -15,16 +15,10 @@ use std::sync::Arc;
 
 /// Builds a simulation of `sc`, stage by stage.
 pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
-    let method =
-        Method::parse("simulation.method", &sc.method).map_err(|issue| Error::Invalid {
-            path: sc.source.clone().unwrap_or_default(),
-            issues: vec![issue],
-        })?;
-    check_motors(&sc, method)?;
+    let method = sc.method;
+    check_method(&sc)?;
     let mut world = new_world(&sc.solver);
-    if method == Method::Okada2020Clustered {
-        crate::tracks::clustered::world_settings(&mut world.integration_parameters);
-    }
+    crate::tracks::configure_world(method, &mut world.integration_parameters);
     let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
     let ground_tile = sc.terrain.insert_into(
         &mut world,
@@ -78,30 +72,10 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     Ok(sim)
 }
 
-/// Refuses a drive motor on a method that cannot take one (only the segment links feel the
-/// load at their joints).
-fn check_motors(sc: &Scenario, method: Method) -> Result<()> {
-    if matches!(
-        method,
-        Method::Okada2020 | Method::Okada2020NoGrousers | Method::Okada2020LineTips
-    ) {
-        return Ok(());
-    }
-    let issues: Vec<crate::error::SpecIssue> = sc
-        .vehicle
-        .tracks
-        .iter()
-        .filter(|t| t.motor.is_some())
-        .map(|t| {
-            crate::error::SpecIssue::new(
-                format!("track {} motor", t.name),
-                format!(
-                    "a drive motor is modelled by okada2020 and okada2020_no_grousers only, not {}: run with --method okada2020 or remove [tracks.motor]",
-                    method.name()
-                ),
-            )
-        })
-        .collect();
+/// Refuses what the scenario's method cannot model ([`crate::model::method_problems`]: checked
+/// when the file is compiled, again here for a scenario whose method was changed after).
+fn check_method(sc: &Scenario) -> Result<()> {
+    let issues = crate::model::method_problems(sc.method, &sc.vehicle);
     if issues.is_empty() {
         Ok(())
     } else {
@@ -274,7 +248,7 @@ fn build_tracks(
             groups: vehicle_groups(),
             min_link_mass: sc.solver.min_link_mass,
         };
-        tracks.push(method.build(&mut ctx, t)?);
+        tracks.push(crate::tracks::build_track(method, &mut ctx, t)?);
     }
     Ok(tracks)
 }

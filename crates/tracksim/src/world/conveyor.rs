@@ -1,13 +1,13 @@
 //! The conveyor stage of [`Simulation::new`] and its state: every conveyor is a fixed body of
-//! the world carrying a track built by the paper's method (a track whose parent is the world,
-//! not a vehicle), its belt held at the file's speed; loose boxes are free bodies. Their
+//! the world carrying a belt the track layer builds (`tracks::build_conveyor_belt`: a track whose
+//! parent is the world, not a vehicle), its belt held at the file's speed; loose boxes are free bodies. Their
 //! colliders touch the vehicle and each other; the conveyor's do not touch the terrain.
 
 use super::{PoseRpy, Simulation};
 use crate::check::{f, q};
 use crate::error::Result;
 use crate::model::Scenario;
-use crate::tracks::{BuildContext, Method, Track, conveyor_groups, loose_groups};
+use crate::tracks::{BuildContext, Track, build_conveyor_belt, conveyor_groups, loose_groups};
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 
@@ -39,7 +39,7 @@ pub(crate) fn build_conveyors(
             groups: conveyor_groups(),
             min_link_mass: sc.solver.min_link_mass,
         };
-        let mut belt = Method::Okada2020.build(&mut ctx, &cv.belt)?;
+        let mut belt = build_conveyor_belt(&mut ctx, &cv.belt)?;
         belt.set_belt_speed(world, cv.speed);
         never_recycled(world, belt.as_ref());
         out.belts.push(belt);

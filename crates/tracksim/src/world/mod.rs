@@ -11,7 +11,6 @@
 //! - [`conveyor`]: conveyors (tracks on the world) and loose boxes, built and stepped;
 //! - [`step`]: the stages of one step;
 //! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
-//! - [`load`]: loading a scenario with the track method checked with every other key;
 //! - [`mass`]: the vehicle weighs what its file says (floored link masses taken back from
 //!   their parents), and the report of every part's mass;
 //! - [`origin`]: the floating origin that keeps the f32 world near the vehicle;
@@ -25,7 +24,6 @@ pub mod compliance;
 pub mod contacts;
 pub mod conveyor;
 mod drawbar;
-pub mod load;
 pub mod mass;
 pub mod odometry;
 pub mod origin;
@@ -33,14 +31,14 @@ pub mod sample;
 pub mod step;
 pub mod track_loads;
 
-pub use load::{compile_scenario, load_scenario, load_template};
 pub use mass::{MassReport, PartMass};
 pub use odometry::Odometry;
 pub use sample::{DriveSample, PoseRpy, Sample};
 pub use track_loads::TrackLoad;
 
+use crate::model::Method;
 use crate::model::{Controls, Scenario};
-use crate::tracks::{LinkError, Method, Track};
+use crate::tracks::{LinkError, Track};
 use glam::DVec3;
 use rapier3d::prelude::*;
 use std::sync::Arc;
