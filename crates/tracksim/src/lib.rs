@@ -48,7 +48,8 @@ pub use model::{
     load_scenario, load_scenario_with, load_template, load_vehicle,
 };
 pub use run::{
-    Outcome, RunOptions, RunResult, Scripted, Summary, Timeline, run_scenario, run_scenario_with,
+    Outcome, RunOptions, RunResult, Runner, Scripted, Summary, Timeline, run_scenario,
+    run_scenario_with,
 };
 pub use toml;
 pub use world::Simulation;

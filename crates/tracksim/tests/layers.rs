@@ -44,6 +44,7 @@ const ROOT_ITEMS: &[(&str, &str)] = &[
     ("RunOptions", "run"),
     ("RunResult", "run"),
     ("Scripted", "run"),
+    ("Runner", "run"),
     ("Summary", "run"),
     ("Timeline", "run"),
     ("run_scenario", "run"),

@@ -137,10 +137,29 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
     ] {
         assert!(written.contains(&dir.join(f)), "{f} not written");
     }
-    let mut replay = sc.clone();
-    replay.commands =
-        tracksim::model::load_commands(&dir.join("commands.toml"), &sc.vehicle).unwrap();
-    replay.duration = s.duration();
+    // Ended from the page: recorded as the operator's end, not as the scenario's timeout.
+    assert_eq!(s.result.outcome.name(), "ended_by_operator");
+    assert!(
+        s.result
+            .outcome
+            .reason()
+            .contains("the scenario's outcome: undecided"),
+        "{:?}",
+        s.result.outcome
+    );
+    let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    assert!(summary.contains("\"outcome\": \"ended_by_operator\""));
+    // Replayed as `tracksim run FILE --commands DIR/commands.toml --duration T` does.
+    let replay = tracksim::load_scenario_with(
+        &file,
+        &tracksim::Overrides {
+            commands: Some(dir.join("commands.toml")),
+            duration_s: Some(s.duration()),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(replay.overridden, ["simulation.duration_s", "commands"]);
     let r = tracksim::run_scenario(&replay, |_, _| {}).unwrap();
     let session_csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     assert_eq!(tracksim::output::trajectory_csv(&r), session_csv);

@@ -1,4 +1,4 @@
-//! Learning environments over the stepping API: one [`Env`] (a [`Simulation`] of a
+//! Learning environments over the run loop: one [`Env`] (a [`Runner`] of a
 //! [`ScenarioTemplate`] advanced one control period per action, its observation vector, the
 //! progress it made and whether the episode ended), and [`VecEnv`], many of them stepped on
 //! threads with autoreset. Rewards are left to the caller (the Python package computes them
@@ -13,7 +13,7 @@ pub use vector::{VecEnv, VecStep, next_seed};
 
 use crate::error::Result;
 use crate::model::{Controls, Scenario, ScenarioTemplate};
-use crate::run::{Outcome, check_outcome, outcome};
+use crate::run::{End, Outcome, Runner};
 use crate::world::{PoseRpy, Simulation};
 use glam::{DQuat, DVec3, EulerRot};
 use std::collections::BTreeMap;
@@ -96,7 +96,7 @@ pub struct Env {
     template: Arc<ScenarioTemplate>,
     cfg: EnvConfig,
     scenario: Arc<Scenario>,
-    sim: Simulation,
+    runner: Runner,
     start: PoseRpy,
     progress: f64,
     done: bool,
@@ -107,13 +107,16 @@ impl Env {
     /// from it).
     pub fn new(template: Arc<ScenarioTemplate>, cfg: EnvConfig, seed: u64) -> Result<Self> {
         let scenario = Arc::new(template.instantiate(seed)?);
-        let sim = Simulation::from_shared(scenario.clone())?;
-        let start = sim.body_pose();
+        let runner = Runner::from_shared(scenario.clone())?
+            .without_commands()
+            .unbounded()
+            .unrecorded();
+        let start = runner.sim().body_pose();
         Ok(Env {
             template,
             cfg,
             scenario,
-            sim,
+            runner,
             start,
             progress: 0.0,
             done: false,
@@ -133,7 +136,7 @@ impl Env {
 
     /// The running simulation.
     pub fn simulation(&self) -> &Simulation {
-        &self.sim
+        self.runner.sim()
     }
 
     /// The episode's compiled scenario.
@@ -148,7 +151,7 @@ impl Env {
 
     /// Physics steps per action.
     pub fn substeps(&self) -> u64 {
-        ((self.cfg.control_period_s / self.sim.dt()).round() as u64).max(1)
+        ((self.cfg.control_period_s / self.runner.sim().dt()).round() as u64).max(1)
     }
 
     /// Number of actions: 2 (twist) or one per track, then one per flipper.
@@ -185,13 +188,15 @@ impl Env {
         .map(|s| s.to_string())
         .collect();
         n.extend(
-            self.sim
+            self.runner
+                .sim()
                 .flipper_names()
                 .iter()
                 .map(|f| format!("flipper_{f}_rad")),
         );
         n.extend(
-            self.sim
+            self.runner
+                .sim()
                 .track_names()
                 .iter()
                 .map(|t| format!("belt_{t}_mps")),
@@ -213,7 +218,7 @@ impl Env {
     /// `grid_ahead_m`, columns from right to left, centred), by downward ray casts;
     /// `no_terrain_m` where there is none.
     pub fn observe(&self, out: &mut [f32]) {
-        let s = self.sim.sample();
+        let s = self.runner.sim().sample();
         let p = s.pose;
         let q = DQuat::from_euler(EulerRot::ZYX, p.yaw, p.pitch, p.roll);
         let v = q.inverse() * DVec3::from_array(s.linvel);
@@ -244,7 +249,8 @@ impl Env {
                 let ay = (j as f64 - (ny as f64 - 1.0) / 2.0) * dy;
                 let (x, y) = (p.x + c * ax - sn * ay, p.y + sn * ax + c * ay);
                 vals.push(
-                    self.sim
+                    self.runner
+                        .sim()
                         .terrain_below(x, y)
                         .map_or(self.cfg.no_terrain_m, |z| z - p.z),
                 );
@@ -312,9 +318,10 @@ impl Env {
             info.reason = "the episode had already ended; call reset".into();
             return info;
         }
-        self.sim.apply(&self.controls(action));
+        let controls = self.controls(action);
+        self.runner.apply(&controls);
         for _ in 0..self.substeps() {
-            if let Err(e) = self.sim.step() {
+            if let Err(e) = self.runner.step() {
                 self.done = true;
                 info.terminated = true;
                 info.outcome = "unstable".into();
@@ -322,18 +329,19 @@ impl Env {
                 return info;
             }
         }
-        let p = self.sim.body_pose();
+        let p = self.runner.sim().body_pose();
         let (c, s) = (self.start.yaw.cos(), self.start.yaw.sin());
         let progress = (p.x - self.start.x) * c + (p.y - self.start.y) * s;
         info.progress_delta_m = progress - self.progress;
         info.progress_m = progress;
         self.progress = progress;
-        let sc = &self.scenario;
-        let decided = check_outcome(&sc.outcome, &self.sim);
-        let end = match decided {
-            Some(o) => Some((o, true)),
-            None if self.sim.time() >= sc.duration - 0.5 * self.sim.dt() => {
-                Some((outcome::at_end(&sc.outcome, self.sim.time()), false))
+        // Decided at every output interval of the period and at its end (the runner's check).
+        self.runner.decide();
+        let (t, dt) = (self.runner.time(), self.runner.sim().dt());
+        let end = match self.runner.decided() {
+            Some((o, _)) => Some((o.clone(), true)),
+            None if t >= self.scenario.duration - 0.5 * dt => {
+                Some((self.runner.outcome(&End::Reached).0, false))
             }
             None => None,
         };

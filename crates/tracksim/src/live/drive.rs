@@ -1,5 +1,5 @@
-//! A live session: the scenario simulated paced to the wall clock with the operator's controls
-//! from the [`Hub`], recorded as a run.
+//! A live session: the scenario's [`Runner`] paced to the wall clock with the operator's
+//! controls from the [`Hub`], recorded as a run.
 //!
 //! Determinism: a control from the page is applied only at a sample boundary (every
 //! `output_interval_s`), before the next step, exactly as a scenario's `[[commands]]` entry
@@ -11,9 +11,8 @@
 use super::hub::{DriveControl, Hub};
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
-use crate::run::{Outcome, RunResult, Summary, WallTimes, check_outcome, outcome};
+use crate::run::{End, Outcome, RunResult, Runner};
 use crate::spec::CommandSpec;
-use crate::world::Simulation;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -55,15 +54,16 @@ pub struct Session {
     pub flipper_initial_deg: Vec<f64>,
 }
 
-fn apply(sim: &mut Simulation, sc: &Scenario, c: &DriveControl) {
-    // The same conversion as a scenario's command (model::compile_scenario).
+/// The controls of a page's control: the same conversion as a scenario's command
+/// (`model::compile_scenario`: skid-steer twist, degrees to radians).
+fn to_controls(sc: &Scenario, c: &DriveControl) -> Controls {
     let mut controls = Controls::twist(&sc.vehicle, c.forward_mps, c.yaw_rate_rad_s);
     for (slot, a) in controls.flipper_angle.iter_mut().zip(&c.flipper_angle_deg) {
         if let Some(a) = a {
             *slot = Some(a.to_radians());
         }
     }
-    sim.apply(&controls);
+    controls
 }
 
 /// Mean forward speed of the body over the last 0.1 s of samples (along its heading), m/s.
@@ -83,29 +83,33 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
     ((b.x - a.x) * heading.0 + (b.y - a.y) * heading.1 + (b.z - a.z) * heading.2) / dt
 }
 
-/// The state streamed to the page (JSON); `forward` is the body's mean forward speed, m/s.
+/// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
+/// and of stepping alone), the body's mean forward speed over the last 0.1 s (m/s), the
+/// controls in force and the outcome (`ended`: the session's; else the scenario's, once
+/// decided).
 fn state_json(
-    sim: &Simulation,
+    runner: &Runner,
     control: &DriveControl,
-    (rtf, forward): ((f64, f64), f64),
     speed: f64,
-    decided: &Option<(Outcome, f64)>,
+    ended: Option<&(Outcome, f64)>,
 ) -> String {
+    let sim = runner.sim();
     let p = sim.body_pose();
     let n = sim.track_names().len();
     let nf = sim.flipper_names().len();
+    let outcome = ended.or(runner.decided());
     serde_json::json!({
         "type": "state",
         "t": sim.time(),
         "pose": [p.x, p.y, p.z, p.roll, p.pitch, p.yaw],
-        "forward_mps": forward,
+        "forward_mps": mean_forward_speed(runner.samples(), runner.scenario().output_interval),
         "belt_position": (0..n).map(|i| sim.belt_position(i)).collect::<Vec<_>>(),
         "belt_speed": (0..n).map(|i| sim.commanded_belt_speed(i)).collect::<Vec<_>>(),
         "flipper": (0..nf).map(|i| sim.flipper_angle(i)).collect::<Vec<_>>(),
-        "rtf_paced": rtf.0,
-        "rtf_compute": rtf.1,
+        "rtf_paced": sim.time() / runner.wall_elapsed().max(1e-9),
+        "rtf_compute": sim.time() / runner.stepping().max(1e-9),
         "speed": speed,
-        "outcome": decided.as_ref().map(|(o, t)| serde_json::json!({
+        "outcome": outcome.map(|(o, t)| serde_json::json!({
             "name": o.name(), "reason": o.reason(), "t": t
         })),
         "control": {
@@ -117,36 +121,12 @@ fn state_json(
     .to_string()
 }
 
-/// What a session has recorded since its start or last reset.
-struct Record {
-    samples: Vec<crate::world::Sample>,
-    controls: Vec<DriveControl>,
-    commands: Vec<(f64, DriveControl)>,
-    decided: Option<(Outcome, f64)>,
-    stepping: f64,
-    wall: Instant,
-}
-
-impl Record {
-    fn new(sim: &Simulation, c: &DriveControl) -> Self {
-        Record {
-            samples: vec![sim.sample()],
-            controls: vec![c.clone()],
-            commands: Vec::new(),
-            decided: None,
-            stepping: 0.0,
-            wall: Instant::now(),
-        }
-    }
-}
-
-/// Runs a session until the hub is asked to stop (or `opts.max_time`): paced to the wall
-/// clock at `opts.speed`, controls from the hub applied at sample boundaries, the state
-/// published at most every [`PUBLISH_INTERVAL_S`]. Never waits for a client.
+/// Runs a session until the hub is asked to stop (or `opts.max_time`): a [`Runner`] paced to
+/// the wall clock at `opts.speed`, without the file's commands, controls from the hub applied
+/// at sample boundaries, the state published at most every [`PUBLISH_INTERVAL_S`]. Never waits
+/// for a client. A session the operator ends has the outcome "ended_by_operator" (with the
+/// scenario's outcome if it was decided); one that reaches `opts.max_time` the scenario's.
 pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Session> {
-    let mut sim = Simulation::new(sc)?;
-    let dt = sc.solver.dt;
-    let every = ((sc.output_interval / dt).round() as u64).max(1);
     let idle = DriveControl {
         flipper_angle_deg: vec![None; sc.vehicle.flippers.len()],
         ..DriveControl::default()
@@ -155,86 +135,53 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
         std::thread::sleep(Duration::from_millis(10));
     }
-    let mut rec = Record::new(&sim, &current);
+    let mut runner = Runner::new(sc)?
+        .without_commands()
+        .unbounded()
+        .paced(opts.speed);
+    let dt = sc.solver.dt;
+    let mut controls = vec![current.clone()];
+    let mut commands = Vec::new();
     let mut last_publish: Option<Instant> = None;
-    loop {
+    let end = loop {
         // A sample boundary: stop, reset and control changes happen only here.
-        if hub.stop_requested() || opts.max_time.is_some_and(|m| sim.time() >= m - 0.5 * dt) {
-            break;
+        if hub.stop_requested() {
+            break End::ByOperator;
+        }
+        if opts.max_time.is_some_and(|m| runner.time() >= m - 0.5 * dt) {
+            break End::Reached;
         }
         if hub.take_reset() {
-            sim.reset(None)?;
+            runner.reset(None)?;
             current = idle.clone();
-            rec = Record::new(&sim, &current);
+            controls = vec![current.clone()];
+            commands.clear();
         }
         if let Some(c) = hub.take_control()
             && c != current
         {
-            apply(&mut sim, sc, &c);
-            rec.commands.push((sim.time(), c.clone()));
+            runner.apply(&to_controls(sc, &c));
+            commands.push((runner.time(), c.clone()));
             current = c;
         }
-        for _ in 0..every {
-            let ahead = sim.time() / opts.speed - rec.wall.elapsed().as_secs_f64();
-            if ahead > 0.002 {
-                std::thread::sleep(Duration::from_secs_f64(ahead));
-            }
-            let t0 = Instant::now();
-            sim.step()?;
-            rec.stepping += t0.elapsed().as_secs_f64();
+        loop {
+            runner.step()?;
             if last_publish.is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S) {
                 last_publish = Some(Instant::now());
-                let rtf = (
-                    sim.time() / rec.wall.elapsed().as_secs_f64().max(1e-9),
-                    sim.time() / rec.stepping.max(1e-9),
-                );
-                let forward = mean_forward_speed(&rec.samples, sc.output_interval);
-                hub.publish(state_json(
-                    &sim,
-                    &current,
-                    (rtf, forward),
-                    opts.speed,
-                    &rec.decided,
-                ));
+                hub.publish(state_json(&runner, &current, opts.speed, None));
+            }
+            if runner.at_sample() {
+                break;
             }
         }
-        rec.samples.push(sim.sample());
-        rec.controls.push(current.clone());
-        if rec.decided.is_none() {
-            rec.decided = check_outcome(&sc.outcome, &sim).map(|o| (o, sim.time()));
-        }
-    }
-    let (outcome, outcome_t) = rec
-        .decided
-        .clone()
-        .unwrap_or_else(|| (outcome::at_end(&sc.outcome, sim.time()), sim.time()));
-    let times = WallTimes {
-        stepping: rec.stepping,
-        elapsed: rec.wall.elapsed().as_secs_f64(),
-        paced: true,
+        controls.push(current.clone());
     };
-    let summary = Summary::new(sc, &sim, &rec.samples, (&outcome, outcome_t), times);
-    hub.publish(state_json(
-        &sim,
-        &current,
-        (
-            (summary.paced_real_time_factor, summary.real_time_factor),
-            mean_forward_speed(&rec.samples, sc.output_interval),
-        ),
-        opts.speed,
-        &Some((outcome.clone(), outcome_t)),
-    ));
+    let result = runner_result(runner, end, hub, &current, opts.speed);
     Ok(Session {
-        result: RunResult {
-            samples: rec.samples,
-            track_names: sim.track_names().to_vec(),
-            flipper_names: sim.flipper_names().to_vec(),
-            summary,
-            outcome,
-        },
-        commands: rec.commands,
-        controls: rec.controls,
-        flipper_names: sim.flipper_names().to_vec(),
+        result,
+        commands,
+        controls,
+        flipper_names: sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect(),
         flipper_initial_deg: sc
             .vehicle
             .flippers
@@ -242,6 +189,19 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
             .map(|f| f.initial_angle.to_degrees())
             .collect(),
     })
+}
+
+/// Publishes the last state with the session's outcome, and finishes the run.
+fn runner_result(
+    runner: Runner,
+    end: End,
+    hub: &Hub,
+    current: &DriveControl,
+    speed: f64,
+) -> RunResult {
+    let outcome = runner.outcome(&end);
+    hub.publish(state_json(&runner, current, speed, Some(&outcome)));
+    runner.finish(end)
 }
 
 impl Session {
@@ -318,12 +278,11 @@ impl Session {
         dir: &Path,
         plots: bool,
     ) -> Result<Vec<PathBuf>> {
-        crate::output::write_run(&self.result, dir)?;
-        let mut written = vec![dir.join("summary.json"), dir.join("trajectory.csv")];
-        written.extend(crate::output::write_replay(sc, &self.result, dir)?);
-        if plots {
-            written.extend(crate::output::write_run_plots(sc, &self.result, dir)?);
-        }
+        let which = crate::output::Outputs {
+            replay: true,
+            plots,
+        };
+        let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
         for (name, text) in [
             (
                 "commands.toml",

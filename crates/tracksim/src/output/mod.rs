@@ -251,3 +251,40 @@ pub fn write_run(result: &RunResult, dir: &Path) -> Result<()> {
     crate::files::write_atomic(&tp, csv.as_bytes())?;
     Ok(())
 }
+
+/// Which files [`write_outputs`] writes besides `summary.json` and `trajectory.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Outputs {
+    /// The replay data of the 3-D page: `scene.json`, `belts.csv`.
+    pub replay: bool,
+    /// The plots (PNG and SVG).
+    pub plots: bool,
+}
+
+impl Outputs {
+    /// Everything `tracksim run` writes.
+    pub const ALL: Outputs = Outputs {
+        replay: true,
+        plots: true,
+    };
+}
+
+/// Writes every output of a run of `sc` into `dir` (`summary.json`, `trajectory.csv`, and
+/// what `which` selects); returns the paths written. `run`, `drive`, `compare` and every
+/// other front end write through here.
+pub fn write_outputs(
+    sc: &crate::model::Scenario,
+    result: &RunResult,
+    dir: &Path,
+    which: Outputs,
+) -> Result<Vec<std::path::PathBuf>> {
+    write_run(result, dir)?;
+    let mut written = vec![dir.join("summary.json"), dir.join("trajectory.csv")];
+    if which.replay {
+        written.extend(write_replay(sc, result, dir)?);
+    }
+    if which.plots {
+        written.extend(write_run_plots(sc, result, dir)?);
+    }
+    Ok(written)
+}

@@ -12,25 +12,32 @@ pub enum Outcome {
     Failure(String),
     /// Ran to the end; no success condition was set.
     Completed,
-    /// Stopped before its end from outside (Ctrl-C): the reason says when.
+    /// Stopped before its end from outside (Ctrl-C, SIGTERM): the reason says when.
     Interrupted(String),
+    /// A live session the operator ended: the reason says when, and the scenario's own
+    /// outcome if it was decided by then.
+    EndedByOperator(String),
 }
 
 impl Outcome {
-    /// "success", "failure" or "completed".
+    /// "success", "failure", "completed", "interrupted" or "ended_by_operator".
     pub fn name(&self) -> &'static str {
         match self {
             Outcome::Success(_) => "success",
             Outcome::Failure(_) => "failure",
             Outcome::Completed => "completed",
             Outcome::Interrupted(_) => "interrupted",
+            Outcome::EndedByOperator(_) => "ended_by_operator",
         }
     }
 
     /// Why, in words.
     pub fn reason(&self) -> String {
         match self {
-            Outcome::Success(r) | Outcome::Failure(r) | Outcome::Interrupted(r) => r.clone(),
+            Outcome::Success(r)
+            | Outcome::Failure(r)
+            | Outcome::Interrupted(r)
+            | Outcome::EndedByOperator(r) => r.clone(),
             Outcome::Completed => "ran to the end".into(),
         }
     }

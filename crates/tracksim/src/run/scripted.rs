@@ -23,6 +23,20 @@ impl Scripted {
         })
     }
 
+    /// [`Scripted::new`] of a shared scenario (not copied).
+    pub fn from_shared(sc: std::sync::Arc<Scenario>) -> Result<Self> {
+        let timeline = Timeline::new(&sc.commands);
+        Ok(Scripted {
+            sim: Simulation::from_shared(sc)?,
+            timeline,
+        })
+    }
+
+    /// Drops the command timeline: from now on the controls come only from the caller.
+    pub fn clear_commands(&mut self) {
+        self.timeline = Timeline::new(&[]);
+    }
+
     /// Rebuilds the simulation from its compiled scenario ([`Simulation::reset`]) and starts
     /// the command timeline again from its first command.
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {

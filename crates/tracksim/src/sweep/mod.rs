@@ -315,7 +315,11 @@ fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path) -> Result<
     std::fs::create_dir_all(&tmp).map_err(io(&tmp))?;
     let line = match crate::run::run_scenario(&sc, |_, _| {}) {
         Ok(result) => {
-            crate::output::write_run(&result, &tmp)?;
+            let which = crate::output::Outputs {
+                replay: false,
+                plots: false,
+            };
+            crate::output::write_outputs(&sc, &result, &tmp, which)?;
             ManifestLine::of_run(r, &sc, &result)
         }
         Err(e @ Error::Unstable { .. }) => ManifestLine::unstable(r, &sc, &e),

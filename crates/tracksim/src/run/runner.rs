@@ -1,0 +1,288 @@
+//! The one run loop ([`Runner`]): every way of running a scenario (`tracksim run`, a live
+//! `drive` session, the learning environment, a sweep, a controller) steps a `Runner`, which
+//! owns the clock, applies the file's commands as they fall due and the caller's controls when
+//! given, records a [`Sample`] at every output interval, decides the outcome there, paces to
+//! the wall clock if asked, and produces the [`RunResult`].
+//!
+//! Determinism: the physics sees only the controls and the step count; pacing, recording and
+//! the checks never change a trajectory (the golden hashes are those of the loop this
+//! replaced).
+
+use super::RunResult;
+use super::outcome::{self, Outcome, check_outcome};
+use super::scripted::Scripted;
+use super::summary::{Summary, WallTimes};
+use crate::error::Result;
+use crate::model::{Controls, Scenario};
+use crate::world::{Sample, Simulation};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How a run ended, as the caller of [`Runner::finish`] says.
+#[derive(Clone, Debug, PartialEq)]
+pub enum End {
+    /// The run reached its end (its duration, or its decided outcome with `stop`); the
+    /// outcome is the scenario's.
+    Reached,
+    /// Stopped from outside (Ctrl-C, SIGTERM) before its end.
+    Interrupted,
+    /// The operator of a live session ended it.
+    ByOperator,
+}
+
+/// A scenario being run: the simulation, its command timeline, the samples so far and the
+/// outcome once decided.
+pub struct Runner {
+    sc: Arc<Scenario>,
+    sim: Scripted,
+    /// Steps between two samples.
+    every: u64,
+    /// Steps to the end of the scenario's duration (`None`: no end, a live session).
+    end_step: Option<u64>,
+    /// Record samples (the environments do not need them).
+    record: bool,
+    /// Stop stepping once the outcome is decided (the file's `outcome.stop`).
+    stop_on_outcome: bool,
+    /// Simulated seconds per wall-clock second when paced.
+    pace: Option<f64>,
+    samples: Vec<Sample>,
+    decided: Option<(Outcome, f64)>,
+    stepping: f64,
+    wall: Instant,
+    sampled: bool,
+}
+
+impl Runner {
+    /// A run of `sc` with the file's `[[commands]]`, to the end of its duration.
+    pub fn new(sc: &Scenario) -> Result<Self> {
+        Self::from_shared(Arc::new(sc.clone()))
+    }
+
+    /// [`Runner::new`] of a shared scenario (not copied).
+    pub fn from_shared(sc: Arc<Scenario>) -> Result<Self> {
+        let sim = Scripted::from_shared(sc.clone())?;
+        let dt = sc.solver.dt;
+        let every = ((sc.output_interval / dt).round() as u64).max(1);
+        let end_step = Some((sc.duration / dt).round().max(1.0) as u64);
+        let mut r = Runner {
+            stop_on_outcome: sc.outcome.stop,
+            sc,
+            sim,
+            every,
+            end_step,
+            record: true,
+            pace: None,
+            samples: Vec::new(),
+            decided: None,
+            stepping: 0.0,
+            wall: Instant::now(),
+            sampled: true,
+        };
+        r.samples.push(r.sim.sample());
+        Ok(r)
+    }
+
+    /// Controls come only from the caller ([`Runner::apply`]): the file's `[[commands]]` are
+    /// not applied (a live session, an environment).
+    pub fn without_commands(mut self) -> Self {
+        self.sim.clear_commands();
+        self
+    }
+
+    /// Runs on past the scenario's duration until the caller stops (a live session); the
+    /// outcome is decided but never stops the run.
+    pub fn unbounded(mut self) -> Self {
+        self.end_step = None;
+        self.stop_on_outcome = false;
+        self
+    }
+
+    /// Paces the run to the wall clock at `speed` simulated seconds per wall second (1: real
+    /// time); the run is never faster, and slower only if stepping is.
+    pub fn paced(mut self, speed: f64) -> Self {
+        self.pace = Some(speed);
+        self
+    }
+
+    /// Records no samples beyond the first (the outcome is still decided at every output
+    /// interval).
+    pub fn unrecorded(mut self) -> Self {
+        self.record = false;
+        self
+    }
+
+    /// The scenario.
+    pub fn scenario(&self) -> &Scenario {
+        &self.sc
+    }
+
+    /// The running simulation.
+    pub fn sim(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// The running simulation, to set controls or query it mutably.
+    pub fn sim_mut(&mut self) -> &mut Simulation {
+        &mut self.sim
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// The samples so far (the first at t = 0).
+    pub fn samples(&self) -> &[Sample] {
+        &self.samples
+    }
+
+    /// The outcome and its time, s, once decided.
+    pub fn decided(&self) -> Option<&(Outcome, f64)> {
+        self.decided.as_ref()
+    }
+
+    /// Whether the last step ended at an output interval (a sample was taken, the outcome
+    /// checked); true before the first step. Callers apply controls at these boundaries.
+    pub fn at_sample(&self) -> bool {
+        self.sampled
+    }
+
+    /// Wall-clock seconds since the start (or the last reset).
+    pub fn wall_elapsed(&self) -> f64 {
+        self.wall.elapsed().as_secs_f64()
+    }
+
+    /// Wall-clock seconds spent stepping.
+    pub fn stepping(&self) -> f64 {
+        self.stepping
+    }
+
+    /// Whether the run has reached its end: its duration, or its decided outcome when the
+    /// scenario says to stop there.
+    pub fn finished(&self) -> bool {
+        let steps = self.sim.steps();
+        self.end_step.is_some_and(|e| steps >= e)
+            || (self.stop_on_outcome && self.decided.is_some())
+    }
+
+    /// Applies the caller's controls before the next step (in force until changed, like a
+    /// `[[commands]]` entry at this time).
+    pub fn apply(&mut self, c: &Controls) {
+        self.sim.apply(c);
+    }
+
+    /// Advances one physics step: the commands that have fallen due, the step (paced if
+    /// asked), then at an output interval (or the end) a sample and the outcome check.
+    pub fn step(&mut self) -> Result<()> {
+        if let Some(speed) = self.pace {
+            let ahead = self.sim.time() / speed - self.wall.elapsed().as_secs_f64();
+            if ahead > 0.002 {
+                std::thread::sleep(Duration::from_secs_f64(ahead));
+            }
+        }
+        let t0 = Instant::now();
+        self.sim.step()?;
+        self.stepping += t0.elapsed().as_secs_f64();
+        let i = self.sim.steps();
+        self.sampled = i % self.every == 0 || self.end_step == Some(i);
+        if self.sampled {
+            if self.decided.is_none() {
+                self.decide();
+            }
+            if self.record {
+                self.samples.push(self.sim.sample());
+            }
+        }
+        Ok(())
+    }
+
+    /// Steps to the end ([`Runner::finished`]), calling `progress` with (simulated time,
+    /// duration) in seconds after every sample; `stop` is asked before every step and ends
+    /// the run early (false: go on).
+    pub fn run_to_end(
+        &mut self,
+        mut progress: impl FnMut(f64, f64),
+        stop: impl Fn() -> bool,
+    ) -> Result<End> {
+        while !self.finished() {
+            if stop() {
+                return Ok(End::Interrupted);
+            }
+            self.step()?;
+            if self.sampled {
+                progress(self.sim.time(), self.sc.duration);
+            }
+        }
+        Ok(End::Reached)
+    }
+
+    /// Checks the outcome conditions now (if still undecided).
+    pub fn decide(&mut self) {
+        if self.decided.is_none() {
+            self.decided = check_outcome(&self.sc.outcome, &self.sim).map(|o| (o, self.time()));
+        }
+    }
+
+    /// The outcome a run ending now with `end` has, and its time, s.
+    pub fn outcome(&self, end: &End) -> (Outcome, f64) {
+        let t = self.time();
+        match end {
+            End::Interrupted => (
+                Outcome::Interrupted(format!(
+                    "interrupted at t = {t:.3} s of {:.3} s",
+                    self.sc.duration
+                )),
+                t,
+            ),
+            End::ByOperator => (
+                Outcome::EndedByOperator(format!(
+                    "ended by the operator at t = {t:.3} s; the scenario's outcome: {}",
+                    match &self.decided {
+                        Some((o, when)) =>
+                            format!("{}: {} (t = {when:.3} s)", o.name(), o.reason()),
+                        None => "undecided".into(),
+                    }
+                )),
+                t,
+            ),
+            End::Reached => self
+                .decided
+                .clone()
+                .unwrap_or_else(|| (outcome::at_end(&self.sc.outcome, t), t)),
+        }
+    }
+
+    /// Starts again from the compiled scenario ([`Simulation::reset`]): the clock, the
+    /// commands, the samples and the outcome.
+    pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
+        self.sim.reset(seed)?;
+        self.samples = vec![self.sim.sample()];
+        self.decided = None;
+        self.stepping = 0.0;
+        self.wall = Instant::now();
+        self.sampled = true;
+        Ok(())
+    }
+
+    /// The run as it ended with `end`: its samples (the state now added if it was not the
+    /// last sample), summary and outcome.
+    pub fn finish(mut self, end: End) -> RunResult {
+        if self.record && self.samples.last().is_some_and(|s| s.t < self.sim.time()) {
+            self.samples.push(self.sim.sample());
+        }
+        let (outcome, t) = self.outcome(&end);
+        let times = WallTimes {
+            stepping: self.stepping,
+            elapsed: self.wall.elapsed().as_secs_f64(),
+            paced: self.pace.is_some(),
+        };
+        let summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
+        RunResult {
+            samples: self.samples,
+            track_names: self.sim.track_names().to_vec(),
+            flipper_names: self.sim.flipper_names().to_vec(),
+            summary,
+            outcome,
+        }
+    }
+}
