@@ -296,3 +296,81 @@ pub fn batch(sc: &Scenario, jobs: usize, runs: usize) -> Result<BatchResult> {
         sim_s_per_wall_s_per_core: simulated / wall / jobs as f64,
     })
 }
+
+/// A bench case's scenario: the file with `duration_s` and the solver iterations overridden
+/// before compiling; it never stops early (the benchmark measures stepping, not a mission).
+pub fn bench_scenario(
+    path: &std::path::Path,
+    duration_s: f64,
+    solver_iterations: Option<usize>,
+) -> Result<Scenario> {
+    let mut sc = crate::model::load_scenario_with(
+        path,
+        &crate::model::Overrides {
+            duration_s: Some(duration_s),
+            solver_iterations,
+            ..Default::default()
+        },
+    )?;
+    sc.outcome.stop = false;
+    Ok(sc)
+}
+
+/// The results of every benchmarked case, as `tracksim bench` prints and writes them.
+#[derive(Clone, Debug, Default)]
+pub struct BenchReport {
+    /// One table per case.
+    pub cases: Vec<CaseResult>,
+}
+
+impl BenchReport {
+    /// Every case's table as markdown.
+    pub fn to_markdown(&self) -> String {
+        self.cases.iter().map(|r| r.to_markdown() + "\n").collect()
+    }
+
+    /// One CSV of every case (one header).
+    pub fn to_csv(&self) -> String {
+        self.cases
+            .iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let c = r.to_csv();
+                if i == 0 {
+                    c
+                } else {
+                    c.lines().skip(1).map(|l| format!("{l}\n")).collect()
+                }
+            })
+            .collect()
+    }
+
+    /// JSON: the first case's methods and settings at the top (the Table II case), and every
+    /// case.
+    pub fn to_json(&self) -> String {
+        let cases: Vec<serde_json::Value> = self
+            .cases
+            .iter()
+            .map(|r| serde_json::to_value(r).expect("serialises"))
+            .collect();
+        let first = cases.first().cloned().unwrap_or_default();
+        serde_json::to_string_pretty(&serde_json::json!({
+            "methods": first["methods"],
+            "settings": first["settings"],
+            "cases": cases,
+        }))
+        .expect("serialises")
+    }
+
+    /// Writes `bench.csv` and `bench.md` into `dir` (created if needed); returns their paths.
+    pub fn write(&self, dir: &std::path::Path) -> Result<Vec<std::path::PathBuf>> {
+        std::fs::create_dir_all(dir).map_err(|source| crate::error::Error::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let (csv, md) = (dir.join("bench.csv"), dir.join("bench.md"));
+        crate::files::write_atomic(&csv, self.to_csv().as_bytes())?;
+        crate::files::write_atomic(&md, self.to_markdown().as_bytes())?;
+        Ok(vec![csv, md])
+    }
+}

@@ -17,7 +17,9 @@
 //!   step, samples;
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
 //! - [`output`]: `trajectory.csv`, `summary.json`, plots;
-//! - [`cases`]: the named cases that tests, `bench`, `validate` and `compare` share;
+//! - [`bundled`]: the bundled vehicles and scenarios, embedded: listed, exported, found by name;
+//! - [`cases`]: the named cases that tests, `bench` and `validate` share;
+//! - [`compare`]: one scenario run with several track methods;
 //! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
 //! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
 //! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest.
@@ -25,8 +27,10 @@
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
 pub mod bench;
+pub mod bundled;
 pub mod cases;
 pub(crate) mod check;
+pub mod compare;
 pub mod env;
 pub mod error;
 pub mod files;

@@ -272,3 +272,38 @@ mod tests {
         assert_eq!(a, std::f64::consts::FRAC_PI_2);
     }
 }
+
+impl DesignReport {
+    /// The figures as lines of text (millimetres and degrees for reading), warnings last.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for t in &self.tracks {
+            let mut l = format!("track {:<16} loop {:.4} m", t.name, t.loop_length_m);
+            if let (Some(p), Some(g), Some(gap)) = (t.pitch_m, t.grouser_length_m, t.gap_m) {
+                l.push_str(&format!(
+                    ", {} grousers: pitch {:.1} mm, grouser {:.1} mm, gap {:.1} mm",
+                    t.grousers,
+                    p * 1000.0,
+                    g * 1000.0,
+                    gap * 1000.0
+                ));
+            }
+            out.push(l);
+        }
+        if let Some(c) = self.ground_clearance_m {
+            let how = if c >= 0.0 {
+                "body above the track bottoms"
+            } else {
+                "the body hangs BELOW the track bottoms: see the warning"
+            };
+            out.push(format!("ground clearance {:.1} mm ({how})", c * 1000.0));
+        }
+        if let Some(a) = self.approach_angle_deg {
+            out.push(format!(
+                "approach angle {a:.1} deg (steepest ramp the tracks meet before the body)"
+            ));
+        }
+        out.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
+        out
+    }
+}

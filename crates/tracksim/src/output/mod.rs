@@ -3,16 +3,21 @@
 //!
 //! - [`plot`]: side view over the terrain, top view, attitude (PNG + SVG);
 //! - [`replay`]: what the 3-D view needs to replay a run (`scene.json`, `belts.csv`);
+//! - [`side_line`]: the side view's polyline;
+//! - [`report`]: a finished run in words;
 //! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
 //! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time.
 
 pub mod plot;
 pub mod replay;
+pub mod report;
+pub mod side_line;
 pub mod side_view;
 pub mod signals;
 pub mod vehicle_outline;
 
 pub use replay::{Scene, write_replay};
+pub use report::run_report;
 pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
 
 use crate::error::{Error, Result};

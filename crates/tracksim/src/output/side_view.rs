@@ -10,8 +10,7 @@ use std::path::Path;
 /// Instants at which the side view draws the vehicle's outline.
 const SNAPSHOTS: usize = 5;
 
-/// A polyline in the side view: (x, z) points, m.
-pub type SideLine = Vec<(f64, f64)>;
+pub use super::side_line::SideLine;
 
 /// The terrain under runs as drawn in the side view: the height profile along the first run's
 /// path (x, z) and the side outlines (x, z) of the terrain's boxes, m.

@@ -1,7 +1,7 @@
 //! The vehicle's outline in the side view (issue 14.4): chassis, track paths and flippers at a
 //! few instants of a run, drawn over the terrain so one sees where the vehicle met a step.
 
-use super::side_view::SideLine;
+use super::side_line::SideLine;
 use crate::model::{CollisionShape, Parent, VehicleModel};
 use crate::run::RunResult;
 use crate::world::Sample;

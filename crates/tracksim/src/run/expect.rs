@@ -72,3 +72,26 @@ pub fn check_expectations(e: &Expectation, r: &RunResult) -> Vec<String> {
     }
     misses
 }
+
+/// A run of `sc` checked against its `[expect]` table, in words: "met ...", "MISSED: ..." or
+/// "not checked: ..." (the run was overridden, or interrupted); `None` without a table.
+pub fn expect_verdict(sc: &crate::model::Scenario, r: &RunResult) -> Option<String> {
+    if sc.expect.is_empty() {
+        return None;
+    }
+    if !sc.overridden.is_empty() {
+        return Some(format!(
+            "not checked: the run overrides {}",
+            sc.overridden.join(", ")
+        ));
+    }
+    if matches!(r.outcome, super::Outcome::Interrupted(_)) {
+        return Some("not checked: the run was interrupted".into());
+    }
+    let misses = check_expectations(&sc.expect, r);
+    Some(if misses.is_empty() {
+        "met (the file's [expect] table)".into()
+    } else {
+        format!("MISSED: {}", misses.join("; "))
+    })
+}

@@ -23,7 +23,7 @@ pub mod track_summary;
 pub mod turn_summary;
 
 pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
-pub use expect::check_expectations;
+pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner};
 pub use scripted::Scripted;

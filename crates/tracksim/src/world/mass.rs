@@ -185,3 +185,21 @@ impl Simulation {
         }
     }
 }
+
+impl MassReport {
+    /// The totals and every part as lines of text.
+    pub fn lines(&self) -> Vec<String> {
+        let c = self.centre_of_mass_body_m;
+        let mut out = vec![format!(
+            "mass simulated {:.3} kg (file {:.3} kg), centre of mass [{:.4}, {:.4}, {:.4}] m (body frame)",
+            self.total_simulated_kg, self.total_file_kg, c[0], c[1], c[2]
+        )];
+        for p in &self.parts {
+            out.push(format!(
+                "{:<22} {:8.3} kg simulated, {:8.3} kg in the file",
+                p.part, p.simulated_kg, p.file_kg
+            ));
+        }
+        out
+    }
+}

@@ -1,0 +1,199 @@
+//! One scenario run with several track methods (`tracksim compare`): a run folder per method,
+//! `compare.csv`, a combined plot, and the table as text or JSON.
+
+use crate::error::{Error, Result};
+use crate::model::{Method, Overrides, load_scenario_with};
+use crate::run::{RunResult, run_scenario};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// One method's line of the table: its run's figures, or the error that stopped it.
+#[derive(Clone, Debug, Serialize)]
+pub struct CompareRow {
+    /// Track method.
+    pub method: String,
+    /// "success", "failure", "completed", or "error".
+    pub outcome: String,
+    /// Why, in words (or the error).
+    pub reason: String,
+    /// Progress along the start heading, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub progress_m: Option<f64>,
+    /// Path length, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distance_m: Option<f64>,
+    /// Mean forward speed, m/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mean_speed_mps: Option<f64>,
+    /// Simulated seconds per second of stepping.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub real_time_factor: Option<f64>,
+    /// Height of the body at the end, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub final_z_m: Option<f64>,
+}
+
+/// What `compare` produced.
+#[derive(Debug)]
+pub struct CompareReport {
+    /// The scenario file.
+    pub file: PathBuf,
+    /// One row per method, in the order run.
+    pub rows: Vec<CompareRow>,
+    /// Files written (`compare.csv`, plots).
+    pub written: Vec<PathBuf>,
+    /// The last error, when no method produced a run.
+    pub error: Option<Error>,
+}
+
+/// Runs `file` with each of `methods` (and `duration_s` if given) and writes into `out`: a
+/// folder per method (`summary.json`, `trajectory.csv`, replay data), `compare.csv` and the
+/// combined plots. A method that cannot run the scenario is a row with its error.
+/// `progress` is told each method before it runs.
+pub fn run_compare(
+    file: &Path,
+    methods: &[Method],
+    duration_s: Option<f64>,
+    out: &Path,
+    mut progress: impl FnMut(Method),
+) -> Result<CompareReport> {
+    // The file's own problems stop everything (a method's problems are that method's row).
+    let base = load_scenario_with(
+        file,
+        &Overrides {
+            duration_s,
+            ..Overrides::default()
+        },
+    )?;
+    std::fs::create_dir_all(out).map_err(|source| Error::Io {
+        path: out.to_path_buf(),
+        source,
+    })?;
+    let mut rows = Vec::new();
+    let mut done: Vec<(String, RunResult)> = Vec::new();
+    let mut error = None;
+    for &m in methods {
+        progress(m);
+        let o = Overrides {
+            method: Some(m),
+            duration_s,
+            ..Overrides::default()
+        };
+        let ran = load_scenario_with(file, &o).and_then(|sc| {
+            let r = run_scenario(&sc, |_, _| {})?;
+            let which = crate::output::Outputs {
+                replay: true,
+                plots: false,
+            };
+            crate::output::write_outputs(&sc, &r, &out.join(m.name()), which)?;
+            Ok(r)
+        });
+        match ran {
+            Ok(r) => {
+                rows.push(row_of(m, &r));
+                done.push((m.name(), r));
+            }
+            Err(e) => {
+                rows.push(CompareRow {
+                    method: m.name(),
+                    outcome: "error".into(),
+                    reason: e.to_string(),
+                    progress_m: None,
+                    distance_m: None,
+                    mean_speed_mps: None,
+                    real_time_factor: None,
+                    final_z_m: None,
+                });
+                error = Some(e);
+            }
+        }
+    }
+    let runs: Vec<(String, &RunResult)> = done.iter().map(|(n, r)| (n.clone(), r)).collect();
+    let mut written = Vec::new();
+    let csv_path = out.join("compare.csv");
+    crate::files::write_atomic(&csv_path, compare_csv(&rows).as_bytes())?;
+    written.push(csv_path);
+    written.extend(crate::output::write_compare_plots(&base, &runs, out)?);
+    Ok(CompareReport {
+        file: file.to_path_buf(),
+        rows,
+        written,
+        error: if done.is_empty() { error } else { None },
+    })
+}
+
+fn row_of(m: Method, r: &RunResult) -> CompareRow {
+    let s = &r.summary;
+    CompareRow {
+        method: m.name(),
+        outcome: s.outcome.clone(),
+        reason: s.outcome_reason.clone(),
+        progress_m: Some(s.progress_m),
+        distance_m: Some(s.distance_m),
+        mean_speed_mps: Some(s.mean_speed_mps),
+        real_time_factor: Some(s.real_time_factor),
+        final_z_m: Some(s.final_pose.z),
+    }
+}
+
+/// `compare.csv`: a row per method (numbers to 4 decimals, empty for a method that failed).
+pub fn compare_csv(rows: &[CompareRow]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let num = |v: Option<f64>| v.map(|v| format!("{v:.4}")).unwrap_or_default();
+    let header = [
+        "method",
+        "outcome",
+        "progress_m",
+        "distance_m",
+        "mean_speed_mps",
+        "real_time_factor",
+        "final_z_m",
+        "reason",
+    ];
+    w.write_record(header).expect("writes to memory");
+    for r in rows {
+        w.write_record([
+            r.method.clone(),
+            r.outcome.clone(),
+            num(r.progress_m),
+            num(r.distance_m),
+            num(r.mean_speed_mps),
+            num(r.real_time_factor),
+            num(r.final_z_m),
+            r.reason.clone(),
+        ])
+        .expect("writes to memory");
+    }
+    String::from_utf8(w.into_inner().expect("flushes to memory")).expect("UTF-8 fields")
+}
+
+impl CompareReport {
+    /// The table as text: a line per method.
+    pub fn to_table(&self) -> String {
+        let mut t = format!("scenario {}\n", self.file.display());
+        t.push_str(&format!(
+            "{:<24} {:<10} {:>10} {:>10} {:>12} {:>8}  reason\n",
+            "method", "outcome", "progress m", "distance m", "speed m/s", "RTF"
+        ));
+        let num = |v: Option<f64>, p: usize| v.map_or_else(|| "-".into(), |v| format!("{v:.p$}"));
+        for r in &self.rows {
+            t.push_str(&format!(
+                "{:<24} {:<10} {:>10} {:>10} {:>12} {:>8}  {}\n",
+                r.method,
+                r.outcome,
+                num(r.progress_m, 3),
+                num(r.distance_m, 3),
+                num(r.mean_speed_mps, 4),
+                num(r.real_time_factor, 1),
+                r.reason
+            ));
+        }
+        t
+    }
+
+    /// The table as JSON: `{"methods": [row, ...]}`.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(&serde_json::json!({ "methods": self.rows }))
+            .expect("rows serialise")
+    }
+}
