@@ -197,13 +197,49 @@ fn check_accepts_every_bundled_file() {
 fn list_names_bundled_files_with_descriptions() {
     let o = run(&["list"]);
     assert_eq!(o.code, 0);
-    assert!(o.stdout.contains("vehicles/packbot510.toml"));
-    assert!(o.stdout.contains("scenarios/packbot_flat.toml"));
-    assert!(
-        o.stdout.contains("Table II"),
-        "descriptions shown: {}",
-        o.stdout
+    // Every bundled TOML file on disk is listed, sub-folders included, by name.
+    let mut on_disk = Vec::new();
+    for top in ["vehicles", "scenarios"] {
+        for e in walk(&root().join(top)) {
+            if e.extension().is_some_and(|x| x == "toml") {
+                let rel = e.strip_prefix(root().join(top)).unwrap();
+                on_disk.push(rel.with_extension("").display().to_string());
+            }
+        }
+    }
+    assert!(on_disk.len() >= 25, "{on_disk:?}");
+    let mut descriptions = Vec::new();
+    for name in &on_disk {
+        let line = o
+            .stdout
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(name.as_str()))
+            .unwrap_or_else(|| panic!("{name} not listed:\n{}", o.stdout));
+        let d = line.trim_start().trim_start_matches(name.as_str()).trim();
+        assert!(!d.is_empty(), "{name} has no description");
+        descriptions.push(d.to_string());
+    }
+    let mut distinct = descriptions.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert_eq!(
+        distinct.len(),
+        descriptions.len(),
+        "shared descriptions: {descriptions:#?}"
     );
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
 }
 
 /// Runs `check` on a scenario text and returns (exit code, everything printed).

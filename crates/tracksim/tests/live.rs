@@ -77,6 +77,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
                 speed: 2.0,
                 max_time: None,
                 wait_for_page: false,
+                interrupt: None,
             },
         )
     });
@@ -195,6 +196,7 @@ fn reset_restarts_the_session() {
                 speed: 4.0,
                 max_time: None,
                 wait_for_page: false,
+                interrupt: None,
             },
         )
     });

@@ -28,6 +28,9 @@ pub struct DriveOptions {
     pub max_time: Option<f64>,
     /// Start simulating only once a page has connected (the clock starts then).
     pub wait_for_page: bool,
+    /// When set (by a Ctrl-C or SIGTERM handler), the session ends at the next sample as
+    /// interrupted (not as ended by the operator).
+    pub interrupt: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
 impl Default for DriveOptions {
@@ -36,6 +39,7 @@ impl Default for DriveOptions {
             speed: 1.0,
             max_time: None,
             wait_for_page: false,
+            interrupt: None,
         }
     }
 }
@@ -145,6 +149,12 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     let mut last_publish: Option<Instant> = None;
     let end = loop {
         // A sample boundary: stop, reset and control changes happen only here.
+        if opts
+            .interrupt
+            .is_some_and(|i| i.load(std::sync::atomic::Ordering::SeqCst))
+        {
+            break End::Interrupted;
+        }
         if hub.stop_requested() {
             break End::ByOperator;
         }

@@ -1,7 +1,6 @@
-//! `tracksim sweep` and `tracksim merge`: argument parsing and printing over
-//! `tracksim::sweep`.
+//! `tracksim sweep`: argument parsing and printing over `tracksim::sweep`.
 
-use crate::{Failure, bad_arg, parse_method};
+use super::{Failure, bad_arg, parse_method, scenario_file};
 use std::path::PathBuf;
 use tracksim::sweep::{Shard, SweepOptions, SweepPlan};
 
@@ -11,7 +10,7 @@ pub struct SweepArgs {
     /// Scenario file (TOML), usually with a `[randomize]` table.
     pub file: PathBuf,
     /// Output folder: runs/run-NNNNNN/ per run and the manifest.
-    #[arg(long, default_value = "sweep")]
+    #[arg(long, default_value = "out/sweep")]
     pub out: PathBuf,
     /// Number of runs (seeds SEED, SEED+1, ...); with --grid, runs per grid point.
     #[arg(long, default_value_t = 10)]
@@ -38,6 +37,9 @@ pub struct SweepArgs {
     /// Track method, overriding the scenario's.
     #[arg(long)]
     pub method: Option<String>,
+    /// Override the simulated duration of every run, s.
+    #[arg(long)]
+    pub duration: Option<f64>,
     /// No progress bar and no summary line.
     #[arg(long)]
     pub quiet: bool,
@@ -75,6 +77,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
             .as_deref()
             .map(|m| parse_method("--method", m))
             .transpose()?,
+        duration_s: a.duration,
         ..Default::default()
     };
     if a.jobs == 0 || a.jobs > MAX_SWEEP_JOBS {
@@ -94,7 +97,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
         None => Shard::from_env(|k| std::env::var(k).ok(), a.shard_count)
             .map_err(|e| bad_arg("shard environment", e))?,
     };
-    let template = tracksim::ScenarioTemplate::load_with(&a.file, &overrides)?;
+    let template = tracksim::ScenarioTemplate::load_with(&scenario_file(&a.file)?, &overrides)?;
     let seed = a.seed.unwrap_or(template.file_seed());
     let plan = if a.grid.is_empty() {
         SweepPlan::random(a.runs, seed)
@@ -158,16 +161,5 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
             report.manifest.display()
         );
     }
-    Ok(())
-}
-
-/// `tracksim merge`.
-pub fn merge(dirs: &[PathBuf], out_file: &std::path::Path) -> Result<(), Failure> {
-    let lines = tracksim::sweep::merge(dirs, out_file)?;
-    out!(
-        "{} runs merged into {}",
-        lines.len(),
-        out_file.join("manifest.jsonl").display()
-    );
     Ok(())
 }

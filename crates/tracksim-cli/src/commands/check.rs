@@ -1,0 +1,65 @@
+//! `tracksim check`: vehicle and scenario files checked without running them.
+
+use super::{Failure, scenario_file};
+use std::path::{Path, PathBuf};
+use tracksim::Error;
+
+/// Check vehicle and scenario files without running them; print every problem.
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    /// Files to check (vehicle or scenario files, told apart by their keys; or bundled names).
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+}
+
+/// Tells a vehicle file from a scenario file by its top-level keys.
+fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
+    let text = tracksim::files::read_text_bounded(path, tracksim::files::MAX_TOML_BYTES)?;
+    let table: tracksim::toml::Table = tracksim::model::parse_toml(path, &text)?;
+    Ok(table.contains_key("body") || table.contains_key("tracks"))
+}
+
+/// What is simulated of a scenario: the built world's masses, then the vehicle's design.
+fn scenario_text(f: &Path) -> Result<String, Error> {
+    let s = tracksim::load_scenario(f)?;
+    // Build it (no step) to show what is simulated: every part's mass.
+    let sim = tracksim::Simulation::new(&s)?;
+    let mut lines = vec![format!(
+        "scenario with vehicle \"{}\", {:.1} s, method {}",
+        s.vehicle.name, s.duration, s.method
+    )];
+    lines.extend(sim.mass_report().lines());
+    lines.extend(tracksim::model::design_report(&s.vehicle).lines());
+    Ok(lines.join("\n       "))
+}
+
+/// `tracksim check`: exits 2 if any file has a problem (all are reported).
+pub fn check(a: CheckArgs) -> Result<(), Failure> {
+    let mut failed = false;
+    for given in &a.files {
+        let f = scenario_file(given)?;
+        let r = is_vehicle_file(&f).and_then(|vehicle| {
+            if vehicle {
+                tracksim::load_vehicle(&f).map(|v| {
+                    let mut lines = vec![format!("vehicle \"{}\"", v.name)];
+                    lines.extend(tracksim::model::design_report(&v).lines());
+                    lines.join("\n       ")
+                })
+            } else {
+                scenario_text(&f)
+            }
+        });
+        match r {
+            Ok(what) => out!("ok     {}: {what}", f.display()),
+            Err(e) => {
+                out!("error  {e}");
+                failed = true;
+            }
+        }
+    }
+    if failed {
+        Err(Failure::Reported)
+    } else {
+        Ok(())
+    }
+}

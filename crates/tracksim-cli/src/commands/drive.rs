@@ -1,0 +1,102 @@
+//! `tracksim drive`: a live session from the 3-D page, recorded as a run.
+
+use super::{Failure, bad_arg, bind_address, check_duration, overrides, scenario_file};
+use std::path::PathBuf;
+
+/// Drive a scenario live from a 3-D page in the browser (prints its URL); the session is
+/// a run: on stop (stop button, closed page, Ctrl-C, SIGTERM) its outputs go to --out.
+#[derive(clap::Args)]
+pub struct DriveArgs {
+    /// Scenario file (TOML), or the name of a bundled scenario.
+    pub file: PathBuf,
+    /// Output folder (as `run`, plus commands.toml and controls.csv).
+    #[arg(long, default_value = "out/drive")]
+    pub out: PathBuf,
+    /// Simulated seconds per wall-clock second (0.5 slower, 2 faster than real time).
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// TCP port of the page (0: any free port).
+    #[arg(long, default_value_t = tracksim::live::DEFAULT_PORT)]
+    pub port: u16,
+    /// Address to listen on (default loopback only; any other is reachable by others).
+    #[arg(long)]
+    pub bind: Option<std::net::IpAddr>,
+    /// End the session at this simulated time, s (default: when the operator stops).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Track method, overriding the scenario's `simulation.method`.
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Do not write the plot files.
+    #[arg(long)]
+    pub no_plot: bool,
+    /// Start simulating only once a page has connected (the clock starts then).
+    #[arg(long)]
+    pub wait_for_page: bool,
+}
+
+/// `tracksim drive`.
+pub fn drive(a: DriveArgs) -> Result<(), Failure> {
+    use tracksim::live::{DriveOptions, Hub, Mode, Server};
+    let file = scenario_file(&a.file)?;
+    let sc = tracksim::load_scenario_with(&file, &overrides(a.method.as_deref(), None, None)?)?;
+    if !(a.speed.is_finite() && a.speed > 0.0) {
+        return Err(bad_arg(
+            "--speed",
+            format!("must be a number > 0 (1 = real time), got {}", a.speed),
+        ));
+    }
+    let max_time = a
+        .duration
+        .map(|d| check_duration(d, sc.solver.dt))
+        .transpose()?;
+    let hub = Hub::new();
+    let scene_json = tracksim::output::Scene::new(&sc).to_json();
+    let mode = Mode::Drive {
+        hub: hub.clone(),
+        scene_json,
+    };
+    let mut server = Server::start(bind_address(a.bind), a.port, mode)?;
+    let h = hub.clone();
+    super::on_stop(move || h.request_stop());
+    out!(
+        "drive      open {} in a browser (the first page to connect drives)",
+        server.url()
+    );
+    out!("           stop: the page's stop button, closing the page, Ctrl-C or SIGTERM");
+    let opts = DriveOptions {
+        speed: a.speed,
+        max_time,
+        wait_for_page: a.wait_for_page,
+        interrupt: Some(&super::STOP),
+    };
+    let session = tracksim::live::run_session(&sc, &hub, opts);
+    hub.request_stop();
+    server.shutdown();
+    let session = session?;
+    let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
+    let s = &session.result.summary;
+    out!(
+        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
+        s.sim_time_s,
+        s.elapsed_time_s,
+        s.paced_real_time_factor,
+        s.real_time_factor
+    );
+    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+    let interrupted = matches!(session.result.outcome, tracksim::Outcome::Interrupted(_));
+    for w in &written {
+        out!("wrote      {}", w.display());
+    }
+    out!(
+        "replay     tracksim view {}   (or reproduce: tracksim run {} --commands {} --duration {})",
+        a.out.display(),
+        file.display(),
+        a.out.join("commands.toml").display(),
+        session.duration()
+    );
+    if interrupted {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}

@@ -1,0 +1,74 @@
+//! `tracksim validate`: the paper's Table IV and the physics checks.
+
+use super::{Failure, bad_arg, data_root, parse_method};
+use std::path::PathBuf;
+
+/// Reproduce the paper's Table IV (Quince steps) and run the physics checks (slope limit,
+/// skid-steer turning, Fig. 2 and Fig. 3); exits 1 if a case fails.
+#[derive(clap::Args)]
+pub struct ValidateArgs {
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write report.md and one plot per case into this folder.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Track method under test.
+    #[arg(long, default_value = "okada2020")]
+    pub method: String,
+    /// Young's modulus of the track rubber in the Table IV column "compliant grousers,
+    /// rigid terrain, no slop", MPa (track rubber, Shore 60-80A: about 3.5-9 MPa).
+    #[arg(long, default_value_t = tracksim::validate::TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6)]
+    pub rubber_modulus_mpa: f64,
+}
+
+/// `tracksim validate`.
+pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
+    let m = parse_method("--method", &a.method)?;
+    let mpa = a.rubber_modulus_mpa;
+    if !(mpa.is_finite() && (0.1..=1000.0).contains(&mpa)) {
+        return Err(bad_arg(
+            "--rubber-modulus-mpa",
+            format!(
+                "must be a Young's modulus in MPa between 0.1 and 1000 (track rubber: 3.5-9), got {mpa}"
+            ),
+        ));
+    }
+    let opts = tracksim::validate::ValidationOptions {
+        rubber_youngs_modulus_pa: mpa * 1e6,
+        ..Default::default()
+    };
+    super::on_stop(|| {
+        eprintln!(
+            "SIGTERM/Ctrl-C: validation cases run in parallel and cannot stop half-way; a second one ends at once"
+        )
+    });
+    let report = tracksim::validate::run_validation_with(&data_root()?, m, opts, |line| {
+        if !a.json {
+            eprintln!("{line}");
+        }
+    })?;
+    if a.json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("serialises")
+        );
+    } else {
+        out!("{}", report.to_markdown());
+    }
+    if let Some(dir) = a.out {
+        for p in report.write(&dir)? {
+            if !a.json {
+                out!("wrote {}", p.display());
+            }
+        }
+    }
+    if super::stopped() {
+        return Err(Failure::Interrupted);
+    }
+    if report.passed() {
+        Ok(())
+    } else {
+        Err(Failure::Outcome)
+    }
+}

@@ -1,0 +1,156 @@
+//! Issue 24.5: what a new user meets outside the clone: bundled files by name, export,
+//! sweep's folder, and SIGTERM handled like Ctrl-C.
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_tracksim")
+}
+
+/// `tracksim` run in `dir` (a folder with no scenarios) with its own data folder.
+fn in_empty(dir: &Path, args: &[&str]) -> std::process::Output {
+    Command::new(bin())
+        .args(args)
+        .current_dir(dir)
+        .env("TRACKSIM_DATA_DIR", dir.join("data"))
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn bundled_scenarios_run_by_name_from_anywhere() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = in_empty(
+        tmp.path(),
+        &["run", "packbot_flat", "--duration", "0.2", "--no-plot"],
+    );
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{text}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(tmp.path().join("out/summary.json").is_file());
+    assert!(tmp.path().join("data/vehicles/packbot510.toml").is_file());
+    // Sub-folders by their name; a mesh scenario finds its asset.
+    let o = in_empty(
+        tmp.path(),
+        &["check", "classic/packbot_drawbar", "packbot_mesh"],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // Export writes every file, layout kept.
+    let o = in_empty(tmp.path(), &["export", "mine"]);
+    assert_eq!(o.status.code(), Some(0));
+    for f in [
+        "mine/scenarios/packbot_stairs.toml",
+        "mine/scenarios/random/packbot_step_random.toml",
+        "mine/scenarios/assets/ramp_mound.obj",
+        "mine/vehicles/quince.toml",
+    ] {
+        assert!(tmp.path().join(f).is_file(), "{f} not exported");
+    }
+    let o = in_empty(tmp.path(), &["check", "mine/scenarios/packbot_mesh.toml"]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    // An unknown name is a missing file, named.
+    let o = in_empty(tmp.path(), &["run", "packbot_nowhere"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("packbot_nowhere"));
+}
+
+#[test]
+fn sweep_writes_under_out_and_takes_a_duration() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = in_empty(
+        tmp.path(),
+        &[
+            "sweep",
+            "random/packbot_step_random",
+            "--runs",
+            "2",
+            "--duration",
+            "0.1",
+            "--quiet",
+        ],
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let manifest = std::fs::read_to_string(tmp.path().join("out/sweep/manifest.jsonl")).unwrap();
+    assert_eq!(manifest.lines().count(), 2);
+    let run: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/sweep/runs/run-000000/summary.json"))
+            .unwrap(),
+    )
+    .unwrap();
+    assert!(
+        (run["sim_time_s"].as_f64().unwrap() - 0.1).abs() < 1e-9,
+        "{run}"
+    );
+}
+
+/// SIGTERM (what `timeout`, systemd and containers send) stops `run` and `drive` like
+/// Ctrl-C: what was simulated is written, marked interrupted, exit 130.
+#[test]
+fn sigterm_writes_what_was_simulated() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (cmd, extra) in [("run", vec!["--realtime"]), ("drive", vec!["--port", "0"])] {
+        let out = tmp.path().join(cmd);
+        let mut args = vec![cmd, "packbot_stairs", "--no-plot", "--out"];
+        let out_s = out.display().to_string();
+        args.push(&out_s);
+        args.extend(extra);
+        let mut child = Command::new(bin())
+            .args(&args)
+            .current_dir(tmp.path())
+            .env("TRACKSIM_DATA_DIR", tmp.path().join("data"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        let kill = Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let t0 = Instant::now();
+        let status = loop {
+            if let Some(s) = child.try_wait().unwrap() {
+                break s;
+            }
+            assert!(
+                t0.elapsed() < Duration::from_secs(20),
+                "{cmd}: no exit after SIGTERM"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        assert_eq!(status.code(), Some(130), "{cmd}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(s["outcome"], "interrupted", "{cmd}: {s}");
+        let t = s["sim_time_s"].as_f64().unwrap();
+        assert!(t > 0.1 && t < 10.0, "{cmd}: simulated {t} s");
+        let rows = std::fs::read_to_string(out.join("trajectory.csv"))
+            .unwrap()
+            .lines()
+            .count();
+        assert!(rows > 10, "{cmd}: {rows} rows");
+    }
+}
