@@ -26,6 +26,8 @@
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
+#![warn(clippy::too_many_lines)]
+
 pub mod bench;
 pub mod bundled;
 pub mod cases;

@@ -250,29 +250,6 @@ fn com_inside_footprint(v: &VehicleModel, on_body: &[&TrackModel], warnings: &mu
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn approach_angle_of_a_flat_run_under_an_overhanging_body() {
-        // Tracks: a flat run z = 0 from x = -0.3 to 0.3 m. Chassis corner at x = 0.5, z = 0.1:
-        // a ramp from the run's front end (0.3, 0) reaches it at tan a = 0.1 / 0.2.
-        let pts: Vec<(DVec3, f64)> = (0..=60)
-            .map(|i| (DVec3::new(-0.3 + 0.01 * i as f64, 0.0, 0.0), 0.0))
-            .collect();
-        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.5, 0.1, 0.3));
-        assert!(
-            (a.to_degrees() - 0.5f64.atan().to_degrees()).abs() < 1e-6,
-            "{}",
-            a.to_degrees()
-        );
-        // A chassis behind the run's front never meets the ramp first.
-        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.2, 0.1, 0.3));
-        assert_eq!(a, std::f64::consts::FRAC_PI_2);
-    }
-}
-
 impl DesignReport {
     /// The figures as lines of text (millimetres and degrees for reading), warnings last.
     pub fn lines(&self) -> Vec<String> {
@@ -305,5 +282,28 @@ impl DesignReport {
         }
         out.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn approach_angle_of_a_flat_run_under_an_overhanging_body() {
+        // Tracks: a flat run z = 0 from x = -0.3 to 0.3 m. Chassis corner at x = 0.5, z = 0.1:
+        // a ramp from the run's front end (0.3, 0) reaches it at tan a = 0.1 / 0.2.
+        let pts: Vec<(DVec3, f64)> = (0..=60)
+            .map(|i| (DVec3::new(-0.3 + 0.01 * i as f64, 0.0, 0.0), 0.0))
+            .collect();
+        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.5, 0.1, 0.3));
+        assert!(
+            (a.to_degrees() - 0.5f64.atan().to_degrees()).abs() < 1e-6,
+            "{}",
+            a.to_degrees()
+        );
+        // A chassis behind the run's front never meets the ramp first.
+        let a = approach_angle(&pts, DVec3::new(-0.2, -0.1, 0.1), DVec3::new(0.2, 0.1, 0.3));
+        assert_eq!(a, std::f64::consts::FRAC_PI_2);
     }
 }

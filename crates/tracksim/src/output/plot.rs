@@ -309,6 +309,48 @@ where
         .x_labels(12)
         .y_labels(6)
         .draw()?;
+    draw_terrain(&mut chart, input, zr.0)?;
+    draw_snapshots(&mut chart, input.snapshots)?;
+    for (i, (run, pts)) in input.runs.iter().zip(&runs).enumerate() {
+        let c = colour(i);
+        let series = chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
+        if input.runs.len() > 1 {
+            series.label(run.label).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
+            });
+        }
+        if let Some(&p) = pts.first() {
+            chart.draw_series(std::iter::once(Circle::new(p, 4, c.filled())))?;
+        }
+        if let Some(&p) = pts.last() {
+            chart.draw_series(std::iter::once(Cross::new(p, 5, c.stroke_width(2))))?;
+        }
+    }
+    if input.runs.len() > 1 {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font((FONT, 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// The terrain under the runs: the ground profile filled down to `z_floor` m, and the boxes'
+/// outlines.
+fn draw_terrain<DB: DrawingBackend>(
+    chart: &mut ChartContext<
+        DB,
+        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+    >,
+    input: &PlotInput,
+    z_floor: f64,
+) -> DrawResult
+where
+    DB::ErrorType: 'static,
+{
     let profile: Vec<(f64, f64)> = input
         .ground_profile
         .iter()
@@ -316,9 +358,9 @@ where
         .filter(|(a, b)| a.is_finite() && b.is_finite())
         .collect();
     if let (Some(first), Some(last)) = (profile.first(), profile.last()) {
-        let mut poly = vec![(first.0, zr.0)];
+        let mut poly = vec![(first.0, z_floor)];
         poly.extend(profile.iter().copied());
-        poly.push((last.0, zr.0));
+        poly.push((last.0, z_floor));
         chart.draw_series(std::iter::once(Polygon::new(poly, GROUND_FILL.filled())))?;
         chart.draw_series(std::iter::once(PathElement::new(
             profile.clone(),
@@ -344,31 +386,6 @@ where
                 OUTLINE.stroke_width(2),
             )))?;
         }
-    }
-    draw_snapshots(&mut chart, input.snapshots)?;
-    for (i, (run, pts)) in input.runs.iter().zip(&runs).enumerate() {
-        let c = colour(i);
-        let series = chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
-        if input.runs.len() > 1 {
-            series.label(run.label).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3))
-            });
-        }
-        if let Some(&p) = pts.first() {
-            chart.draw_series(std::iter::once(Circle::new(p, 4, c.filled())))?;
-        }
-        if let Some(&p) = pts.last() {
-            chart.draw_series(std::iter::once(Cross::new(p, 5, c.stroke_width(2))))?;
-        }
-    }
-    if input.runs.len() > 1 {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .label_font((FONT, 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .draw()?;
     }
     Ok(())
 }

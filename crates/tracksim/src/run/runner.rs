@@ -184,7 +184,7 @@ impl Runner {
         self.sim.step()?;
         self.stepping += t0.elapsed().as_secs_f64();
         let i = self.sim.steps();
-        self.sampled = i % self.every == 0 || self.end_step == Some(i);
+        self.sampled = i.is_multiple_of(self.every) || self.end_step == Some(i);
         if self.sampled {
             if self.decided.is_none() {
                 self.decide();
