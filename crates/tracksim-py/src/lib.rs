@@ -32,6 +32,7 @@ fn py_err(e: tracksim::Error) -> PyErr {
         tracksim::Error::Unstable { .. } | tracksim::Error::Build(_) => {
             UnstableError::new_err(e.to_string())
         }
+        tracksim::Error::Settings { .. } => PyValueError::new_err(e.to_string()),
         _ => ScenarioError::new_err(e.to_string()),
     }
 }
@@ -669,16 +670,23 @@ fn sweep(
     let plan = match grid {
         Some(axes) if !axes.is_empty() => SweepPlan::grid(&axes, runs, seed),
         _ => SweepPlan::random(runs, seed),
-    };
-    let shard = match shard {
-        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| {
-            PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count"))
-        })?),
-        None => None,
-    };
+    }
+    .map_err(py_err)?;
+    let shard = shard
+        .map(|(i, n)| Shard::new(i, n))
+        .transpose()
+        .map_err(py_err)?;
+    for w in plan.warnings(&t) {
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &std::ffi::CString::new(w).unwrap_or_default(),
+            1,
+        )?;
+    }
     let opts = SweepOptions {
         out,
-        jobs: jobs.max(1),
+        jobs,
         shard,
         resume,
         method: None,
