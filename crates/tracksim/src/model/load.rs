@@ -20,12 +20,47 @@ pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
 pub fn parse_toml<T: serde::de::DeserializeOwned>(path: &Path, text: &str) -> Result<T> {
     let parse = |message: String| Error::Parse {
         path: path.to_path_buf(),
-        message: shorten(&message),
+        message: explain(&message),
     };
     let doc: toml::Table = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
     let typed: T = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
     crate::spec::strict::from_value::<T>(&toml::Value::Table(doc)).map_err(|e| parse(e.0))?;
     Ok(typed)
+}
+
+/// A parser message for the user: serde's "unknown field `x`, expected one of ..." (and
+/// "unknown variant") rewritten with a "did you mean" and the whole list of accepted names,
+/// which comes from the code; every other line (the file's text) cut by [`shorten`].
+fn explain(message: &str) -> String {
+    message
+        .lines()
+        .map(|l| explain_unknown(l).unwrap_or_else(|| shorten(l)))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// serde's message of an unknown key or variant (possibly after a key path and `: `),
+/// rewritten; `None` for any other line.
+fn explain_unknown(line: &str) -> Option<String> {
+    let (at, what, rest) = ["unknown field `", "unknown variant `"]
+        .iter()
+        .find_map(|p| line.find(p).map(|i| (i, *p, &line[i + p.len()..])))?;
+    let (given, expected) = match rest.rfind("`, expected ") {
+        Some(i) => (&rest[..i], &rest[i + "`, expected ".len()..]),
+        None => (rest.strip_suffix("`, there are no fields")?, ""),
+    };
+    // The names are between backticks: "one of `a`, `b`", "`a` or `b`", "`a`".
+    let names: Vec<&str> = expected.split('`').skip(1).step_by(2).collect();
+    let what = if what.contains("field") {
+        "key"
+    } else {
+        "value"
+    };
+    Some(format!(
+        "{}{}",
+        shorten(&line[..at]),
+        crate::check::unknown_name(what, given, &names)
+    ))
 }
 
 /// Longest line of a parser message kept whole, characters (a 50 MB line is not echoed).
