@@ -63,6 +63,36 @@ fn explain_unknown(line: &str) -> Option<String> {
     ))
 }
 
+/// Reads a scenario file as [`read_toml`] does; a vehicle file (`[body]` or `[[tracks]]`, no
+/// `[vehicle]`) is refused with how to use it instead of its first unknown key.
+pub fn read_scenario_spec(path: &Path) -> Result<ScenarioSpec> {
+    let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
+    if let Ok(doc) = toml::from_str::<toml::Table>(&text)
+        && !doc.contains_key("vehicle")
+        && (doc.contains_key("body") || doc.contains_key("tracks"))
+    {
+        let name = path
+            .file_name()
+            .map_or("VEHICLE.toml".into(), |n| n.to_string_lossy());
+        return Err(Error::Invalid {
+            path: path.to_path_buf(),
+            issues: vec![SpecIssue::new(
+                "",
+                format!(
+                    "this is a vehicle file (it has `[body]` or `[[tracks]]` and no \
+                     `[vehicle]`), not a scenario; a scenario names it in its `[vehicle]` table, \
+                     `file = \"{}\"` (relative to the scenario file's folder): see \
+                     scenarios/packbot_flat.toml, which names ../vehicles/packbot510.toml; to \
+                     check the vehicle alone run `tracksim check {}`",
+                    crate::check::echoed(&name),
+                    crate::check::echoed(&path.display().to_string()),
+                ),
+            )],
+        });
+    }
+    parse_toml(path, &text)
+}
+
 /// Longest line of a parser message kept whole, characters (a 50 MB line is not echoed).
 const MAX_MESSAGE_LINE_CHARS: usize = 200;
 
@@ -113,7 +143,7 @@ pub fn load_commands(path: &Path, vehicle: &VehicleModel) -> Result<Vec<super::C
 /// `extra` as in [`compile_scenario_with`]. A file with a `[randomize]` table is sampled with
 /// its own `simulation.seed` ([`ScenarioTemplate`] samples other seeds).
 pub fn load_scenario_with(path: &Path, extra: ExtraChecks) -> Result<Scenario> {
-    let spec: ScenarioSpec = read_toml(path)?;
+    let spec = read_scenario_spec(path)?;
     if !spec.randomize.is_empty() {
         let seed = spec.simulation.seed;
         return ScenarioTemplate::from_spec(path, spec, extra)?.instantiate(seed);

@@ -3,7 +3,7 @@
 //! file again except the terrain's own data files.
 
 use super::load::scenario_vehicle;
-use super::{ExtraChecks, Randomizer, Scenario, VehicleModel, compile_scenario_with, read_toml};
+use super::{ExtraChecks, Randomizer, Scenario, VehicleModel, compile_scenario_with};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::ScenarioSpec;
 use std::collections::BTreeMap;
@@ -31,7 +31,7 @@ impl ScenarioTemplate {
     /// reported as by `load_scenario`, and a `[randomize]` table is checked too: its keys, and
     /// the scenario compiled with every parameter at its low end and at its high end.
     pub fn load(path: &Path, extra: ExtraChecks) -> Result<Self> {
-        let spec: ScenarioSpec = read_toml(path)?;
+        let spec = super::load::read_scenario_spec(path)?;
         Self::from_spec(path, spec, extra)
     }
 
