@@ -82,7 +82,7 @@ def test_missing_file_and_unknown_key_are_scenario_errors(write_scenario):
     with pytest.raises(tracksim.ScenarioError, match="no_such.toml"):
         tracksim.Simulation("no_such.toml")
     p = write_scenario(SHORT_FLAT % "1.0" + "[outcome]\nsucess_x_m = 1.0\n")
-    with pytest.raises(tracksim.ScenarioError, match="unknown field `sucess_x_m`"):
+    with pytest.raises(tracksim.ScenarioError, match="unknown key `sucess_x_m`: did you mean `success_x_m`"):
         tracksim.Scenario(p)
 
 

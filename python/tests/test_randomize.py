@@ -59,7 +59,7 @@ def test_a_fixed_scenario_is_the_same_for_every_seed():
     ('[randomize.f]\nuniform = [-0.5, 0.4]\nkey = "terrain.ground.friction"\n',
      "terrain.ground.friction", "at its low end"),
     ('[randomize.f]\nuniform = [0.2, 0.4]\nkey = "terrain.ground.friction"\nspread = 1\n',
-     "spread", "unknown field"),
+     "spread", "unknown key `spread`"),
 ])
 def test_bad_randomize_tables_name_the_key_and_the_fix(write_scenario, table, key, words):
     p = write_scenario(SHORT_FLAT % "1.0" + table)

@@ -384,3 +384,120 @@ fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
         assert!(!n.starts_with(".tmp-"), "left {n}");
     }
 }
+
+// ---- Issue 24.5: first contact ------------------------------------------------------------
+
+fn repo() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A 0.2 s flat-ground scenario without `[randomize]` (the vehicle named by absolute path).
+fn short_fixed(dir: &Path) -> PathBuf {
+    let p = dir.join("short.toml");
+    let vehicle = repo().join("vehicles/packbot510.toml");
+    std::fs::write(
+        &p,
+        format!(
+            "[vehicle]\nfile = {:?}\n[terrain.ground]\nfriction = 0.6\n[simulation]\nduration_s = 0.2\n",
+            vehicle.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    p
+}
+
+#[test]
+fn run_on_a_vehicle_file_says_it_is_one_and_how_to_use_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let v = repo().join("vehicles/packbot510.toml");
+    let r = run_quietly(&v, &tmp.path().join("out"));
+    refused("run vehicle", &r, "this is a vehicle file");
+    assert!(
+        r.text.contains("`file = \"packbot510.toml\"`"),
+        "{}",
+        r.text
+    );
+    assert!(r.text.contains("tracksim check"), "{}", r.text);
+    assert!(!r.text.contains("unknown"), "{}", r.text);
+    // `check` reads it as the vehicle it is.
+    let c = run(&["check", v.to_str().unwrap()]);
+    assert_eq!(c.code, Some(0), "{}", c.text);
+}
+
+#[test]
+fn a_typo_in_a_key_gets_did_you_mean_and_every_accepted_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = short_fixed(tmp.path());
+    let text = std::fs::read_to_string(&p).unwrap();
+    std::fs::write(&p, text.replace("duration_s", "duraton_s")).unwrap();
+    let r = run(&["check", p.to_str().unwrap()]);
+    refused(
+        "typo",
+        &r,
+        "unknown key `duraton_s`: did you mean `duration_s`?",
+    );
+    for k in ["`dt_s`", "`floating_origin`", "`method`", "`seed`"] {
+        assert!(r.text.contains(k), "{k} missing: {}", r.text);
+    }
+    assert!(!r.text.contains("cut"), "{}", r.text);
+}
+
+#[test]
+fn pulleys_on_one_line_are_named_by_check() {
+    let tmp = tempfile::tempdir().unwrap();
+    let v = std::fs::read_to_string(repo().join("vehicles/packbot510.toml")).unwrap();
+    let v = v.replace(
+        "  { x_m = 0.255, z_m = 0.0, radius_m = 0.082 },\n]",
+        "  { x_m = 0.255, z_m = 0.0, radius_m = 0.082 },\n  { x_m = 0.0, z_m = 0.0, radius_m = 0.06 },\n]",
+    );
+    let p = tmp.path().join("v.toml");
+    std::fs::write(&p, v).unwrap();
+    let r = run(&["check", p.to_str().unwrap()]);
+    refused("collinear", &r, "tracks[0].path.pulleys[2]");
+    assert!(
+        r.text.contains("on the line between pulleys 1 and 0"),
+        "{}",
+        r.text
+    );
+    assert!(!r.text.contains("720"), "{}", r.text);
+}
+
+#[test]
+fn sweep_plans_are_refused_by_the_library_with_their_keys() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = short_fixed(tmp.path());
+    let f = p.to_str().unwrap();
+    let out = tmp.path().join("sweep");
+    let o = out.to_str().unwrap();
+    let r = run(&["sweep", f, "--out", o, "--runs", "0"]);
+    refused("--runs 0", &r, "runs: must be from 1 to 10000000, got 0");
+    let r = run(&["sweep", f, "--out", o, "--grid", "friction=0.5,inf"]);
+    refused("--grid inf", &r, "grid.friction: values must be finite");
+    let r = run(&["sweep", f, "--out", o, "--jobs", "0"]);
+    refused("--jobs 0", &r, "jobs: must be from 1 to 1024");
+    let r = run(&["sweep", f, "--out", o, "--shard", "2/2"]);
+    refused("--shard 2/2", &r, "--shard");
+}
+
+#[test]
+fn a_sweep_of_a_file_without_randomize_warns_that_its_runs_are_identical() {
+    let tmp = tempfile::tempdir().unwrap();
+    let p = short_fixed(tmp.path());
+    let out = tmp.path().join("sweep");
+    let r = run(&[
+        "sweep",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--runs",
+        "2",
+        "--quiet",
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.text);
+    assert!(
+        r.text.contains("warning: ") && r.text.contains("its 2 runs will be identical"),
+        "{}",
+        r.text
+    );
+    assert!(out.join("manifest.jsonl").is_file());
+}

@@ -268,8 +268,8 @@ fn bad_inputs_exit_2_naming_the_file_the_key_and_the_fix() {
             vec![
                 "bad.toml",
                 "line 6",
-                "unknown field `frcition`",
-                "expected `friction`",
+                "unknown key `frcition`: did you mean `friction`?",
+                "The accepted keys are: `friction`",
             ],
         ),
         (

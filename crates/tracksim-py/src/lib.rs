@@ -2,7 +2,11 @@
 //! library: scenario files ([`tracksim::ScenarioTemplate`]), simulations
 //! ([`tracksim::Simulation`]), and the learning environments of [`tracksim::env`]. Stepping
 //! releases the GIL. Errors from files arrive as `tracksim.ScenarioError` (a `ValueError`)
-//! with the CLI's message; an unstable simulation as `tracksim.UnstableError`.
+//! with the CLI's message; an unstable simulation as `tracksim.UnstableError`; settings the
+//! library refuses (environment configuration, array lengths, sweep plans) as `ValueError`
+//! with the library's message, which names the key. Every check is the library's.
+
+#![warn(clippy::too_many_lines)]
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -11,7 +15,7 @@ use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 use std::sync::Arc;
-use tracksim::env::{ActionMode, EnvConfig};
+use tracksim::env::{EnvConfig, EnvValue};
 use tracksim::{Controls, ScenarioTemplate};
 
 pyo3::create_exception!(
@@ -32,6 +36,7 @@ fn py_err(e: tracksim::Error) -> PyErr {
         tracksim::Error::Unstable { .. } | tracksim::Error::Build(_) => {
             UnstableError::new_err(e.to_string())
         }
+        tracksim::Error::Settings { .. } => PyValueError::new_err(e.to_string()),
         _ => ScenarioError::new_err(e.to_string()),
     }
 }
@@ -177,33 +182,15 @@ impl PySimulation {
 
     /// Belt speed per track, m/s (track order of `track_names`).
     fn set_belt_speeds(&mut self, speeds: Vec<f64>) -> PyResult<()> {
-        let n = self.sim.track_names().len();
-        if speeds.len() != n {
-            return Err(PyValueError::new_err(format!(
-                "expected {n} belt speeds (one per track: {:?}), got {}",
-                self.sim.track_names(),
-                speeds.len()
-            )));
-        }
-        let mut c = Controls::keep(&self.sim.scenario().vehicle);
-        c.belt_speed = speeds.into_iter().map(Some).collect();
+        let c = Controls::belt_speeds(&self.sim.scenario().vehicle, &speeds).map_err(py_err)?;
         self.sim.apply(&c);
         Ok(())
     }
 
     /// Flipper target angles, rad (order of `flipper_names`).
     fn set_flipper_angles(&mut self, angles: Vec<f64>) -> PyResult<()> {
-        let n = self.sim.flipper_names().len();
-        if angles.len() != n {
-            return Err(PyValueError::new_err(format!(
-                "expected {n} flipper angles (one per flipper: {:?}), got {}",
-                self.sim.flipper_names(),
-                angles.len()
-            )));
-        }
-        for (i, a) in angles.into_iter().enumerate() {
-            self.sim.set_flipper_angle(i, a);
-        }
+        let c = Controls::flipper_angles(&self.sim.scenario().vehicle, &angles).map_err(py_err)?;
+        self.sim.apply(&c);
         Ok(())
     }
 
@@ -281,74 +268,40 @@ impl PySimulation {
         xs: Vec<f64>,
         ys: Vec<f64>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if xs.len() != ys.len() {
-            return Err(PyValueError::new_err("xs and ys must have the same length"));
-        }
-        let h = xs
-            .iter()
-            .zip(&ys)
-            .map(|(x, y)| self.sim.terrain_below(*x, *y).unwrap_or(f64::NAN))
-            .collect();
+        let h = self.sim.terrain_heights(&xs, &ys).map_err(py_err)?;
         Ok(PyArray1::from_vec(py, h))
     }
 }
 
+/// One Python value of a `config` entry as the library's [`EnvValue`] (by its Python type:
+/// str, a pair of ints, a pair of numbers, a number); the library checks keys and values.
+fn env_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<EnvValue> {
+    if let Ok(s) = v.extract::<String>() {
+        return Ok(EnvValue::Text(s));
+    }
+    if let Ok([a, b]) = v.extract::<Vec<i64>>().as_deref() {
+        return Ok(EnvValue::IntPair(*a, *b));
+    }
+    if let Ok([a, b]) = v.extract::<Vec<f64>>().as_deref() {
+        return Ok(EnvValue::Pair(*a, *b));
+    }
+    if let Ok(x) = v.extract::<f64>() {
+        return Ok(EnvValue::Number(x));
+    }
+    Err(PyValueError::new_err(format!(
+        "environment setting {key:?}: expected a number, a string or a pair, got {}",
+        v.get_type().name()?
+    )))
+}
+
 fn env_config(cfg: Option<&Bound<'_, PyDict>>) -> PyResult<EnvConfig> {
-    let mut c = EnvConfig::default();
-    let Some(cfg) = cfg else { return Ok(c) };
-    for (k, v) in cfg.iter() {
+    let mut settings = Vec::new();
+    for (k, v) in cfg.into_iter().flat_map(|d| d.iter()) {
         let k: String = k.extract()?;
-        match k.as_str() {
-            "control_period_s" => c.control_period_s = v.extract()?,
-            "action" => {
-                let s: String = v.extract()?;
-                c.action = match s.as_str() {
-                    "twist" => ActionMode::Twist,
-                    "belts" => ActionMode::Belts,
-                    _ => {
-                        return Err(PyValueError::new_err(format!(
-                            "action = {s:?}: use \"twist\" (forward speed, yaw rate) or \"belts\" (one speed per track)"
-                        )));
-                    }
-                }
-            }
-            "max_forward_mps" => c.max_forward_mps = v.extract()?,
-            "max_yaw_rate_rad_s" => c.max_yaw_rate_rad_s = v.extract()?,
-            "max_belt_speed_mps" => c.max_belt_speed_mps = v.extract()?,
-            "flipper_range_rad" => c.flipper_range_rad = v.extract()?,
-            "grid_shape" => c.grid_shape = v.extract()?,
-            "grid_spacing_m" => c.grid_spacing_m = v.extract()?,
-            "grid_ahead_m" => c.grid_ahead_m = v.extract()?,
-            "no_terrain_m" => c.no_terrain_m = v.extract()?,
-            _ => {
-                return Err(PyValueError::new_err(format!(
-                    "unknown environment setting {k:?}; known: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s, max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m, no_terrain_m"
-                )));
-            }
-        }
+        let v = env_value(&k, &v)?;
+        settings.push((k, v));
     }
-    let pos = |x: f64| x.is_finite() && x > 0.0;
-    if !(pos(c.control_period_s)
-        && pos(c.max_forward_mps)
-        && pos(c.max_yaw_rate_rad_s)
-        && pos(c.max_belt_speed_mps)
-        && pos(c.grid_spacing_m.0)
-        && pos(c.grid_spacing_m.1))
-    {
-        return Err(PyValueError::new_err(
-            "control_period_s, the maxima and grid_spacing_m must be finite and positive",
-        ));
-    }
-    if !(c.flipper_range_rad.0.is_finite()
-        && c.flipper_range_rad.1.is_finite()
-        && c.grid_ahead_m.is_finite()
-        && c.no_terrain_m.is_finite())
-    {
-        return Err(PyValueError::new_err(
-            "flipper_range_rad, grid_ahead_m and no_terrain_m must be finite",
-        ));
-    }
-    Ok(c)
+    EnvConfig::from_settings(settings).map_err(py_err)
 }
 
 fn info_dict<'py>(
@@ -481,14 +434,10 @@ impl PyVecEnvCore {
         threads: usize,
         config: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        if num_envs == 0 {
-            return Err(PyValueError::new_err("num_envs must be at least 1"));
-        }
         let t = template_of(scenario)?;
         let v = tracksim::env::VecEnv::new(t, env_config(config)?, num_envs, seed, threads)
             .map_err(py_err)?;
-        let e = &v.envs()[0];
-        let (obs_dim, action_dim) = (e.obs_dim(), e.action_dim());
+        let (obs_dim, action_dim) = (v.obs_dim(), v.action_dim());
         Ok(PyVecEnvCore {
             v,
             obs_dim,
@@ -506,13 +455,6 @@ impl PyVecEnvCore {
         seed: Option<u64>,
         seeds: Option<Vec<u64>>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
-        if let Some(s) = seeds.as_ref().filter(|s| s.len() != self.v.len()) {
-            return Err(PyValueError::new_err(format!(
-                "{} seeds for {} environments",
-                s.len(),
-                self.v.len()
-            )));
-        }
         let v = &mut self.v;
         py.detach(|| match &seeds {
             Some(s) => v.reset_seeds(s),
@@ -534,13 +476,9 @@ impl PyVecEnvCore {
         actions: PyReadonlyArray2<'py, f32>,
     ) -> PyResult<VecOut<'py>> {
         let n = self.v.len();
-        let shape = actions.shape();
-        if shape != [n, self.action_dim] {
-            return Err(PyValueError::new_err(format!(
-                "actions must have shape ({n}, {}), got {shape:?}",
-                self.action_dim
-            )));
-        }
+        self.v
+            .check_actions_shape(actions.shape())
+            .map_err(py_err)?;
         let a: Vec<f32> = actions
             .as_slice()
             .map(|s| s.to_vec())
@@ -669,16 +607,23 @@ fn sweep(
     let plan = match grid {
         Some(axes) if !axes.is_empty() => SweepPlan::grid(&axes, runs, seed),
         _ => SweepPlan::random(runs, seed),
-    };
-    let shard = match shard {
-        Some((i, n)) => Some(Shard::new(i, n).ok_or_else(|| {
-            PyValueError::new_err(format!("shard ({i}, {n}): need 0 <= index < count"))
-        })?),
-        None => None,
-    };
+    }
+    .map_err(py_err)?;
+    let shard = shard
+        .map(|(i, n)| Shard::new(i, n))
+        .transpose()
+        .map_err(py_err)?;
+    for w in plan.warnings(&t) {
+        PyErr::warn(
+            py,
+            &py.get_type::<pyo3::exceptions::PyUserWarning>(),
+            &std::ffi::CString::new(w).unwrap_or_default(),
+            1,
+        )?;
+    }
     let opts = SweepOptions {
         out,
-        jobs: jobs.max(1),
+        jobs,
         shard,
         resume,
     };

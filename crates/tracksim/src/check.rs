@@ -230,3 +230,57 @@ pub(crate) fn hull_volume(pts: &[DVec3]) -> f64 {
         .sum();
     f64::from(vol.abs()) / 6.0
 }
+
+/// Most characters of a name from the input echoed in a message (a key may be 50 MB long).
+pub(crate) const MAX_ECHOED_NAME_CHARS: usize = 100;
+
+/// `name` as it is echoed in a message: cut to [`MAX_ECHOED_NAME_CHARS`] characters.
+pub(crate) fn echoed(name: &str) -> String {
+    if name.chars().count() <= MAX_ECHOED_NAME_CHARS {
+        name.to_string()
+    } else {
+        let kept: String = name.chars().take(MAX_ECHOED_NAME_CHARS).collect();
+        format!("{kept}...")
+    }
+}
+
+/// The name of `known` that `given` is most likely a typo of: the most similar by
+/// Jaro-Winkler similarity if at least 0.75 (`sucess_x_m` -> `success_x_m`, `dtt` -> `dt_s`),
+/// else one that contains `given` (at least 3 characters: `period` -> `control_period_s`).
+pub(crate) fn did_you_mean<'a>(given: &str, known: &[&'a str]) -> Option<&'a str> {
+    let lower = given.to_ascii_lowercase();
+    let best = known
+        .iter()
+        .map(|k| (strsim::jaro_winkler(&lower, &k.to_ascii_lowercase()), *k))
+        .filter(|(s, _)| *s >= 0.75)
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((_, k)) = best {
+        return Some(k);
+    }
+    if lower.chars().count() < 3 {
+        return None;
+    }
+    known
+        .iter()
+        .find(|k| k.to_ascii_lowercase().contains(&lower))
+        .copied()
+}
+
+/// The message for an unknown name `given` among `known` (each a `what`, e.g. "key"): a
+/// "did you mean" when one is close, and every accepted name (the list is never cut: it comes
+/// from the code, not the file).
+pub(crate) fn unknown_name(what: &str, given: &str, known: &[&str]) -> String {
+    let list = known
+        .iter()
+        .map(|k| format!("`{k}`"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let given = echoed(given);
+    match did_you_mean(&given, known) {
+        _ if known.is_empty() => format!("unknown {what} `{given}`: none is accepted here"),
+        Some(k) => format!(
+            "unknown {what} `{given}`: did you mean `{k}`? The accepted {what}s are: {list}"
+        ),
+        None => format!("unknown {what} `{given}`; the accepted {what}s are: {list}"),
+    }
+}

@@ -37,6 +37,15 @@ impl SpecIssue {
             message: cut(message.into()),
         }
     }
+
+    /// An issue whose message is built only of bounded parts (names from the input already
+    /// cut, lists from the code): kept whole, so a list of accepted keys is never cut.
+    pub(crate) fn whole(key: impl Into<String>, message: impl Into<String>) -> Self {
+        SpecIssue {
+            key: cut(key.into()),
+            message: message.into(),
+        }
+    }
 }
 
 impl fmt::Display for SpecIssue {
@@ -76,6 +85,16 @@ pub enum Error {
         /// Each problem with its key path.
         issues: Vec<SpecIssue>,
     },
+    /// Settings given through the API rather than a file are wrong (an environment's
+    /// configuration, a sweep plan, the length of an array passed to a call); every problem is
+    /// listed with its key (`grid_shape`, `runs`, `belt_speeds`, ...).
+    #[error("{what}: {} problem(s):\n{}", issues.len(), issues.iter().map(|i| format!("  - {i}")).collect::<Vec<_>>().join("\n"))]
+    Settings {
+        /// What was being set (`environment settings`, `sweep plan`, `set_belt_speeds`).
+        what: String,
+        /// Each problem with its key.
+        issues: Vec<SpecIssue>,
+    },
     /// The vehicle cannot be built with the chosen track method.
     #[error("cannot build the vehicle: {0}")]
     Build(String),
@@ -91,6 +110,29 @@ pub enum Error {
         /// What was seen.
         what: String,
     },
+}
+
+impl Error {
+    /// An [`Error::Settings`] of one problem at `key`.
+    pub fn setting(
+        what: impl Into<String>,
+        key: impl Into<String>,
+        message: impl Into<String>,
+    ) -> Self {
+        Error::Settings {
+            what: what.into(),
+            issues: vec![SpecIssue::new(key, message)],
+        }
+    }
+
+    /// The problems listed by an [`Error::Invalid`] or [`Error::Settings`] (empty for the
+    /// other kinds).
+    pub fn issues(&self) -> &[SpecIssue] {
+        match self {
+            Error::Invalid { issues, .. } | Error::Settings { issues, .. } => issues,
+            _ => &[],
+        }
+    }
 }
 
 /// Shorthand result type.

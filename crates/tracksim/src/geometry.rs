@@ -222,11 +222,21 @@ pub enum PathError {
     TooFewPulleys(usize),
     /// A pulley's radius is not positive or a coordinate is not finite.
     BadPulley { pulley: usize, radius: f64 },
-    /// Two consecutive pulleys overlap so that no outer tangent exists.
+    /// Two pulleys overlap so that no outer tangent exists (one inside the other, or the same
+    /// centre).
     PulleysOverlap {
         pulley: usize,
         next: usize,
         distance: f64,
+    },
+    /// The belt does not wrap a pulley: it runs straight past it (touching it) or would bend
+    /// backwards around it, its centre on the line between its neighbours' in the loop
+    /// (`collinear`) or inside the loop.
+    PulleyNotWrapped {
+        pulley: usize,
+        before: usize,
+        after: usize,
+        collinear: bool,
     },
 }
 
@@ -291,15 +301,85 @@ impl fmt::Display for PathError {
                 pulley,
                 next,
                 distance,
+            } if distance < 1e-9 => write!(
+                f,
+                "pulleys {pulley} and {next} have the same centre: a belt cannot run between them; remove one of them (`pulleys[{next}]`) or move it"
+            ),
+            PulleysOverlap {
+                pulley,
+                next,
+                distance,
             } => write!(
                 f,
                 "pulleys {pulley} and {next} are {distance:.6} m apart: too close for a belt to run between them (one inside the other)"
+            ),
+            PulleyNotWrapped {
+                pulley,
+                before,
+                after,
+                collinear: true,
+            } => write!(
+                f,
+                "pulley {pulley} has its centre on the line between pulleys {before} and {after}: the belt runs straight past it (touching it, or bending backwards around it if it is smaller), so it does not turn the belt; remove it, or move it outwards off that line (a belt wraps the outside of its pulleys, listed in order around the loop)"
+            ),
+            PulleyNotWrapped {
+                pulley,
+                before,
+                after,
+                collinear: false,
+            } => write!(
+                f,
+                "pulley {pulley} lies inside the belt's loop, between pulleys {before} and {after}: the belt would bend backwards around it; move it outwards or remove it (a belt wraps the outside of its pulleys, listed in order around the loop)"
             ),
         }
     }
 }
 
 impl std::error::Error for PathError {}
+
+/// The pulleys of a loop (`order`: clockwise, at least 3) that the belt does not wrap, given
+/// the arc `wraps[k]` on pulley `order[k + 1]` (rad, in [0, 2 pi)): an arc within
+/// [`TANGENT_TOLERANCE_RAD`] of none or of a full turn (the belt runs straight past the pulley,
+/// or bends backwards by that little), then, when the arcs do not add up to one turn, the
+/// pulleys with the largest arcs (each a backward bend wrapped to nearly a full turn), one
+/// per extra turn.
+fn unwrapped_pulleys(pulleys: &[Pulley], order: &[usize], wraps: &[f64]) -> Vec<PathError> {
+    let n = order.len();
+    if n < 3 {
+        return Vec::new();
+    }
+    let error = |k: usize| {
+        let (i, j, l) = (order[k], order[(k + 1) % n], order[(k + 2) % n]);
+        let (a, b, c) = (pulleys[i], pulleys[j], pulleys[l]);
+        let (ux, uz) = (c.x - a.x, c.z - a.z);
+        let len = ux.hypot(uz);
+        let off = ((b.x - a.x) * uz - (b.z - a.z) * ux).abs() / len.max(1e-300);
+        let t = ((b.x - a.x) * ux + (b.z - a.z) * uz) / (len * len).max(1e-300);
+        PathError::PulleyNotWrapped {
+            pulley: j,
+            before: i,
+            after: l,
+            collinear: off <= JOIN_TOLERANCE_M && (0.0..=1.0).contains(&t),
+        }
+    };
+    let flat: Vec<PathError> = (0..n)
+        .filter(|k| wraps[*k] < TANGENT_TOLERANCE_RAD || wraps[*k] > TAU - TANGENT_TOLERANCE_RAD)
+        .map(error)
+        .collect();
+    if !flat.is_empty() {
+        return flat;
+    }
+    let total: f64 = wraps.iter().sum();
+    let extra = ((total - TAU) / TAU).round();
+    if (total - TAU).abs() <= TANGENT_TOLERANCE_RAD * n as f64 || extra < 1.0 {
+        return Vec::new();
+    }
+    let mut by_size: Vec<usize> = (0..n).collect();
+    by_size.sort_by(|a, b| wraps[*b].total_cmp(&wraps[*a]));
+    let mut worst: Vec<usize> = by_size.into_iter().take(extra as usize).collect();
+    worst.sort_by_key(|k| order[(k + 1) % n]);
+    worst.into_iter().map(error).collect()
+}
 
 /// A validated closed track path. Construct with [`TrackPath::new`] or
 /// [`TrackPath::from_pulleys`].
@@ -567,7 +647,7 @@ impl TrackPath {
         if n < 2 {
             return Err(vec![PathError::TooFewPulleys(n)]);
         }
-        let errors: Vec<PathError> = pulleys
+        let mut errors: Vec<PathError> = pulleys
             .iter()
             .enumerate()
             .filter(|(_, p)| {
@@ -578,6 +658,23 @@ impl TrackPath {
                 radius: p.radius,
             })
             .collect();
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        // One pulley inside another (or the same centre), wherever they are in the list.
+        for i in 0..n {
+            for j in i + 1..n {
+                let (a, b) = (pulleys[i], pulleys[j]);
+                let dist = (b.x - a.x).hypot(b.z - a.z);
+                if dist <= (a.radius - b.radius).abs() + 1e-9 {
+                    errors.push(PathError::PulleysOverlap {
+                        pulley: i,
+                        next: j,
+                        distance: dist,
+                    });
+                }
+            }
+        }
         if !errors.is_empty() {
             return Err(errors);
         }
@@ -620,6 +717,21 @@ impl TrackPath {
         if !errors.is_empty() {
             return Err(errors);
         }
+        // The arc on pulley order[k + 1], from normal k to the next straight's normal,
+        // clockwise in (x, z) = positive about +y.
+        let wraps: Vec<f64> = (0..n)
+            .map(|k| {
+                let (nk, nn) = (normals[k], normals[(k + 1) % n]);
+                let cross = nk.0 * nn.1 - nk.1 * nn.0;
+                let dot = nk.0 * nn.0 + nk.1 * nn.1;
+                let theta = -cross.atan2(dot);
+                if theta < 0.0 { theta + TAU } else { theta }
+            })
+            .collect();
+        let errors = unwrapped_pulleys(pulleys, &order, &wraps);
+        if !errors.is_empty() {
+            return Err(errors);
+        }
         let p3 = |x: f64, z: f64| DVec3::new(x, plane_y, z);
         let mut segments = Vec::with_capacity(2 * n);
         for k in 0..n {
@@ -633,15 +745,7 @@ impl TrackPath {
                 direction: (b - a).normalize(),
                 length: (b - a).length(),
             });
-            // Arc on pulley j from normal nk to the next straight's normal, clockwise in (x, z)
-            // = positive about +y.
-            let nn = normals[(k + 1) % n];
-            let cross = nk.0 * nn.1 - nk.1 * nn.0;
-            let dot = nk.0 * nn.0 + nk.1 * nn.1;
-            let mut theta = -cross.atan2(dot);
-            if theta < 0.0 {
-                theta += TAU;
-            }
+            let theta = wraps[k];
             if theta > 1e-9 {
                 segments.push(Segment::Arc {
                     start: b,

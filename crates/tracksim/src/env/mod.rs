@@ -4,12 +4,15 @@
 //! threads with autoreset. Rewards are left to the caller (the Python package computes them
 //! from [`StepInfo`], so they can be replaced).
 //!
-//! - `mod.rs`: [`EnvConfig`], [`Env`], [`StepInfo`] and the observation layout;
+//! - `config.rs`: [`EnvConfig`] (built from named settings and checked);
+//! - `mod.rs`: [`Env`], [`StepInfo`] and the observation layout;
 //! - `vector.rs`: [`VecEnv`].
 
+mod config;
 mod vector;
 
-pub use vector::{VecEnv, VecStep, next_seed};
+pub use config::{ActionMode, EnvConfig, EnvValue, MAX_GRID_CELLS};
+pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
 
 use crate::error::Result;
 use crate::model::{Controls, Scenario, ScenarioTemplate};
@@ -18,58 +21,6 @@ use crate::world::{PoseRpy, Simulation};
 use glam::{DQuat, DVec3, EulerRot};
 use std::collections::BTreeMap;
 use std::sync::Arc;
-
-/// What the actions command besides the flippers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ActionMode {
-    /// Two actions: forward speed and yaw rate (skid steering, [`Controls::twist`]).
-    Twist,
-    /// One action per track: its belt speed.
-    Belts,
-}
-
-/// How an [`Env`] turns actions into controls and what it observes. Actions are normalised to
-/// `[-1, 1]` (clipped) and scaled by the maxima here.
-#[derive(Clone, Debug, PartialEq)]
-pub struct EnvConfig {
-    /// Simulated time per action, s (a whole number of physics steps, at least one).
-    pub control_period_s: f64,
-    /// Twist or per-track belt speeds.
-    pub action: ActionMode,
-    /// Forward speed at action +1, m/s.
-    pub max_forward_mps: f64,
-    /// Yaw rate at action +1, rad/s (positive turns left).
-    pub max_yaw_rate_rad_s: f64,
-    /// Belt speed at action +1, m/s.
-    pub max_belt_speed_mps: f64,
-    /// Flipper target at action -1 and +1, rad.
-    pub flipper_range_rad: (f64, f64),
-    /// Terrain grid: rows ahead (along the heading) and columns across.
-    pub grid_shape: (usize, usize),
-    /// Spacing of the grid along and across the heading, m.
-    pub grid_spacing_m: (f64, f64),
-    /// Distance of the first grid row ahead of the body origin, m.
-    pub grid_ahead_m: f64,
-    /// Height reported where a ray finds no terrain, m relative to the body.
-    pub no_terrain_m: f64,
-}
-
-impl Default for EnvConfig {
-    fn default() -> Self {
-        EnvConfig {
-            control_period_s: 0.05,
-            action: ActionMode::Twist,
-            max_forward_mps: 0.5,
-            max_yaw_rate_rad_s: 1.0,
-            max_belt_speed_mps: 0.5,
-            flipper_range_rad: (-60f64.to_radians(), 60f64.to_radians()),
-            grid_shape: (5, 3),
-            grid_spacing_m: (0.1, 0.15),
-            grid_ahead_m: 0.3,
-            no_terrain_m: -1.0,
-        }
-    }
-}
 
 /// What one control period produced, besides the observation.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -104,8 +55,9 @@ pub struct Env {
 
 impl Env {
     /// An environment at the start of an episode with `seed` (the `[randomize]` values are drawn
-    /// from it).
+    /// from it). A configuration that fails [`EnvConfig::check`] is refused.
     pub fn new(template: Arc<ScenarioTemplate>, cfg: EnvConfig, seed: u64) -> Result<Self> {
+        cfg.check()?;
         let scenario = Arc::new(template.instantiate(seed)?);
         let runner = Runner::from_shared(scenario.clone())?
             .without_commands()

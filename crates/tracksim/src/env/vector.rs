@@ -3,7 +3,7 @@
 //! count.
 
 use super::{Env, EnvConfig, StepInfo};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::model::ScenarioTemplate;
 use std::sync::Arc;
 
@@ -15,6 +15,9 @@ pub fn next_seed(seed: u64) -> u64 {
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)
 }
+
+/// Most environments of one [`VecEnv`].
+pub const MAX_ENVS: usize = 100_000;
 
 /// `n` environments of one template stepped together on `threads` threads. Autoreset as
 /// Gymnasium's "next step" mode: the step after an episode ended resets that environment
@@ -38,7 +41,9 @@ pub struct VecStep {
 }
 
 impl VecEnv {
-    /// `n` environments, environment `i` starting with seed `seed + i`.
+    /// `n` environments (at least 1, at most [`MAX_ENVS`]), environment `i` starting with
+    /// seed `seed + i`, stepped on `threads` threads (0 is taken as 1). The configuration is
+    /// checked as by [`Env::new`].
     pub fn new(
         template: Arc<ScenarioTemplate>,
         cfg: EnvConfig,
@@ -46,6 +51,14 @@ impl VecEnv {
         seed: u64,
         threads: usize,
     ) -> Result<Self> {
+        if !(1..=MAX_ENVS).contains(&n) {
+            return Err(Error::setting(
+                "vector environment",
+                "num_envs",
+                format!("must be from 1 to {MAX_ENVS} environments, got {n}"),
+            ));
+        }
+        cfg.check()?;
         let seeds: Vec<u64> = (0..n as u64).map(|i| seed.wrapping_add(i)).collect();
         let envs = seeds
             .iter()
@@ -100,23 +113,68 @@ impl VecEnv {
     /// Resets environment `i` with `seeds[i]` (one seed per environment).
     pub fn reset_seeds(&mut self, seeds: &[u64]) -> Result<()> {
         if seeds.len() != self.envs.len() {
-            return Err(crate::error::Error::Build(format!(
-                "{} seeds for {} environments",
-                seeds.len(),
-                self.envs.len()
-            )));
+            return Err(Error::setting(
+                "reset",
+                "seeds",
+                format!(
+                    "expected {} seeds (one per environment), got {}",
+                    self.envs.len(),
+                    seeds.len()
+                ),
+            ));
         }
         self.seeds = seeds.to_vec();
         self.reset(None)
     }
 
+    /// Checks that an array of actions of `shape` fits [`VecEnv::step`]: `[len(), action_dim]`
+    /// (one row per environment) or `[len() * action_dim]`.
+    pub fn check_actions_shape(&self, shape: &[usize]) -> Result<()> {
+        let (n, na) = (self.len(), self.action_dim());
+        if shape == [n, na] || shape == [n * na] {
+            return Ok(());
+        }
+        Err(Error::setting(
+            "step",
+            "actions",
+            format!(
+                "expected shape ({n}, {na}) (one row of {na} actions per environment), got \
+                 {shape:?}"
+            ),
+        ))
+    }
+
+    /// Actions per environment (0 without environments).
+    pub fn action_dim(&self) -> usize {
+        self.envs.first().map_or(0, |e| e.action_dim())
+    }
+
+    /// Observation entries per environment (0 without environments).
+    pub fn obs_dim(&self) -> usize {
+        self.envs.first().map_or(0, |e| e.obs_dim())
+    }
+
     /// Steps every environment with its row of `actions` (`len() * action_dim` values), writing
-    /// observations into `obs` (`len() * obs_dim`).
+    /// observations into `obs` (`len() * obs_dim`); other lengths are refused (keys `actions`,
+    /// `obs`).
     pub fn step(&mut self, actions: &[f32], obs: &mut [f32]) -> Result<Vec<VecStep>> {
         let (na, no) = match self.envs.first() {
             Some(e) => (e.action_dim(), e.obs_dim()),
             None => return Ok(Vec::new()),
         };
+        let n = self.envs.len();
+        for (key, len, per) in [("actions", actions.len(), na), ("obs", obs.len(), no)] {
+            if len != n * per {
+                return Err(Error::setting(
+                    "step",
+                    key,
+                    format!(
+                        "expected {} values ({n} environments times {per}), got {len}",
+                        n * per
+                    ),
+                ));
+            }
+        }
         let ended = self.ended.clone();
         let mut seeds = self.seeds.clone();
         for (i, s) in seeds.iter_mut().enumerate() {
@@ -149,7 +207,7 @@ impl VecEnv {
                                 seed: seeds_ref[i],
                             }
                         } else {
-                            let a = actions.get(i * na..(i + 1) * na).unwrap_or(&[]);
+                            let a = &actions[i * na..(i + 1) * na];
                             VecStep {
                                 info: env.step(a),
                                 reset: false,

@@ -22,7 +22,9 @@ fn path_issue(key: &str, e: &PathError) -> SpecIssue {
         | PathError::Gap { segment, .. }
         | PathError::Kink { segment, .. }
         | PathError::NotPlanar { segment } => format!("{key}.segments[{segment}]"),
-        PathError::BadPulley { pulley, .. } | PathError::PulleysOverlap { pulley, .. } => {
+        PathError::BadPulley { pulley, .. }
+        | PathError::PulleysOverlap { pulley, .. }
+        | PathError::PulleyNotWrapped { pulley, .. } => {
             format!("{key}.pulleys[{pulley}]")
         }
         _ => key.to_string(),

@@ -2,6 +2,46 @@
 //! flipper index.
 
 use super::VehicleModel;
+use crate::error::{Error, Result, SpecIssue};
+
+/// Checks that `values` holds one finite number per name of `names` (`key` names the array in
+/// the message, `unit` its unit).
+fn one_each(what: &str, key: &str, values: &[f64], names: &[&str], unit: &str) -> Result<()> {
+    let mut issues = Vec::new();
+    if values.len() != names.len() {
+        let per = if key == "belt_speeds" {
+            "track"
+        } else {
+            "flipper"
+        };
+        issues.push(SpecIssue::new(
+            key,
+            format!(
+                "expected {} {} (one per {per}: {}), got {}",
+                names.len(),
+                key.replace('_', " "),
+                names.join(", "),
+                values.len()
+            ),
+        ));
+    }
+    for (i, v) in values.iter().enumerate() {
+        if !v.is_finite() {
+            issues.push(SpecIssue::new(
+                format!("{key}[{i}]"),
+                format!("must be a finite number of {unit}, got {v}"),
+            ));
+        }
+    }
+    if issues.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Settings {
+            what: what.into(),
+            issues,
+        })
+    }
+}
 
 /// The inputs of one step, by track and flipper index (a controller's output, or one entry of a
 /// file's `[[commands]]`); `None` keeps the previous value.
@@ -57,6 +97,34 @@ impl Controls {
                 .collect(),
             ..Controls::keep(v)
         }
+    }
+
+    /// Every belt at its own speed, m/s: `speeds` holds one finite number per track of `v`, in
+    /// track order (key `belt_speeds` in the refusal).
+    pub fn belt_speeds(v: &VehicleModel, speeds: &[f64]) -> Result<Self> {
+        let names: Vec<&str> = v.tracks.iter().map(|t| t.name.as_str()).collect();
+        one_each("set_belt_speeds", "belt_speeds", speeds, &names, "m/s")?;
+        Ok(Controls {
+            belt_speed: speeds.iter().map(|s| Some(*s)).collect(),
+            ..Controls::keep(v)
+        })
+    }
+
+    /// Every flipper to its own target angle, rad: `angles` holds one finite number per
+    /// flipper of `v`, in flipper order (key `flipper_angles` in the refusal).
+    pub fn flipper_angles(v: &VehicleModel, angles: &[f64]) -> Result<Self> {
+        let names: Vec<&str> = v.flippers.iter().map(|f| f.name.as_str()).collect();
+        one_each(
+            "set_flipper_angles",
+            "flipper_angles",
+            angles,
+            &names,
+            "rad",
+        )?;
+        Ok(Controls {
+            flipper_angle: angles.iter().map(|a| Some(*a)).collect(),
+            ..Controls::keep(v)
+        })
     }
 
     /// Sets flipper `i`'s target angle, rad.

@@ -158,10 +158,12 @@ impl ScenarioTemplate {
             .keys()
             .filter(|k| !names.contains(&k.as_str()))
             .map(|k| {
-                SpecIssue::new(
-                    format!("randomize.{k}"),
+                let hint = crate::check::did_you_mean(k, &names)
+                    .map_or(String::new(), |n| format!(" (did you mean `{n}`?)"));
+                SpecIssue::whole(
+                    format!("randomize.{}", crate::check::echoed(k)),
                     format!(
-                        "no such [randomize] parameter; the file has: {}",
+                        "no such [randomize] parameter{hint}; the file has: {}",
                         names.join(", ")
                     ),
                 )

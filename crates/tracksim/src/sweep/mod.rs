@@ -36,12 +36,24 @@ impl Shard {
             i.trim().parse().map_err(|_| bad())?,
             n.trim().parse().map_err(|_| bad())?,
         );
-        Shard::new(index, count).ok_or_else(bad)
+        Shard::new(index, count).map_err(|_| bad())
     }
 
-    /// A shard if `index < count`.
-    pub fn new(index: usize, count: usize) -> Option<Shard> {
-        (index < count).then_some(Shard { index, count })
+    /// Shard `index` of `count` (0 <= index < count); others are refused (key `shard`).
+    pub fn new(index: usize, count: usize) -> Result<Shard> {
+        if index < count {
+            return Ok(Shard { index, count });
+        }
+        let hint = if count == 0 {
+            "there must be at least one shard".to_string()
+        } else {
+            format!("the index runs from 0 to {}", count - 1)
+        };
+        Err(Error::setting(
+            PLAN,
+            "shard",
+            format!("shard {index} of {count}: need 0 <= index < count ({hint}), e.g. (0, 4)"),
+        ))
     }
 
     /// The shard of a job array from its environment (`var` reads a variable): SLURM's
@@ -77,7 +89,7 @@ impl Shard {
             let i = id
                 .checked_sub(min)
                 .ok_or("SLURM_ARRAY_TASK_ID is below SLURM_ARRAY_TASK_MIN")?;
-            return Shard::new(i, n).map(Some).ok_or_else(|| {
+            return Shard::new(i, n).map(Some).map_err(|_| {
                 format!(
                     "SLURM array task {i} (from 0) is not below the count {n}: use --array=0-{}",
                     n.max(1) - 1
@@ -86,9 +98,9 @@ impl Shard {
         }
         if let Some(i) = num("JOB_COMPLETION_INDEX")? {
             let n = count.ok_or("JOB_COMPLETION_INDEX is set but no shard count: pass --shard-count N (the Job's completions) or set TRACKSIM_SHARD_COUNT")?;
-            return Shard::new(i, n).map(Some).ok_or_else(|| {
-                format!("JOB_COMPLETION_INDEX {i} is not below the shard count {n}")
-            });
+            return Shard::new(i, n)
+                .map(Some)
+                .map_err(|_| format!("JOB_COMPLETION_INDEX {i} is not below the shard count {n}"));
         }
         Ok(None)
     }
@@ -117,10 +129,31 @@ pub struct SweepPlan {
     pub runs: Vec<RunSpec>,
 }
 
+/// What [`Error::Settings`] calls a sweep's plan and options.
+const PLAN: &str = "sweep plan";
+
+/// Most runs of one sweep (a folder each): `runs`, or with a grid its points times `runs`.
+pub const MAX_RUNS: usize = 10_000_000;
+/// Most threads of one sweep (`jobs`).
+pub const MAX_JOBS: usize = 1024;
+
+fn check_runs(n: usize) -> Result<()> {
+    if (1..=MAX_RUNS).contains(&n) {
+        Ok(())
+    } else {
+        Err(Error::setting(
+            PLAN,
+            "runs",
+            format!("must be from 1 to {MAX_RUNS}, got {n}"),
+        ))
+    }
+}
+
 impl SweepPlan {
-    /// `n` runs with seeds `seed, seed + 1, ...`.
-    pub fn random(n: usize, seed: u64) -> Self {
-        SweepPlan {
+    /// `n` runs (1 to [`MAX_RUNS`]) with seeds `seed, seed + 1, ...`.
+    pub fn random(n: usize, seed: u64) -> Result<Self> {
+        check_runs(n)?;
+        Ok(SweepPlan {
             runs: (0..n)
                 .map(|i| RunSpec {
                     index: i,
@@ -128,12 +161,16 @@ impl SweepPlan {
                     fixed: BTreeMap::new(),
                 })
                 .collect(),
-        }
+        })
     }
 
     /// Every combination of the grid's values (the last axis varying fastest), each `repeats`
     /// times; run `i` has seed `seed + i` (the parameters not on the grid are drawn from it).
-    pub fn grid(axes: &[(String, Vec<f64>)], repeats: usize, seed: u64) -> Self {
+    /// Each axis names a `[randomize]` parameter once and has at least one finite value;
+    /// `repeats` is at least 1 and the runs at most [`MAX_RUNS`] (keys `grid`, `grid.NAME`,
+    /// `runs`). Whether the names are the file's parameters is checked by [`run_sweep`].
+    pub fn grid(axes: &[(String, Vec<f64>)], repeats: usize, seed: u64) -> Result<Self> {
+        check_grid(axes, repeats)?;
         let mut points: Vec<BTreeMap<String, f64>> = vec![BTreeMap::new()];
         for (name, values) in axes {
             points = points
@@ -157,7 +194,84 @@ impl SweepPlan {
                 fixed,
             })
             .collect();
-        SweepPlan { runs }
+        Ok(SweepPlan { runs })
+    }
+
+    /// What a user should know before running the plan of `template`: a plan of more than one
+    /// run of a file without `[randomize]` (and no grid) runs the same simulation every time
+    /// (the simulation is deterministic; the seed only draws `[randomize]` values).
+    pub fn warnings(&self, template: &ScenarioTemplate) -> Vec<String> {
+        let mut w = Vec::new();
+        let fixed = self.runs.iter().all(|r| r.fixed.is_empty());
+        if self.runs.len() > 1 && fixed && template.randomizer().params.is_empty() {
+            w.push(format!(
+                "{} has no [randomize] table: its {} runs will be identical (the seed only \
+                 draws [randomize] values); add a [randomize] table (see \
+                 scenarios/random/) or run it once with `tracksim run`",
+                template.path().display(),
+                self.runs.len()
+            ));
+        }
+        w
+    }
+}
+
+fn check_grid(axes: &[(String, Vec<f64>)], repeats: usize) -> Result<()> {
+    let mut issues = Vec::new();
+    if axes.is_empty() {
+        issues.push(SpecIssue::new(
+            "grid",
+            "a grid needs at least one axis (NAME, [values]); without one, use a random plan",
+        ));
+    }
+    let mut seen = std::collections::BTreeSet::new();
+    for (name, values) in axes {
+        let key = format!("grid.{}", crate::check::echoed(name));
+        if name.trim().is_empty() {
+            issues.push(SpecIssue::new(
+                "grid",
+                "an axis has an empty name: name a [randomize] parameter",
+            ));
+            continue;
+        }
+        if !seen.insert(name.as_str()) {
+            issues.push(SpecIssue::new(
+                &key,
+                "this axis is given twice: give each parameter once, with all its values",
+            ));
+        }
+        if values.is_empty() {
+            issues.push(SpecIssue::new(
+                &key,
+                "has no values: give at least one, e.g. [0.08, 0.12]",
+            ));
+        }
+        if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+            issues.push(SpecIssue::new(
+                &key,
+                format!("values must be finite numbers, got {v}"),
+            ));
+        }
+    }
+    if let Err(e) = check_runs(repeats) {
+        issues.extend(e.issues().iter().cloned());
+    } else if axes
+        .iter()
+        .try_fold(repeats, |n, (_, v)| n.checked_mul(v.len()))
+        .is_none_or(|n| n > MAX_RUNS)
+    {
+        issues.push(SpecIssue::new(
+            "grid",
+            format!("the grid points times `runs` must be at most {MAX_RUNS} runs"),
+        ));
+    }
+    if issues.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::Settings {
+            what: PLAN.into(),
+            issues,
+        })
     }
 }
 
@@ -174,6 +288,20 @@ pub struct SweepOptions {
     pub resume: bool,
 }
 
+impl SweepOptions {
+    /// Checks the options: `jobs` from 1 to [`MAX_JOBS`] (key `jobs`). [`run_sweep`] calls it.
+    pub fn check(&self) -> Result<()> {
+        if (1..=MAX_JOBS).contains(&self.jobs) {
+            return Ok(());
+        }
+        Err(Error::setting(
+            PLAN,
+            "jobs",
+            format!("must be from 1 to {MAX_JOBS} threads, got {}", self.jobs),
+        ))
+    }
+}
+
 /// What a sweep did.
 #[derive(Clone, Debug, Default)]
 pub struct SweepReport {
@@ -187,6 +315,8 @@ pub struct SweepReport {
     pub manifest: PathBuf,
     /// Its lines.
     pub lines: Vec<ManifestLine>,
+    /// What the user should know ([`SweepPlan::warnings`]).
+    pub warnings: Vec<String>,
 }
 
 /// Folder name of run `i`.
@@ -216,6 +346,7 @@ pub fn run_sweep(
         let path = path.to_path_buf();
         move |source| Error::Io { path, source }
     };
+    opts.check()?;
     let runs_dir = opts.out.join("runs");
     std::fs::create_dir_all(&runs_dir).map_err(io(&runs_dir))?;
     let owned: Vec<&RunSpec> = plan
@@ -293,6 +424,7 @@ pub fn run_sweep(
         skipped,
         manifest,
         lines,
+        warnings: plan.warnings(template),
     })
 }
 

@@ -129,6 +129,27 @@ impl Simulation {
             .map(|z| z + self.origin.z)
     }
 
+    /// [`Simulation::terrain_below`] of every point (`xs[i]`, `ys[i]`), m: NaN where there is
+    /// no terrain. `xs` and `ys` must have the same length (keys `xs`, `ys` in the refusal).
+    pub fn terrain_heights(&self, xs: &[f64], ys: &[f64]) -> crate::error::Result<Vec<f64>> {
+        if xs.len() != ys.len() {
+            return Err(crate::error::Error::setting(
+                "terrain_heights",
+                "ys",
+                format!(
+                    "expected one y per x: xs has {} entries, ys {}",
+                    xs.len(),
+                    ys.len()
+                ),
+            ));
+        }
+        Ok(xs
+            .iter()
+            .zip(ys)
+            .map(|(x, y)| self.terrain_below(*x, *y).unwrap_or(f64::NAN))
+            .collect())
+    }
+
     /// [`Simulation::terrain_below`] for a point in the Rapier world's coordinates, m.
     pub(crate) fn terrain_below_local(&self, x: f64, y: f64) -> Option<f64> {
         let top = 1000.0f32;
