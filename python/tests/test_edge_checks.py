@@ -35,6 +35,9 @@ def test_array_lengths_are_checked_by_the_library():
         sim.set_belt_speeds([float("nan")] + [0.0] * (len(sim.track_names) - 1))
     with pytest.raises(ValueError, match="ys: expected one y per x"):
         sim.terrain_heights([0.0, 1.0], [0.0])
+    core = tracksim.EnvCore(tracksim.Scenario(SCENARIOS / "packbot_flat.toml"), 0, None)
+    with pytest.raises(ValueError, match="action: expected 2 actions"):
+        core.step([0.5])
 
 
 def test_vector_env_arrays_are_checked_by_the_library(write_scenario):

@@ -104,53 +104,115 @@ fn sweep_writes_under_out_and_takes_a_duration() {
     );
 }
 
-/// SIGTERM (what `timeout`, systemd and containers send) stops `run` and `drive` like
+/// Runs `args` in `dir`, sends SIGTERM after `after`, and returns its exit code (it must end
+/// within 30 s of the signal).
+fn sigterm(dir: &Path, args: &[&str], after: Duration) -> Option<i32> {
+    let mut child = Command::new(bin())
+        .args(args)
+        .current_dir(dir)
+        .env("TRACKSIM_DATA_DIR", dir.join("data"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(after);
+    let kill = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let t0 = Instant::now();
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            return s.code();
+        }
+        if t0.elapsed() > Duration::from_secs(30) {
+            let _ = child.kill();
+            panic!("{args:?}: no exit 30 s after SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn summary(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+/// SIGTERM (what `timeout`, systemd and containers send) stops every command that writes like
 /// Ctrl-C: what was simulated is written, marked interrupted, exit 130.
 #[test]
 fn sigterm_writes_what_was_simulated() {
     let tmp = tempfile::tempdir().unwrap();
-    for (cmd, extra) in [("run", vec!["--realtime"]), ("drive", vec!["--port", "0"])] {
-        let out = tmp.path().join(cmd);
-        let mut args = vec![cmd, "packbot_stairs", "--no-plot", "--out"];
-        let out_s = out.display().to_string();
-        args.push(&out_s);
-        args.extend(extra);
-        let mut child = Command::new(bin())
-            .args(&args)
-            .current_dir(tmp.path())
-            .env("TRACKSIM_DATA_DIR", tmp.path().join("data"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        std::thread::sleep(Duration::from_millis(1500));
-        let kill = Command::new("kill")
-            .args(["-TERM", &child.id().to_string()])
-            .status()
-            .unwrap();
-        assert!(kill.success());
-        let t0 = Instant::now();
-        let status = loop {
-            if let Some(s) = child.try_wait().unwrap() {
-                break s;
-            }
-            assert!(
-                t0.elapsed() < Duration::from_secs(20),
-                "{cmd}: no exit after SIGTERM"
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        };
-        assert_eq!(status.code(), Some(130), "{cmd}");
-        let s: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
-                .unwrap();
+    let d = tmp.path();
+    let wait = Duration::from_millis(1500);
+    for (cmd, extra) in [("run", "--realtime"), ("drive", "--port=0")] {
+        let out = d.join(cmd).display().to_string();
+        let code = sigterm(
+            d,
+            &[cmd, "packbot_stairs", "--no-plot", "--out", &out, extra],
+            wait,
+        );
+        assert_eq!(code, Some(130), "{cmd}");
+        let s = summary(&d.join(cmd));
         assert_eq!(s["outcome"], "interrupted", "{cmd}: {s}");
         let t = s["sim_time_s"].as_f64().unwrap();
         assert!(t > 0.1 && t < 10.0, "{cmd}: simulated {t} s");
-        let rows = std::fs::read_to_string(out.join("trajectory.csv"))
+        let rows = std::fs::read_to_string(d.join(cmd).join("trajectory.csv"))
             .unwrap()
             .lines()
             .count();
         assert!(rows > 10, "{cmd}: {rows} rows");
     }
+    // compare: the method running is written as interrupted, the next one does not run.
+    let out = d.join("compare").display().to_string();
+    let args = [
+        "compare",
+        "packbot_stairs",
+        "--methods",
+        "okada2020,plates",
+        "--out",
+        &out,
+    ];
+    assert_eq!(sigterm(d, &args, wait), Some(130), "compare");
+    assert_eq!(
+        summary(&d.join("compare/okada2020"))["outcome"],
+        "interrupted"
+    );
+    assert!(
+        !d.join("compare/plates").exists(),
+        "a method ran after SIGTERM"
+    );
+    assert!(d.join("compare/compare.csv").is_file());
+    // sweep: no run starts after the signal; every folder written is whole, the manifest lists them.
+    let out = d.join("sweep").display().to_string();
+    let args = [
+        "sweep",
+        "random/packbot_step_random",
+        "--runs",
+        "40",
+        "--duration",
+        "2",
+        "--quiet",
+        "--out",
+        &out,
+    ];
+    assert_eq!(sigterm(d, &args, wait), Some(130), "sweep");
+    let manifest = std::fs::read_to_string(d.join("sweep/manifest.jsonl")).unwrap();
+    let folders = std::fs::read_dir(d.join("sweep/runs")).unwrap().count();
+    assert!(manifest.lines().count() < 40, "the sweep was not stopped");
+    assert_eq!(
+        manifest.lines().count(),
+        folders,
+        "half-written run folders"
+    );
+    // validate: the report is written and says it was interrupted (exit 130, not a verdict).
+    let out = d.join("validate").display().to_string();
+    let args = ["validate", "--out", &out];
+    assert_eq!(
+        sigterm(d, &args, Duration::from_secs(3)),
+        Some(130),
+        "validate"
+    );
+    let report = std::fs::read_to_string(d.join("validate/report.md")).unwrap();
+    assert!(report.contains("**Interrupted**"), "{report}");
 }

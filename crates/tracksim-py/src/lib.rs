@@ -364,6 +364,7 @@ impl PyEnvCore {
     /// One control period with `action` (normalised to [-1, 1]; GIL released); returns
     /// (observation, terminated, truncated, info).
     fn step<'py>(&mut self, py: Python<'py>, action: Vec<f32>) -> PyResult<StepOut<'py>> {
+        self.env.check_action(&action).map_err(py_err)?;
         let env = &mut self.env;
         let i = py.detach(|| env.step(&action));
         Ok((
@@ -626,6 +627,7 @@ fn sweep(
         jobs,
         shard,
         resume,
+        stop: None,
     };
     let report = py
         .detach(|| tracksim::sweep::run_sweep(&t, &plan, &opts, |_, _| {}))

@@ -3,7 +3,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::{Method, Overrides, load_scenario_with};
-use crate::run::{RunResult, run_scenario};
+use crate::run::{RunResult, run_scenario_with};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -44,19 +44,25 @@ pub struct CompareReport {
     pub written: Vec<PathBuf>,
     /// The last error, when no method produced a run.
     pub error: Option<Error>,
+    /// Stopped by Ctrl-C or SIGTERM: the method then running is written as interrupted, the
+    /// methods after it did not run.
+    pub interrupted: bool,
 }
 
 /// Runs `file` with each of `methods` (and `duration_s` if given) and writes into `out`: a
 /// folder per method (`summary.json`, `trajectory.csv`, replay data), `compare.csv` and the
 /// combined plots. A method that cannot run the scenario is a row with its error.
-/// `progress` is told each method before it runs.
+/// `progress` is told each method before it runs. Once `stop` is set (a Ctrl-C or SIGTERM
+/// handler), the running method ends interrupted and no other runs; what ran is written.
 pub fn run_compare(
     file: &Path,
     methods: &[Method],
     duration_s: Option<f64>,
     out: &Path,
+    stop: Option<&'static std::sync::atomic::AtomicBool>,
     mut progress: impl FnMut(Method),
 ) -> Result<CompareReport> {
+    let stopped = || stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst));
     // The file's own problems stop everything (a method's problems are that method's row).
     let base = load_scenario_with(
         file,
@@ -73,6 +79,9 @@ pub fn run_compare(
     let mut done: Vec<(String, RunResult)> = Vec::new();
     let mut error = None;
     for &m in methods {
+        if stopped() {
+            break;
+        }
         progress(m);
         let o = Overrides {
             method: Some(m),
@@ -80,7 +89,11 @@ pub fn run_compare(
             ..Overrides::default()
         };
         let ran = load_scenario_with(file, &o).and_then(|sc| {
-            let r = run_scenario(&sc, |_, _| {})?;
+            let opts = crate::run::RunOptions {
+                realtime: false,
+                stop,
+            };
+            let r = run_scenario_with(&sc, opts, |_, _| {})?;
             let which = crate::output::Outputs {
                 replay: true,
                 plots: false,
@@ -119,6 +132,7 @@ pub fn run_compare(
         rows,
         written,
         error: if done.is_empty() { error } else { None },
+        interrupted: stopped(),
     })
 }
 

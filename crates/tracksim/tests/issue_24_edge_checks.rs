@@ -251,6 +251,7 @@ fn sweep_plans_and_shards_are_refused_with_their_keys() {
         jobs: 0,
         shard: None,
         resume: false,
+        stop: None,
     };
     let plan = SweepPlan::random(1, 0).unwrap();
     let e = tracksim::sweep::run_sweep(&flat(), &plan, &opts, |_, _| {}).unwrap_err();
@@ -514,4 +515,16 @@ fn a_vehicle_file_with_collinear_pulleys_names_the_pulley_key() {
         "{m}"
     );
     assert!(!m.contains("720"), "{m}");
+}
+
+#[test]
+fn an_env_action_of_the_wrong_length_is_refused() {
+    let env = Env::new(flat(), EnvConfig::default(), 0).unwrap();
+    assert_eq!(env.action_dim(), 2);
+    assert!(env.check_action(&[0.5, 0.0]).is_ok());
+    for bad in [&[0.5][..], &[0.5, 0.0, 1.0][..]] {
+        let e = env.check_action(bad).unwrap_err();
+        assert_eq!(keys(&e), ["action"], "{e}");
+        assert!(message(&e, "action").contains("expected 2 actions"), "{e}");
+    }
 }

@@ -138,3 +138,11 @@ fn a_method_override_is_checked_before_compiling() {
         "{issues:?}"
     );
 }
+
+#[test]
+fn a_misspelt_method_gets_a_suggestion() {
+    let e = Method::parse("simulation.method", "okada2002").unwrap_err();
+    assert!(e.message.contains("did you mean \"okada2020\""), "{e}");
+    assert!(e.message.contains("wheelsK"), "every name is listed: {e}");
+    assert!(Method::parse("simulation.method", "wheels4").is_ok());
+}

@@ -26,7 +26,9 @@ pub struct CompareArgs {
 pub fn compare(a: CompareArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let methods = parse_methods(&a.methods)?;
-    let report = tracksim::compare::run_compare(&file, &methods, a.duration, &a.out, |m| {
+    super::on_stop(|| {});
+    let stop = Some(&super::STOP);
+    let report = tracksim::compare::run_compare(&file, &methods, a.duration, &a.out, stop, |m| {
         if !a.json {
             eprintln!("running {m} ...");
         }
@@ -38,6 +40,10 @@ pub fn compare(a: CompareArgs) -> Result<(), Failure> {
         for p in &report.written {
             out!("wrote {}", p.display());
         }
+    }
+    if report.interrupted {
+        eprintln!("interrupted: wrote what ran into {}", a.out.display());
+        return Err(Failure::Interrupted);
     }
     match report.error {
         Some(e) => Err(Failure::Sim(e)),

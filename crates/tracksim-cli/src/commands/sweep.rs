@@ -84,6 +84,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
         jobs: a.jobs,
         shard,
         resume: a.resume,
+        stop: Some(&super::STOP),
     };
     opts.check()?;
     let template = tracksim::ScenarioTemplate::load_with(&scenario_file(&a.file)?, &overrides)?;
@@ -111,6 +112,7 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
         );
         b
     });
+    super::on_stop(|| eprintln!("stopping: the runs in progress finish, no other starts ..."));
     let report = tracksim::sweep::run_sweep(&template, &plan, &opts, |done, total| {
         if let Some(b) = &bar {
             b.set_length(total as u64);
@@ -136,6 +138,13 @@ pub fn sweep(a: SweepArgs) -> Result<(), Failure> {
             count("unstable"),
             report.manifest.display()
         );
+    }
+    if report.interrupted {
+        eprintln!(
+            "interrupted: {} runs not done; `tracksim sweep ... --resume` completes the sweep",
+            report.owned - report.ran - report.skipped
+        );
+        return Err(Failure::Interrupted);
     }
     Ok(())
 }

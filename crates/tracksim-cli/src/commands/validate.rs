@@ -36,13 +36,10 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
     }
     let opts = tracksim::validate::ValidationOptions {
         rubber_youngs_modulus_pa: mpa * 1e6,
+        stop: Some(&super::STOP),
         ..Default::default()
     };
-    super::on_stop(|| {
-        eprintln!(
-            "SIGTERM/Ctrl-C: validation cases run in parallel and cannot stop half-way; a second one ends at once"
-        )
-    });
+    super::on_stop(|| {});
     let report = tracksim::validate::run_validation_with(&data_root()?, m, opts, |line| {
         if !a.json {
             eprintln!("{line}");

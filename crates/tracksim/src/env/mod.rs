@@ -218,6 +218,24 @@ impl Env {
         self.progress
     }
 
+    /// Refuses an action whose length is not [`Env::action_dim`] (the order: drive actions,
+    /// then one per flipper).
+    pub fn check_action(&self, action: &[f32]) -> Result<()> {
+        let n = self.action_dim();
+        if action.len() == n {
+            return Ok(());
+        }
+        Err(crate::error::Error::setting(
+            "step",
+            "action",
+            format!(
+                "expected {n} actions ({} drive, then one per flipper), got {}",
+                n - self.scenario.vehicle.flippers.len(),
+                action.len()
+            ),
+        ))
+    }
+
     /// The controls of a normalised action (clipped to `[-1, 1]`; missing entries are 0).
     pub fn controls(&self, action: &[f32]) -> Controls {
         let a = |i: usize| action.get(i).map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0));

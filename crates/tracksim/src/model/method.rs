@@ -65,10 +65,16 @@ impl Method {
     /// Parses the method name a file gives under `key`, or says what is accepted.
     pub fn parse(key: &str, name: &str) -> std::result::Result<Method, SpecIssue> {
         Method::from_name(name).ok_or_else(|| {
+            let names: Vec<String> = Method::COMPARED.iter().map(|m| m.name()).collect();
+            let names: Vec<&str> = names.iter().map(String::as_str).collect();
+            let hint = crate::check::did_you_mean(name, &names)
+                .map(|m| format!(" (did you mean \"{m}\"?)"))
+                .unwrap_or_default();
             SpecIssue::new(
                 key,
                 format!(
-                    "unknown track method \"{name}\"; use one of {}",
+                    "unknown track method \"{}\"{hint}; use one of {}",
+                    crate::check::echoed(name),
                     Method::NAMES
                 ),
             )

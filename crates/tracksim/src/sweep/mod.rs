@@ -286,6 +286,9 @@ pub struct SweepOptions {
     pub shard: Option<Shard>,
     /// Skip runs whose folder is complete instead of refusing to overwrite them.
     pub resume: bool,
+    /// When set (by a Ctrl-C or SIGTERM handler), no further run starts; the runs in progress
+    /// finish (each folder is whole or absent) and the manifest lists the finished runs.
+    pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
 impl SweepOptions {
@@ -317,6 +320,8 @@ pub struct SweepReport {
     pub lines: Vec<ManifestLine>,
     /// What the user should know ([`SweepPlan::warnings`]).
     pub warnings: Vec<String>,
+    /// Stopped (`SweepOptions::stop`) before every run was done: `--resume` completes it.
+    pub interrupted: bool,
 }
 
 /// Folder name of run `i`.
@@ -392,7 +397,9 @@ pub fn run_sweep(
         for _ in 0..opts.jobs.max(1).min(todo.len().max(1)) {
             scope.spawn(|| {
                 loop {
-                    if first_error.lock().map(|e| e.is_some()).unwrap_or(true) {
+                    if first_error.lock().map(|e| e.is_some()).unwrap_or(true)
+                        || opts.stop.is_some_and(|s| s.load(Ordering::SeqCst))
+                    {
                         return;
                     }
                     let k = next.fetch_add(1, Ordering::SeqCst);
@@ -411,6 +418,7 @@ pub fn run_sweep(
     if let Some(e) = first_error.into_inner().ok().flatten() {
         return Err(e);
     }
+    let ran = done.load(Ordering::SeqCst) - skipped;
     let indices: Vec<usize> = owned.iter().map(|r| r.index).collect();
     let lines = read_runs(&opts.out)?
         .into_iter()
@@ -420,8 +428,9 @@ pub fn run_sweep(
     manifest::write_lines(&manifest, &lines)?;
     Ok(SweepReport {
         owned: total,
-        ran: todo.len(),
+        ran,
         skipped,
+        interrupted: ran < todo.len(),
         manifest,
         lines,
         warnings: plan.warnings(template),

@@ -39,11 +39,11 @@ use crate::model::Method as TrackMethod;
 use crate::model::compile_scenario;
 use crate::model::{Scenario, VehicleModel, load_vehicle};
 use crate::output::{SideLine, side_view_terrain};
-use crate::run::{RunResult, run_scenario};
+use crate::run::{RunResult, run_scenario_with};
 use crate::spec::ScenarioSpec;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 /// Quince's driving speed in the step test (paper Sec. IV-B), m/s.
@@ -102,6 +102,9 @@ pub struct ValidationOptions {
     /// Young's modulus of the track rubber in the compliant column, Pa (default
     /// [`TRACK_RUBBER_YOUNGS_MODULUS_PA`]).
     pub rubber_youngs_modulus_pa: f64,
+    /// When set (by a Ctrl-C or SIGTERM handler), the runs stop at their next step and the
+    /// runs not started are skipped; the report is marked interrupted.
+    pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
 impl Default for ValidationOptions {
@@ -111,6 +114,7 @@ impl Default for ValidationOptions {
             rigid_contact: true,
             compliant_grousers: true,
             rubber_youngs_modulus_pa: TRACK_RUBBER_YOUNGS_MODULUS_PA,
+            stop: None,
         }
     }
 }
@@ -143,7 +147,7 @@ pub fn run_validation_with(
     turning::add_jobs(&mut jobs, &packbot, method, root)?;
     figures::add_jobs(&mut jobs, method, root)?;
 
-    let mut runs = jobs.run(&mut progress);
+    let mut runs = jobs.run(opts.stop, &mut progress);
 
     let mut report = ValidationReport::new(method);
     table_iv::assemble(&mut report, &jobs, &mut runs, method, opts);
@@ -154,6 +158,7 @@ pub fn run_validation_with(
     turning::assemble(&mut report, &mut runs, &packbot, method);
     figures::assemble(&mut report, &jobs, &mut runs, method);
     report.wall_time_s = wall.elapsed().as_secs_f64();
+    report.interrupted = opts.stop.is_some_and(|s| s.load(Ordering::SeqCst));
     Ok(report)
 }
 
@@ -191,11 +196,13 @@ impl Jobs {
     }
 
     /// Runs every job, `std::thread::available_parallelism` at a time.
-    fn run(&self, progress: &mut impl FnMut(&str)) -> Runs {
-        let mut runs = run_parallel(&self.list, progress);
+    fn run(&self, stop: Option<&'static AtomicBool>, progress: &mut impl FnMut(&str)) -> Runs {
+        let mut runs = run_parallel(&self.list, stop, progress);
         for j in &self.list {
             runs.entry(j.name.clone()).or_insert_with(|| Ran {
-                result: Err(Error::Build("the validation worker thread stopped".into())),
+                result: Err(Error::Build(
+                    "not run: the validation was interrupted, or its worker thread stopped".into(),
+                )),
                 wall_s: 0.0,
             });
         }
@@ -225,8 +232,13 @@ impl Runs {
     }
 }
 
-/// Runs `jobs` on worker threads; each result under its job's name.
-fn run_parallel(jobs: &[Job], progress: &mut impl FnMut(&str)) -> BTreeMap<String, Ran> {
+/// Runs `jobs` on worker threads; each result under its job's name. Once `stop` is set, the
+/// running jobs end interrupted and no other starts.
+fn run_parallel(
+    jobs: &[Job],
+    stop: Option<&'static AtomicBool>,
+    progress: &mut impl FnMut(&str),
+) -> BTreeMap<String, Ran> {
     let workers = std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1)
@@ -241,11 +253,15 @@ fn run_parallel(jobs: &[Job], progress: &mut impl FnMut(&str)) -> BTreeMap<Strin
             s.spawn(move || {
                 loop {
                     let i = next.fetch_add(1, Ordering::SeqCst);
-                    if i >= jobs.len() {
+                    if i >= jobs.len() || stop.is_some_and(|s| s.load(Ordering::SeqCst)) {
                         break;
                     }
                     let t0 = Instant::now();
-                    let r = run_scenario(&jobs[i].scenario, |_, _| {});
+                    let opts = crate::run::RunOptions {
+                        realtime: false,
+                        stop,
+                    };
+                    let r = run_scenario_with(&jobs[i].scenario, opts, |_, _| {});
                     if tx.send((i, r, t0.elapsed().as_secs_f64())).is_err() {
                         break;
                     }

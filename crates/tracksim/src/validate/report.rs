@@ -176,6 +176,9 @@ pub struct ValidationReport {
     pub wall_time_s: f64,
     /// The rubber of the compliant Table IV column, if it was run.
     pub rubber: Option<RubberNote>,
+    /// Stopped by Ctrl-C or SIGTERM: the runs then running ended early, the others did not
+    /// run (their cases fail).
+    pub interrupted: bool,
     #[serde(skip)]
     pub(super) plots: Vec<PlotJob>,
 }
@@ -189,6 +192,7 @@ impl ValidationReport {
             slope_runs: Vec::new(),
             cases: Vec::new(),
             wall_time_s: 0.0,
+            interrupted: false,
             rubber: None,
             plots: Vec::new(),
         }
@@ -197,7 +201,9 @@ impl ValidationReport {
     /// Every asserted case passed (the Table IV column with grousers, the slope limit, the
     /// turning figures and the paper figures). The no-grouser column is not asserted.
     pub fn passed(&self) -> bool {
-        self.table_iv.iter().all(|c| c.passed) && self.cases.iter().all(|c| c.passed)
+        !self.interrupted
+            && self.table_iv.iter().all(|c| c.passed)
+            && self.cases.iter().all(|c| c.passed)
     }
 
     /// The report as Markdown.
@@ -211,6 +217,9 @@ impl ValidationReport {
             self.table_iv.len() + self.cases.len(),
             self.wall_time_s
         );
+        if self.interrupted {
+            s += "**Interrupted** (Ctrl-C or SIGTERM): the runs then running ended early and the others did not run; their cases fail.\n\n";
+        }
         s += &self.table_iv_markdown();
         s += &self.cases_markdown();
         s += &self.slope_markdown();
