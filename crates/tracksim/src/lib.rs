@@ -41,6 +41,7 @@ pub mod live;
 pub mod model;
 pub mod output;
 pub mod run;
+pub mod sensors;
 pub mod spec;
 pub mod sweep;
 pub mod terrain;

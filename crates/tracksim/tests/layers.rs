@@ -16,6 +16,7 @@ const LAYERS: &[&[&str]] = &[
     &["model"],
     &["tracks"],
     &["world"],
+    &["sensors"],
     &["run"],
     &["output"],
     &["cases"],

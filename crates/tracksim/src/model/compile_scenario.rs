@@ -55,6 +55,7 @@ pub fn compile_scenario(
             Method::Okada2020
         }
     };
+    sensor_rates(&mut c, &vehicle, solver.dt);
     let outcome = outcome(&mut c, &spec.outcome);
     let expect = super::expect::compile_expect(&mut c, &spec.expect);
     let drawbar = spec
@@ -94,6 +95,23 @@ pub fn compile_scenario(
         output_interval: s.output_interval_s,
         commands,
     })
+}
+
+/// A sensor updates at most once per physics step: its rate is at most `1 / dt`.
+fn sensor_rates(c: &mut Checker, vehicle: &VehicleModel, dt: f64) {
+    for (i, s) in vehicle.sensors.iter().enumerate() {
+        if dt > 0.0 && s.rate_hz * dt > 1.0 + 1e-9 {
+            c.push(
+                format!("vehicle file: sensors[{i}].rate_hz"),
+                format!(
+                    "{} Hz is more than one update per physics step (dt_s = {dt} s allows at \
+                     most {} Hz): lower rate_hz or simulation.dt_s",
+                    s.rate_hz,
+                    1.0 / dt
+                ),
+            );
+        }
+    }
 }
 
 /// What `method` cannot model on `vehicle`: a drive motor on a method other than the segment

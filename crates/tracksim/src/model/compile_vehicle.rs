@@ -73,6 +73,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
     if let Some(b) = odometry_separation {
         c.positive("odometry.track_separation_m", b, "m");
     }
+    let sensors = super::compile_sensor::compile_sensors(&mut c, &spec.sensors, &spec.flippers);
     if c.issues.is_empty() {
         Ok(VehicleModel {
             name: spec.name.clone(),
@@ -81,6 +82,7 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             flippers,
             tracks,
             odometry_separation,
+            sensors,
         })
     } else {
         Err(c.issues)

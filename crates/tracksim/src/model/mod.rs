@@ -27,6 +27,7 @@
 #![warn(clippy::too_many_lines)]
 
 mod compile_scenario;
+mod compile_sensor;
 mod compile_track;
 mod compile_vehicle;
 mod compliance;
@@ -41,11 +42,13 @@ mod motor;
 mod overrides;
 mod randomize;
 mod scenario;
+mod sensor;
 mod template;
 mod vehicle;
 mod wheel;
 
 pub use compile_scenario::*;
+pub use compile_sensor::{MAX_RATE_HZ, MAX_RAYS, MAX_SENSOR_RANGE_M, SENSOR_KINDS};
 pub use compile_track::MAX_GROUSERS;
 pub use compile_vehicle::*;
 pub use compliance::{
@@ -64,6 +67,7 @@ pub use motor::{DriveMotor, ElectricalState, MotorElectrics};
 pub use overrides::{Overrides, load_commands};
 pub use randomize::*;
 pub use scenario::*;
+pub use sensor::*;
 pub use template::*;
 pub use vehicle::*;
 pub use wheel::rolling_radius;

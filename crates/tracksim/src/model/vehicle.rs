@@ -159,6 +159,8 @@ pub struct VehicleModel {
     pub tracks: Vec<TrackModel>,
     /// Effective track separation of the skid-steer odometry, m (`None`: geometric).
     pub odometry_separation: Option<f64>,
+    /// Sensors (`[[sensors]]`), in file order.
+    pub sensors: Vec<super::SensorModel>,
 }
 
 impl TrackModel {

@@ -11,6 +11,7 @@
 pub mod plot;
 pub mod replay;
 pub mod report;
+pub mod sensors;
 pub mod side_line;
 pub mod side_view;
 pub mod signals;
@@ -285,6 +286,7 @@ pub fn write_outputs(
 ) -> Result<Vec<std::path::PathBuf>> {
     write_run(result, dir)?;
     let mut written = vec![dir.join("summary.json"), dir.join("trajectory.csv")];
+    written.extend(sensors::write_sensor_streams(&result.sensors, dir)?);
     if which.replay {
         written.extend(write_replay(sc, result, dir)?);
     }

@@ -650,11 +650,13 @@ mod tests {
                 odometry: Default::default(),
                 drawbar: None,
                 turns: Vec::new(),
+                sensors: Vec::new(),
             },
             samples,
             track_names: vec!["left".into(), "right".into()],
             flipper_names: vec![],
             outcome: Outcome::Completed,
+            sensors: Vec::new(),
         }
     }
 

@@ -27,7 +27,7 @@ pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner};
 pub use scripted::Scripted;
-pub use summary::{SolverSummary, Summary, WallTimes};
+pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes};
 pub use timeline::Timeline;
 pub use track_summary::{
     DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,
@@ -51,6 +51,8 @@ pub struct RunResult {
     pub summary: Summary,
     /// How it ended.
     pub outcome: Outcome,
+    /// Every sensor's readings (`[[sensors]]` of the vehicle; empty when not recorded).
+    pub sensors: Vec<crate::sensors::SensorStream>,
 }
 
 /// Options of a run.

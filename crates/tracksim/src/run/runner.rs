@@ -14,6 +14,7 @@ use super::scripted::Scripted;
 use super::summary::{Summary, WallTimes};
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
+use crate::sensors::SensorSet;
 use crate::world::{Sample, Simulation};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -46,6 +47,8 @@ pub struct Runner {
     /// Simulated seconds per wall-clock second when paced.
     pace: Option<f64>,
     samples: Vec<Sample>,
+    /// The vehicle's sensors, updated after every step at their rates.
+    sensors: SensorSet,
     decided: Option<(Outcome, f64)>,
     stepping: f64,
     wall: Instant,
@@ -64,6 +67,7 @@ impl Runner {
         let dt = sc.solver.dt;
         let every = ((sc.output_interval / dt).round() as u64).max(1);
         let end_step = Some((sc.duration / dt).round().max(1.0) as u64);
+        let sensors = SensorSet::new(&sim, true);
         let mut r = Runner {
             stop_on_outcome: sc.outcome.stop,
             sc,
@@ -73,6 +77,7 @@ impl Runner {
             record: true,
             pace: None,
             samples: Vec::new(),
+            sensors,
             decided: None,
             stepping: 0.0,
             wall: Instant::now(),
@@ -108,7 +113,13 @@ impl Runner {
     /// interval).
     pub fn unrecorded(mut self) -> Self {
         self.record = false;
+        self.sensors = SensorSet::new(&self.sim, false);
         self
+    }
+
+    /// The vehicle's sensors and their latest readings.
+    pub fn sensors(&self) -> &SensorSet {
+        &self.sensors
     }
 
     /// The scenario.
@@ -182,6 +193,7 @@ impl Runner {
         }
         let t0 = Instant::now();
         self.sim.step()?;
+        self.sensors.update(&self.sim);
         self.stepping += t0.elapsed().as_secs_f64();
         let i = self.sim.steps();
         self.sampled = i.is_multiple_of(self.every) || self.end_step == Some(i);
@@ -257,6 +269,7 @@ impl Runner {
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         self.sim.reset(seed)?;
         self.samples = vec![self.sim.sample()];
+        self.sensors = SensorSet::new(&self.sim, self.record);
         self.decided = None;
         self.stepping = 0.0;
         self.wall = Instant::now();
@@ -276,13 +289,16 @@ impl Runner {
             elapsed: self.wall.elapsed().as_secs_f64(),
             paced: self.pace.is_some(),
         };
-        let summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
+        let mut summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
+        let sensors = self.sensors.into_streams();
+        summary.sensors = sensors.iter().map(super::SensorSummary::of).collect();
         RunResult {
             samples: self.samples,
             track_names: self.sim.track_names().to_vec(),
             flipper_names: self.sim.flipper_names().to_vec(),
             summary,
             outcome,
+            sensors,
         }
     }
 }

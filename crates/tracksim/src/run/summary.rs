@@ -77,6 +77,41 @@ pub struct Summary {
     /// `summary.json` for a scenario without `[randomize]`).
     #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub randomized: std::collections::BTreeMap<String, f64>,
+    /// Every sensor: kind, file, rate, readings, cost (left out for a vehicle without
+    /// `[[sensors]]`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<SensorSummary>,
+}
+
+/// A sensor's line in `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SensorSummary {
+    /// Name.
+    pub name: String,
+    /// Kind.
+    pub kind: String,
+    /// Its stream, relative to the run folder (`sensors/NAME.csv` or `.npz`).
+    pub file: String,
+    /// Rate, Hz.
+    pub rate_hz: f64,
+    /// Readings taken (the first at t = 0).
+    pub readings: usize,
+    /// Mean wall time of an update, us.
+    pub cost_us_per_update: f64,
+}
+
+impl SensorSummary {
+    /// The line of `stream`.
+    pub fn of(stream: &crate::sensors::SensorStream) -> Self {
+        SensorSummary {
+            name: stream.name.clone(),
+            kind: stream.kind.to_string(),
+            file: stream.file_name(),
+            rate_hz: stream.rate_hz,
+            readings: stream.times.len(),
+            cost_us_per_update: stream.mean_cost_us,
+        }
+    }
 }
 
 /// Solver settings reported with every run.
@@ -224,6 +259,7 @@ impl Summary {
             drawbar: super::drawbar_summary(sc, samples),
             turns: super::turn_summaries(&sc.vehicle, samples),
             randomized: sc.randomized.clone(),
+            sensors: Vec::new(),
         }
     }
 }

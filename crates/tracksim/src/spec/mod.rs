@@ -10,6 +10,7 @@
 //! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
 //! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
 //! - `expect.rs`: a scenario's `[expect]` table ([`ExpectSpec`]): what a run must show.
+//! - `sensor.rs`: a vehicle's `[[sensors]]` table ([`SensorSpec`]).
 //! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
 //!   by position, no fixed-size array with extra entries.
 
@@ -17,6 +18,7 @@ mod conveyor;
 mod expect;
 mod randomize;
 mod scenario;
+mod sensor;
 pub mod strict;
 mod terrain;
 mod vehicle;
@@ -25,5 +27,6 @@ pub use conveyor::*;
 pub use expect::*;
 pub use randomize::*;
 pub use scenario::*;
+pub use sensor::*;
 pub use terrain::*;
 pub use vehicle::*;

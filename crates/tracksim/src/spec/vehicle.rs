@@ -23,6 +23,9 @@ pub struct VehicleSpec {
     /// What the robot's encoders report (`odom_*` columns).
     #[serde(default)]
     pub odometry: Option<OdometrySpec>,
+    /// Sensors on the chassis or a flipper (`[[sensors]]`, `docs/SENSORS.md`).
+    #[serde(default)]
+    pub sensors: Vec<super::SensorSpec>,
 }
 
 /// A track's DC drive motor (`[tracks.motor]`).

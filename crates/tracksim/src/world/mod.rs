@@ -250,6 +250,16 @@ impl Simulation {
         self.tracks[i].belt_position()
     }
 
+    /// Belt speed of track `i` as its encoder measures it, m/s.
+    pub fn measured_belt_speed(&self, i: usize) -> f64 {
+        self.tracks[i].measured_belt_speed()
+    }
+
+    /// Handle of flipper `i`'s body.
+    pub fn flipper_body(&self, i: usize) -> RigidBodyHandle {
+        self.flippers[i].body
+    }
+
     /// For track `i`: each link's pose relative to its parent and the pose it must have
     /// (`shift(phase)`). After a step both are equal up to float rounding.
     pub fn link_relative_poses(&self, i: usize) -> Vec<(Pose, Pose)> {

@@ -1,0 +1,92 @@
+//! Every sensor's stream in the run folder, under `sensors/`: scalar sensors (IMU, encoders) as
+//! CSV, `t_s` then one column per value (pandas: `pd.read_csv`); array sensors (lidar, depth
+//! camera, elevation map) as `.npz` (numpy: `np.load`), `t_s` (N readings), each channel as
+//! `KEY` of shape (N, ...) in float32 (`range_m`, `points_m`, `depth_m`, `height_m`, the
+//! sensor's world `position_m` and `orientation` quaternion x, y, z, w) and the fixed axes
+//! (`azimuth_rad`, `elevation_rad`, `x_m`, `y_m`, `focal_length_px`). `docs/SENSORS.md` says what
+//! each holds.
+
+use crate::error::{Error, Result};
+use crate::sensors::{LogData, SensorStream, StreamFormat};
+use ndarray::{ArrayD, IxDyn};
+use ndarray_npy::NpzWriter;
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+/// Writes every stream of `streams` under `dir/sensors/`; returns the files written.
+pub fn write_sensor_streams(streams: &[SensorStream], dir: &Path) -> Result<Vec<PathBuf>> {
+    if streams.is_empty() {
+        return Ok(Vec::new());
+    }
+    let folder = dir.join("sensors");
+    std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
+        path: folder.clone(),
+        source,
+    })?;
+    let mut written = Vec::new();
+    for s in streams {
+        let path = dir.join(s.file_name());
+        let bytes = match s.format {
+            StreamFormat::Csv => csv_bytes(s),
+            StreamFormat::Npz => npz_bytes(s),
+        }
+        .map_err(|e| Error::Io {
+            path: path.clone(),
+            source: std::io::Error::other(e),
+        })?;
+        crate::files::write_atomic(&path, &bytes)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// `t_s` and one column per value, a row per reading.
+fn csv_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header = vec!["t_s".to_string()];
+    for c in &s.channels {
+        header.extend(c.channel.columns.iter().cloned());
+    }
+    w.write_record(&header).map_err(|e| e.to_string())?;
+    for (k, t) in s.times.iter().enumerate() {
+        let mut row = vec![format!("{t:.6}")];
+        for c in &s.channels {
+            let n = c.channel.data.len();
+            match &c.values {
+                LogData::F64(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
+                LogData::F32(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
+            }
+        }
+        w.write_record(&row).map_err(|e| e.to_string())?;
+    }
+    w.into_inner().map_err(|e| e.to_string())
+}
+
+/// The stream as numpy arrays in an (uncompressed) `.npz`.
+fn npz_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
+    let mut npz = NpzWriter::new(Cursor::new(Vec::new()));
+    let n = s.times.len();
+    let t = ArrayD::from_shape_vec(IxDyn(&[n]), s.times.clone()).map_err(|e| err(&e))?;
+    npz.add_array("t_s", &t).map_err(|e| err(&e))?;
+    for c in &s.channels {
+        let mut shape = vec![n];
+        shape.extend_from_slice(&c.channel.shape);
+        let key = c.channel.key();
+        match &c.values {
+            LogData::F32(v) => {
+                let a = ArrayD::from_shape_vec(IxDyn(&shape), v.clone()).map_err(|e| err(&e))?;
+                npz.add_array(key.as_str(), &a).map_err(|e| err(&e))?;
+            }
+            LogData::F64(v) => {
+                let a = ArrayD::from_shape_vec(IxDyn(&shape), v.clone()).map_err(|e| err(&e))?;
+                npz.add_array(key.as_str(), &a).map_err(|e| err(&e))?;
+            }
+        }
+    }
+    for a in &s.axes {
+        let arr = ArrayD::from_shape_vec(IxDyn(&a.shape), a.data.clone()).map_err(|e| err(&e))?;
+        npz.add_array(a.key().as_str(), &arr).map_err(|e| err(&e))?;
+    }
+    Ok(npz.finish().map_err(|e| err(&e))?.into_inner())
+}
