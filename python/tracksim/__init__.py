@@ -1,9 +1,12 @@
 """tracksim: tracked robots with real grousers (Okada et al., ICRA 2020) on Rapier, from Python.
 
 - :class:`Scenario`: a scenario file, loaded and checked (``ScenarioError`` names file, key, fix);
-- :class:`Simulation`: one simulation stepped with controls (GIL released while stepping);
-- :class:`TracksimEnv`: a Gymnasium environment; :class:`TracksimVectorEnv`: N of them stepped
-  on Rust threads behind Gymnasium's ``VectorEnv`` API;
+- :class:`Simulation`: one simulation stepped with controls (GIL released while stepping), its
+  state (``observe``) and its vehicle's sensors (``sensor_names``, ``sensors()``,
+  ``sensor(name)``, ``sensor_axes(name)``);
+- :class:`TracksimEnv`: a Gymnasium environment (``config={"observation": "dict"}`` adds the
+  sensors to the observation); :class:`TracksimVectorEnv`: N of them stepped on Rust threads
+  behind Gymnasium's ``VectorEnv`` API;
 - :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable.
 
 Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).

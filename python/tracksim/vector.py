@@ -11,7 +11,7 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from ._tracksim import Scenario, VecEnvCore
-from .env import ProgressReward, as_scenario
+from .env import ProgressReward, as_scenario, observation_space
 
 
 class TracksimVectorEnv(gym.vector.VectorEnv):
@@ -25,6 +25,10 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     ...])`` gives each its own. ``infos`` holds arrays
     ``progress_m``, ``progress_delta_m``, ``effort``, ``seed``, ``autoreset`` and lists
     ``outcome``, ``reason`` ("" while running).
+
+    With ``config={"observation": "dict"}`` the observations are a dict of stacked arrays:
+    ``"state"`` (num_envs, obs_dim) and one entry per sensor (num_envs, *shape), laid out as
+    in :class:`tracksim.TracksimEnv`.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
@@ -40,8 +44,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         self.num_envs = int(num_envs)
         self.control_period_s = self._core.control_period_s
         self.obs_names = self._core.obs_names
-        self.single_observation_space = gym.spaces.Box(-np.inf, np.inf, (self._core.obs_dim,),
-                                                       np.float32)
+        self.dict_obs = self._core.observation == "dict"
+        self.single_observation_space = observation_space(self._core)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self._core.action_dim,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
@@ -59,7 +63,7 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     def reset(self, *, seed: Optional[Union[int, list]] = None, options: Optional[dict] = None):
         if isinstance(seed, (list, tuple, np.ndarray)):
             seeds = [int(s) for s in seed]
-            obs = self._core.reset(None, seeds)
+            obs = self._obs(self._core.reset(None, seeds))
             infos = {"seed": np.asarray(seeds, dtype=np.uint64),
                      "randomized": [self._core.randomized(i) for i in range(self.num_envs)]}
             return obs, infos
@@ -68,7 +72,7 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         elif self._np_random is None:
             self._np_random, _ = gym.utils.seeding.np_random()
         base = int(seed) if seed is not None else int(self._np_random.integers(0, 2**62))
-        obs = self._core.reset(base)
+        obs = self._obs(self._core.reset(base))
         infos = {"seed": np.arange(self.num_envs, dtype=np.uint64) + np.uint64(base),
                  "randomized": [self._core.randomized(i) for i in range(self.num_envs)]}
         return obs, infos
@@ -76,13 +80,23 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     def step(self, actions):
         a = np.ascontiguousarray(np.asarray(actions, dtype=np.float32).reshape(
             self.num_envs, -1))
-        obs, d = self._core.step(a)
-        rewards = np.asarray(self.reward_fn(obs, d["progress_delta_m"], d["effort"],
+        state, d = self._core.step(a)
+        obs = self._obs(state)
+        rewards = np.asarray(self.reward_fn(state, d["progress_delta_m"], d["effort"],
                                             self.control_period_s), dtype=np.float64)
         rewards = np.where(d["autoreset"], 0.0, rewards)
         infos = {k: d[k] for k in ("progress_m", "progress_delta_m", "effort", "seed",
                                    "autoreset", "outcome", "reason")}
         return obs, rewards, d["terminated"].copy(), d["truncated"].copy(), infos
+
+    def _obs(self, state):
+        """The observations of the state vectors ``state`` (with the sensors' stacked entries
+        as a dict)."""
+        if not self.dict_obs:
+            return state
+        obs = {"state": state}
+        obs.update(self._core.sensor_obs())
+        return obs
 
     def randomized(self, i: int) -> dict:
         """The ``[randomize]`` values of environment ``i``'s current episode."""

@@ -9,13 +9,14 @@
 #![warn(clippy::too_many_lines)]
 
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::Arc;
-use tracksim::env::{EnvConfig, EnvValue};
+use std::sync::{Arc, Mutex, MutexGuard};
+use tracksim::env::{EnvConfig, EnvValue, SensorObs};
+use tracksim::sensors::{Channel, SensorSet};
 use tracksim::{Controls, ScenarioTemplate};
 
 pyo3::create_exception!(
@@ -30,6 +31,27 @@ pyo3::create_exception!(
     PyRuntimeError,
     "The simulation became unstable (non-finite state or a body flying off)."
 );
+
+/// `T` behind a mutex: a `#[pyclass]` must be `Sync`, and the library's sensors (in a
+/// [`SensorSet`], and in every environment's runner) are `Send` only. `&mut self` methods reach
+/// it without locking; a `&self` method locks it once per statement (never twice in one).
+struct Shared<T>(Mutex<T>);
+
+impl<T> Shared<T> {
+    fn new(t: T) -> Self {
+        Shared(Mutex::new(t))
+    }
+
+    /// The value, locked (a panic while it was locked does not poison it).
+    fn get(&self) -> MutexGuard<'_, T> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The value, without locking.
+    fn get_mut(&mut self) -> &mut T {
+        self.0.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+}
 
 fn py_err(e: tracksim::Error) -> PyErr {
     match e {
@@ -127,11 +149,48 @@ fn template_of(obj: &Bound<'_, PyAny>) -> PyResult<Arc<ScenarioTemplate>> {
     Ok(Arc::new(tracksim::load_template(&path).map_err(py_err)?))
 }
 
-/// One simulation of a scenario: set controls, step, read the state.
+/// One simulation of a scenario: set controls, step, read the state and the sensors.
 #[pyclass(name = "Simulation", module = "tracksim._tracksim")]
 struct PySimulation {
     t: Arc<ScenarioTemplate>,
     sim: tracksim::Simulation,
+    /// The vehicle's sensors (not recorded), updated after every step.
+    sensors: Shared<SensorSet>,
+}
+
+/// A channel as a float64 numpy array of its shape.
+fn channel_array<'py>(py: Python<'py>, c: &Channel) -> PyResult<Bound<'py, PyAny>> {
+    Ok(PyArray1::from_vec(py, c.data.clone())
+        .reshape(c.shape.as_slice())?
+        .into_any())
+}
+
+impl PySimulation {
+    /// The index of the sensor called `name`, or a `KeyError` naming the known ones.
+    fn sensor_index(&self, name: &str) -> PyResult<usize> {
+        let names = self.sensor_names();
+        names.iter().position(|n| n == name).ok_or_else(|| {
+            PyKeyError::new_err(format!(
+                "no sensor {name:?} on the vehicle; its sensors: {}",
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            ))
+        })
+    }
+
+    /// Sensor `i`'s latest reading: t_s and one array per channel key.
+    fn reading<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let s = self.sensors.get();
+        d.set_item("t_s", s.reading_time(i))?;
+        for c in s.sensor(i).channels() {
+            d.set_item(c.key(), channel_array(py, c)?)?;
+        }
+        Ok(d)
+    }
 }
 
 #[pymethods]
@@ -147,11 +206,12 @@ impl PySimulation {
             .instantiate(seed.unwrap_or(t.file_seed()))
             .map_err(py_err)?;
         let sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
-        Ok(PySimulation { t, sim })
+        let sensors = Shared::new(SensorSet::new(&sim, false));
+        Ok(PySimulation { t, sim, sensors })
     }
 
     /// Starts again at t = 0 with `seed` (default: the current one), the `[randomize]` values
-    /// drawn anew from it.
+    /// drawn anew from it; the sensors start again too (a first reading at t = 0).
     #[pyo3(signature = (seed=None))]
     fn reset(&mut self, seed: Option<u64>) -> PyResult<()> {
         let sc = self
@@ -159,20 +219,61 @@ impl PySimulation {
             .instantiate(seed.unwrap_or(self.sim.seed()))
             .map_err(py_err)?;
         self.sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
+        self.sensors = Shared::new(SensorSet::new(&self.sim, false));
         Ok(())
     }
 
-    /// Advances `n` physics steps (GIL released); raises `UnstableError` if it blows up.
+    /// Advances `n` physics steps (GIL released), the sensors that are due updated after
+    /// each; raises `UnstableError` if it blows up.
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
-        let sim = &mut self.sim;
+        let (sim, sensors) = (&mut self.sim, self.sensors.get_mut());
         py.detach(|| {
             for _ in 0..n {
                 sim.step()?;
+                sensors.update(sim);
             }
             Ok(())
         })
         .map_err(py_err)
+    }
+
+    /// Names of the vehicle's sensors (`[[sensors]]` order).
+    #[getter]
+    fn sensor_names(&self) -> Vec<String> {
+        let s = self.sensors.get();
+        (0..s.len())
+            .map(|i| s.sensor(i).model().name.clone())
+            .collect()
+    }
+
+    /// Every sensor's latest reading: {name: {"t_s": time of the reading (s), channel key
+    /// (`accel_m_s2`, `range_m`, `height_m`, ...): float64 array of the channel's shape}}.
+    fn sensors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for (i, name) in self.sensor_names().iter().enumerate() {
+            d.set_item(name, self.reading(py, i)?)?;
+        }
+        Ok(d)
+    }
+
+    /// The latest reading of the sensor `name` (as in `sensors()`); `KeyError` naming the
+    /// vehicle's sensors for an unknown name.
+    fn sensor<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
+        let i = self.sensor_index(name)?;
+        self.reading(py, i)
+    }
+
+    /// The fixed arrays of the sensor `name` (float64, by key): a lidar's `azimuth_rad` and
+    /// `elevation_rad`, an elevation map's cell centres `x_m` and `y_m`, a depth camera's
+    /// `focal_length_px`; empty for an IMU or encoders. `KeyError` for an unknown name.
+    fn sensor_axes<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
+        let i = self.sensor_index(name)?;
+        let d = PyDict::new(py);
+        for c in self.sensors.get().sensor(i).axes() {
+            d.set_item(c.key(), channel_array(py, &c)?)?;
+        }
+        Ok(d)
     }
 
     /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering).
@@ -321,6 +422,47 @@ fn info_dict<'py>(
     Ok(d)
 }
 
+/// The sensor entries of a dict observation from `flat` (`n` environments' values one after
+/// the other, each as `spec` lays them out): {name: float32 array}, of shape `(n, *shape)`
+/// with `batch`, else `shape` (`n` = 1).
+fn sensor_obs_dict<'py>(
+    py: Python<'py>,
+    spec: &[SensorObs],
+    flat: &[f32],
+    n: usize,
+    batch: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let per: usize = spec.iter().map(SensorObs::len).sum();
+    let d = PyDict::new(py);
+    let mut off = 0;
+    for e in spec {
+        let len = e.len();
+        let mut v = Vec::with_capacity(n * len);
+        for i in 0..n {
+            v.extend_from_slice(&flat[i * per + off..i * per + off + len]);
+        }
+        off += len;
+        let mut shape = e.shape.clone();
+        if batch {
+            shape.insert(0, n);
+        }
+        d.set_item(
+            &e.name,
+            PyArray1::from_vec(py, v).reshape(shape.as_slice())?,
+        )?;
+    }
+    Ok(d)
+}
+
+/// The sensor entries' layout for Python: (name, kind, shape, low, high) each.
+type SpecOut = Vec<(String, String, Vec<usize>, f64, f64)>;
+
+fn spec_out(spec: Vec<SensorObs>) -> SpecOut {
+    spec.into_iter()
+        .map(|e| (e.name, e.kind.to_string(), e.shape, e.low, e.high))
+        .collect()
+}
+
 /// What `EnvCore.step` returns: observation, terminated, truncated, info.
 type StepOut<'py> = (Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>);
 
@@ -328,7 +470,7 @@ type StepOut<'py> = (Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>);
 /// normalised action (see `tracksim.TracksimEnv`).
 #[pyclass(name = "EnvCore", module = "tracksim._tracksim")]
 struct PyEnvCore {
-    env: tracksim::env::Env,
+    env: Shared<tracksim::env::Env>,
 }
 
 #[pymethods]
@@ -344,78 +486,102 @@ impl PyEnvCore {
     ) -> PyResult<Self> {
         let t = template_of(scenario)?;
         let env = tracksim::env::Env::new(t, env_config(config)?, seed).map_err(py_err)?;
-        Ok(PyEnvCore { env })
+        Ok(PyEnvCore {
+            env: Shared::new(env),
+        })
     }
 
     /// Starts an episode with `seed`; returns the observation (float32).
     fn reset<'py>(&mut self, py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyArray1<f32>>> {
-        let env = &mut self.env;
+        let env = self.env.get_mut();
         py.detach(|| env.reset(seed)).map_err(py_err)?;
         Ok(self.obs(py))
     }
 
     /// The current observation (float32, length `obs_dim`).
     fn obs<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f32>> {
-        let mut o = vec![0f32; self.env.obs_dim()];
-        self.env.observe(&mut o);
+        let mut o = vec![0f32; self.env.get().obs_dim()];
+        self.env.get().observe(&mut o);
         PyArray1::from_vec(py, o)
     }
 
     /// One control period with `action` (normalised to [-1, 1]; GIL released); returns
     /// (observation, terminated, truncated, info).
     fn step<'py>(&mut self, py: Python<'py>, action: Vec<f32>) -> PyResult<StepOut<'py>> {
-        self.env.check_action(&action).map_err(py_err)?;
-        let env = &mut self.env;
+        self.env.get().check_action(&action).map_err(py_err)?;
+        let env = self.env.get_mut();
         let i = py.detach(|| env.step(&action));
         Ok((
             self.obs(py),
             i.terminated,
             i.truncated,
-            info_dict(py, &i, &self.env)?,
+            info_dict(py, &i, &self.env.get())?,
         ))
     }
 
     /// Observation length.
     #[getter]
     fn obs_dim(&self) -> usize {
-        self.env.obs_dim()
+        self.env.get().obs_dim()
+    }
+
+    /// The setting `observation`: "vector" or "dict".
+    #[getter]
+    fn observation(&self) -> &'static str {
+        self.env.get().config().observation.name()
+    }
+
+    /// The sensor entries of a dict observation, in `[[sensors]]` order: (name, kind, shape,
+    /// low, high) each; empty unless `observation` is "dict".
+    #[getter]
+    fn sensor_obs_spec(&self) -> SpecOut {
+        spec_out(self.env.get().sensor_obs_spec())
+    }
+
+    /// The sensor entries of the current dict observation: {name: float32 array} (see
+    /// `tracksim.TracksimEnv`); empty unless `observation` is "dict".
+    fn sensor_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let mut o = vec![0f32; self.env.get().sensor_obs_dim()];
+        self.env.get().observe_sensors(&mut o);
+        sensor_obs_dict(py, &self.env.get().sensor_obs_spec(), &o, 1, false)
     }
 
     /// Action length.
     #[getter]
     fn action_dim(&self) -> usize {
-        self.env.action_dim()
+        self.env.get().action_dim()
     }
 
     /// Observation entry names.
     #[getter]
     fn obs_names(&self) -> Vec<String> {
-        self.env.obs_names()
+        self.env.get().obs_names()
     }
 
     /// Simulated time of the episode, s.
     #[getter]
     fn time(&self) -> f64 {
-        self.env.simulation().time()
+        self.env.get().simulation().time()
     }
 
     /// The control period actually used (a whole number of physics steps), s.
     #[getter]
     fn control_period_s(&self) -> f64 {
-        self.env.substeps() as f64 * self.env.simulation().dt()
+        let env = self.env.get();
+        env.substeps() as f64 * env.simulation().dt()
     }
 
     /// The episode's `[randomize]` values.
     #[getter]
     fn randomized(&self) -> BTreeMap<String, f64> {
-        self.env.randomized().clone()
+        self.env.get().randomized().clone()
     }
 }
 
 /// N environments stepped on Rust threads (GIL released), with autoreset ("next step").
 #[pyclass(name = "VecEnvCore", module = "tracksim._tracksim")]
 struct PyVecEnvCore {
-    v: tracksim::env::VecEnv,
+    v: Shared<tracksim::env::VecEnv>,
     obs_dim: usize,
     action_dim: usize,
 }
@@ -440,7 +606,7 @@ impl PyVecEnvCore {
             .map_err(py_err)?;
         let (obs_dim, action_dim) = (v.obs_dim(), v.action_dim());
         Ok(PyVecEnvCore {
-            v,
+            v: Shared::new(v),
             obs_dim,
             action_dim,
         })
@@ -456,15 +622,15 @@ impl PyVecEnvCore {
         seed: Option<u64>,
         seeds: Option<Vec<u64>>,
     ) -> PyResult<Bound<'py, numpy::PyArray2<f32>>> {
-        let v = &mut self.v;
+        let v = self.v.get_mut();
         py.detach(|| match &seeds {
             Some(s) => v.reset_seeds(s),
             None => v.reset(seed),
         })
         .map_err(py_err)?;
-        let mut o = vec![0f32; self.v.len() * self.obs_dim];
-        self.v.observe(&mut o);
-        PyArray1::from_vec(py, o).reshape([self.v.len(), self.obs_dim])
+        let mut o = vec![0f32; self.v.get().len() * self.obs_dim];
+        self.v.get().observe(&mut o);
+        PyArray1::from_vec(py, o).reshape([self.v.get().len(), self.obs_dim])
     }
 
     /// One control period of every environment with `actions` (num_envs, action_dim), GIL
@@ -476,8 +642,9 @@ impl PyVecEnvCore {
         py: Python<'py>,
         actions: PyReadonlyArray2<'py, f32>,
     ) -> PyResult<VecOut<'py>> {
-        let n = self.v.len();
+        let n = self.v.get_mut().len();
         self.v
+            .get_mut()
             .check_actions_shape(actions.shape())
             .map_err(py_err)?;
         let a: Vec<f32> = actions
@@ -485,7 +652,7 @@ impl PyVecEnvCore {
             .map(|s| s.to_vec())
             .unwrap_or_else(|_| actions.as_array().iter().copied().collect());
         let mut o = vec![0f32; n * self.obs_dim];
-        let v = &mut self.v;
+        let v = self.v.get_mut();
         let steps = py.detach(|| v.step(&a, &mut o)).map_err(py_err)?;
         let d = PyDict::new(py);
         let col =
@@ -535,6 +702,7 @@ impl PyVecEnvCore {
     /// The `[randomize]` values of environment `i`'s current episode.
     fn randomized(&self, i: usize) -> PyResult<BTreeMap<String, f64>> {
         self.v
+            .get()
             .envs()
             .get(i)
             .map(|e| e.randomized().clone())
@@ -544,18 +712,41 @@ impl PyVecEnvCore {
     /// Threads used per step.
     #[getter]
     fn threads(&self) -> usize {
-        self.v.threads()
+        self.v.get().threads()
     }
 
     #[setter]
     fn set_threads(&mut self, t: usize) {
-        self.v.set_threads(t);
+        self.v.get_mut().set_threads(t);
     }
 
     /// Observation length.
     #[getter]
     fn obs_dim(&self) -> usize {
         self.obs_dim
+    }
+
+    /// The setting `observation`: "vector" or "dict".
+    #[getter]
+    fn observation(&self) -> &'static str {
+        self.v.get().envs()[0].config().observation.name()
+    }
+
+    /// The sensor entries of a dict observation of one environment (see
+    /// `EnvCore.sensor_obs_spec`).
+    #[getter]
+    fn sensor_obs_spec(&self) -> SpecOut {
+        spec_out(self.v.get().sensor_obs_spec())
+    }
+
+    /// The sensor entries of every environment's current dict observation: {name: float32
+    /// array (num_envs, *shape)}; empty unless `observation` is "dict".
+    fn sensor_obs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let spec = self.v.get().sensor_obs_spec();
+        let per: usize = spec.iter().map(SensorObs::len).sum();
+        let mut o = vec![0f32; self.v.get().len() * per];
+        self.v.get().observe_sensors(&mut o);
+        sensor_obs_dict(py, &spec, &o, self.v.get().len(), true)
     }
 
     /// Action length.
@@ -567,19 +758,20 @@ impl PyVecEnvCore {
     /// Number of environments.
     #[getter]
     fn num_envs(&self) -> usize {
-        self.v.len()
+        self.v.get().len()
     }
 
     /// Observation entry names.
     #[getter]
     fn obs_names(&self) -> Vec<String> {
-        self.v.envs()[0].obs_names()
+        self.v.get().envs()[0].obs_names()
     }
 
     /// Control period used, s.
     #[getter]
     fn control_period_s(&self) -> f64 {
-        let e = &self.v.envs()[0];
+        let v = self.v.get();
+        let e = &v.envs()[0];
         e.substeps() as f64 * e.simulation().dt()
     }
 }

@@ -39,6 +39,39 @@ impl ActionMode {
     }
 }
 
+/// What an [`Env`](super::Env)'s observation is made of.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ObservationMode {
+    /// The state vector alone ([`Env::observe`](super::Env::observe)).
+    #[default]
+    Vector,
+    /// The state vector and one array per sensor of the vehicle
+    /// ([`Env::observe_sensors`](super::Env::observe_sensors)).
+    Dict,
+}
+
+impl ObservationMode {
+    /// The names of the modes, as [`EnvConfig::set`] takes them for `observation`.
+    pub const NAMES: &'static [&'static str] = &["vector", "dict"];
+
+    /// The mode called `name` (`"vector"` or `"dict"`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "vector" => Some(ObservationMode::Vector),
+            "dict" => Some(ObservationMode::Dict),
+            _ => None,
+        }
+    }
+
+    /// The mode's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ObservationMode::Vector => "vector",
+            ObservationMode::Dict => "dict",
+        }
+    }
+}
+
 /// How an [`Env`](super::Env) turns actions into controls and what it observes. Actions are
 /// normalised to `[-1, 1]` (clipped) and scaled by the maxima here.
 #[derive(Clone, Debug, PartialEq)]
@@ -61,8 +94,11 @@ pub struct EnvConfig {
     pub grid_spacing_m: (f64, f64),
     /// Distance of the first grid row ahead of the body origin, m.
     pub grid_ahead_m: f64,
-    /// Height reported where a ray finds no terrain, m relative to the body.
+    /// Height reported where a ray finds no terrain, m relative to the body (also in the
+    /// cells of an elevation map that found none, with `observation = "dict"`).
     pub no_terrain_m: f64,
+    /// The state vector alone, or with the sensors' arrays.
+    pub observation: ObservationMode,
 }
 
 impl Default for EnvConfig {
@@ -78,6 +114,7 @@ impl Default for EnvConfig {
             grid_spacing_m: (0.1, 0.15),
             grid_ahead_m: 0.3,
             no_terrain_m: -1.0,
+            observation: ObservationMode::Vector,
         }
     }
 }
@@ -88,7 +125,7 @@ impl Default for EnvConfig {
 pub enum EnvValue {
     /// A number (`control_period_s`, the maxima, `grid_ahead_m`, `no_terrain_m`).
     Number(f64),
-    /// A name (`action`).
+    /// A name (`action`, `observation`).
     Text(String),
     /// Two numbers (`flipper_range_rad`, `grid_spacing_m`).
     Pair(f64, f64),
@@ -151,6 +188,7 @@ impl EnvConfig {
         "grid_spacing_m",
         "grid_ahead_m",
         "no_terrain_m",
+        "observation",
     ];
 
     /// The default configuration with `settings` applied in order, then checked: every
@@ -181,7 +219,7 @@ impl EnvConfig {
     }
 
     /// Sets `key` to `value` (the field of that name; `action` takes `"twist"` or `"belts"`,
-    /// `grid_shape` two whole numbers). An unknown key or a value of the wrong kind is refused
+    /// `observation` `"vector"` or `"dict"`, `grid_shape` two whole numbers). An unknown key or a value of the wrong kind is refused
     /// with the key named; ranges are checked by [`EnvConfig::check`].
     pub fn set(&mut self, key: &str, value: EnvValue) -> Result<()> {
         let wrong = |expected: &str| Error::Settings {
@@ -208,6 +246,22 @@ impl EnvConfig {
                         format!(
                             "{:?} is not an action mode: use \"twist\" (forward speed, yaw rate) \
                              or \"belts\" (one speed per track)",
+                            crate::check::echoed(s)
+                        ),
+                    )
+                })?;
+            }
+            "observation" => {
+                let EnvValue::Text(s) = &value else {
+                    return Err(wrong("a name: \"vector\" or \"dict\""));
+                };
+                self.observation = ObservationMode::from_name(s).ok_or_else(|| {
+                    Error::setting(
+                        WHAT,
+                        key,
+                        format!(
+                            "{:?} is not an observation mode: use \"vector\" (the state \
+                             vector) or \"dict\" (the state vector and one array per sensor)",
                             crate::check::echoed(s)
                         ),
                     )

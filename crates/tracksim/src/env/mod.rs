@@ -6,12 +6,15 @@
 //!
 //! - `config.rs`: [`EnvConfig`] (built from named settings and checked);
 //! - `mod.rs`: [`Env`], [`StepInfo`] and the observation layout;
+//! - `sensor_obs.rs`: the sensors' arrays of a dict observation ([`Env::observe_sensors`]);
 //! - `vector.rs`: [`VecEnv`].
 
 mod config;
+mod sensor_obs;
 mod vector;
 
-pub use config::{ActionMode, EnvConfig, EnvValue, MAX_GRID_CELLS};
+pub use config::{ActionMode, EnvConfig, EnvValue, MAX_GRID_CELLS, ObservationMode};
+pub use sensor_obs::{STATE_KEY, SensorObs};
 pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
 
 use crate::error::Result;
@@ -63,6 +66,9 @@ impl Env {
             .without_commands()
             .unbounded()
             .unrecorded();
+        if cfg.observation == ObservationMode::Dict {
+            sensor_obs::check_names(runner.sensors())?;
+        }
         let start = runner.sim().body_pose();
         Ok(Env {
             template,

@@ -250,6 +250,27 @@ impl VecEnv {
         }
     }
 
+    /// The sensor entries of each environment's dict observation (empty unless
+    /// `observation = "dict"`), see [`Env::sensor_obs_spec`].
+    pub fn sensor_obs_spec(&self) -> Vec<super::SensorObs> {
+        self.envs
+            .first()
+            .map_or_else(Vec::new, |e| e.sensor_obs_spec())
+    }
+
+    /// Writes every environment's sensor entries ([`Env::observe_sensors`], `sensor_obs_dim`
+    /// values each) into `out`, environment after environment.
+    pub fn observe_sensors(&self, out: &mut [f32]) {
+        if let Some(n) = self.envs.first().map(|e| e.sensor_obs_dim()) {
+            if n == 0 {
+                return;
+            }
+            for (e, o) in self.envs.iter().zip(out.chunks_mut(n)) {
+                e.observe_sensors(o);
+            }
+        }
+    }
+
     /// Runs `f` on every environment on the threads.
     fn par(&mut self, f: impl Fn(usize, &mut Env, usize) -> Result<()> + Sync) -> Result<()> {
         let chunk = self.envs.len().div_ceil(self.threads).max(1);
