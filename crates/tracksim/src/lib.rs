@@ -21,6 +21,7 @@
 //! - [`cases`]: the named cases that tests, `bench` and `validate` share;
 //! - [`compare`]: one scenario run with several track methods;
 //! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
+//! - [`sensor_bench`]: what sensing costs, timed against no sensors in one run;
 //! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
 //! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest.
 //!
@@ -41,6 +42,7 @@ pub mod live;
 pub mod model;
 pub mod output;
 pub mod run;
+pub mod sensor_bench;
 pub mod sensors;
 pub mod spec;
 pub mod sweep;

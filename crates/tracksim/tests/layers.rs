@@ -20,7 +20,15 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &["bench", "validate", "env", "sweep", "compare", "bundled"],
+    &[
+        "bench",
+        "validate",
+        "env",
+        "sweep",
+        "compare",
+        "bundled",
+        "sensor_bench",
+    ],
     &["live"],
 ];
 

@@ -32,6 +32,10 @@ pub struct BenchArgs {
     /// Override the solver iterations (changes physics; reported in the output).
     #[arg(long)]
     pub solver_iterations: Option<usize>,
+    /// What sensing costs: the PackBot flat case without and with the typical sensor set, and
+    /// the stairs without and with every sensor, interleaved (docs/SENSORS.md).
+    #[arg(long)]
+    pub sensors: bool,
 }
 
 /// Most `bench --repeat` runs per method.
@@ -94,6 +98,18 @@ pub fn bench(a: BenchArgs) -> Result<(), Failure> {
     let selected = selected_cases(&a)?;
     if let Some(jobs) = a.jobs {
         return bench_batch(&a, jobs, &selected, &methods);
+    }
+    if a.sensors {
+        let pairs = tracksim::sensor_bench::bench_sensors(&data_root()?, a.duration, a.repeat)?;
+        if a.json {
+            out!(
+                "{}",
+                serde_json::to_string_pretty(&pairs).expect("serialises")
+            );
+        } else {
+            out!("{}", tracksim::sensor_bench::to_markdown(&pairs));
+        }
+        return Ok(());
     }
     super::on_stop(|| eprintln!("stopping after the case running ..."));
     let quiet = a.json;

@@ -62,10 +62,14 @@ impl Env {
     pub fn new(template: Arc<ScenarioTemplate>, cfg: EnvConfig, seed: u64) -> Result<Self> {
         cfg.check()?;
         let scenario = Arc::new(template.instantiate(seed)?);
-        let runner = Runner::from_shared(scenario.clone())?
+        let mut runner = Runner::from_shared(scenario.clone())?
             .without_commands()
             .unbounded()
             .unrecorded();
+        if cfg.observation == ObservationMode::Vector {
+            // Nothing reads the sensors: they cost nothing.
+            runner = runner.without_sensors();
+        }
         if cfg.observation == ObservationMode::Dict {
             sensor_obs::check_names(runner.sensors())?;
         }

@@ -113,7 +113,16 @@ impl Runner {
     /// interval).
     pub fn unrecorded(mut self) -> Self {
         self.record = false;
-        self.sensors = SensorSet::new(&self.sim, false);
+        if !self.sensors.is_empty() {
+            self.sensors = SensorSet::new(&self.sim, false);
+        }
+        self
+    }
+
+    /// Runs no sensors (an environment whose observation does not read them): sensing costs
+    /// nothing and the trajectory is the same.
+    pub fn without_sensors(mut self) -> Self {
+        self.sensors = SensorSet::none();
         self
     }
 
@@ -269,7 +278,9 @@ impl Runner {
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         self.sim.reset(seed)?;
         self.samples = vec![self.sim.sample()];
-        self.sensors = SensorSet::new(&self.sim, self.record);
+        if !self.sensors.is_empty() {
+            self.sensors = SensorSet::new(&self.sim, self.record);
+        }
         self.decided = None;
         self.stepping = 0.0;
         self.wall = Instant::now();

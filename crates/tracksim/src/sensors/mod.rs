@@ -88,7 +88,7 @@ impl Channel {
 }
 
 /// What every sensor kind does.
-pub trait Sensor: Send {
+pub trait Sensor: Send + Sync {
     /// The compiled sensor.
     fn model(&self) -> &SensorModel;
     /// How its readings are written.
@@ -167,6 +167,14 @@ impl SensorSet {
         SensorSet {
             slots,
             dt: sim.dt(),
+        }
+    }
+
+    /// No sensors at all (a front end that reads none).
+    pub fn none() -> Self {
+        SensorSet {
+            slots: Vec::new(),
+            dt: 0.0,
         }
     }
 
