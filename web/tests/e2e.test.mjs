@@ -326,14 +326,16 @@ test('view of a packbot_sensors run: the page reads the npz streams and draws th
     assert.deepEqual(await page.evaluate(() => window.tracksim.sensorFiles), { scan: 'loaded', front_camera: 'loaded' });
     // Only listed .npz streams are served.
     assert.equal(await page.evaluate(async () => (await fetch('/run/sensors/imu.csv')).status), 404);
-    await page.click('#play'); // pause, then scrub to 1.23 s
-    await page.$eval('#scrub', (e) => { e.value = String(1.23 / window.tracksim.replayEnd); e.dispatchEvent(new Event('input')); });
-    await page.waitForFunction(() => Math.abs(window.tracksim.replayTime - 1.23) < 1e-6 && window.tracksim.lidar().scan.t !== null && window.tracksim.lidar().scan.t > 1.1, null, { timeout: 10000 });
-    await page.waitForTimeout(200);
+    await page.click('#play'); // pause, then scrub to 61.5 % (1.23 s of a 2 s run)
+    await page.$eval('#scrub', (e) => { e.value = '0.615'; e.dispatchEvent(new Event('input')); });
+    await page.waitForFunction(() => Math.abs(window.tracksim.replayTime - 0.615 * window.tracksim.replayEnd) < 1e-6, null, { timeout: 10000 });
+    await page.waitForTimeout(300);
+    const t = await page.evaluate(() => window.tracksim.replayTime);
     const lidar = await page.evaluate(() => window.tracksim.lidar().scan);
-    // The reading at or before 1.23 s: the scan of 1.2 s (10 Hz), with as many points as returns.
-    assert.ok(Math.abs(lidar.t - 1.2) < 1e-6, JSON.stringify(lidar));
-    const ranges = npzReading(path.join(run, 'sensors/scan.npz'), 'range_m', 12);
+    // The reading at or before t: scan k at k / 10 s (10 Hz), with as many points as returns.
+    const k = Math.floor(t * 10 + 1e-6);
+    assert.ok(k > 5 && Math.abs(lidar.t - k / 10) < 1e-6, `t ${t}: ${JSON.stringify(lidar)}`);
+    const ranges = npzReading(path.join(run, 'sensors/scan.npz'), 'range_m', k);
     assert.deepEqual(ranges.shape, [21, 1, 720]);
     const returns = ranges.vals.filter((r) => Number.isFinite(r)).length;
     assert.ok(returns > 10);
@@ -341,7 +343,12 @@ test('view of a packbot_sensors run: the page reads the npz streams and draws th
     const pts = await page.evaluate(() => window.tracksim.lidarPoints('scan'));
     assert.ok(pts.every((x, i) => i % 3 !== 0 || x > 0.85), 'every hit is on the stairs');
     const depth = await page.evaluate(() => window.tracksim.depth.front_camera);
-    assert.ok(depth && Math.abs(depth.t - 1.2) < 1e-6 && depth.width === 64, JSON.stringify(depth));
+    const kd = Math.floor(t * 5 + 1e-6);
+    assert.ok(depth && Math.abs(depth.t - kd / 5) < 1e-6 && depth.width === 64 && depth.height === 48, JSON.stringify(depth));
+    // The panel's image is that reading: as many returns, the same nearest and farthest depths.
+    const dv = npzReading(path.join(run, 'sensors/front_camera.npz'), 'depth_m', kd).vals.filter((d) => Number.isFinite(d) && d > 0);
+    assert.equal(depth.returns, dv.length);
+    assert.ok(Math.abs(depth.near_m - Math.min(...dv)) < 1e-6 && Math.abs(depth.far_m - Math.max(...dv)) < 1e-6, JSON.stringify(depth));
     await page.screenshot({ path: path.join(artifacts, 'sensors-view.png') });
   } finally {
     await ctx.close();

@@ -238,28 +238,33 @@ function setLidar(l, flat, n, t, hits) {
 api.lidar = () => Object.fromEntries(Object.entries(lidars).map(([k, l]) => [k, { count: l.count, hits: l.hits, t: l.t }]));
 api.lidarPoints = (name) => Array.from(lidars[name].points.geometry.attributes.position.array.subarray(0, 3 * lidars[name].count));
 
-// The depth panel: one camera's latest image, near = bright, no return = dark blue.
+// The depth panel: a camera's latest image, grey from the nearest depth in the image (bright)
+// to the farthest (dim), no return dark blue.
 const cams = sensors.filter((x) => x.kind === 'depth_camera');
 let depthShown = cams.length > 0;
 api.depth = {};
 api.depthPose = {};
 // Draws a depth image of camera `name`: `at(i)` is pixel i's depth, m (row-major from the top
 // left; 0 or not finite: no return).
-function drawDepth(name, w, h, maxRange, at, t) {
+function drawDepth(name, w, h, at, t) {
   const c = $('depth-canvas');
   if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }
   const g = c.getContext('2d');
   const img = g.createImageData(w, h);
+  let lo = Infinity, hi = -Infinity, returns = 0;
+  for (let i = 0; i < w * h; i++) { const d = at(i); if (d > 0 && Number.isFinite(d)) { lo = Math.min(lo, d); hi = Math.max(hi, d); returns++; } }
+  const span = Math.max(hi - lo, 1e-6);
   for (let i = 0; i < w * h; i++) {
     const d = at(i);
     const o = 4 * i;
     if (!(d > 0) || !Number.isFinite(d)) { img.data[o] = 20; img.data[o + 1] = 30; img.data[o + 2] = 70; }
-    else { const y = 255 * (1 - 0.85 * Math.min(d / maxRange, 1)); img.data[o] = img.data[o + 1] = img.data[o + 2] = y; }
+    else { const y = 255 - 200 * ((d - lo) / span); img.data[o] = img.data[o + 1] = img.data[o + 2] = y; }
     img.data[o + 3] = 255;
   }
   g.putImageData(img, 0, 0);
-  $('depth-title').textContent = `${name} (depth, t = ${t.toFixed(2)} s; near = bright)`;
-  api.depth[name] = { t, width: w, height: h };
+  const range = returns ? `${lo.toFixed(2)} m bright .. ${hi.toFixed(2)} m dim` : 'no return';
+  $('depth-title').textContent = `${name} depth, t = ${t.toFixed(2)} s: ${range}`;
+  api.depth[name] = { t, width: w, height: h, returns, near_m: lo, far_m: hi };
 }
 function showDepth(on) { depthShown = on && cams.length > 0; $('depth').classList.toggle('hidden', !depthShown); api.depthShown = depthShown; }
 showDepth(depthShown);
@@ -326,7 +331,7 @@ function liveSensors(entries) {
     if (e.kind === 'lidar' && lidars[e.name]) setLidar(lidars[e.name], e.points, e.points.length / 3, e.t, e.hits);
     if (e.kind === 'depth_camera') {
       api.depthPose[e.name] = { t: e.t, position: e.position, orientation: e.orientation };
-      drawDepth(e.name, e.width, e.height, e.max_range_m, (i) => e.depth_mm[i] / 1000, e.t);
+      drawDepth(e.name, e.width, e.height, (i) => e.depth_mm[i] / 1000, e.t);
     }
   }
 }
@@ -416,7 +421,7 @@ function replaySensorFrame(t) {
     } else {
       const [, h, w] = npz.depth_m.shape;
       const d = npz.depth_m.data, o = k * w * h;
-      drawDepth(s.name, w, h, s.depth_camera.max_range_m, (i) => d[o + i], npz.t_s.data[k]);
+      drawDepth(s.name, w, h, (i) => d[o + i], npz.t_s.data[k]);
     }
   }
 }

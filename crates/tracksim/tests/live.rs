@@ -315,7 +315,10 @@ fn body_point(state: &serde_json::Value, xyz: [f64; 3]) -> glam::DVec3 {
 }
 
 fn sensor_entry<'a>(state: &'a serde_json::Value, kind: &str) -> Option<&'a serde_json::Value> {
-    state["sensors"].as_array()?.iter().find(|e| e["kind"] == kind)
+    state["sensors"]
+        .as_array()?
+        .iter()
+        .find(|e| e["kind"] == kind)
 }
 
 #[test]
@@ -331,7 +334,14 @@ fn drive_streams_lidar_points_and_depth_images() {
         .collect();
     assert_eq!(
         names,
-        ["imu", "encoders", "scan", "elevation", "front_camera", "flipper_imu"]
+        [
+            "imu",
+            "encoders",
+            "scan",
+            "elevation",
+            "front_camera",
+            "flipper_imu"
+        ]
     );
     let cam = &scene_v["sensors"][4];
     assert_eq!(cam["mount"], "body");
@@ -375,26 +385,57 @@ fn drive_streams_lidar_points_and_depth_images() {
     assert!((dt - 0.1).abs() < 0.01, "scans {dt} s apart");
     let hits = la["hits"].as_u64().unwrap() as usize;
     let pts = la["points"].as_array().unwrap();
-    assert!(hits > 10 && pts.len() == 3 * hits && pts.len() <= 6000, "{hits} hits, {} values", pts.len());
+    assert!(
+        hits > 10 && pts.len() == 3 * hits && pts.len() <= 6000,
+        "{hits} hits, {} values",
+        pts.len()
+    );
     // The points are in the world: within range of the lidar, on the staircase ahead (x >= 0.9).
     let origin = body_point(&a, [0.15, 0.0, 0.10]);
     for p in pts.chunks(3) {
-        let p = glam::DVec3::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap(), p[2].as_f64().unwrap());
-        assert!(p.distance(origin) <= 10.01, "{p} is {} m away", p.distance(origin));
-        assert!(p.x > 0.85 && p.y.abs() < 0.65, "{p} is not on the staircase");
-        assert!((p.z - origin.z).abs() < 0.05, "{p}: the scan is about horizontal");
+        let p = glam::DVec3::new(
+            p[0].as_f64().unwrap(),
+            p[1].as_f64().unwrap(),
+            p[2].as_f64().unwrap(),
+        );
+        assert!(
+            p.distance(origin) <= 10.01,
+            "{p} is {} m away",
+            p.distance(origin)
+        );
+        assert!(
+            p.x > 0.85 && p.y.abs() < 0.65,
+            "{p} is not on the staircase"
+        );
+        assert!(
+            (p.z - origin.z).abs() < 0.05,
+            "{p}: the scan is about horizontal"
+        );
     }
     let d = until(&mut ws, 3000, "a depth image", |m| {
         sensor_entry(m, "depth_camera").is_some()
     });
     let img = sensor_entry(&d, "depth_camera").unwrap();
-    assert_eq!((img["width"].as_u64(), img["height"].as_u64()), (Some(64), Some(48)));
-    let depth: Vec<u64> = img["depth_mm"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect();
+    assert_eq!(
+        (img["width"].as_u64(), img["height"].as_u64()),
+        (Some(64), Some(48))
+    );
+    let depth: Vec<u64> = img["depth_mm"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect();
     assert_eq!(depth.len(), 64 * 48);
     assert!(depth.iter().all(|&x| x <= 5000) && depth.iter().filter(|&&x| x > 0).count() > 1000);
-    let cam_pos: Vec<f64> = (0..3).map(|i| img["position"][i].as_f64().unwrap()).collect();
+    let cam_pos: Vec<f64> = (0..3)
+        .map(|i| img["position"][i].as_f64().unwrap())
+        .collect();
     let expect = body_point(&d, [0.26, 0.0, 0.03]);
-    assert!(expect.distance(glam::DVec3::from_slice(&cam_pos)) < 1e-3, "{cam_pos:?} vs {expect}");
+    assert!(
+        expect.distance(glam::DVec3::from_slice(&cam_pos)) < 1e-3,
+        "{cam_pos:?} vs {expect}"
+    );
     ws.send(Message::text(r#"{"type":"stop"}"#)).unwrap();
     session.join().unwrap().unwrap();
 }
@@ -413,9 +454,18 @@ fn view_serves_the_listed_sensor_streams_only() {
     std::fs::write(base.join("secret.npz"), "SECRET").unwrap();
     // Too large to be held: left out (a sparse file, nothing written).
     let big = std::fs::File::create(run.join("sensors/big.npz")).unwrap();
-    big.set_len(tracksim::live::server::MAX_SENSOR_FILE_BYTES + 1).unwrap();
-    let listed = ["sensors/scan.npz", "sensors/imu.csv", "sensors/../../secret.npz", "sensors/big.npz"];
-    let sensors: Vec<_> = listed.iter().map(|f| serde_json::json!({ "file": f })).collect();
+    big.set_len(tracksim::live::server::MAX_SENSOR_FILE_BYTES + 1)
+        .unwrap();
+    let listed = [
+        "sensors/scan.npz",
+        "sensors/imu.csv",
+        "sensors/../../secret.npz",
+        "sensors/big.npz",
+    ];
+    let sensors: Vec<_> = listed
+        .iter()
+        .map(|f| serde_json::json!({ "file": f }))
+        .collect();
     let summary = serde_json::json!({ "sensors": sensors }).to_string();
     std::fs::write(run.join("summary.json"), summary).unwrap();
     let files = tracksim::live::view_files(&run).unwrap();
@@ -432,6 +482,9 @@ fn view_serves_the_listed_sensor_streams_only() {
     ] {
         let (status, body) = get(addr, bad);
         assert!(status.contains("404"), "{bad}: {status}");
-        assert!(!body.contains("SECRET") && !body.contains("CSV-IMU"), "{bad} leaked");
+        assert!(
+            !body.contains("SECRET") && !body.contains("CSV-IMU"),
+            "{bad} leaked"
+        );
     }
 }
