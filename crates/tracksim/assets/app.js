@@ -181,6 +181,7 @@ function placeGrousers(track, beltPos) {
 conveyors.forEach((c) => placeGrousers(c, 0));
 
 const euler = new THREE.Euler();
+let lastPose = null;
 function pose(x, y, z, roll, pitch, yaw, flippers, beltPositions) {
   robot.position.set(x, y, z);
   euler.set(roll, pitch, yaw, 'ZYX'); // Rz(yaw) Ry(pitch) Rx(roll), REP 103
@@ -188,6 +189,7 @@ function pose(x, y, z, roll, pitch, yaw, flippers, beltPositions) {
   flippers.forEach((a, i) => flipperPivots[i]?.pivot.quaternion.setFromAxisAngle(flipperPivots[i].axis, a));
   tracks.forEach((tk, i) => placeGrousers(tk, beltPositions[i] ?? 0));
   if (grid) grid.position.set(Math.round(x), Math.round(y), grid.position.z);
+  lastPose = [x, y, z, roll, pitch, yaw];
 }
 
 // ---------- camera that follows ----------
@@ -204,6 +206,224 @@ function follow() {
     orbit.target.copy(p);
   }
   orbit.update();
+}
+
+// ---------- sensors: lidar hits, depth images, onboard cameras ----------
+// scene.sensors (scene.json) places each sensor in its mount's frame: the body (`robot`) or a
+// flipper (its `inner` group: the body frame at flipper angle 0, turning with the flipper).
+const sensors = scene.sensors ?? [];
+const mountFrame = (s) => (s.mount_index >= 0 && flipperPivots[s.mount_index] ? flipperPivots[s.mount_index].inner : robot);
+const lidarMat = new THREE.PointsMaterial({ color: 0xff3030, size: 4, sizeAttenuation: false });
+const lidars = {};
+for (const s of sensors.filter((x) => x.kind === 'lidar')) {
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * 1024), 3));
+  g.setDrawRange(0, 0);
+  const points = new THREE.Points(g, lidarMat);
+  points.frustumCulled = false;
+  world.add(points); // world-frame points
+  lidars[s.name] = { s, points, count: 0, hits: 0, t: null };
+}
+// Draws `n` world-frame points (flat x y z in `flat`) as lidar `l`'s cloud.
+function setLidar(l, flat, n, t, hits) {
+  const g = l.points.geometry;
+  if (g.attributes.position.count < n) {
+    g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * n), 3));
+  }
+  g.attributes.position.array.set(flat.subarray ? flat.subarray(0, 3 * n) : flat.slice(0, 3 * n));
+  g.attributes.position.needsUpdate = true;
+  g.setDrawRange(0, n);
+  Object.assign(l, { count: n, hits, t });
+}
+api.lidar = () => Object.fromEntries(Object.entries(lidars).map(([k, l]) => [k, { count: l.count, hits: l.hits, t: l.t }]));
+api.lidarPoints = (name) => Array.from(lidars[name].points.geometry.attributes.position.array.subarray(0, 3 * lidars[name].count));
+
+// The depth panel: a camera's latest image, grey from the nearest depth in the image (bright)
+// to the farthest (dim), no return dark blue.
+const cams = sensors.filter((x) => x.kind === 'depth_camera');
+let depthShown = cams.length > 0;
+api.depth = {};
+api.depthPose = {};
+// Draws a depth image of camera `name`: `at(i)` is pixel i's depth, m (row-major from the top
+// left; 0 or not finite: no return).
+function drawDepth(name, w, h, at, t) {
+  const c = $('depth-canvas');
+  if (c.width !== w || c.height !== h) { c.width = w; c.height = h; }
+  const g = c.getContext('2d');
+  const img = g.createImageData(w, h);
+  let lo = Infinity, hi = -Infinity, returns = 0;
+  for (let i = 0; i < w * h; i++) { const d = at(i); if (d > 0 && Number.isFinite(d)) { lo = Math.min(lo, d); hi = Math.max(hi, d); returns++; } }
+  const span = Math.max(hi - lo, 1e-6);
+  for (let i = 0; i < w * h; i++) {
+    const d = at(i);
+    const o = 4 * i;
+    if (!(d > 0) || !Number.isFinite(d)) { img.data[o] = 20; img.data[o + 1] = 30; img.data[o + 2] = 70; }
+    else { const y = 255 - 200 * ((d - lo) / span); img.data[o] = img.data[o + 1] = img.data[o + 2] = y; }
+    img.data[o + 3] = 255;
+  }
+  g.putImageData(img, 0, 0);
+  const range = returns ? `${lo.toFixed(2)} m bright .. ${hi.toFixed(2)} m dim` : 'no return';
+  $('depth-title').textContent = `${name} depth, t = ${t.toFixed(2)} s: ${range}`;
+  api.depth[name] = { t, width: w, height: h, returns, near_m: lo, far_m: hi };
+}
+function showDepth(on) { depthShown = on && cams.length > 0; $('depth').classList.toggle('hidden', !depthShown); api.depthShown = depthShown; }
+showDepth(depthShown);
+
+// Views: the follow camera, then each depth camera's mount (or, without one, a default mount
+// on the chassis front, on top of the body at its front, looking forward). The three.js camera
+// looks along its -z with +y up; a sensor looks along its +x with +z up.
+const views = [{ name: 'follow' }];
+function addMount(name, frame, xyz, quat, hfov) {
+  const anchor = new THREE.Object3D();
+  anchor.position.fromArray(xyz);
+  anchor.quaternion.fromArray(quat);
+  frame.add(anchor);
+  views.push({ name, anchor, hfov });
+}
+for (const s of cams) addMount(`camera ${s.name}`, mountFrame(s), s.xyz_m, s.quat_xyzw, s.depth_camera.horizontal_fov_rad);
+if (cams.length === 0) {
+  const vx = v.body.vertices_m;
+  let maxX = -Infinity, maxZ = -Infinity;
+  for (let i = 0; i < vx.length; i += 3) { maxX = Math.max(maxX, vx[i]); maxZ = Math.max(maxZ, vx[i + 2]); }
+  if (Number.isFinite(maxX)) addMount('chassis front (default mount)', robot, [maxX + 0.01, 0, maxZ + 0.02], [0, 0, 0, 1], (90 * Math.PI) / 180);
+}
+const sensorToCamera = new THREE.Quaternion().setFromRotationMatrix(
+  new THREE.Matrix4().makeBasis(new THREE.Vector3(0, -1, 0), new THREE.Vector3(0, 0, 1), new THREE.Vector3(-1, 0, 0)));
+let viewIndex = 0;
+api.views = views.map((x) => x.name);
+api.view = 'follow';
+function nextView() {
+  viewIndex = (viewIndex + 1) % views.length;
+  api.view = views[viewIndex].name;
+  if (viewIndex === 0) { followInit = false; camera.fov = 50; camera.updateProjectionMatrix(); }
+  orbit.enabled = viewIndex === 0;
+}
+// Places the camera of an onboard view at its mount (after the robot is posed).
+function onboard(vw) {
+  robot.updateMatrixWorld(true);
+  vw.anchor.getWorldPosition(camera.position);
+  vw.anchor.getWorldQuaternion(camera.quaternion).multiply(sensorToCamera);
+  const fov = deg(2 * Math.atan(Math.tan(vw.hfov / 2) / camera.aspect));
+  if (Math.abs(camera.fov - fov) > 1e-9) { camera.fov = fov; camera.updateProjectionMatrix(); }
+}
+const camDir = new THREE.Vector3();
+function placeCamera() {
+  const vw = views[viewIndex];
+  if (vw.anchor) onboard(vw); else follow();
+  camera.getWorldDirection(camDir);
+  api.camera = { view: vw.name, position: camera.position.toArray(), direction: camDir.toArray(), fov_deg: camera.fov, pose: lastPose };
+}
+window.addEventListener('keydown', (e) => {
+  const k = e.key.toLowerCase();
+  if (k === 'v') nextView();
+  if (k === 'b') showDepth(!depthShown);
+});
+const sensorHud = () => [
+  `view       ${api.view} (v: next of ${views.length})`,
+  ...Object.entries(lidars).map(([n, l]) => `lidar      ${n} ${l.count} points of ${l.hits} hits${l.t === null ? '' : ` (t = ${fmt(l.t)} s)`}`),
+  ...cams.map((s) => `depth      ${s.name} ${api.depth[s.name] ? `t = ${fmt(api.depth[s.name].t)} s` : '-'}${depthShown ? '' : ' (b: show)'}`),
+];
+
+// Live readings (state.sensors, live/sensor_feed.rs): lidar points already in the world frame,
+// depth images in whole millimetres (0: no return).
+function liveSensors(entries) {
+  for (const e of entries ?? []) {
+    if (e.kind === 'lidar' && lidars[e.name]) setLidar(lidars[e.name], e.points, e.points.length / 3, e.t, e.hits);
+    if (e.kind === 'depth_camera') {
+      api.depthPose[e.name] = { t: e.t, position: e.position, orientation: e.orientation };
+      drawDepth(e.name, e.width, e.height, (i) => e.depth_mm[i] / 1000, e.t);
+    }
+  }
+}
+
+// Replay readings: sensors/NAME.npz of the run (uncompressed numpy archive: a zip of stored
+// .npy entries). Parsed here: the zip's central directory, each entry's local header, the .npy
+// header (little-endian float32/float64 only) and its data.
+function parseNpz(buf) {
+  const dv = new DataView(buf);
+  let eocd = -1;
+  for (let i = buf.byteLength - 22; i >= Math.max(0, buf.byteLength - 22 - 65535); i--) {
+    if (dv.getUint32(i, true) === 0x06054b50) { eocd = i; break; }
+  }
+  if (eocd < 0) throw new Error('npz: no zip end record');
+  const entries = dv.getUint16(eocd + 10, true);
+  let p = dv.getUint32(eocd + 16, true);
+  const dec = new TextDecoder();
+  const out = {};
+  for (let e = 0; e < entries; e++) {
+    if (dv.getUint32(p, true) !== 0x02014b50) throw new Error('npz: bad central directory');
+    const method = dv.getUint16(p + 10, true), size = dv.getUint32(p + 20, true);
+    const nameLen = dv.getUint16(p + 28, true), extraLen = dv.getUint16(p + 30, true), commentLen = dv.getUint16(p + 32, true);
+    const local = dv.getUint32(p + 42, true);
+    const name = dec.decode(new Uint8Array(buf, p + 46, nameLen));
+    p += 46 + nameLen + extraLen + commentLen;
+    if (method !== 0 || size === 0xffffffff) throw new Error(`npz: ${name} is compressed or zip64`);
+    const data = local + 30 + dv.getUint16(local + 26, true) + dv.getUint16(local + 28, true);
+    out[name.replace(/\.npy$/, '')] = parseNpy(buf.slice(data, data + size));
+  }
+  return out;
+}
+function parseNpy(buf) {
+  const dv = new DataView(buf);
+  const major = dv.getUint8(6);
+  const hl = major === 1 ? dv.getUint16(8, true) : dv.getUint32(8, true);
+  const start = major === 1 ? 10 : 12;
+  const head = new TextDecoder().decode(new Uint8Array(buf, start, hl));
+  const descr = head.match(/'descr':\s*'([^']+)'/)[1];
+  const shape = head.match(/'shape':\s*\(([^)]*)\)/)[1].split(',').filter((x) => x.trim()).map(Number);
+  if (/True/.test(head.match(/'fortran_order':\s*(\w+)/)[1])) throw new Error('npy: Fortran order');
+  const body = buf.slice(start + hl);
+  const data = descr === '<f4' ? new Float32Array(body) : descr === '<f8' ? new Float64Array(body) : null;
+  if (!data) throw new Error(`npy: dtype ${descr}`);
+  return { shape, data };
+}
+const replaySensors = [];
+api.sensorFiles = {};
+async function loadReplaySensors() {
+  for (const s of sensors.filter((x) => x.kind === 'lidar' || x.kind === 'depth_camera')) {
+    try {
+      const r = await fetch(`/run/sensors/${encodeURIComponent(s.name)}.npz`);
+      if (!r.ok) { api.sensorFiles[s.name] = `not served (${r.status})`; continue; }
+      replaySensors.push({ s, npz: parseNpz(await r.arrayBuffer()), shown: -1 });
+      api.sensorFiles[s.name] = 'loaded';
+    } catch (err) {
+      api.sensorFiles[s.name] = `unreadable: ${err.message}`;
+      api.errors.push(String(err));
+    }
+  }
+}
+// Index of the last reading at or before `t` (-1: none yet).
+function readingAt(times, t) {
+  let lo = 0, hi = times.length - 1, k = -1;
+  while (lo <= hi) { const mid = (lo + hi) >> 1; if (times[mid] <= t + 1e-9) { k = mid; lo = mid + 1; } else hi = mid - 1; }
+  return k;
+}
+const qS = new THREE.Quaternion(), pS = new THREE.Vector3(), hit = new THREE.Vector3();
+function replaySensorFrame(t) {
+  for (const r of replaySensors) {
+    const { s, npz } = r;
+    const k = readingAt(npz.t_s.data, t);
+    if (k < 0 || k === r.shown) continue;
+    r.shown = k;
+    pS.fromArray(npz.position_m.data, 3 * k);
+    qS.fromArray(npz.orientation.data, 4 * k);
+    if (s.kind === 'lidar') {
+      const pts = npz.points_m.data;
+      const per = npz.points_m.shape.slice(1).reduce((a, b) => a * b, 1);
+      const flat = new Float32Array(per);
+      let n = 0;
+      for (let i = k * per; i < (k + 1) * per; i += 3) {
+        if (!Number.isFinite(pts[i])) continue;
+        hit.set(pts[i], pts[i + 1], pts[i + 2]).applyQuaternion(qS).add(pS);
+        flat[3 * n] = hit.x; flat[3 * n + 1] = hit.y; flat[3 * n + 2] = hit.z; n++;
+      }
+      setLidar(lidars[s.name], flat, n, npz.t_s.data[k], n);
+    } else {
+      const [, h, w] = npz.depth_m.shape;
+      const d = npz.depth_m.data, o = k * w * h;
+      drawDepth(s.name, w, h, (i) => d[o + i], npz.t_s.data[k]);
+    }
+  }
 }
 
 // ---------- HUD ----------
@@ -238,6 +458,7 @@ if (live) {
 } else {
   $('help-drive').classList.add('hidden');
   $('help-view').classList.remove('hidden');
+  document.body.classList.add('view-mode');
 }
 
 let ws = null;
@@ -302,7 +523,7 @@ function connect() {
   ws.onmessage = (ev) => {
     const m = JSON.parse(ev.data);
     if (m.type === 'hello') api.role = m.role;
-    else if (m.type === 'state') { api.state = m; api.states++; }
+    else if (m.type === 'state') { api.state = m; api.states++; liveSensors(m.sensors); }
     else if (m.type === 'error') api.errors.push(m.message);
   };
   ws.onclose = () => { ended = true; };
@@ -327,6 +548,7 @@ function liveFrame() {
     ...flipperNames.map((n, i) => `flipper    ${n} ${fmt(deg(s.flipper[i]), 1)} deg (target ${fmt(flipperDeg[i], 0)})`),
     ...trackNames.map((n, i) => `belt       ${n} ${fmt(s.belt_speed[i], 3)} m/s`),
     `outcome    ${o}`,
+    ...sensorHud(),
   ]);
 }
 
@@ -357,6 +579,7 @@ if (!live) {
     boxPose: looseBoxes.map((_, i) => ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((c) => belts.col(`box_${i}_${c}`))),
     end: traj.rows[traj.rows.length - 1][0],
   };
+  await loadReplaySensors();
   api.replayEnd = replay.end;
   $('bar').classList.remove('hidden');
   $('play').addEventListener('click', togglePlay);
@@ -396,6 +619,7 @@ function replayFrame() {
     euler.set(br_, bp, byaw, 'ZYX');
     m.quaternion.setFromEuler(euler);
   });
+  replaySensorFrame(playTime);
   $('scrub').value = String(playTime / (replay.end || 1));
   $('clock').textContent = `${fmt(playTime, 2)} / ${fmt(replay.end, 2)} s`;
   const s = replay.summary;
@@ -409,13 +633,14 @@ function replayFrame() {
     ...flipperNames.map((n, i) => `flipper    ${n} ${fmt(deg(r[replay.flip[i]]), 1)} deg`),
     ...trackNames.map((n, i) => `belt       ${n} ${fmt(r[replay.speed[i]], 3)} m/s`),
     `outcome    ${decided}`,
+    ...sensorHud(),
   ]);
 }
 
 if (live) connect();
 function frame() {
   if (live) liveFrame(); else replayFrame();
-  follow();
+  placeCamera();
   renderer.render(world, camera);
   api.frames++;
   requestAnimationFrame(frame);

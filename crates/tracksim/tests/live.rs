@@ -306,3 +306,185 @@ fn loopback_is_the_default() {
     .unwrap();
     assert!(s.url().starts_with("http://127.0.0.1:"));
 }
+
+/// The world position of a point at `xyz` in the body frame of a state's `pose`.
+fn body_point(state: &serde_json::Value, xyz: [f64; 3]) -> glam::DVec3 {
+    let p: Vec<f64> = (0..6).map(|i| state["pose"][i].as_f64().unwrap()).collect();
+    let r = glam::DQuat::from_euler(glam::EulerRot::ZYX, p[5], p[4], p[3]);
+    glam::DVec3::new(p[0], p[1], p[2]) + r * glam::DVec3::from_array(xyz)
+}
+
+fn sensor_entry<'a>(state: &'a serde_json::Value, kind: &str) -> Option<&'a serde_json::Value> {
+    state["sensors"]
+        .as_array()?
+        .iter()
+        .find(|e| e["kind"] == kind)
+}
+
+#[test]
+fn drive_streams_lidar_points_and_depth_images() {
+    let sc = tracksim::load_scenario(&root().join("scenarios/packbot_sensors.toml")).unwrap();
+    let scene = tracksim::output::Scene::new(&sc).to_json();
+    let scene_v: serde_json::Value = serde_json::from_str(&scene).unwrap();
+    let names: Vec<&str> = scene_v["sensors"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "imu",
+            "encoders",
+            "scan",
+            "elevation",
+            "front_camera",
+            "flipper_imu"
+        ]
+    );
+    let cam = &scene_v["sensors"][4];
+    assert_eq!(cam["mount"], "body");
+    assert_eq!(cam["depth_camera"]["width_px"], 64);
+    let q = cam["quat_xyzw"].as_array().unwrap();
+    assert!((q[1].as_f64().unwrap() - 7.5f64.to_radians().sin()).abs() < 1e-9);
+    assert_eq!(scene_v["sensors"][5]["mount"], "front_left");
+    assert_eq!(scene_v["sensors"][5]["mount_index"], 0);
+    assert_eq!(scene_v["sensors"][2]["lidar"]["max_range_m"], 10.0);
+    let hub = Hub::new();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::Drive {
+            hub: hub.clone(),
+            scene_json: scene,
+        },
+    )
+    .unwrap();
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let session = std::thread::spawn(move || {
+        let opts = DriveOptions {
+            speed: 2.0,
+            ..DriveOptions::default()
+        };
+        tracksim::live::run_session(&sc2, &hub2, opts)
+    });
+    let (mut ws, _) = tungstenite::connect(format!("ws://{}/ws", server.addr())).unwrap();
+    // Two lidar readings: each is sent once, so their times differ by the scan period.
+    let a = until(&mut ws, 3000, "a lidar reading", |m| {
+        sensor_entry(m, "lidar").is_some()
+    });
+    let b = until(&mut ws, 3000, "another lidar reading", |m| {
+        sensor_entry(m, "lidar").is_some()
+    });
+    let (la, lb) = (
+        sensor_entry(&a, "lidar").unwrap(),
+        sensor_entry(&b, "lidar").unwrap(),
+    );
+    let dt = lb["t"].as_f64().unwrap() - la["t"].as_f64().unwrap();
+    assert!((dt - 0.1).abs() < 0.01, "scans {dt} s apart");
+    let hits = la["hits"].as_u64().unwrap() as usize;
+    let pts = la["points"].as_array().unwrap();
+    assert!(
+        hits > 10 && pts.len() == 3 * hits && pts.len() <= 6000,
+        "{hits} hits, {} values",
+        pts.len()
+    );
+    // The points are in the world: within range of the lidar, on the staircase ahead (x >= 0.9).
+    let origin = body_point(&a, [0.15, 0.0, 0.10]);
+    for p in pts.chunks(3) {
+        let p = glam::DVec3::new(
+            p[0].as_f64().unwrap(),
+            p[1].as_f64().unwrap(),
+            p[2].as_f64().unwrap(),
+        );
+        assert!(
+            p.distance(origin) <= 10.01,
+            "{p} is {} m away",
+            p.distance(origin)
+        );
+        assert!(
+            p.x > 0.85 && p.y.abs() < 0.65,
+            "{p} is not on the staircase"
+        );
+        assert!(
+            (p.z - origin.z).abs() < 0.05,
+            "{p}: the scan is about horizontal"
+        );
+    }
+    let d = until(&mut ws, 3000, "a depth image", |m| {
+        sensor_entry(m, "depth_camera").is_some()
+    });
+    let img = sensor_entry(&d, "depth_camera").unwrap();
+    assert_eq!(
+        (img["width"].as_u64(), img["height"].as_u64()),
+        (Some(64), Some(48))
+    );
+    let depth: Vec<u64> = img["depth_mm"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_u64().unwrap())
+        .collect();
+    assert_eq!(depth.len(), 64 * 48);
+    assert!(depth.iter().all(|&x| x <= 5000) && depth.iter().filter(|&&x| x > 0).count() > 1000);
+    let cam_pos: Vec<f64> = (0..3)
+        .map(|i| img["position"][i].as_f64().unwrap())
+        .collect();
+    let expect = body_point(&d, [0.26, 0.0, 0.03]);
+    assert!(
+        expect.distance(glam::DVec3::from_slice(&cam_pos)) < 1e-3,
+        "{cam_pos:?} vs {expect}"
+    );
+    ws.send(Message::text(r#"{"type":"stop"}"#)).unwrap();
+    session.join().unwrap().unwrap();
+}
+
+#[test]
+fn view_serves_the_listed_sensor_streams_only() {
+    let base = tempfile_dir("view_sensors");
+    let run = base.join("run");
+    std::fs::create_dir_all(run.join("sensors")).unwrap();
+    for f in ["scene.json", "trajectory.csv", "belts.csv"] {
+        std::fs::write(run.join(f), format!("content of {f}")).unwrap();
+    }
+    std::fs::write(run.join("sensors/scan.npz"), "NPZ-SCAN").unwrap();
+    std::fs::write(run.join("sensors/imu.csv"), "CSV-IMU").unwrap();
+    std::fs::write(run.join("sensors/unlisted.npz"), "NPZ-UNLISTED").unwrap();
+    std::fs::write(base.join("secret.npz"), "SECRET").unwrap();
+    // Too large to be held: left out (a sparse file, nothing written).
+    let big = std::fs::File::create(run.join("sensors/big.npz")).unwrap();
+    big.set_len(tracksim::live::server::MAX_SENSOR_FILE_BYTES + 1)
+        .unwrap();
+    let listed = [
+        "sensors/scan.npz",
+        "sensors/imu.csv",
+        "sensors/../../secret.npz",
+        "sensors/big.npz",
+    ];
+    let sensors: Vec<_> = listed
+        .iter()
+        .map(|f| serde_json::json!({ "file": f }))
+        .collect();
+    let summary = serde_json::json!({ "sensors": sensors }).to_string();
+    std::fs::write(run.join("summary.json"), summary).unwrap();
+    let files = tracksim::live::view_files(&run).unwrap();
+    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let addr = server.addr();
+    let (ok, body) = get(addr, "/run/sensors/scan.npz");
+    assert!(ok.contains("200") && body.ends_with("NPZ-SCAN"), "{ok}");
+    for bad in [
+        "/run/sensors/imu.csv",
+        "/run/sensors/unlisted.npz",
+        "/run/sensors/big.npz",
+        "/run/sensors/../../secret.npz",
+        "/secret.npz",
+    ] {
+        let (status, body) = get(addr, bad);
+        assert!(status.contains("404"), "{bad}: {status}");
+        assert!(
+            !body.contains("SECRET") && !body.contains("CSV-IMU"),
+            "{bad} leaked"
+        );
+    }
+}

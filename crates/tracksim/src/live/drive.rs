@@ -9,6 +9,7 @@
 //! `trajectory.csv`.
 
 use super::hub::{DriveControl, Hub};
+use super::sensor_feed::SensorFeed;
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
 use crate::run::{End, Outcome, RunResult, Runner};
@@ -89,13 +90,15 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
 
 /// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
 /// and of stepping alone), the body's mean forward speed over the last 0.1 s (m/s), the
-/// controls in force and the outcome (`ended`: the session's; else the scenario's, once
-/// decided).
+/// controls in force, the outcome (`ended`: the session's; else the scenario's, once
+/// decided) and `sensors`: the lidar and depth camera readings new since the last state
+/// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres).
 fn state_json(
     runner: &Runner,
     control: &DriveControl,
     speed: f64,
     ended: Option<&(Outcome, f64)>,
+    feed: &mut SensorFeed,
 ) -> String {
     let sim = runner.sim();
     let p = sim.body_pose();
@@ -121,6 +124,7 @@ fn state_json(
             "yaw_rate_rad_s": control.yaw_rate_rad_s,
             "flipper_angle_deg": control.flipper_angle_deg,
         },
+        "sensors": feed.new_readings(runner),
     })
     .to_string()
 }
@@ -147,6 +151,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     let mut controls = vec![current.clone()];
     let mut commands = Vec::new();
     let mut last_publish: Option<Instant> = None;
+    let mut feed = SensorFeed::default();
     let end = loop {
         // A sample boundary: stop, reset and control changes happen only here.
         if opts
@@ -178,7 +183,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
             runner.step()?;
             if last_publish.is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S) {
                 last_publish = Some(Instant::now());
-                hub.publish(state_json(&runner, &current, opts.speed, None));
+                hub.publish(state_json(&runner, &current, opts.speed, None, &mut feed));
             }
             if runner.at_sample() {
                 break;
@@ -186,7 +191,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         }
         controls.push(current.clone());
     };
-    let result = runner_result(runner, end, hub, &current, opts.speed);
+    let result = runner_result(runner, end, hub, &current, opts.speed, &mut feed);
     Ok(Session {
         result,
         commands,
@@ -208,9 +213,10 @@ fn runner_result(
     hub: &Hub,
     current: &DriveControl,
     speed: f64,
+    feed: &mut SensorFeed,
 ) -> RunResult {
     let outcome = runner.outcome(&end);
-    hub.publish(state_json(&runner, current, speed, Some(&outcome)));
+    hub.publish(state_json(&runner, current, speed, Some(&outcome), feed));
     runner.finish(end)
 }
 

@@ -6,11 +6,13 @@
 //!   loopback unless told otherwise;
 //! - [`hub`]: the latest-value state and control shared by the simulation and the
 //!   connections, and the WebSocket protocol;
-//! - [`drive`]: the paced session loop, recorded as a run.
+//! - [`drive`]: the paced session loop, recorded as a run;
+//! - [`sensor_feed`]: the lidar and depth camera readings a live state carries.
 
 pub mod assets;
 pub mod drive;
 pub mod hub;
+pub mod sensor_feed;
 pub mod server;
 
 pub use drive::{DriveOptions, Session, run_session};

@@ -224,8 +224,64 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
     }
 }
 
+/// Largest sensor stream `tracksim view` serves, bytes (a larger one is left out: the page
+/// draws no readings of it).
+pub const MAX_SENSOR_FILE_BYTES: u64 = 64 << 20;
+/// Most bytes of sensor streams `tracksim view` holds in all (later streams are left out).
+pub const MAX_SENSOR_BYTES: u64 = 256 << 20;
+
+/// Whether `file` (a sensor's stream as `summary.json` names it) is `sensors/NAME.npz` with a
+/// plain name (letters, digits, `_`, `-`, `.`; no path separator, not `..`).
+fn plain_sensor_npz(file: &str) -> bool {
+    let Some(name) = file
+        .strip_prefix("sensors/")
+        .and_then(|f| f.strip_suffix(".npz"))
+    else {
+        return false;
+    };
+    !name.is_empty()
+        && !name.starts_with('.')
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'))
+}
+
+/// The `.npz` sensor streams `summary.json` lists (its `sensors[].file`), read from `dir`,
+/// served at `/run/sensors/NAME.npz`: only plain names, each at most
+/// [`MAX_SENSOR_FILE_BYTES`], at most [`MAX_SENSOR_BYTES`] in all; a missing, too large or
+/// oddly named one is left out.
+fn sensor_files(dir: &std::path::Path, summary: &[u8]) -> Vec<(String, &'static str, Vec<u8>)> {
+    let Ok(summary) = serde_json::from_slice::<serde_json::Value>(summary) else {
+        return Vec::new();
+    };
+    let listed = summary["sensors"].as_array().cloned().unwrap_or_default();
+    let mut total = 0;
+    let mut files = Vec::new();
+    for file in listed.iter().filter_map(|s| s["file"].as_str()) {
+        if !plain_sensor_npz(file) || files.iter().any(|(u, _, _)| *u == format!("/run/{file}")) {
+            continue;
+        }
+        let p = dir.join(file);
+        let Ok(meta) = std::fs::metadata(&p) else {
+            continue;
+        };
+        if !meta.is_file()
+            || meta.len() > MAX_SENSOR_FILE_BYTES
+            || total + meta.len() > MAX_SENSOR_BYTES
+        {
+            continue;
+        }
+        if let Ok(bytes) = std::fs::read(&p) {
+            total += bytes.len() as u64;
+            files.push((format!("/run/{file}"), "application/octet-stream", bytes));
+        }
+    }
+    files
+}
+
 /// The files of a finished run that `tracksim view` serves, read from `dir` once: `scene.json`,
-/// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present).
+/// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present),
+/// and the `.npz` sensor streams `summary.json` lists (see [`MAX_SENSOR_FILE_BYTES`]).
 pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Vec<u8>)>> {
     let required = ["scene.json", "trajectory.csv", "belts.csv"];
     let optional = ["summary.json", "controls.csv"];
@@ -271,5 +327,8 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Ve
             }
         }
     }
+    let summary = files.iter().find(|f| f.0 == "/run/summary.json");
+    let sensors = summary.map(|f| sensor_files(dir, &f.2)).unwrap_or_default();
+    files.extend(sensors);
     Ok(files)
 }

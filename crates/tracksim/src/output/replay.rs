@@ -7,7 +7,9 @@
 
 use crate::error::{Error, Result};
 use crate::geometry::TrackPath;
-use crate::model::{CollisionShape, GrouserShape, Parent, Scenario, VehicleModel};
+use crate::model::{
+    CollisionShape, GrouserShape, Mount, Parent, Scenario, SensorKind, VehicleModel,
+};
 use crate::run::RunResult;
 use crate::terrain::TerrainModel;
 use glam::DVec3;
@@ -213,6 +215,65 @@ pub struct SceneVehicle {
     pub tracks: Vec<SceneTrack>,
 }
 
+/// A lidar's scan pattern (`lidar` of a [`SceneSensor`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneLidar {
+    /// Rays per scan line.
+    pub azimuth_rays: usize,
+    /// Azimuth field of view, rad.
+    pub azimuth_fov_rad: f64,
+    /// Scan lines.
+    pub elevation_rays: usize,
+    /// Elevation field of view, rad.
+    pub elevation_fov_rad: f64,
+    /// Nearest range reported, m.
+    pub min_range_m: f64,
+    /// Farthest range reported, m.
+    pub max_range_m: f64,
+}
+
+/// A depth camera's image (`depth_camera` of a [`SceneSensor`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneDepthCamera {
+    /// Image width, pixels.
+    pub width_px: usize,
+    /// Image height, pixels.
+    pub height_px: usize,
+    /// Horizontal field of view, rad.
+    pub horizontal_fov_rad: f64,
+    /// Nearest depth reported, m.
+    pub min_range_m: f64,
+    /// Farthest depth reported, m.
+    pub max_range_m: f64,
+}
+
+/// A sensor of the vehicle (`[[sensors]]`), where it sits: its frame (REP 103, a camera looks
+/// along its x axis) in its mount's frame (the body frame, or a flipper's: the body frame at
+/// flipper angle 0, turning with the flipper).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneSensor {
+    /// Name (its stream: `sensors/NAME.csv` or `.npz`).
+    pub name: String,
+    /// Kind (`imu`, `encoders`, `lidar`, `depth_camera`, `elevation_map`).
+    pub kind: &'static str,
+    /// `"body"` or the flipper's name.
+    pub mount: String,
+    /// Index of the flipper it is mounted on, or -1 for the body.
+    pub mount_index: i64,
+    /// Origin of the sensor frame in the mount frame, m.
+    pub xyz_m: [f64; 3],
+    /// Orientation of the sensor frame in the mount frame, quaternion x y z w.
+    pub quat_xyzw: [f64; 4],
+    /// Update rate, Hz.
+    pub rate_hz: f64,
+    /// The scan pattern of a lidar.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lidar: Option<SceneLidar>,
+    /// The image of a depth camera.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub depth_camera: Option<SceneDepthCamera>,
+}
+
 /// `scene.json`: what a replay or a live view draws, with the sampling of the recorded data.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scene {
@@ -236,6 +297,8 @@ pub struct Scene {
     pub conveyors: Vec<SceneConveyor>,
     /// Loose boxes (`[[terrain.loose_boxes]]`), their poses in `belts.csv`.
     pub loose_boxes: Vec<SceneLooseBox>,
+    /// The vehicle's sensors (`[[sensors]]`), in file order.
+    pub sensors: Vec<SceneSensor>,
 }
 
 fn arr(v: DVec3) -> [f64; 3] {
@@ -378,6 +441,49 @@ fn vehicle(v: &VehicleModel) -> SceneVehicle {
     }
 }
 
+fn sensors(v: &VehicleModel) -> Vec<SceneSensor> {
+    v.sensors
+        .iter()
+        .map(|m| {
+            let (mount, mount_index) = match m.mount {
+                Mount::Body => ("body".to_string(), -1),
+                Mount::Flipper(i) => (v.flippers[i].name.clone(), i as i64),
+            };
+            let q = m.rotation;
+            SceneSensor {
+                name: m.name.clone(),
+                kind: m.kind.name(),
+                mount,
+                mount_index,
+                xyz_m: arr(m.position),
+                quat_xyzw: [q.x, q.y, q.z, q.w],
+                rate_hz: m.rate_hz,
+                lidar: match m.kind {
+                    SensorKind::Lidar(p) => Some(SceneLidar {
+                        azimuth_rays: p.azimuth_rays,
+                        azimuth_fov_rad: p.azimuth_fov,
+                        elevation_rays: p.elevation_rays,
+                        elevation_fov_rad: p.elevation_fov,
+                        min_range_m: p.min_range,
+                        max_range_m: p.max_range,
+                    }),
+                    _ => None,
+                },
+                depth_camera: match m.kind {
+                    SensorKind::DepthCamera(p) => Some(SceneDepthCamera {
+                        width_px: p.width,
+                        height_px: p.height,
+                        horizontal_fov_rad: p.horizontal_fov,
+                        min_range_m: p.min_range,
+                        max_range_m: p.max_range,
+                    }),
+                    _ => None,
+                },
+            }
+        })
+        .collect()
+}
+
 impl Scene {
     /// The scene of a compiled scenario.
     pub fn new(sc: &Scenario) -> Self {
@@ -408,6 +514,7 @@ impl Scene {
                     yaw_rad: b.solid.yaw,
                 })
                 .collect(),
+            sensors: sensors(&sc.vehicle),
         }
     }
 
