@@ -20,15 +20,8 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &[
-        "bench",
-        "validate",
-        "env",
-        "sweep",
-        "compare",
-        "bundled",
-        "sensor_bench",
-    ],
+    &["bench", "validate", "env", "sweep", "compare", "bundled"],
+    &["sensor_bench"],
     &["live"],
 ];
 
