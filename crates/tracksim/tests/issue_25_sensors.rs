@@ -93,8 +93,8 @@ xyz_m = [0.1, 0.05, 0.02]
 rpy_deg = [0.0, 0.0, 90.0]
 "#;
 
-/// Mean and standard deviation of every component of channel `name` of sensor `i` over `n`
-/// readings, `every` steps apart, stepping `step` in between.
+/// Mean and (population) standard deviation of every component of `read()` over `n`
+/// readings, calling `step` `every` times between two readings.
 fn stats(
     mut step: impl FnMut(),
     set: impl Fn() -> Vec<f64>,

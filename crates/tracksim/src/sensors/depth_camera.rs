@@ -96,8 +96,6 @@ impl Sensor for DepthCamera {
     }
 
     fn axes(&self) -> Vec<Channel> {
-        let mut k = Channel::zeros("focal_length", "px", &[1]);
-        k.data[0] = focal_px(&self.p);
-        vec![k]
+        vec![Channel::vector("focal_length", "px", &[focal_px(&self.p)])]
     }
 }

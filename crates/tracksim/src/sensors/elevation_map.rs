@@ -116,10 +116,9 @@ impl Sensor for ElevationMap {
     }
 
     fn axes(&self) -> Vec<Channel> {
-        let mut x = Channel::zeros("x", "m", &[self.x.len()]);
-        x.data.clone_from(&self.x);
-        let mut y = Channel::zeros("y", "m", &[self.y.len()]);
-        y.data.clone_from(&self.y);
-        vec![x, y]
+        vec![
+            Channel::vector("x", "m", &self.x),
+            Channel::vector("y", "m", &self.y),
+        ]
     }
 }

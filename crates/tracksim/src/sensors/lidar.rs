@@ -122,10 +122,9 @@ impl Sensor for Lidar {
     }
 
     fn axes(&self) -> Vec<Channel> {
-        let mut a = Channel::zeros("azimuth", "rad", &[self.azimuth.len()]);
-        a.data.clone_from(&self.azimuth);
-        let mut e = Channel::zeros("elevation", "rad", &[self.elevation.len()]);
-        e.data.clone_from(&self.elevation);
-        vec![a, e]
+        vec![
+            Channel::vector("azimuth", "rad", &self.azimuth),
+            Channel::vector("elevation", "rad", &self.elevation),
+        ]
     }
 }

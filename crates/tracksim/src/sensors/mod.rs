@@ -61,6 +61,17 @@ impl Channel {
         }
     }
 
+    /// A one-dimensional channel holding `values` (a sensor's fixed axes).
+    pub fn vector(name: &'static str, unit: &'static str, values: &[f64]) -> Self {
+        Channel {
+            name,
+            unit,
+            shape: vec![values.len()],
+            data: values.to_vec(),
+            columns: Vec::new(),
+        }
+    }
+
     /// A channel of CSV columns `columns` (one value each).
     pub fn columns(name: &'static str, unit: &'static str, columns: Vec<String>) -> Self {
         Channel {
