@@ -828,6 +828,22 @@ impl TrackPath {
         }
     }
 
+    /// The same loop moved rigidly: rotated by `rotation` about the origin, then shifted by
+    /// `shift` m (a loop given in a link's frame, placed in its parent's).
+    pub fn moved(&self, rotation: DQuat, shift: DVec3) -> Self {
+        let segs = self
+            .segments
+            .iter()
+            .map(|s| s.moved(rotation, shift))
+            .collect();
+        if self.is_planar() {
+            TrackPath::new(segs)
+        } else {
+            TrackPath::spatial(segs)
+        }
+        .expect("a moved valid loop is valid")
+    }
+
     /// The same loop reflected to the other side of the vehicle (y -> -y).
     pub fn mirrored_y(&self) -> Self {
         let segs = self.segments.iter().map(Segment::mirrored_y).collect();

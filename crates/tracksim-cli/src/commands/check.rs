@@ -16,7 +16,7 @@ pub struct CheckArgs {
 fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
     let text = tracksim::files::read_text_bounded(path, tracksim::files::MAX_TOML_BYTES)?;
     let table: tracksim::toml::Table = tracksim::model::parse_toml(path, &text)?;
-    Ok(table.contains_key("body") || table.contains_key("tracks"))
+    Ok(table.contains_key("body") || table.contains_key("tracks") || table.contains_key("urdf"))
 }
 
 /// What is simulated of a scenario: the built world's masses, then the vehicle's design.
@@ -28,6 +28,9 @@ fn scenario_text(f: &Path) -> Result<String, Error> {
         "scenario with vehicle \"{}\", {:.1} s, method {}",
         s.vehicle.name, s.duration, s.method
     )];
+    if let Some(u) = &s.vehicle.urdf {
+        lines.extend(u.lines());
+    }
     lines.extend(sim.mass_report().lines());
     lines.extend(tracksim::model::design_report(&s.vehicle).lines());
     Ok(lines.join("\n       "))
@@ -42,6 +45,9 @@ pub fn check(a: CheckArgs) -> Result<(), Failure> {
             if vehicle {
                 tracksim::load_vehicle(&f).map(|v| {
                     let mut lines = vec![format!("vehicle \"{}\"", v.name)];
+                    if let Some(u) = &v.urdf {
+                        lines.extend(u.lines());
+                    }
                     lines.extend(tracksim::model::design_report(&v).lines());
                     lines.join("\n       ")
                 })

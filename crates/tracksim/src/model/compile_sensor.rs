@@ -7,7 +7,7 @@ use super::sensor::{
     SensorModel,
 };
 use crate::check::{Checker, unknown_name, v3};
-use crate::spec::{FlipperSpec, SensorSpec};
+use crate::spec::SensorSpec;
 use glam::{DQuat, EulerRot};
 
 /// Most rays (lidar rays, camera pixels, elevation cells) one sensor casts per update: a
@@ -95,7 +95,7 @@ fn keys_given(s: &SensorSpec) -> Vec<&'static str> {
 pub(crate) fn compile_sensors(
     c: &mut Checker,
     specs: &[SensorSpec],
-    flippers: &[FlipperSpec],
+    mounts: &super::mounts::Mounts,
 ) -> Vec<SensorModel> {
     let mut out = Vec::new();
     for (i, s) in specs.iter().enumerate() {
@@ -135,7 +135,7 @@ pub(crate) fn compile_sensors(
                 );
             }
         }
-        if let Some(m) = sensor(c, &k, s, flippers) {
+        if let Some(m) = sensor(c, &k, s, mounts) {
             out.push(m);
         }
     }
@@ -147,19 +147,13 @@ fn sensor(
     c: &mut Checker,
     k: &str,
     s: &SensorSpec,
-    flippers: &[FlipperSpec],
+    mounts: &super::mounts::Mounts,
 ) -> Option<SensorModel> {
-    let mount = match s.mount.as_deref().unwrap_or("body") {
-        "body" => Mount::Body,
-        name => match flippers.iter().position(|f| f.name == name) {
-            Some(j) => Mount::Flipper(j),
-            None => {
-                let mut known = vec!["body"];
-                known.extend(flippers.iter().map(|f| f.name.as_str()));
-                c.push(format!("{k}.mount"), unknown_name("mount", name, &known));
-                Mount::Body
-            }
-        },
+    let name = s.mount.as_deref().unwrap_or("body");
+    let (parent, frame) = mounts.resolve(c, &format!("{k}.mount"), "mount", name);
+    let mount = match parent {
+        super::Parent::Body => Mount::Body,
+        super::Parent::Flipper(j) => Mount::Flipper(j),
     };
     let xyz = s.xyz_m.unwrap_or([0.0; 3]);
     c.finite(&format!("{k}.xyz_m"), &xyz);
@@ -197,8 +191,8 @@ fn sensor(
     Some(SensorModel {
         name: s.name.clone(),
         mount,
-        position: v3(xyz),
-        rotation,
+        position: frame.transform_point3(v3(xyz)),
+        rotation: glam::DQuat::from_mat3(&frame.matrix3) * rotation,
         rate_hz,
         kind,
     })

@@ -4,12 +4,13 @@
 //! mirror image. Problems are reported with their key paths, in that order.
 
 use super::compliance::compile_compliance;
+use super::mounts::Mounts;
 use super::{GrouserModel, GrouserShape, Parent, TrackModel};
 use crate::check::{Checker, v3};
 use crate::error::SpecIssue;
 use crate::geometry::{GrouserLayout, PathError, Pulley, Segment, TrackPath};
-use crate::spec::{FlipperSpec, GrouserShapeSpec, GrouserSpec, PathSpec, SegmentSpec, TrackSpec};
-use glam::DVec3;
+use crate::spec::{GrouserShapeSpec, GrouserSpec, PathSpec, SegmentSpec, TrackSpec};
+use glam::{DAffine3, DQuat, DVec3};
 use rapier3d::prelude::CoefficientCombineRule;
 
 fn path_issue(key: &str, e: &PathError) -> SpecIssue {
@@ -71,7 +72,7 @@ fn command_radius(c: &mut Checker, k: &str, t: &TrackSpec, rim_inset: f64) -> Op
 /// `tracks`; appends nothing when its path cannot be built.
 pub(super) fn compile_track(
     c: &mut Checker,
-    flippers: &[FlipperSpec],
+    mounts: &Mounts,
     k: &str,
     t: &TrackSpec,
     tracks: &mut Vec<TrackModel>,
@@ -80,16 +81,14 @@ pub(super) fn compile_track(
     if let Some(m) = &t.mirror {
         c.column_name(&format!("{k}.mirror"), m);
     }
-    let parent = resolve_parent(c, flippers, format!("{k}.parent"), &t.parent);
-    let mirror_parent = match &t.mirror_parent {
-        Some(p) => resolve_parent(c, flippers, format!("{k}.mirror_parent"), p),
-        None => parent,
-    };
-    if t.mirror_parent.is_some() && t.mirror.is_none() {
-        c.push(
-            format!("{k}.mirror_parent"),
-            "only used together with `mirror`",
-        );
+    let (parent, mirror_parent, frame) = resolve_parents(c, mounts, k, t);
+    if (t.mirror_parent.is_some() || t.mirror_link.is_some()) && t.mirror.is_none() {
+        let key = if t.mirror_link.is_some() {
+            "mirror_link"
+        } else {
+            "mirror_parent"
+        };
+        c.push(format!("{k}.{key}"), "only used together with `mirror`");
     }
     let combine = belt(c, k, t);
     let mut grousers = match &t.grousers {
@@ -98,6 +97,9 @@ pub(super) fn compile_track(
     };
     let Some((path, rim_inset)) = track_path(c, &format!("{k}.path"), &t.path, &mut grousers)
     else {
+        return;
+    };
+    let Some(path) = placed(c, k, t, path, frame) else {
         return;
     };
     let sprocket_radius = command_radius(c, k, t, rim_inset);
@@ -140,22 +142,91 @@ pub(super) fn compile_track(
     }
 }
 
-/// Parent stage: `"body"` or a flipper name; an unknown name is reported under `key` and
-/// falls back to the body.
-fn resolve_parent(c: &mut Checker, flippers: &[FlipperSpec], key: String, name: &str) -> Parent {
-    if name == "body" {
-        Parent::Body
-    } else if let Some(j) = flippers.iter().position(|f| f.name == name) {
-        Parent::Flipper(j)
-    } else {
+/// Parent stage: what the track and its mirror image hang on, and the frame its path is
+/// given in (the chassis frame, or for a URDF robot its link's frame). A vehicle file names
+/// `"body"` or a flipper (`parent`, `mirror_parent`); a URDF robot names links (`link`,
+/// `mirror_link`). Unknown names are reported and fall back to the body.
+fn resolve_parents(
+    c: &mut Checker,
+    mounts: &Mounts,
+    k: &str,
+    t: &TrackSpec,
+) -> (Parent, Parent, DAffine3) {
+    if !mounts.is_urdf() {
+        for (key, given) in [("link", &t.link), ("mirror_link", &t.mirror_link)] {
+            if given.is_some() {
+                c.push(
+                    format!("{k}.{key}"),
+                    "names a URDF link: only used with the vehicle's `urdf`; a vehicle file's \
+                     track names its `parent` (\"body\" or a flipper)",
+                );
+            }
+        }
+        let (parent, _) = mounts.resolve(c, &format!("{k}.parent"), "parent", &t.parent);
+        let mirror = match &t.mirror_parent {
+            Some(p) => {
+                mounts
+                    .resolve(c, &format!("{k}.mirror_parent"), "parent", p)
+                    .0
+            }
+            None => parent,
+        };
+        return (parent, mirror, DAffine3::IDENTITY);
+    }
+    if t.parent != "body" || t.mirror_parent.is_some() {
+        let key = if t.parent != "body" {
+            "parent"
+        } else {
+            "mirror_parent"
+        };
         c.push(
-            key,
+            format!("{k}.{key}"),
+            "a URDF robot's track names the link that carries it: use `link` (and \
+             `mirror_link`)",
+        );
+    }
+    let Some(link) = &t.link else {
+        c.push(
+            format!("{k}.link"),
+            "missing: with `urdf`, every track names the URDF link that carries it (its path \
+             and grousers are in that link's frame)",
+        );
+        return (Parent::Body, Parent::Body, DAffine3::IDENTITY);
+    };
+    let (parent, frame) = mounts.resolve(c, &format!("{k}.link"), "link", link);
+    let mirror = match &t.mirror_link {
+        Some(l) => mounts.resolve(c, &format!("{k}.mirror_link"), "link", l).0,
+        None => parent,
+    };
+    (parent, mirror, frame)
+}
+
+/// Placement stage: the path moved from its link's frame into the chassis frame; it must still
+/// turn about +y (the link's frame may turn only about y).
+fn placed(
+    c: &mut Checker,
+    k: &str,
+    t: &TrackSpec,
+    path: TrackPath,
+    frame: DAffine3,
+) -> Option<TrackPath> {
+    if frame == DAffine3::IDENTITY {
+        return Some(path);
+    }
+    let moved = path.moved(DQuat::from_mat3(&frame.matrix3), frame.translation);
+    if moved.axis().dot(DVec3::Y) < 1.0 - 1e-9 {
+        c.push(
+            format!("{k}.link"),
             format!(
-                "no flipper called \"{name}\"; use \"body\" or one of the names under [[flippers]]"
+                "link \"{}\" is turned so that the track would not run in the chassis's x-z \
+                 plane (its loop axis becomes {:.3?}); a track's link may be turned only about y",
+                t.link.as_deref().unwrap_or_default(),
+                moved.axis().to_array()
             ),
         );
-        Parent::Body
+        return None;
     }
+    Some(moved)
 }
 
 /// Belt stage: checks width, thickness, mass, friction and sprocket radius; returns the

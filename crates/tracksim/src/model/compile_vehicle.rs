@@ -4,7 +4,8 @@
 //! order.
 
 use super::compile_track::compile_track;
-use super::{BodyModel, CollisionShape, FlipperModel, TrackModel, VehicleModel};
+use super::mounts::Mounts;
+use super::{BodyModel, CollisionShape, FlipperModel, TrackModel, UrdfRobot, VehicleModel};
 use crate::check::{Checker, v3};
 use crate::error::{Result, SpecIssue};
 use crate::spec::{BodySpec, FlipperSpec, ShapeSpec, VehicleSpec};
@@ -38,17 +39,58 @@ fn box_inertia(mass: f64, size: DVec3) -> DVec3 {
     ) * (mass / 12.0)
 }
 
-/// Compiles a vehicle description, reporting every problem with its key path.
+/// Compiles a vehicle description, reporting every problem with its key path. A file with
+/// `urdf` needs its folder: use [`compile_vehicle_in`].
 pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue>> {
+    compile_vehicle_with(spec, None)
+}
+
+/// Compiles a vehicle description whose relative paths (`urdf`) are relative to `dir`: the
+/// URDF robot is read and checked first, then the vehicle as [`compile_vehicle_with`] does.
+pub fn compile_vehicle_in(
+    spec: &VehicleSpec,
+    dir: &std::path::Path,
+) -> Result<VehicleModel, Vec<SpecIssue>> {
+    match &spec.urdf {
+        None => compile_vehicle_with(spec, None),
+        Some(file) => {
+            let robot = UrdfRobot::load(&dir.join(file))?;
+            compile_vehicle_with(spec, Some(&robot))
+        }
+    }
+}
+
+/// Compiles a vehicle description with its URDF robot, if it has `urdf`.
+pub fn compile_vehicle_with(
+    spec: &VehicleSpec,
+    robot: Option<&UrdfRobot>,
+) -> Result<VehicleModel, Vec<SpecIssue>> {
     let mut c = Checker::default();
     if spec.name.trim().is_empty() {
         c.push("name", "must not be empty");
     }
-    let body = body(&mut c, &spec.body);
-    let mut flippers = Vec::new();
-    for (i, f) in spec.flippers.iter().enumerate() {
-        flippers.push(flipper(&mut c, &spec.flippers, i, f));
-    }
+    let (body, flippers, mounts, urdf, separation) = match (robot, &spec.urdf) {
+        (Some(r), Some(_)) => {
+            let parts = super::compile_urdf::compile_urdf(&mut c, spec, r);
+            (
+                parts.body,
+                parts.flippers,
+                Mounts::of_urdf(r),
+                Some(parts.report),
+                parts.tracks_separation,
+            )
+        }
+        (_, urdf) => {
+            if urdf.is_some() {
+                c.push(
+                    "urdf",
+                    "the URDF file is read relative to the vehicle file: load the vehicle with \
+                     load_vehicle or compile_vehicle_in",
+                );
+            }
+            file_parts(&mut c, spec)
+        }
+    };
     let mut tracks: Vec<TrackModel> = Vec::new();
     if spec.tracks.is_empty() {
         c.push("tracks", "a vehicle needs at least one track");
@@ -60,20 +102,18 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
                 "a vehicle's track runs in a plane; spatial loops are for [[terrain.conveyors]]: remove `spatial`",
             );
         }
-        compile_track(
-            &mut c,
-            &spec.flippers,
-            &format!("tracks[{i}]"),
-            t,
-            &mut tracks,
-        );
+        compile_track(&mut c, &mounts, &format!("tracks[{i}]"), t, &mut tracks);
     }
     check_track_names(&mut c, &tracks);
-    let odometry_separation = spec.odometry.as_ref().and_then(|o| o.track_separation_m);
+    let odometry_separation = spec
+        .odometry
+        .as_ref()
+        .and_then(|o| o.track_separation_m)
+        .or(separation);
     if let Some(b) = odometry_separation {
         c.positive("odometry.track_separation_m", b, "m");
     }
-    let sensors = super::compile_sensor::compile_sensors(&mut c, &spec.sensors, &spec.flippers);
+    let sensors = super::compile_sensor::compile_sensors(&mut c, &spec.sensors, &mounts);
     if c.issues.is_empty() {
         Ok(VehicleModel {
             name: spec.name.clone(),
@@ -83,9 +123,66 @@ pub fn compile_vehicle(spec: &VehicleSpec) -> Result<VehicleModel, Vec<SpecIssue
             tracks,
             odometry_separation,
             sensors,
+            urdf,
         })
     } else {
         Err(c.issues)
+    }
+}
+
+/// The chassis and flippers of a vehicle file without `urdf` (`[body]`, `[[flippers]]`).
+#[allow(clippy::type_complexity)]
+fn file_parts(
+    c: &mut Checker,
+    spec: &VehicleSpec,
+) -> (
+    BodyModel,
+    Vec<FlipperModel>,
+    Mounts,
+    Option<super::UrdfReport>,
+    Option<f64>,
+) {
+    for (key, given) in [
+        ("body_friction", spec.body_friction.is_some()),
+        ("joints", !spec.joints.is_empty()),
+    ] {
+        if given {
+            c.push(
+                key,
+                "only used with `urdf` (the body's friction is [body] friction)",
+            );
+        }
+    }
+    let body = match &spec.body {
+        Some(b) => body(c, b),
+        None => {
+            c.push(
+                "body",
+                "missing: a vehicle needs [body] (the chassis), or `urdf` naming the robot's \
+                 URDF file",
+            );
+            body(c, &placeholder_body())
+        }
+    };
+    let mut flippers = Vec::new();
+    for (i, f) in spec.flippers.iter().enumerate() {
+        flippers.push(flipper(c, &spec.flippers, i, f));
+    }
+    let mounts = Mounts::of_flippers(spec.flippers.iter().map(|f| f.name.as_str()));
+    (body, flippers, mounts, None, None)
+}
+
+/// A chassis to go on checking with when [body] is missing (never simulated).
+fn placeholder_body() -> BodySpec {
+    BodySpec {
+        mass_kg: 1.0,
+        centre_of_mass_m: [0.0; 3],
+        inertia_kgm2: None,
+        shape: ShapeSpec::Box {
+            size_m: [0.1; 3],
+            centre_m: [0.0; 3],
+        },
+        friction: 0.6,
     }
 }
 
@@ -112,6 +209,7 @@ fn body(c: &mut Checker, b: &BodySpec) -> BodyModel {
         mass: b.mass_kg,
         com: v3(b.centre_of_mass_m),
         inertia,
+        inertia_products: DVec3::ZERO,
         shape: body_shape,
         friction: b.friction,
     }
@@ -173,6 +271,8 @@ fn flipper(c: &mut Checker, all: &[FlipperSpec], i: usize, f: &FlipperSpec) -> F
         mass: f.mass_kg,
         com,
         inertia,
+        inertia_products: DVec3::ZERO,
+        limits: None,
         shape,
         initial_angle: f.initial_angle_deg.to_radians(),
         max_torque: f.max_torque_nm,

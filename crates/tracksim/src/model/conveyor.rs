@@ -67,7 +67,13 @@ pub(super) fn compile_conveyors(c: &mut Checker, specs: &[ConveyorSpec]) -> Vec<
             ..b.clone()
         };
         let mut belts = Vec::new();
-        super::compile_track::compile_track(c, &[], &bk, &b, &mut belts);
+        super::compile_track::compile_track(
+            c,
+            &super::mounts::Mounts::of_flippers(std::iter::empty()),
+            &bk,
+            &b,
+            &mut belts,
+        );
         if let Some(belt) = belts.into_iter().next() {
             out.push(ConveyorModel {
                 belt,

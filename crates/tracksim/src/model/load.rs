@@ -2,9 +2,7 @@
 //! scenario files (a scenario's vehicle file is found relative to the scenario's folder).
 
 use super::overrides::OverrideCommands;
-use super::{
-    Overrides, Scenario, ScenarioTemplate, VehicleModel, compile_scenario, compile_vehicle,
-};
+use super::{Overrides, Scenario, ScenarioTemplate, VehicleModel, compile_scenario};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::{ScenarioSpec, VehicleSpec};
 use std::path::Path;
@@ -116,7 +114,8 @@ pub(crate) fn shorten(message: &str) -> String {
 /// Loads and compiles a vehicle file.
 pub fn load_vehicle(path: &Path) -> Result<VehicleModel> {
     let spec: VehicleSpec = read_toml(path)?;
-    compile_vehicle(&spec).map_err(|issues| Error::Invalid {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    super::compile_vehicle_in(&spec, dir).map_err(|issues| Error::Invalid {
         path: path.to_path_buf(),
         issues,
     })
@@ -211,7 +210,7 @@ pub(crate) fn scenario_vehicle(path: &Path, spec: &ScenarioSpec) -> Result<Vehic
             }
             load_vehicle(&vpath)
         }
-        (None, Some(inline)) => compile_vehicle(inline).map_err(|issues| {
+        (None, Some(inline)) => super::compile_vehicle_in(inline, dir).map_err(|issues| {
             invalid(
                 issues
                     .into_iter()

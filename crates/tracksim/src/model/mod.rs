@@ -29,6 +29,7 @@
 mod compile_scenario;
 mod compile_sensor;
 mod compile_track;
+mod compile_urdf;
 mod compile_vehicle;
 mod compliance;
 mod controls;
@@ -39,11 +40,13 @@ mod expect;
 mod load;
 mod method;
 mod motor;
+mod mounts;
 mod overrides;
 mod randomize;
 mod scenario;
 mod sensor;
 mod template;
+pub mod urdf;
 mod vehicle;
 mod wheel;
 
@@ -69,5 +72,6 @@ pub use randomize::*;
 pub use scenario::*;
 pub use sensor::*;
 pub use template::*;
+pub use urdf::{UrdfReport, UrdfRobot};
 pub use vehicle::*;
 pub use wheel::rolling_radius;

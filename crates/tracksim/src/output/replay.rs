@@ -72,7 +72,20 @@ impl MeshData {
 fn collision_mesh(s: &CollisionShape) -> MeshData {
     match s {
         CollisionShape::Box { half, centre } => MeshData::cuboid(*half, *centre),
-        CollisionShape::Convex(p) => MeshData::hull(p),
+        CollisionShape::Compound(parts) => {
+            let mut out = MeshData {
+                vertices_m: Vec::new(),
+                triangles: Vec::new(),
+            };
+            for p in parts {
+                let m = collision_mesh(p);
+                let base = (out.vertices_m.len() / 3) as u32;
+                out.vertices_m.extend(m.vertices_m);
+                out.triangles.extend(m.triangles.iter().map(|i| i + base));
+            }
+            out
+        }
+        other => MeshData::hull(&other.hull_points()),
     }
 }
 

@@ -13,8 +13,23 @@ pub struct VehicleSpec {
     /// One-line description.
     #[serde(default)]
     pub description: String,
-    /// The chassis.
-    pub body: BodySpec,
+    /// The robot's URDF file (path relative to this file): the chassis and the flipper arms
+    /// (masses, inertias, collision shapes, revolute joints with limits and effort) come from
+    /// it instead of `[body]` and `[[flippers]]`, and each track names the URDF link that
+    /// carries it (`link`). `docs/URDF.md`.
+    #[serde(default)]
+    pub urdf: Option<String>,
+    /// Friction coefficient of the chassis and arm surfaces of a URDF robot (default: the
+    /// root link's Gazebo `<mu1>`, else 0.6).
+    #[serde(default)]
+    pub body_friction: Option<f64>,
+    /// Control of a URDF robot's revolute joints (the flippers), by joint name: what URDF does
+    /// not say (position gains, start angle) or overrides (`effort`).
+    #[serde(default)]
+    pub joints: std::collections::BTreeMap<String, JointSpec>,
+    /// The chassis (not with `urdf`).
+    #[serde(default)]
+    pub body: Option<BodySpec>,
     /// Flipper arms carrying sub-tracks.
     #[serde(default)]
     pub flippers: Vec<FlipperSpec>,
@@ -26,6 +41,24 @@ pub struct VehicleSpec {
     /// Sensors on the chassis or a flipper (`[[sensors]]`, `docs/SENSORS.md`).
     #[serde(default)]
     pub sensors: Vec<super::SensorSpec>,
+}
+
+/// The position controller of a URDF revolute joint (`[joints.NAME]`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Position gain, N m / rad (default 2000).
+    #[serde(default)]
+    pub stiffness_nm_per_rad: Option<f64>,
+    /// Velocity gain, N m s / rad (default 50).
+    #[serde(default)]
+    pub damping_nms_per_rad: Option<f64>,
+    /// Angle at the start, degrees (default 0; within the joint's limits).
+    #[serde(default)]
+    pub initial_angle_deg: Option<f64>,
+    /// Torque limit of the joint motor, N m (default: the URDF `<limit effort>`).
+    #[serde(default)]
+    pub max_torque_nm: Option<f64>,
 }
 
 /// A track's DC drive motor (`[tracks.motor]`).
@@ -156,9 +189,17 @@ pub struct TrackSpec {
     /// What the mirrored copy hangs on (default: the same as `parent`).
     #[serde(default)]
     pub mirror_parent: Option<String>,
-    /// What the track hangs on: "body" (default) or a flipper's name.
+    /// What the track hangs on: "body" (default) or a flipper's name (not with `urdf`).
     #[serde(default = "default_parent")]
     pub parent: String,
+    /// With `urdf`: the URDF link that carries the track; its path and grousers are given in
+    /// that link's frame.
+    #[serde(default)]
+    pub link: Option<String>,
+    /// With `urdf` and `mirror`: the link that carries the mirror image (default: `link`). The
+    /// image is taken in the chassis frame (y -> -y).
+    #[serde(default)]
+    pub mirror_link: Option<String>,
     /// Belt width across the track, m.
     pub width_m: f64,
     /// Belt thickness (inwards from the path), m.

@@ -129,24 +129,63 @@ fn start_pose(sc: &Scenario, origin: DVec3) -> Pose {
     )
 }
 
-/// A collider for a vehicle collision shape (body frame).
-fn shape_collider(shape: &CollisionShape) -> Result<ColliderBuilder> {
-    match shape {
+/// The colliders of a vehicle collision shape (body frame): one, or one per part of a
+/// compound.
+fn shape_colliders(shape: &CollisionShape) -> Result<Vec<ColliderBuilder>> {
+    Ok(match shape {
         CollisionShape::Box { half, centre } => {
-            Ok(
+            vec![
                 ColliderBuilder::cuboid(half.x as f32, half.y as f32, half.z as f32)
                     .translation(f(*centre)),
-            )
+            ]
         }
         CollisionShape::Convex(pts) => {
             let p: Vec<Vector> = pts.iter().map(|p| f(*p)).collect();
-            ColliderBuilder::convex_hull(&p).ok_or_else(|| {
+            vec![ColliderBuilder::convex_hull(&p).ok_or_else(|| {
                 Error::Build(
                     "a convex shape's hull could not be computed (are its points coplanar?)".into(),
                 )
-            })
+            })?]
         }
+        CollisionShape::Sphere { radius, centre } => {
+            vec![ColliderBuilder::ball(*radius as f32).translation(f(*centre))]
+        }
+        // Rapier's cylinder runs along y; URDF's along z: turn y onto z.
+        CollisionShape::Cylinder {
+            radius,
+            half_length,
+            centre,
+            rotation,
+        } => vec![
+            ColliderBuilder::cylinder(*half_length as f32, *radius as f32).position(
+                Pose::from_parts(
+                    f(*centre),
+                    q(*rotation * DQuat::from_rotation_x(std::f64::consts::FRAC_PI_2)),
+                ),
+            ),
+        ],
+        CollisionShape::Compound(parts) => {
+            let mut out = Vec::new();
+            for p in parts {
+                out.extend(shape_colliders(p)?);
+            }
+            out
+        }
+    })
+}
+
+/// Mass properties of a part: principal moments along the body axes, or (with products of
+/// inertia, from a URDF) the full tensor, diagonalised by Rapier.
+fn mass_properties(com: DVec3, mass: f64, inertia: DVec3, products: DVec3) -> MassProperties {
+    if products == DVec3::ZERO {
+        return MassProperties::new(f(com), mass as f32, f(inertia));
     }
+    let m = glam::Mat3::from_cols(
+        glam::Vec3::new(inertia.x as f32, products.x as f32, products.y as f32),
+        glam::Vec3::new(products.x as f32, inertia.y as f32, products.z as f32),
+        glam::Vec3::new(products.y as f32, products.z as f32, inertia.z as f32),
+    );
+    MassProperties::with_inertia_matrix(f(com), mass as f32, m)
 }
 
 /// The chassis body and its collider.
@@ -158,20 +197,23 @@ fn insert_chassis(
     let body = world.bodies.insert(
         RigidBodyBuilder::dynamic()
             .pose(start)
-            .additional_mass_properties(MassProperties::new(
-                f(v.body.com),
-                v.body.mass as f32,
-                f(v.body.inertia),
+            .additional_mass_properties(mass_properties(
+                v.body.com,
+                v.body.mass,
+                v.body.inertia,
+                v.body.inertia_products,
             ))
             .can_sleep(false),
     );
-    let c = shape_collider(&v.body.shape)?
-        .density(0.0)
-        .friction(v.body.friction as f32)
-        .collision_groups(vehicle_groups());
-    world
-        .colliders
-        .insert_with_parent(c, body, &mut world.bodies);
+    for c in shape_colliders(&v.body.shape)? {
+        let c = c
+            .density(0.0)
+            .friction(v.body.friction as f32)
+            .collision_groups(vehicle_groups());
+        world
+            .colliders
+            .insert_with_parent(c, body, &mut world.bodies);
+    }
     Ok(body)
 }
 
@@ -189,21 +231,24 @@ fn insert_flippers(
         let h = world.bodies.insert(
             RigidBodyBuilder::dynamic()
                 .pose(start * rel)
-                .additional_mass_properties(MassProperties::new(
-                    f(fl.com),
-                    fl.mass as f32,
-                    f(fl.inertia),
+                .additional_mass_properties(mass_properties(
+                    fl.com,
+                    fl.mass,
+                    fl.inertia,
+                    fl.inertia_products,
                 ))
                 .can_sleep(false),
         );
         if let Some(s) = &fl.shape {
-            let c = shape_collider(s)?
-                .density(0.0)
-                .friction(v.body.friction as f32)
-                .collision_groups(vehicle_groups());
-            world.colliders.insert_with_parent(c, h, &mut world.bodies);
+            for c in shape_colliders(s)? {
+                let c = c
+                    .density(0.0)
+                    .friction(v.body.friction as f32)
+                    .collision_groups(vehicle_groups());
+                world.colliders.insert_with_parent(c, h, &mut world.bodies);
+            }
         }
-        let joint = RevoluteJointBuilder::new(f(fl.axis))
+        let mut joint = RevoluteJointBuilder::new(f(fl.axis))
             .local_anchor1(f(fl.pivot))
             .local_anchor2(f(fl.pivot))
             .contacts_enabled(false)
@@ -214,6 +259,9 @@ fn insert_flippers(
                 fl.damping as f32,
             )
             .motor_max_force(fl.max_torque as f32);
+        if let Some([lo, hi]) = fl.limits {
+            joint = joint.limits([lo as f32, hi as f32]);
+        }
         let j = world.impulse_joints.insert(body, h, joint, true);
         flippers.push(Flipper {
             body: h,
@@ -222,6 +270,7 @@ fn insert_flippers(
             target: fl.initial_angle,
             stiffness: fl.stiffness as f32,
             damping: fl.damping as f32,
+            limits: fl.limits,
         });
     }
     Ok(flippers)

@@ -59,6 +59,8 @@ pub(crate) struct Flipper {
     pub(crate) target: f64,
     pub(crate) stiffness: f32,
     pub(crate) damping: f32,
+    /// Joint limits [lower, upper], rad: targets are clamped to them.
+    pub(crate) limits: Option<[f64; 2]>,
 }
 
 /// A vehicle on a terrain in a Rapier world, advanced one step at a time.
@@ -159,9 +161,14 @@ impl Simulation {
         self.tracks[i].set_belt_speed(&mut self.world, v);
     }
 
-    /// Sets the target angle of flipper `i`, rad.
+    /// Sets the target angle of flipper `i`, rad (clamped to the joint's limits, if it has
+    /// them).
     pub fn set_flipper_angle(&mut self, i: usize, a: f64) {
         let fl = &mut self.flippers[i];
+        let a = match fl.limits {
+            Some([lo, hi]) => a.clamp(lo, hi),
+            None => a,
+        };
         fl.target = a;
         if let Some(j) = self.world.impulse_joints.get_mut(fl.joint, true) {
             j.data

@@ -1,0 +1,121 @@
+//! The Gazebo extensions of a URDF file that tracksim reads: the `TrackedVehicle` plugin
+//! block (which links are tracks and flippers, `tracks_separation`) and each link's friction
+//! (`<gazebo reference="LINK"><mu1>`). Everything else under `<gazebo>` is Gazebo's own and
+//! ignored.
+
+use std::collections::HashMap;
+
+/// A `gz::sim::systems::TrackedVehicle` (or Gazebo classic tracked-vehicle) plugin block.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TrackedVehiclePlugin {
+    /// `<left_track><link>`: links of the left tracks.
+    pub left_tracks: Vec<String>,
+    /// `<right_track><link>`: links of the right tracks.
+    pub right_tracks: Vec<String>,
+    /// `<left_flipper><link>` and `<right_flipper><link>`: links of the flipper tracks.
+    pub flippers: Vec<String>,
+    /// `<tracks_separation>`, m.
+    pub tracks_separation: Option<f64>,
+    /// Line of the `<plugin>` element.
+    pub line: u32,
+}
+
+impl TrackedVehiclePlugin {
+    /// Every link the plugin names as a track, with its element's tag.
+    pub fn track_links(&self) -> Vec<(&'static str, &str)> {
+        self.left_tracks
+            .iter()
+            .map(|l| ("left_track", l.as_str()))
+            .chain(
+                self.right_tracks
+                    .iter()
+                    .map(|l| ("right_track", l.as_str())),
+            )
+            .chain(self.flippers.iter().map(|l| ("flipper", l.as_str())))
+            .collect()
+    }
+}
+
+/// What tracksim reads of a URDF file's `<gazebo>` elements.
+#[derive(Clone, Debug, Default)]
+pub struct GazeboExtensions {
+    /// The tracked-vehicle plugin, if the file has one.
+    pub plugin: Option<TrackedVehiclePlugin>,
+    /// `<mu1>` by link name (`<gazebo reference="LINK">`).
+    pub friction: HashMap<String, f64>,
+    /// Values that could not be read: (element, text).
+    pub unreadable: Vec<(String, String)>,
+}
+
+fn is_tracked_vehicle(plugin: roxmltree::Node) -> bool {
+    let name = plugin
+        .attribute("name")
+        .unwrap_or_default()
+        .to_ascii_lowercase();
+    let file = plugin
+        .attribute("filename")
+        .unwrap_or_default()
+        .to_ascii_lowercase();
+    name.contains("trackedvehicle")
+        || file.contains("tracked-vehicle")
+        || file.contains("trackedvehicle")
+        || file.contains("tracked_vehicle")
+}
+
+fn text_of<'a>(n: roxmltree::Node<'a, 'a>, tag: &str) -> Option<&'a str> {
+    n.children()
+        .find(|c| c.has_tag_name(tag))
+        .and_then(|c| c.text())
+        .map(str::trim)
+}
+
+impl GazeboExtensions {
+    /// Reads the `<gazebo>` children of `robot`; `line` gives an element's line.
+    pub fn read(robot: roxmltree::Node, line: &dyn Fn(roxmltree::Node) -> u32) -> Self {
+        let mut out = GazeboExtensions::default();
+        for g in robot.children().filter(|n| n.has_tag_name("gazebo")) {
+            if let Some(link) = g.attribute("reference")
+                && let Some(mu) = text_of(g, "mu1")
+            {
+                match mu.parse::<f64>() {
+                    Ok(v) => {
+                        out.friction.insert(link.to_string(), v);
+                    }
+                    Err(_) => out
+                        .unreadable
+                        .push((format!("<gazebo reference=\"{link}\"><mu1>"), mu.into())),
+                }
+            }
+            for p in g.children().filter(|n| n.has_tag_name("plugin")) {
+                if !is_tracked_vehicle(p) {
+                    continue;
+                }
+                let links = |tag: &str| -> Vec<String> {
+                    p.children()
+                        .filter(|c| c.has_tag_name(tag))
+                        .filter_map(|c| text_of(c, "link"))
+                        .map(String::from)
+                        .collect()
+                };
+                let mut plugin = TrackedVehiclePlugin {
+                    left_tracks: links("left_track"),
+                    right_tracks: links("right_track"),
+                    flippers: links("left_flipper"),
+                    tracks_separation: None,
+                    line: line(p),
+                };
+                plugin.flippers.extend(links("right_flipper"));
+                if let Some(t) = text_of(p, "tracks_separation") {
+                    match t.parse::<f64>() {
+                        Ok(v) => plugin.tracks_separation = Some(v),
+                        Err(_) => out
+                            .unreadable
+                            .push(("<plugin><tracks_separation>".into(), t.into())),
+                    }
+                }
+                out.plugin = Some(plugin);
+            }
+        }
+        out
+    }
+}

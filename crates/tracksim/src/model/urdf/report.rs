@@ -1,0 +1,76 @@
+//! What `tracksim check` prints of an imported URDF robot: every link with its joint, the body
+//! it became part of, its mass, whether its collision shapes are used, and the tracks it
+//! carries; then the arms with their limits and torque, and the Gazebo plugin's links.
+
+use super::LinkJoint;
+
+/// One link in the report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinkLine {
+    /// Link name.
+    pub name: String,
+    /// Joint that carries it and its type (`None` for the root).
+    pub joint: Option<String>,
+    /// How it joins its parent.
+    pub kind: LinkJoint,
+    /// The simulated body it is part of: `chassis` or the arm's joint name.
+    pub body: String,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Collision shapes in the URDF.
+    pub shapes: usize,
+    /// Why its shapes are not used, if they are not.
+    pub shapes_dropped: Option<&'static str>,
+    /// Tracks it carries.
+    pub tracks: Vec<String>,
+}
+
+/// What was imported from a URDF file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UrdfReport {
+    /// The URDF file.
+    pub file: std::path::PathBuf,
+    /// `<robot name>`.
+    pub robot: String,
+    /// Every link.
+    pub links: Vec<LinkLine>,
+    /// One line per arm (flipper joint).
+    pub arms: Vec<String>,
+    /// Notes (plugin, friction, what is not used).
+    pub notes: Vec<String>,
+}
+
+impl UrdfReport {
+    /// The report as lines of text.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = vec![format!(
+            "URDF {} (robot \"{}\"): {} links",
+            self.file.display(),
+            self.robot,
+            self.links.len()
+        )];
+        for l in &self.links {
+            let joint = match (&l.joint, l.kind) {
+                (None, _) => "root".to_string(),
+                (Some(j), k) => format!("{} joint {j}", format!("{k:?}").to_ascii_lowercase()),
+            };
+            let shapes = match (l.shapes, l.shapes_dropped) {
+                (0, _) => "no collision".to_string(),
+                (n, None) => format!("{n} collision shape(s)"),
+                (n, Some(why)) => format!("{n} collision shape(s) not used: {why}"),
+            };
+            let tracks = if l.tracks.is_empty() {
+                String::new()
+            } else {
+                format!(", carries track {}", l.tracks.join(", "))
+            };
+            out.push(format!(
+                "  link {}: {joint}, part of {}, {:.3} kg, {shapes}{tracks}",
+                l.name, l.body, l.mass
+            ));
+        }
+        out.extend(self.arms.iter().map(|a| format!("  arm {a}")));
+        out.extend(self.notes.iter().map(|n| format!("  note: {n}")));
+        out
+    }
+}

@@ -1,0 +1,122 @@
+//! The URDF file as text: read with a size bound, refused when it is xacro, parsed by urdf-rs
+//! into its robot, and parsed again with roxmltree for what urdf-rs does not keep: where each
+//! element is (line numbers for messages), which links have an `<inertial>`, and the Gazebo
+//! extensions (`gazebo.rs`).
+
+use crate::error::SpecIssue;
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+/// A URDF file, read and parsed.
+#[derive(Debug)]
+pub(crate) struct UrdfSource {
+    /// The file.
+    pub path: PathBuf,
+    /// The robot as urdf-rs reads it.
+    pub robot: urdf_rs::Robot,
+    /// Line of each `<link>`, by name.
+    link_lines: HashMap<String, u32>,
+    /// Line of each `<joint>`, by name.
+    joint_lines: HashMap<String, u32>,
+    /// Links that have an `<inertial>` element.
+    pub with_inertial: HashSet<String>,
+    /// The Gazebo extensions.
+    pub gazebo: super::gazebo::GazeboExtensions,
+}
+
+/// Largest URDF file read, bytes (a robot description is kilobytes; meshes are separate).
+pub const MAX_URDF_BYTES: u64 = 16 << 20;
+
+/// The key of a problem in the URDF file: the `urdf` key and the element.
+pub(crate) fn key(element: &str) -> String {
+    format!("urdf {element}")
+}
+
+impl UrdfSource {
+    /// Reads and parses `path`; problems are keyed `urdf` (the vehicle file's key).
+    pub fn read(path: &Path) -> Result<UrdfSource, Vec<SpecIssue>> {
+        let fail = |m: String| vec![SpecIssue::new("urdf", m)];
+        let text = crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
+            fail(format!(
+                "cannot read the URDF file: {e}; the path is relative to the vehicle file's folder"
+            ))
+        })?;
+        if text.contains("xmlns:xacro") || text.contains("<xacro:") {
+            return Err(fail(format!(
+                "{} is a xacro file; expand it first (`xacro robot.urdf.xacro > robot.urdf`) and \
+                 name the result",
+                path.display()
+            )));
+        }
+        let doc = roxmltree::Document::parse(&text)
+            .map_err(|e| fail(format!("{} is not well-formed XML: {e}", path.display())))?;
+        let root = doc.root_element();
+        if root.tag_name().name() != "robot" {
+            return Err(fail(format!(
+                "{}: the root element is <{}>, a URDF file's is <robot>",
+                path.display(),
+                root.tag_name().name()
+            )));
+        }
+        let line = |n: roxmltree::Node| doc.text_pos_at(n.range().start).row;
+        let mut link_lines = HashMap::new();
+        let mut joint_lines = HashMap::new();
+        let mut with_inertial = HashSet::new();
+        for n in root.children().filter(|n| n.is_element()) {
+            let name = n.attribute("name").unwrap_or_default().to_string();
+            match n.tag_name().name() {
+                "link" => {
+                    if n.children().any(|c| c.has_tag_name("inertial")) {
+                        with_inertial.insert(name.clone());
+                    }
+                    link_lines.insert(name, line(n));
+                }
+                "joint" => {
+                    joint_lines.insert(name, line(n));
+                }
+                _ => {}
+            }
+        }
+        let gazebo = super::gazebo::GazeboExtensions::read(root, &line);
+        let robot = urdf_rs::read_from_string(&text).map_err(|e| {
+            fail(format!(
+                "{}: not a valid URDF robot: {}",
+                path.display(),
+                crate::model::load::shorten(&e.to_string())
+            ))
+        })?;
+        Ok(UrdfSource {
+            path: path.to_path_buf(),
+            robot,
+            link_lines,
+            joint_lines,
+            with_inertial,
+            gazebo,
+        })
+    }
+
+    /// `<link name="NAME"> (FILE line N)`, for messages.
+    pub fn link(&self, name: &str) -> String {
+        self.at("link", name, self.link_lines.get(name))
+    }
+
+    /// `<joint name="NAME"> (FILE line N)`, for messages.
+    pub fn joint(&self, name: &str) -> String {
+        self.at("joint", name, self.joint_lines.get(name))
+    }
+
+    fn at(&self, tag: &str, name: &str, line: Option<&u32>) -> String {
+        let file = self
+            .path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        match line {
+            Some(l) => format!(
+                "<{tag} name=\"{}\"> ({file} line {l})",
+                crate::check::echoed(name)
+            ),
+            None => format!("<{tag} name=\"{}\"> ({file})", crate::check::echoed(name)),
+        }
+    }
+}

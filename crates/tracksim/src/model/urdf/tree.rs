@@ -1,0 +1,271 @@
+//! The joint tree of a URDF robot, walked from its root link: each link's frame in the chassis
+//! frame (arms at angle 0) and the body it belongs to. A URDF is a tree: a link with two
+//! parent joints, a loop of joints, links not connected to the root, joints naming links that
+//! do not exist, and joint types tracksim cannot simulate are refused with the element named.
+
+use super::source::{UrdfSource, key};
+use super::{ImportedArm, ImportedLink, LinkJoint};
+use crate::error::SpecIssue;
+use crate::model::Parent;
+use glam::{DAffine3, DQuat, DVec3, EulerRot};
+use std::collections::HashMap;
+use urdf_rs::JointType;
+
+/// A URDF `<origin>` as a transform (rpy: roll, pitch, yaw about the fixed x, y, z axes).
+pub(super) fn pose(o: &urdf_rs::Pose) -> DAffine3 {
+    let [r, p, y] = o.rpy.0;
+    DAffine3::from_rotation_translation(
+        DQuat::from_euler(EulerRot::ZYX, y, p, r),
+        DVec3::from_array(o.xyz.0),
+    )
+}
+
+/// True when every number of `o` is finite.
+pub(super) fn finite_pose(o: &urdf_rs::Pose) -> bool {
+    o.xyz.iter().chain(o.rpy.iter()).all(|v| v.is_finite())
+}
+
+/// Checks the names and links of every joint and link; returns the root link's name.
+fn root_link(src: &UrdfSource, issues: &mut Vec<SpecIssue>) -> Option<String> {
+    let r = &src.robot;
+    let mut seen = HashMap::new();
+    for l in &r.links {
+        if seen.insert(l.name.as_str(), ()).is_some() {
+            issues.push(SpecIssue::new(
+                key(&src.link(&l.name)),
+                "a second link with this name; link names must be unique",
+            ));
+        }
+    }
+    let mut parent_of: HashMap<&str, &str> = HashMap::new();
+    let mut joint_names = HashMap::new();
+    for j in &r.joints {
+        let at = key(&src.joint(&j.name));
+        if joint_names.insert(j.name.as_str(), ()).is_some() {
+            issues.push(SpecIssue::new(
+                &at,
+                "a second joint with this name; joint names must be unique",
+            ));
+        }
+        for (what, l) in [("parent", &j.parent.link), ("child", &j.child.link)] {
+            if !seen.contains_key(l.as_str()) {
+                issues.push(SpecIssue::new(
+                    &at,
+                    format!(
+                        "its <{what} link=\"{}\"> is not a link of the URDF",
+                        crate::check::echoed(l)
+                    ),
+                ));
+            }
+        }
+        if let Some(first) = parent_of.insert(j.child.link.as_str(), j.name.as_str()) {
+            issues.push(SpecIssue::new(
+                &at,
+                format!(
+                    "link \"{}\" is already the child of joint \"{first}\": a link has one \
+                     parent in URDF (closed chains of joints cannot be described)",
+                    crate::check::echoed(&j.child.link)
+                ),
+            ));
+        }
+    }
+    let roots: Vec<&str> = r
+        .links
+        .iter()
+        .map(|l| l.name.as_str())
+        .filter(|l| !parent_of.contains_key(l))
+        .collect();
+    match roots.as_slice() {
+        [one] => Some(one.to_string()),
+        [] if !r.links.is_empty() => {
+            issues.push(SpecIssue::new(
+                "urdf",
+                "every link is the child of a joint: the joints form a loop, and there is no \
+                 root link (the chassis)",
+            ));
+            None
+        }
+        [] => {
+            issues.push(SpecIssue::new("urdf", "the URDF has no <link>"));
+            None
+        }
+        many => {
+            issues.push(SpecIssue::new(
+                "urdf",
+                format!(
+                    "{} links are not the child of any joint ({}); a robot has one root link \
+                     (the chassis): join the others to it",
+                    many.len(),
+                    many.join(", ")
+                ),
+            ));
+            None
+        }
+    }
+}
+
+/// Walks the joint tree from the root: every link with its owner and frame, and the arms.
+pub(super) fn walk(
+    src: &UrdfSource,
+    issues: &mut Vec<SpecIssue>,
+) -> (Vec<ImportedLink>, Vec<ImportedArm>) {
+    let Some(root) = root_link(src, issues) else {
+        return (Vec::new(), Vec::new());
+    };
+    if !issues.is_empty() {
+        return (Vec::new(), Vec::new());
+    }
+    let mut links = vec![ImportedLink {
+        name: root.clone(),
+        joint: None,
+        kind: LinkJoint::Root,
+        owner: Parent::Body,
+        pose: DAffine3::IDENTITY,
+        mass: 0.0,
+        shapes: Vec::new(),
+    }];
+    let mut arms: Vec<ImportedArm> = Vec::new();
+    let mut next = 0;
+    while next < links.len() {
+        let (parent_name, parent_owner, parent_pose) = {
+            let p = &links[next];
+            (p.name.clone(), p.owner, p.pose)
+        };
+        next += 1;
+        for j in src
+            .robot
+            .joints
+            .iter()
+            .filter(|j| j.parent.link == parent_name)
+        {
+            let at = key(&src.joint(&j.name));
+            if !finite_pose(&j.origin) {
+                issues.push(SpecIssue::new(
+                    &at,
+                    "its <origin> has a number that is not finite",
+                ));
+                continue;
+            }
+            let frame = parent_pose * pose(&j.origin);
+            let (kind, owner) = match j.joint_type {
+                JointType::Fixed => (LinkJoint::Fixed, parent_owner),
+                JointType::Continuous => (LinkJoint::Continuous, parent_owner),
+                JointType::Revolute => {
+                    if let Parent::Flipper(i) = parent_owner {
+                        issues.push(SpecIssue::new(
+                            &at,
+                            format!(
+                                "a revolute joint on arm \"{}\": tracksim's arms hang on the \
+                                 chassis; make this joint fixed",
+                                arms[i].joint
+                            ),
+                        ));
+                        continue;
+                    }
+                    match arm(src, j, frame, issues) {
+                        Some(a) => arms.push(a),
+                        None => continue,
+                    }
+                    (LinkJoint::Revolute, Parent::Flipper(arms.len() - 1))
+                }
+                ref other => {
+                    issues.push(SpecIssue::new(
+                        &at,
+                        format!(
+                            "type \"{}\" is not simulated: tracksim has a chassis with \
+                             revolute arms (fixed joints are merged, continuous ones are \
+                             wheels inside a track); make it fixed or revolute",
+                            format!("{other:?}").to_ascii_lowercase()
+                        ),
+                    ));
+                    continue;
+                }
+            };
+            links.push(ImportedLink {
+                name: j.child.link.clone(),
+                joint: Some(j.name.clone()),
+                kind,
+                owner,
+                pose: frame,
+                mass: 0.0,
+                shapes: Vec::new(),
+            });
+        }
+    }
+    if links.len() < src.robot.links.len() && issues.is_empty() {
+        let missing: Vec<&str> = src
+            .robot
+            .links
+            .iter()
+            .map(|l| l.name.as_str())
+            .filter(|n| !links.iter().any(|k| k.name == *n))
+            .collect();
+        issues.push(SpecIssue::new(
+            "urdf",
+            format!(
+                "links {} are not reached from the root link \"{root}\": their joints form a \
+                 loop",
+                missing.join(", ")
+            ),
+        ));
+    }
+    for l in &mut links {
+        super::inertial::link_mass(src, l, issues);
+        super::shapes::link_shapes(src, l, issues);
+    }
+    (links, arms)
+}
+
+/// A revolute joint on the chassis as an arm: its pivot, axis (frame `frame`), limits and
+/// effort, checked.
+fn arm(
+    src: &UrdfSource,
+    j: &urdf_rs::Joint,
+    frame: DAffine3,
+    issues: &mut Vec<SpecIssue>,
+) -> Option<ImportedArm> {
+    let at = key(&src.joint(&j.name));
+    let n = issues.len();
+    let axis = DVec3::from_array(j.axis.xyz.0);
+    if !axis.is_finite() || axis.length() < 1e-9 {
+        issues.push(SpecIssue::new(
+            &at,
+            "its <axis xyz> must be a non-zero, finite vector",
+        ));
+    }
+    let l = &j.limit;
+    if !(l.lower.is_finite() || l.lower == f64::NEG_INFINITY)
+        || !(l.upper.is_finite() || l.upper == f64::INFINITY)
+        || l.lower >= l.upper
+    {
+        issues.push(SpecIssue::new(
+            &at,
+            format!(
+                "its <limit lower=\"{}\" upper=\"{}\"> must have lower < upper, rad (a URDF \
+                 revolute joint needs both; an unbounded one is `continuous`)",
+                l.lower, l.upper
+            ),
+        ));
+    }
+    if !(l.effort.is_finite() && l.effort >= 0.0) {
+        issues.push(SpecIssue::new(
+            &at,
+            format!(
+                "its <limit effort=\"{}\"> must be a torque >= 0, N m",
+                l.effort
+            ),
+        ));
+    }
+    if issues.len() != n {
+        return None;
+    }
+    let limits = (l.lower.is_finite() && l.upper.is_finite()).then_some([l.lower, l.upper]);
+    Some(ImportedArm {
+        joint: j.name.clone(),
+        link: j.child.link.clone(),
+        pivot: frame.translation,
+        axis: (frame.matrix3 * axis).normalize(),
+        limits,
+        effort: l.effort,
+    })
+}
