@@ -54,7 +54,11 @@ pub(super) fn mesh_points(
     let max = crate::files::MAX_MESH_BYTES;
     crate::files::check_regular(&path, max).map_err(|e| format!("cannot use the mesh: {e}"))?;
     let len = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    if let Some(n) = stl_header_count(&path, len)
+    let is_stl = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("stl"));
+    if is_stl
+        && let Some(n) = stl_header_count(&path, len)
         && n > MAX_MESH_TRIANGLES
     {
         return Err(format!(

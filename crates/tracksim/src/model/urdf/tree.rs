@@ -69,6 +69,9 @@ fn root_link(src: &UrdfSource, issues: &mut Vec<SpecIssue>) -> Option<String> {
             ));
         }
     }
+    if !issues.is_empty() {
+        return None;
+    }
     let roots: Vec<&str> = r
         .links
         .iter()
