@@ -193,6 +193,36 @@ fn check_accepts_every_bundled_file() {
     assert_eq!(o.stdout.matches("ok ").count(), files.len(), "{}", o.stdout);
 }
 
+/// Issue 26: `check` on a URDF vehicle prints what was imported: each link with its joint, the
+/// body it became part of, its mass and the track it carries; each arm with limits and torque.
+#[test]
+fn check_prints_the_links_masses_joints_and_tracks_of_a_urdf_robot() {
+    for file in [
+        "vehicles/packbot510_urdf.toml",
+        "scenarios/packbot_urdf_stairs.toml",
+    ] {
+        let o = run(&["check", file]);
+        assert_eq!(o.code, 0, "{file}: {}{}", o.stdout, o.stderr);
+        for want in [
+            "robot \"packbot510_flippers\"): 5 links",
+            "link base_link: root, part of chassis, 11.000 kg",
+            "link left_track: fixed joint left_track_joint, part of chassis",
+            "carries track left",
+            "carries track right",
+            "link front_left_flipper: revolute joint front_left, part of arm front_left, 1.000 kg",
+            "carries track flipper_left",
+            "arm front_left",
+            "arm front_right",
+        ] {
+            assert!(
+                o.stdout.contains(want),
+                "{file}: {want:?} not in:\n{}",
+                o.stdout
+            );
+        }
+    }
+}
+
 #[test]
 fn list_names_bundled_files_with_descriptions() {
     let o = run(&["list"]);

@@ -23,7 +23,7 @@ fn a_body_below_its_tracks_is_warned_about() {
     // The PackBot's box is 0.10 m high on a chassis frame at the axles; the track bottoms
     // (grouser tips) are 0.090 m below them. A 0.30 m high box reaches 0.15 m down: 60 mm
     // below the tracks.
-    v.body.shape = ShapeSpec::Box {
+    v.body.as_mut().unwrap().shape = ShapeSpec::Box {
         size_m: [0.50, 0.25, 0.30],
         centre_m: [0.0, 0.0, 0.0],
     };
@@ -42,7 +42,7 @@ fn a_track_inside_the_body_is_warned_about() {
     // The left track's plane at y = 0.05 m: its 75 mm belt lies within the 0.25 m wide body,
     // and a body 0.20 m high from z = -0.05 m holds the top run (z = +0.082 m).
     v.tracks[0].path.plane_y_m = Some(0.05);
-    v.body.shape = ShapeSpec::Box {
+    v.body.as_mut().unwrap().shape = ShapeSpec::Box {
         size_m: [0.50, 0.25, 0.20],
         centre_m: [0.0, 0.0, 0.05],
     };
@@ -52,7 +52,7 @@ fn a_track_inside_the_body_is_warned_about() {
     assert!(w.contains("track right runs inside the body"), "{w}");
     // At its place (y = 0.1625 m, outside the 0.125 m half-width) nothing is said.
     let mut v = packbot();
-    v.body.shape = ShapeSpec::Box {
+    v.body.as_mut().unwrap().shape = ShapeSpec::Box {
         size_m: [0.50, 0.25, 0.20],
         centre_m: [0.0, 0.0, 0.05],
     };

@@ -131,7 +131,7 @@ fn plugin_links(c: &mut Checker, robot: &UrdfRobot, tracks: &BTreeSet<&str>) {
     for (tag, l) in p.track_links() {
         if !tracks.contains(l) {
             c.push(
-                format!("urdf <plugin><{tag}> (line {})", p.line),
+                format!("urdf {}", p.at(tag)),
                 format!(
                     "the Gazebo plugin names link \"{l}\" as a track; give it a [[tracks]] entry \
                      with `link = \"{l}\"` (its path and grousers in that link's frame)"
@@ -140,7 +140,7 @@ fn plugin_links(c: &mut Checker, robot: &UrdfRobot, tracks: &BTreeSet<&str>) {
         }
     }
     if let Some(s) = p.tracks_separation {
-        c.positive("urdf <plugin><tracks_separation>", s, "m");
+        c.positive(&format!("urdf {}", p.at("tracks_separation")), s, "m");
     }
 }
 
@@ -281,12 +281,14 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
     let mut notes = Vec::new();
     if let Some(p) = &robot.plugin {
         notes.push(format!(
-            "Gazebo TrackedVehicle plugin (line {}): left {:?}, right {:?}, flippers {:?}, \
-             tracks_separation {}",
+            "Gazebo TrackedVehicle plugin ({} line {}): left {:?}, right {:?}, flippers {:?} and \
+             {:?}, tracks_separation {}",
+            p.file,
             p.line,
             p.left_tracks,
             p.right_tracks,
-            p.flippers,
+            p.left_flippers,
+            p.right_flippers,
             p.tracks_separation
                 .map_or("not given".to_string(), |s| format!("{s} m (odometry)"))
         ));

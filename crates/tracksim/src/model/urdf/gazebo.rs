@@ -12,12 +12,16 @@ pub struct TrackedVehiclePlugin {
     pub left_tracks: Vec<String>,
     /// `<right_track><link>`: links of the right tracks.
     pub right_tracks: Vec<String>,
-    /// `<left_flipper><link>` and `<right_flipper><link>`: links of the flipper tracks.
-    pub flippers: Vec<String>,
+    /// `<left_flipper><link>`: links of the left flipper tracks.
+    pub left_flippers: Vec<String>,
+    /// `<right_flipper><link>`: links of the right flipper tracks.
+    pub right_flippers: Vec<String>,
     /// `<tracks_separation>`, m.
     pub tracks_separation: Option<f64>,
     /// Line of the `<plugin>` element.
     pub line: u32,
+    /// The URDF file's name, for messages.
+    pub file: String,
 }
 
 impl TrackedVehiclePlugin {
@@ -31,8 +35,22 @@ impl TrackedVehiclePlugin {
                     .iter()
                     .map(|l| ("right_track", l.as_str())),
             )
-            .chain(self.flippers.iter().map(|l| ("flipper", l.as_str())))
+            .chain(
+                self.left_flippers
+                    .iter()
+                    .map(|l| ("left_flipper", l.as_str())),
+            )
+            .chain(
+                self.right_flippers
+                    .iter()
+                    .map(|l| ("right_flipper", l.as_str())),
+            )
             .collect()
+    }
+
+    /// `<plugin><TAG> (FILE line N)`, the key of a message about one of its elements.
+    pub fn at(&self, tag: &str) -> String {
+        format!("<plugin><{tag}> ({} line {})", self.file, self.line)
     }
 }
 
@@ -100,11 +118,12 @@ impl GazeboExtensions {
                 let mut plugin = TrackedVehiclePlugin {
                     left_tracks: links("left_track"),
                     right_tracks: links("right_track"),
-                    flippers: links("left_flipper"),
+                    left_flippers: links("left_flipper"),
+                    right_flippers: links("right_flipper"),
                     tracks_separation: None,
                     line: line(p),
+                    file: String::new(),
                 };
-                plugin.flippers.extend(links("right_flipper"));
                 if let Some(t) = text_of(p, "tracks_separation") {
                     match t.parse::<f64>() {
                         Ok(v) => plugin.tracks_separation = Some(v),

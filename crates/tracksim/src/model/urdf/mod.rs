@@ -128,9 +128,11 @@ impl UrdfRobot {
         let (links, arms) = tree::walk(&src, &mut issues);
         if let Some(p) = &src.gazebo.plugin {
             for (tag, l) in p.track_links() {
-                if !links.iter().any(|k| k.name == l) {
+                // Against the file's links, not the tree walked: a broken tree is its own
+                // message, not one per plugin link it did not reach.
+                if !src.robot.links.iter().any(|k| k.name == l) {
                     issues.push(SpecIssue::new(
-                        source::key(&format!("<plugin><{tag}> (line {})", p.line)),
+                        source::key(&p.at(tag)),
                         format!(
                             "names link \"{}\", which the URDF does not have",
                             crate::check::echoed(l)

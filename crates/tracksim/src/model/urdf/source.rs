@@ -77,7 +77,13 @@ impl UrdfSource {
                 _ => {}
             }
         }
-        let gazebo = super::gazebo::GazeboExtensions::read(root, &line);
+        let mut gazebo = super::gazebo::GazeboExtensions::read(root, &line);
+        if let Some(p) = &mut gazebo.plugin {
+            p.file = path
+                .file_name()
+                .map(|f| f.to_string_lossy().into_owned())
+                .unwrap_or_default();
+        }
         let robot = urdf_rs::read_from_string(&text).map_err(|e| {
             fail(format!(
                 "{}: not a valid URDF robot: {}",

@@ -81,10 +81,34 @@ fn root_link(src: &UrdfSource, issues: &mut Vec<SpecIssue>) -> Option<String> {
     match roots.as_slice() {
         [one] => Some(one.to_string()),
         [] if !r.links.is_empty() => {
+            // Every link has a parent joint: walking up from any link must come back.
+            let parent_link: HashMap<&str, &str> = r
+                .joints
+                .iter()
+                .map(|j| (j.name.as_str(), j.parent.link.as_str()))
+                .collect();
+            let mut cycle: Vec<&str> = Vec::new();
+            let mut link = r.links[0].name.as_str();
+            while let Some(&j) = parent_of.get(link) {
+                if let Some(at) = cycle.iter().position(|&c| c == j) {
+                    cycle.drain(..at);
+                    break;
+                }
+                cycle.push(j);
+                link = parent_link.get(j).copied().unwrap_or(link);
+            }
+            let first = cycle.first().copied().unwrap_or_default();
             issues.push(SpecIssue::new(
-                "urdf",
-                "every link is the child of a joint: the joints form a loop, and there is no \
-                 root link (the chassis)",
+                key(&src.joint(first)),
+                format!(
+                    "the joints {} form a loop: every link is the child of a joint, so there is \
+                     no root link (the chassis); remove one of them",
+                    cycle
+                        .iter()
+                        .map(|j| format!("\"{}\"", crate::check::echoed(j)))
+                        .collect::<Vec<_>>()
+                        .join(" <- ")
+                ),
             ));
             None
         }
