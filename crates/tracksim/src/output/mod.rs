@@ -6,8 +6,10 @@
 //! - [`side_line`]: the side view's polyline;
 //! - [`report`]: a finished run in words;
 //! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
-//! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time.
+//! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time;
+//! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there).
 
+pub mod mcap;
 pub mod plot;
 pub mod replay;
 pub mod report;
@@ -265,13 +267,16 @@ pub struct Outputs {
     pub replay: bool,
     /// The plots (PNG and SVG).
     pub plots: bool,
+    /// `run.mcap`, the run as a ROS 2 recording ([`mod@mcap`]).
+    pub mcap: bool,
 }
 
 impl Outputs {
-    /// Everything `tracksim run` writes.
+    /// What `tracksim run` writes by default (everything but `run.mcap`, written on request).
     pub const ALL: Outputs = Outputs {
         replay: true,
         plots: true,
+        mcap: false,
     };
 }
 
@@ -292,6 +297,9 @@ pub fn write_outputs(
     }
     if which.plots {
         written.extend(write_run_plots(sc, result, dir)?);
+    }
+    if which.mcap {
+        written.push(mcap::write_mcap(sc, result, dir)?);
     }
     Ok(written)
 }
