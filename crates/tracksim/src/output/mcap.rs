@@ -411,11 +411,12 @@ fn record_samples(
 /// The rotation from a depth camera's frame (x forward, y left, z up) to its optical frame
 /// (z forward, x right, y down).
 pub fn optical_rotation() -> DQuat {
-    DQuat::from_mat3(&DMat3::from_cols(
+    let q = DQuat::from_mat3(&DMat3::from_cols(
         DVec3::new(0.0, -1.0, 0.0),
         DVec3::new(0.0, 0.0, -1.0),
         DVec3::new(1.0, 0.0, 0.0),
-    ))
+    ));
+    if q.w < 0.0 { -q } else { q }
 }
 
 /// The mount frame of a sensor and its position in it.
