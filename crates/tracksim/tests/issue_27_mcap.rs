@@ -14,11 +14,19 @@ use tracksim::rosmsg::{
 
 /// A 1 s run of the PackBot with its sensors, written with `run.mcap`.
 fn recorded() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>) {
+    let (sc, r, bytes, _) = recorded_with_csv();
+    (sc, r, bytes)
+}
+
+/// [`recorded`] and the run's `trajectory.csv`.
+fn recorded_with_csv() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>, String) {
     let mut sc =
         tracksim::load_scenario(&common::root().join("scenarios/packbot_sensors.toml")).unwrap();
     sc.duration = 1.0;
     let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
-    let dir = std::env::temp_dir().join(format!("tracksim-i27-{}", std::process::id()));
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("tracksim-i27-{}-{k}", std::process::id()));
     let which = tracksim::output::Outputs {
         replay: false,
         plots: false,
@@ -27,8 +35,9 @@ fn recorded() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>) {
     let written = tracksim::output::write_outputs(&sc, &r, &dir, which).expect("writes");
     assert!(written.contains(&dir.join(MCAP_FILE)));
     let bytes = std::fs::read(dir.join(MCAP_FILE)).unwrap();
+    let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
-    (sc, r, bytes)
+    (sc, r, bytes, csv)
 }
 
 /// Every message's CDR bytes by topic, in log order, with their log times (ns).
@@ -293,4 +302,87 @@ fn cdr_layout_and_schema_text_follow_ros2() {
     assert_eq!(Odometry::schema_name(), "nav_msgs/msg/Odometry");
     let q = pose_rotation(&Default::default());
     assert_eq!(q, glam::DQuat::IDENTITY);
+}
+
+#[test]
+fn run_mcap_counts_are_rates_times_duration_and_odometry_is_trajectory_csv() {
+    let (sc, r, bytes, csv) = recorded_with_csv();
+    // The run went to its end (the scenario's timeout is its duration).
+    assert!((r.summary.sim_time_s - sc.duration).abs() < 1e-9);
+    let msgs = by_topic(&bytes);
+    // Every output interval from 0 to the end, both included: 1 s / 10 ms + 1.
+    let per_sample = (sc.duration / sc.output_interval).round() as usize + 1;
+    assert_eq!(per_sample, 101);
+    for topic in [
+        "/clock",
+        "/tf",
+        "/odom",
+        "/ground_truth/odom",
+        "/joint_states",
+        "/tracks",
+    ] {
+        assert_eq!(msgs[topic].len(), per_sample, "{topic}");
+    }
+    // Every sensor at its rate: a reading at 0 and then every 1 / rate s up to the end.
+    for m in &sc.vehicle.sensors {
+        let expected = (m.rate_hz * sc.duration + 1e-6).floor() as usize + 1;
+        let topic = format!("/{}", m.name);
+        assert_eq!(msgs[&topic].len(), expected, "{topic} at {} Hz", m.rate_hz);
+        let times: Vec<u64> = msgs[&topic].iter().map(|(t, _)| *t).collect();
+        for w in times.windows(2) {
+            let dt = (w[1] - w[0]) as f64 * 1e-9;
+            assert!((dt - 1.0 / m.rate_hz).abs() < 1.5e-3, "{topic}: {dt} s");
+        }
+    }
+    // /clock carries the log time.
+    for (t, d) in &msgs["/clock"] {
+        assert_eq!(
+            rosmsg::decode::<rosmsg::Clock>(d).unwrap().clock.nanos(),
+            *t
+        );
+    }
+    // /odom and /ground_truth/odom against trajectory.csv's columns (written to 1e-6).
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let cols = [
+        "t_s",
+        "odom_x_m",
+        "odom_y_m",
+        "odom_yaw_rad",
+        "x_m",
+        "y_m",
+        "z_m",
+        "yaw_rad",
+    ]
+    .map(col);
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            cols.iter().map(|&c| cells[c].parse().unwrap()).collect()
+        })
+        .collect();
+    let odom: Vec<Odometry> = decoded(&msgs["/odom"]);
+    let truth: Vec<Odometry> = decoded(&msgs["/ground_truth/odom"]);
+    assert_eq!(rows.len(), odom.len());
+    let yaw = |q: &rosmsg::Quaternion| {
+        glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w)
+            .to_euler(glam::EulerRot::ZYX)
+            .0
+    };
+    let close = |a: f64, b: f64| (a - b).abs() <= 5.1e-7;
+    for ((row, o), g) in rows.iter().zip(&odom).zip(&truth) {
+        let t = o.header.stamp.nanos() as f64 * 1e-9;
+        assert!(close(t, row[0]), "{t} {}", row[0]);
+        let p = o.pose.pose.position;
+        assert!(close(p.x, row[1]) && close(p.y, row[2]), "{p:?} {row:?}");
+        assert!(close(yaw(&o.pose.pose.orientation), row[3]), "{row:?}");
+        let q = g.pose.pose.position;
+        assert!(close(q.x, row[4]) && close(q.y, row[5]) && close(q.z, row[6]));
+        assert!(close(yaw(&g.pose.pose.orientation), row[7]), "{row:?}");
+    }
+    // The encoders' odometry is not the truth (it sees the belts, slip included), but it
+    // advances with the robot.
+    let (o, g) = (odom.last().unwrap(), truth.last().unwrap());
+    assert!(o.pose.pose.position.x > 0.1 && g.pose.pose.position.x > 0.1);
 }
