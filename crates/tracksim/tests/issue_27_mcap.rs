@@ -386,3 +386,41 @@ fn run_mcap_counts_are_rates_times_duration_and_odometry_is_trajectory_csv() {
     let (o, g) = (odom.last().unwrap(), truth.last().unwrap());
     assert!(o.pose.pose.position.x > 0.1 && g.pose.pose.position.x > 0.1);
 }
+
+/// `[output] mcap = true` in a scenario file: every front end's outputs include `run.mcap`
+/// (here those of `sweep`, which asks for neither replay nor plots); a misspelt key is refused.
+#[test]
+fn output_key_of_a_scenario_records_mcap_for_every_front_end() {
+    let root = common::root();
+    let text = std::fs::read_to_string(root.join("scenarios/packbot_flat.toml"))
+        .unwrap()
+        .replace(
+            "../vehicles/",
+            &format!("{}/", root.join("vehicles").display()),
+        );
+    let dir = std::env::temp_dir().join(format!("tracksim-i27-key-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("s.toml");
+    std::fs::write(&file, format!("{text}\n[output]\nmcap = true\n")).unwrap();
+    let mut sc = tracksim::load_scenario(&file).unwrap();
+    assert!(sc.record_mcap);
+    sc.duration = 0.2;
+    let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
+    let none = tracksim::output::Outputs {
+        replay: false,
+        plots: false,
+        mcap: false,
+    };
+    let out = dir.join("out");
+    let written = tracksim::output::write_outputs(&sc, &r, &out, none).unwrap();
+    assert!(written.contains(&out.join(MCAP_FILE)), "{written:?}");
+    let bytes = std::fs::read(out.join(MCAP_FILE)).unwrap();
+    assert_eq!(by_topic(&bytes)["/odom"].len(), r.samples.len());
+    // Without the key: no run.mcap, as before.
+    let plain = tracksim::load_scenario(&root.join("scenarios/packbot_flat.toml")).unwrap();
+    assert!(!plain.record_mcap);
+    std::fs::write(&file, format!("{text}\n[output]\nmcpa = true\n")).unwrap();
+    let e = tracksim::load_scenario(&file).unwrap_err().to_string();
+    assert!(e.contains("mcpa") && e.contains("mcap"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

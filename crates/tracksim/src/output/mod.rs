@@ -281,7 +281,8 @@ impl Outputs {
 }
 
 /// Writes every output of a run of `sc` into `dir` (`summary.json`, `trajectory.csv`, and
-/// what `which` selects); returns the paths written. `run`, `drive`, `compare` and every
+/// what `which` selects; `run.mcap` also when the scenario's `[output] mcap` is true);
+/// returns the paths written. `run`, `drive`, `compare` and every
 /// other front end write through here.
 pub fn write_outputs(
     sc: &crate::model::Scenario,
@@ -298,7 +299,7 @@ pub fn write_outputs(
     if which.plots {
         written.extend(write_run_plots(sc, result, dir)?);
     }
-    if which.mcap {
+    if which.mcap || sc.record_mcap {
         written.push(mcap::write_mcap(sc, result, dir)?);
     }
     Ok(written)
