@@ -424,3 +424,85 @@ fn output_key_of_a_scenario_records_mcap_for_every_front_end() {
     assert!(e.contains("mcpa") && e.contains("mcap"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The `.msg` file of the ROS 2 package `ros/tracksim_msgs` is the schema text of `/tracks`.
+#[test]
+fn track_states_msg_file_is_the_schema() {
+    let file =
+        std::fs::read_to_string(common::root().join("ros/tracksim_msgs/msg/TrackStates.msg"))
+            .unwrap();
+    assert_eq!(file, TrackStates::DEF.text);
+    let schema = TrackStates::schema_text();
+    assert!(schema.starts_with(file.trim_end()));
+    assert!(schema.ends_with("\nMSG: builtin_interfaces/Time\nint32 sec\nuint32 nanosec\n"));
+    let cmake =
+        std::fs::read_to_string(common::root().join("ros/tracksim_msgs/CMakeLists.txt")).unwrap();
+    assert!(cmake.contains("\"msg/TrackStates.msg\""));
+}
+
+/// A lidar of several scan lines is an organised `PointCloud2` (rows of elevation, columns of
+/// azimuth, x y z float32 in the sensor's frame): the stream's points, bit for bit in f32.
+#[test]
+fn a_3d_lidar_is_an_organised_point_cloud_of_its_points() {
+    let mut sc =
+        tracksim::load_scenario(&common::root().join("scenarios/packbot_sensors.toml")).unwrap();
+    sc.duration = 0.3;
+    let scan = sc
+        .vehicle
+        .sensors
+        .iter_mut()
+        .find(|m| m.name == "scan")
+        .unwrap();
+    let tracksim::model::SensorKind::Lidar(p) = &mut scan.kind else {
+        panic!("scan is a lidar")
+    };
+    p.azimuth_rays = 90;
+    p.elevation_rays = 4;
+    p.elevation_fov = 30f64.to_radians();
+    let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
+    let bytes = tracksim::output::mcap::mcap_bytes(&sc, &r).unwrap();
+    let msgs = by_topic(&bytes);
+    let summary = mcap::Summary::read(&bytes).unwrap().unwrap();
+    let ch = summary
+        .channels
+        .values()
+        .find(|c| c.topic == "/scan")
+        .unwrap();
+    assert_eq!(
+        ch.schema.as_ref().unwrap().name,
+        "sensor_msgs/msg/PointCloud2"
+    );
+    let stream = r.sensors.iter().find(|s| s.name == "scan").unwrap();
+    let clouds: Vec<rosmsg::PointCloud2> = decoded(&msgs["/scan"]);
+    assert_eq!(clouds.len(), stream.times.len());
+    let points = stream
+        .channels
+        .iter()
+        .find(|c| c.channel.name == "points")
+        .unwrap();
+    let n = points.channel.data.len();
+    assert_eq!(n, 4 * 90 * 3);
+    let values: Vec<f32> = match &points.values {
+        tracksim::sensors::LogData::F64(v) => v.iter().map(|x| *x as f32).collect(),
+        tracksim::sensors::LogData::F32(v) => v.clone(),
+    };
+    for (k, c) in clouds.iter().enumerate() {
+        assert_eq!(
+            (c.height, c.width, c.point_step, c.row_step),
+            (4, 90, 12, 12 * 90)
+        );
+        assert_eq!(c.header.frame_id, "scan_link");
+        let got: Vec<f32> = c
+            .data
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        let want = &values[k * n..(k + 1) * n];
+        assert!(
+            got.iter()
+                .zip(want)
+                .all(|(a, b)| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()))
+        );
+        assert_eq!(c.is_dense, want.iter().all(|v| v.is_finite()));
+    }
+}

@@ -1,21 +1,9 @@
 //! `tracksim_msgs/TrackStates`: tracksim's per-track figures, one entry per track in the
 //! vehicle file's order (every array as long as `name`; the motor arrays empty when no track
-//! has a `[tracks.motor]`, NaN for a track without one when another has one).
-//!
-//! ```text
-//! std_msgs/Header header
-//! string[] name                # track names
-//! float64[] slip               # (belt - ground) / max(|belt|, |ground|), 1
-//! float64[] belt_speed         # measured belt speed, m/s
-//! float64[] belt_command       # commanded belt speed, m/s
-//! float64[] belt_position      # unwrapped belt travel, m
-//! float64[] traction           # terrain force along the chassis x axis, N
-//! float64[] friction_traction  # its friction part, N
-//! float64[] normal_load        # sum of the contact normal forces, N
-//! uint32[] contacts            # contact points with the terrain
-//! float64[] belt_force         # drive motor's belt force, N
-//! float64[] motor_torque       # torque at the motor shaft, N m
-//! ```
+//! has a `[tracks.motor]`, NaN for a track without one when another has one). Its `.msg` text
+//! ([`TRACK_STATES`], fields with their units) is also the file
+//! `ros/tracksim_msgs/msg/TrackStates.msg` of a ROS 2 package to build where a recording is
+//! read with generated types (`tests/issue_27_mcap.rs` keeps the two equal).
 
 use super::builtin::{HEADER, Header};
 use super::schema::{MsgDef, RosMessage};
@@ -53,7 +41,23 @@ pub struct TrackStates {
 /// `tracksim_msgs/TrackStates`.
 pub const TRACK_STATES: MsgDef = MsgDef {
     name: "tracksim_msgs/TrackStates",
-    text: "# Per-track figures of a tracksim run, one entry per track (motor arrays empty without motors).\nstd_msgs/Header header\nstring[] name\nfloat64[] slip\nfloat64[] belt_speed\nfloat64[] belt_command\nfloat64[] belt_position\nfloat64[] traction\nfloat64[] friction_traction\nfloat64[] normal_load\nuint32[] contacts\nfloat64[] belt_force\nfloat64[] motor_torque\n",
+    text:
+        "# Per-track figures of a tracksim run (topic /tracks), one entry per track in the vehicle
+# file's order. Every array is as long as name; belt_force and motor_torque are empty when no
+# track has a drive motor, NaN for a track without one when another has one. SI units.
+std_msgs/Header header       # sample time; frame base_link (traction is along its x axis)
+string[] name                # track names
+float64[] slip               # (belt - ground) / max(|belt|, |ground|), 1; > 0 driving
+float64[] belt_speed         # measured belt speed, m/s
+float64[] belt_command       # commanded belt speed, m/s
+float64[] belt_position      # unwrapped belt travel, m
+float64[] traction           # terrain's force on the track along base_link x, N
+float64[] friction_traction  # its friction part (the belt's grip), N
+float64[] normal_load        # sum of the contact normal forces, N
+uint32[] contacts            # contact points with the terrain
+float64[] belt_force         # drive motor's belt force, N
+float64[] motor_torque       # torque at the motor shaft, N m
+",
     deps: &[&HEADER],
 };
 
