@@ -97,6 +97,7 @@ pub fn run_compare(
             let which = crate::output::Outputs {
                 replay: true,
                 plots: false,
+                mcap: false,
             };
             crate::output::write_outputs(&sc, &r, &out.join(m.name()), which)?;
             Ok(r)

@@ -6,7 +6,8 @@
 //!
 //! Layers, each importing only the ones above it in this list (docs/ARCHITECTURE.md):
 //! - [`error`], `check` (problem lists with key paths, f64 -> f32 conversions, limits),
-//!   [`files`] (bounded reading of regular files, atomic writes): the base;
+//!   [`files`] (bounded reading of regular files, atomic writes), [`rosmsg`] (ROS 2 messages,
+//!   CDR and `ros2msg` schemas): the base;
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
 //! - [`terrain`]: terrain kinds compiled and checked, file parsers, insertion into Rapier;
@@ -16,7 +17,7 @@
 //! - [`world`]: the running state ([`Simulation`]), its build stages, contact handling, one
 //!   step, samples;
 //! - [`run`]: a scenario run to its end (command timeline, outcome, summary) as a [`RunResult`];
-//! - [`output`]: `trajectory.csv`, `summary.json`, plots;
+//! - [`output`]: `trajectory.csv`, `summary.json`, plots, `run.mcap`;
 //! - [`bundled`]: the bundled vehicles and scenarios, embedded: listed, exported, found by name;
 //! - [`cases`]: the named cases that tests, `bench` and `validate` share;
 //! - [`compare`]: one scenario run with several track methods;
@@ -41,6 +42,7 @@ pub mod geometry;
 pub mod live;
 pub mod model;
 pub mod output;
+pub mod rosmsg;
 pub mod run;
 pub mod sensor_bench;
 pub mod sensors;

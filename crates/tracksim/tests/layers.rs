@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// not import each other.
 const LAYERS: &[&[&str]] = &[
     &["error"],
-    &["check", "files"],
+    &["check", "files", "rosmsg"],
     &["spec"],
     &["geometry"],
     &["terrain"],

@@ -34,6 +34,11 @@ pub struct RunArgs {
     /// Do not write the plot files.
     #[arg(long)]
     pub no_plot: bool,
+    /// Also write run.mcap: the run as a ROS 2 recording (cdr messages, ros2msg schemas:
+    /// /tf, /tf_static, /odom, /ground_truth/odom, /joint_states, /tracks, /clock, sensors),
+    /// for Foxglove and the ROS 2 bag tools.
+    #[arg(long)]
+    pub mcap: bool,
     /// Replace the scenario's `[[commands]]` by those of this file (e.g. the
     /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
     #[arg(long)]
@@ -81,6 +86,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     let which = tracksim::output::Outputs {
         replay: true,
         plots: !a.no_plot,
+        mcap: a.mcap,
     };
     let written = tracksim::output::write_outputs(&sc, &result, &a.out, which)?;
     if a.json {

@@ -297,6 +297,7 @@ impl Session {
         let which = crate::output::Outputs {
             replay: true,
             plots,
+            mcap: false,
         };
         let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
         for (name, text) in [

@@ -79,6 +79,7 @@ pub fn compile_scenario(
         method,
         overridden: Vec::new(),
         seed: s.seed,
+        record_mcap: spec.output.mcap,
         randomized: Default::default(),
         source: None,
         description: spec.description.clone(),

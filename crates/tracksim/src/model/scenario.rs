@@ -118,6 +118,8 @@ pub struct Scenario {
     pub overridden: Vec<String>,
     /// Seed.
     pub seed: u64,
+    /// Write `run.mcap` whatever the front end asks for (`[output] mcap`).
+    pub record_mcap: bool,
     /// The values drawn for the file's `[randomize]` parameters, by name, in the units of their
     /// keys (empty for a scenario without `[randomize]`).
     pub randomized: std::collections::BTreeMap<String, f64>,

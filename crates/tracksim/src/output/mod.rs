@@ -6,8 +6,10 @@
 //! - [`side_line`]: the side view's polyline;
 //! - [`report`]: a finished run in words;
 //! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
-//! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time.
+//! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time;
+//! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there).
 
+pub mod mcap;
 pub mod plot;
 pub mod replay;
 pub mod report;
@@ -265,18 +267,22 @@ pub struct Outputs {
     pub replay: bool,
     /// The plots (PNG and SVG).
     pub plots: bool,
+    /// `run.mcap`, the run as a ROS 2 recording ([`mod@mcap`]).
+    pub mcap: bool,
 }
 
 impl Outputs {
-    /// Everything `tracksim run` writes.
+    /// What `tracksim run` writes by default (everything but `run.mcap`, written on request).
     pub const ALL: Outputs = Outputs {
         replay: true,
         plots: true,
+        mcap: false,
     };
 }
 
 /// Writes every output of a run of `sc` into `dir` (`summary.json`, `trajectory.csv`, and
-/// what `which` selects); returns the paths written. `run`, `drive`, `compare` and every
+/// what `which` selects; `run.mcap` also when the scenario's `[output] mcap` is true);
+/// returns the paths written. `run`, `drive`, `compare` and every
 /// other front end write through here.
 pub fn write_outputs(
     sc: &crate::model::Scenario,
@@ -292,6 +298,9 @@ pub fn write_outputs(
     }
     if which.plots {
         written.extend(write_run_plots(sc, result, dir)?);
+    }
+    if which.mcap || sc.record_mcap {
+        written.push(mcap::write_mcap(sc, result, dir)?);
     }
     Ok(written)
 }

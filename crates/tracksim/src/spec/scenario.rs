@@ -39,6 +39,21 @@ pub struct ScenarioSpec {
     /// effect on the simulation.
     #[serde(default)]
     pub expect: super::ExpectSpec,
+    /// Optional outputs (`[output]`) every front end writes for this scenario; no effect on
+    /// the simulation.
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+/// Optional outputs (`[output]`): written by every front end that writes a run (`run`,
+/// `drive`, `compare`, `sweep`), on top of what it asks for.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Also write `run.mcap`, the run as a ROS 2 recording (default false; `tracksim run
+    /// --mcap` asks for it for one run).
+    #[serde(default)]
+    pub mcap: bool,
 }
 
 /// A drawbar load (`[drawbar]`): a horizontal pull on a hitch of the chassis, backwards along

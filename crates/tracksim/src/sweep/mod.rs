@@ -459,6 +459,7 @@ fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path) -> Result<
             let which = crate::output::Outputs {
                 replay: false,
                 plots: false,
+                mcap: false,
             };
             crate::output::write_outputs(&sc, &result, &tmp, which)?;
             ManifestLine::of_run(r, &sc, &result)
