@@ -132,3 +132,78 @@ impl CommandState {
         Some(c)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn vehicle() -> VehicleModel {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios/packbot_stairs.toml");
+        crate::load_scenario(&p).unwrap().vehicle
+    }
+
+    #[test]
+    fn cmd_vel_sets_every_belt_and_a_track_command_one() {
+        let v = vehicle();
+        let mut s = CommandState::new(&v);
+        s.take(
+            &v,
+            &Command::Twist {
+                forward_mps: 0.4,
+                yaw_rate_rad_s: 1.0,
+            },
+            0.0,
+        );
+        let want: Vec<f64> = v.tracks.iter().map(|t| 0.4 - t.lateral_offset()).collect();
+        assert_eq!(s.belt_speeds(), want);
+        s.take(
+            &v,
+            &Command::BeltSpeed {
+                track: 0,
+                mps: -0.1,
+            },
+            0.1,
+        );
+        assert_eq!(s.belt_speeds()[0], -0.1);
+        assert_eq!(s.belt_speeds()[1..], want[1..]);
+        let c = s.changed_controls(&v).unwrap();
+        assert_eq!(c.belt_speed[0], Some(-0.1));
+        assert!(
+            s.changed_controls(&v).is_none(),
+            "unchanged: nothing to apply"
+        );
+        s.take(
+            &v,
+            &Command::Flipper {
+                flipper: 0,
+                rad: 0.3,
+            },
+            0.2,
+        );
+        assert_eq!(s.changed_controls(&v).unwrap().flipper_angle[0], Some(0.3));
+    }
+
+    #[test]
+    fn the_watchdog_stops_silent_tracks_once() {
+        let v = vehicle();
+        let mut s = CommandState::new(&v);
+        assert!(
+            s.watchdog(10.0).is_empty(),
+            "never commanded: nothing to stop"
+        );
+        let go = Command::Twist {
+            forward_mps: 0.3,
+            yaw_rate_rad_s: 0.0,
+        };
+        s.take(&v, &go, 1.0);
+        assert!(s.watchdog(1.0 + WATCHDOG_TIMEOUT_S - 0.01).is_empty());
+        assert!(s.belt_speeds().iter().all(|&b| b == 0.3));
+        let stopped = s.watchdog(1.0 + WATCHDOG_TIMEOUT_S + 0.01);
+        assert_eq!(stopped.len(), v.tracks.len());
+        assert!(s.belt_speeds().iter().all(|&b| b == 0.0));
+        assert!(s.watchdog(5.0).is_empty(), "reported once");
+        s.take(&v, &Command::BeltSpeed { track: 1, mps: 0.2 }, 5.0);
+        assert_eq!(s.watchdog(5.0 + WATCHDOG_TIMEOUT_S + 0.01), vec![1]);
+    }
+}

@@ -8,6 +8,7 @@
 //!   clamped, unknown flipper names dropped) and the rate-limited warnings;
 //! - [`commands`]: the commands in force, turned into controls, and the `cmd_vel` watchdog;
 //! - [`messages`]: the published messages built from a sample;
+//! - [`sensors`]: the vehicle's sensors on their topics, at their rates;
 //! - [`dds`]: the participant, node, publishers, subscriptions and `/rosout`;
 //! - [`session`]: the session loop and its run folder.
 
@@ -16,6 +17,7 @@ pub mod dds;
 pub mod messages;
 pub mod network;
 pub mod sanitize;
+pub mod sensors;
 pub mod session;
 pub mod topics;
 

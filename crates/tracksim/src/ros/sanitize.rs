@@ -261,3 +261,109 @@ impl Warnings {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rosmsg::Vector3;
+
+    fn vehicle() -> VehicleModel {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios/packbot_stairs.toml");
+        crate::load_scenario(&p).unwrap().vehicle
+    }
+
+    fn tw(vx: f64, wz: f64) -> Twist {
+        Twist {
+            linear: Vector3 {
+                x: vx,
+                ..Vector3::default()
+            },
+            angular: Vector3 {
+                z: wz,
+                ..Vector3::default()
+            },
+        }
+    }
+
+    #[test]
+    fn non_finite_values_drop_the_message() {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut p = Vec::new();
+            assert_eq!(twist("/cmd_vel", &tw(bad, 0.0), &mut p), None);
+            assert_eq!(twist("/cmd_vel", &tw(0.1, bad), &mut p), None);
+            let mut t = tw(0.1, 0.0);
+            t.linear.y = bad;
+            assert_eq!(twist("/cmd_vel", &t, &mut p), None);
+            assert_eq!(belt_speed("/tracks/left/cmd_speed", bad, &mut p), None);
+            assert_eq!(flipper_angle("/flippers/f/cmd_position", bad, &mut p), None);
+            assert_eq!(p.len(), 5);
+            assert!(p.iter().all(|x| matches!(x, Problem::NotFinite { .. })));
+        }
+    }
+
+    #[test]
+    fn out_of_range_values_are_clamped_and_reported() {
+        let mut p = Vec::new();
+        assert_eq!(
+            twist("/cmd_vel", &tw(100.0, -1e9), &mut p),
+            Some((MAX_FORWARD_MPS, -MAX_YAW_RATE_RAD_S))
+        );
+        assert_eq!(p.len(), 2);
+        assert_eq!(belt_speed("t", -1e300, &mut p), Some(-MAX_BELT_MPS));
+        assert_eq!(flipper_angle("f", 10.0, &mut p), Some(MAX_FLIPPER_RAD));
+        assert_eq!(p.len(), 4);
+        assert!(matches!(&p[3], Problem::Clamped { value, used, .. }
+            if *value == 10.0 && *used == MAX_FLIPPER_RAD));
+        // In range: untouched, nothing reported; sideways components ignored.
+        let mut q = Vec::new();
+        let mut t = tw(0.3, 0.5);
+        t.linear.y = 2.0;
+        assert_eq!(twist("/cmd_vel", &t, &mut q), Some((0.3, 0.5)));
+        assert_eq!(belt_speed("t", 0.2, &mut q), Some(0.2));
+        assert!(q.is_empty());
+    }
+
+    #[test]
+    fn joint_commands_drop_unknown_flippers_and_bad_messages() {
+        let v = vehicle();
+        let name = v.flippers[0].name.clone();
+        let js = |names: &[&str], pos: &[f64]| JointState {
+            name: names.iter().map(|s| s.to_string()).collect(),
+            position: pos.to_vec(),
+            ..JointState::default()
+        };
+        let mut p = Vec::new();
+        let got = joint_command("/j", &v, &js(&[&name, "no_such"], &[0.5, 0.1]), &mut p);
+        assert_eq!(got, vec![(0, 0.5)]);
+        assert!(matches!(&p[..], [Problem::UnknownFlipper { name, .. }] if name == "no_such"));
+        let mut p = Vec::new();
+        assert!(joint_command("/j", &v, &js(&[&name], &[f64::NAN]), &mut p).is_empty());
+        assert!(joint_command("/j", &v, &js(&[&name], &[]), &mut p).is_empty());
+        assert!(matches!(&p[1], Problem::Malformed { .. }));
+        let mut p = Vec::new();
+        assert_eq!(
+            joint_command("/j", &v, &js(&[&name], &[-7.0]), &mut p),
+            vec![(0, -MAX_FLIPPER_RAD)]
+        );
+    }
+
+    #[test]
+    fn warnings_are_rate_limited_per_kind() {
+        let mut w = Warnings::new(3600.0);
+        let a = Problem::NotFinite {
+            topic: "/cmd_vel".into(),
+            field: "linear.x".into(),
+        };
+        let b = Problem::UnknownFlipper {
+            topic: "/j".into(),
+            name: "x".into(),
+        };
+        assert!(w.admit(&a).is_some());
+        assert!(w.admit(&a).is_none());
+        assert!(w.admit(&b).is_some());
+        let mut w = Warnings::new(0.0);
+        assert!(w.admit(&a).is_some());
+        assert!(w.admit(&a).is_some());
+    }
+}

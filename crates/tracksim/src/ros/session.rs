@@ -12,6 +12,7 @@ use super::dds::{DdsNode, Publishers, Subscriptions};
 use super::messages;
 use super::network::NetworkRange;
 use super::sanitize::{self, Problem, Warnings};
+use super::sensors::SensorPublishers;
 use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
@@ -210,6 +211,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         joint_names: messages::joint_names(sc),
         track_names: track_names.clone(),
     };
+    let mut sensors = SensorPublishers::new(&mut node, sc).map_err(dds_error)?;
     let mut runner = Runner::new(sc)?.without_commands().unbounded();
     if !opts.fast {
         runner = runner.paced(1.0);
@@ -226,6 +228,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
     if let Some(s) = runner.samples().last() {
         publisher.publish(sc, s, None);
     }
+    sensors.publish(runner.sensors());
     let mut state = CommandState::new(&sc.vehicle);
     let mut rec = Record::default();
     let dt = sc.solver.dt;
@@ -242,6 +245,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         }
         loop {
             runner.step()?;
+            sensors.publish(runner.sensors());
             if runner.at_sample() {
                 break;
             }
