@@ -32,8 +32,7 @@ def _can_run():
     return None
 
 
-@pytest.fixture(scope="module")
-def session(tmp_path_factory):
+def _peer(tmp_path_factory, mode):
     why = _can_run()
     if why:
         if os.environ.get("CI"):
@@ -41,7 +40,7 @@ def session(tmp_path_factory):
         pytest.skip(why)
     out = tmp_path_factory.mktemp("ros") / "run"
     p = subprocess.run(
-        ["unshare", "--net", sys.executable, str(PEER), cli(), str(out)],
+        ["unshare", "--net", sys.executable, str(PEER), cli(), str(out), mode],
         capture_output=True,
         text=True,
         timeout=180,
@@ -52,6 +51,17 @@ def session(tmp_path_factory):
     assert "error" not in r, r
     r["out"] = out
     return r
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    return _peer(tmp_path_factory, "drive")
+
+
+@pytest.fixture(scope="module")
+def sensors(tmp_path_factory):
+    """packbot_sensors: flippers, sensors, and bad commands (ros_peer.py `sensors`)."""
+    return _peer(tmp_path_factory, "sensors")
 
 
 def test_only_loopback_in_the_namespace(session):
@@ -102,3 +112,30 @@ def test_sigterm_writes_the_run(session):
     summary = json.loads((session["out"] / "summary.json").read_text())
     assert summary["outcome"] == "interrupted"
     assert (session["out"] / "commands.toml").exists()
+
+
+def test_imu_at_its_rate_with_gravity(sensors):
+    # vehicles/packbot510_sensors.toml: imu at 200 Hz, in imu_link; at rest the specific
+    # force is +g along z.
+    assert sensors["imu_frame"] == "imu_link"
+    assert 180.0 < sensors["imu_rate_hz"] < 205.0, sensors["imu_rate_hz"]
+    assert 9.3 < sensors["imu_accel_z"] < 10.3, sensors["imu_accel_z"]
+
+
+def test_flipper_commands_by_float64_and_joint_state(sensors):
+    assert sensors["joint_names"][:2] == ["front_left", "front_right"]
+    # front_left by /flippers/front_left/cmd_position, front_right by
+    # /flippers/cmd_positions (beside an unknown name): both reach 0.9 rad.
+    for a in sensors["flipper_end"]:
+        assert abs(a - 0.9) < 0.05, sensors["flipper_end"]
+
+
+def test_bad_commands_never_reach_the_physics(sensors):
+    # NaN cmd_vel for 3 s: dropped, the robot stays put.
+    assert abs(sensors["odom_dx"]) < 0.01
+    for text in ("not a finite number", 'no flipper named "no_such_flipper"'):
+        assert any(text in m for m in sensors["rosout"]), sensors["rosout"]
+        assert text in sensors["stderr"]
+    # Rate-limited: about one warning of each kind per second over 3 s, not 60.
+    assert len(sensors["rosout"]) <= 10
+    assert "more like it" in sensors["stderr"]
