@@ -258,18 +258,20 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
     let mut pose = PoseWithCovariance::default();
     pose.pose.position = rosmsg::Point { x, y, z: 0.0 };
     pose.pose.orientation = quat(DQuat::from_rotation_z(yaw));
-    let mut twist = TwistWithCovariance::default();
-    twist.twist = Twist {
-        linear: Vector3 {
-            x: v,
-            y: 0.0,
-            z: 0.0,
+    let twist = TwistWithCovariance {
+        twist: Twist {
+            linear: Vector3 {
+                x: v,
+                y: 0.0,
+                z: 0.0,
+            },
+            angular: Vector3 {
+                x: 0.0,
+                y: 0.0,
+                z: w,
+            },
         },
-        angular: Vector3 {
-            x: 0.0,
-            y: 0.0,
-            z: w,
-        },
+        ..TwistWithCovariance::default()
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
@@ -290,10 +292,12 @@ pub fn true_odometry(s: &Sample) -> Odometry {
         z: s.pose.z,
     };
     pose.pose.orientation = quat(r);
-    let mut twist = TwistWithCovariance::default();
-    twist.twist = Twist {
-        linear: vec3(inv * DVec3::from_array(s.linvel)),
-        angular: vec3(inv * DVec3::from_array(s.angvel)),
+    let twist = TwistWithCovariance {
+        twist: Twist {
+            linear: vec3(inv * DVec3::from_array(s.linvel)),
+            angular: vec3(inv * DVec3::from_array(s.angvel)),
+        },
+        ..TwistWithCovariance::default()
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
