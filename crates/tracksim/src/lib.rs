@@ -24,7 +24,9 @@
 //! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
 //! - [`sensor_bench`]: what sensing costs, timed against no sensors in one run;
 //! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
-//! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest.
+//! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest;
+//! - `live`: `drive` and `view`, the 3-D page;
+//! - `ros` (feature `ros`): `tracksim ros`, the scenario as a ROS 2 node.
 //!
 //! Units are SI (m, kg, s, rad); frames follow ROS REP 103 (x forward, y left, z up).
 
@@ -42,6 +44,8 @@ pub mod geometry;
 pub mod live;
 pub mod model;
 pub mod output;
+#[cfg(feature = "ros")]
+pub mod ros;
 pub mod rosmsg;
 pub mod run;
 pub mod sensor_bench;

@@ -23,6 +23,7 @@ const LAYERS: &[&[&str]] = &[
     &["bench", "validate", "env", "sweep", "compare", "bundled"],
     &["sensor_bench"],
     &["live"],
+    &["ros"],
 ];
 
 /// Items re-exported at the crate root, by the module that defines them.

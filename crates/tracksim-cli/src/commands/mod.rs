@@ -9,6 +9,7 @@ pub mod drive;
 pub mod export;
 pub mod list;
 pub mod merge;
+pub mod ros;
 pub mod run;
 pub mod sweep;
 pub mod validate;

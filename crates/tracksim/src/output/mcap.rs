@@ -223,7 +223,9 @@ pub fn pose_rotation(p: &PoseRpy) -> DQuat {
     DQuat::from_euler(EulerRot::ZYX, p.yaw, p.pitch, p.roll)
 }
 
-fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> TransformStamped {
+/// The transform `parent -> child` at `t` s: `child`'s origin `at` (m) and rotation `rot` in
+/// `parent`.
+pub fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> TransformStamped {
     TransformStamped {
         header: Header::new(t, parent),
         child_frame_id: child.to_string(),
@@ -235,7 +237,7 @@ fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> Transf
 }
 
 /// The skid-steer odometry of `sc`'s chassis tracks (for the encoders' twist).
-fn encoder_model(sc: &Scenario) -> EncoderOdometry {
+pub fn encoder_model(sc: &Scenario) -> EncoderOdometry {
     let offsets: Vec<Option<f64>> = sc
         .vehicle
         .tracks
@@ -250,7 +252,7 @@ fn encoder_model(sc: &Scenario) -> EncoderOdometry {
 }
 
 /// The encoder odometry of sample `s` (frame `odom`, child `base_link`).
-fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
+pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
     let (v, w) = model.twist(&s.belt_speed);
     let [x, y, yaw] = s.odom;
     let mut pose = PoseWithCovariance::default();
@@ -269,7 +271,7 @@ fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
                 z: w,
             },
         },
-        ..Default::default()
+        ..TwistWithCovariance::default()
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
@@ -280,7 +282,7 @@ fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
 }
 
 /// The true odometry of sample `s`: pose in `odom`, velocities in `base_link` axes.
-fn true_odometry(s: &Sample) -> Odometry {
+pub fn true_odometry(s: &Sample) -> Odometry {
     let r = pose_rotation(&s.pose);
     let inv = r.inverse();
     let mut pose = PoseWithCovariance::default();
@@ -295,7 +297,7 @@ fn true_odometry(s: &Sample) -> Odometry {
             linear: vec3(inv * DVec3::from_array(s.linvel)),
             angular: vec3(inv * DVec3::from_array(s.angvel)),
         },
-        ..Default::default()
+        ..TwistWithCovariance::default()
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
@@ -306,7 +308,7 @@ fn true_odometry(s: &Sample) -> Odometry {
 }
 
 /// The per-track message of sample `s`.
-fn track_states(s: &Sample, names: &[String]) -> TrackStates {
+pub fn track_states(s: &Sample, names: &[String]) -> TrackStates {
     let motors = s.drive.iter().any(|d| d.is_some());
     let motor = |f: fn(&crate::world::DriveSample) -> f64| -> Vec<f64> {
         if motors {

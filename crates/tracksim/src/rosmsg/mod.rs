@@ -11,6 +11,7 @@
 //! - `builtin.rs`: `builtin_interfaces/Time`, `std_msgs/Header`, `rosgraph_msgs/Clock`;
 //! - `geometry.rs`: `geometry_msgs` (vectors, poses, twists, transforms) and `tf2_msgs/TFMessage`;
 //! - `nav.rs`: `nav_msgs/Odometry`;
+//! - `std_msgs.rs`: `std_msgs/Float64` (the ROS node's per-track and per-flipper commands);
 //! - `sensor.rs`: `sensor_msgs` (`JointState`, `Imu`, `LaserScan`, `PointField`,
 //!   `PointCloud2`, `Image`);
 //! - `track.rs`: `tracksim_msgs/TrackStates`, tracksim's own message of per-track figures
@@ -25,6 +26,7 @@ mod geometry;
 mod nav;
 mod schema;
 mod sensor;
+mod std_msgs;
 mod track;
 
 pub use builtin::{Clock, Header, Time};
@@ -36,6 +38,7 @@ pub use geometry::{
 pub use nav::Odometry;
 pub use schema::{MsgDef, RosMessage};
 pub use sensor::{Image, Imu, JointState, LaserScan, PointCloud2, PointField};
+pub use std_msgs::Float64;
 pub use track::TrackStates;
 
 /// serde helpers for the CDR shapes serde has no derive for.

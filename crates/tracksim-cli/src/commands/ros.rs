@@ -1,0 +1,121 @@
+//! `tracksim ros`: the scenario as a ROS 2 node (pure-Rust DDS), recorded as a run.
+
+use super::{Failure, bad_arg, check_duration, overrides, scenario_file};
+use std::path::PathBuf;
+
+/// Run a scenario as the ROS 2 node /tracksim (no ROS installation needed; docs/ROS2.md):
+/// /cmd_vel in, /odom, /tf, /joint_states, /clock out; loopback only unless --network. On
+/// Ctrl-C, SIGTERM or --duration its outputs go to --out, as `run` writes them.
+#[derive(clap::Args)]
+pub struct RosArgs {
+    /// Scenario file (TOML), or the name of a bundled scenario.
+    pub file: PathBuf,
+    /// Output folder (as `run`, plus commands.toml).
+    #[arg(long, default_value = "out/ros")]
+    pub out: PathBuf,
+    /// Step as fast as possible instead of at real time (other nodes follow /clock with
+    /// use_sim_time).
+    #[arg(long)]
+    pub fast: bool,
+    /// End the session at this simulated time, s (default: on Ctrl-C or SIGTERM).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// DDS domain (default: $ROS_DOMAIN_ID, else 0).
+    #[arg(long)]
+    pub domain_id: Option<u16>,
+    /// Where the node can be reached: `localhost` (default: this machine only), `any` (every
+    /// interface: anyone on the network can drive the robot) or interface addresses, e.g.
+    /// 192.168.1.20 (comma-separated).
+    #[arg(long, default_value = "localhost")]
+    pub network: String,
+    /// Track method, overriding the scenario's `simulation.method`.
+    #[arg(long)]
+    pub method: Option<String>,
+    /// Do not write the plot files.
+    #[arg(long)]
+    pub no_plot: bool,
+    /// Also write run.mcap.
+    #[arg(long)]
+    pub mcap: bool,
+}
+
+/// The DDS domain: the flag, else `ROS_DOMAIN_ID`, else 0.
+fn domain(flag: Option<u16>) -> Result<u16, Failure> {
+    if let Some(d) = flag {
+        return Ok(d);
+    }
+    match std::env::var("ROS_DOMAIN_ID") {
+        Ok(s) if !s.trim().is_empty() => s.trim().parse().map_err(|_| {
+            bad_arg(
+                "ROS_DOMAIN_ID",
+                format!("must be a domain number 0-232, got {s:?}"),
+            )
+        }),
+        _ => Ok(0),
+    }
+}
+
+/// `tracksim ros`.
+pub fn ros(a: RosArgs) -> Result<(), Failure> {
+    use tracksim::ros::{NetworkRange, RosOptions, WATCHDOG_TIMEOUT_S, run_ros};
+    let file = scenario_file(&a.file)?;
+    let sc = tracksim::load_scenario_with(&file, &overrides(a.method.as_deref(), None, None)?)?;
+    let max_time = a
+        .duration
+        .map(|d| check_duration(d, sc.solver.dt))
+        .transpose()?;
+    let network = NetworkRange::parse(&a.network).map_err(|m| bad_arg("--network", m))?;
+    if !network.is_local() {
+        eprintln!(
+            "warning: the node is reachable on {network}: anyone who can reach it can drive the \
+             robot"
+        );
+    }
+    let opts = RosOptions {
+        fast: a.fast,
+        max_time,
+        domain_id: domain(a.domain_id)?,
+        network,
+        interrupt: Some(&super::STOP),
+    };
+    super::on_stop(|| {});
+    out!(
+        "ros        node /tracksim, DDS domain {}, on {}; {} (cmd_vel watchdog {} s)",
+        opts.domain_id,
+        opts.network,
+        if a.fast {
+            "as fast as possible (/clock)"
+        } else {
+            "paced to real time"
+        },
+        WATCHDOG_TIMEOUT_S
+    );
+    out!(
+        "           stop: Ctrl-C or SIGTERM (the run is written to {})",
+        a.out.display()
+    );
+    let session = run_ros(&sc, &opts, &mut |w| eprintln!("warning: {w}"))?;
+    let written = session.write(&sc, &file, &a.out, !a.no_plot, a.mcap)?;
+    let s = &session.result.summary;
+    out!(
+        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
+        s.sim_time_s,
+        s.elapsed_time_s,
+        s.paced_real_time_factor,
+        s.real_time_factor
+    );
+    out!(
+        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops",
+        session.received,
+        session.problems,
+        session.watchdog_stops
+    );
+    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+    for w in &written {
+        out!("wrote      {}", w.display());
+    }
+    if matches!(session.result.outcome, tracksim::Outcome::Interrupted(_)) {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}

@@ -1,0 +1,255 @@
+//! The node on DDS (`ros2-client` over RustDDS, pure Rust): one participant restricted to its
+//! [`NetworkRange`], the node `/tracksim`, its publishers and subscriptions (QoS below), and
+//! `/rosout`. It never blocks the simulation: subscriptions are read without waiting, and a
+//! publisher whose history is full drops the message rather than wait.
+//!
+//! QoS: every publisher is reliable, volatile, keep last 10 (ROS's default; a best-effort
+//! subscriber such as a `SensorDataQoS` one matches it too), `/tf` keep last 100, `/clock`
+//! keep last 1, `/tf_static` transient local keep last 1 (latched, as tf2 expects). The
+//! subscriptions are reliable, keep last 10 (the default of `ros2 topic pub`, Nav2 and
+//! `teleop_twist_keyboard`).
+
+use super::network::NetworkRange;
+use super::topics;
+use crate::rosmsg::{Clock, Float64, JointState, Odometry, TFMessage, TrackStates, Twist};
+use ros2_client::dds::rustdds::DomainParticipantBuilder;
+use ros2_client::log::LogLevel;
+use ros2_client::qos::{Durability, History, Reliability, WhenFull};
+use ros2_client::{
+    Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile, RosoutRaw,
+    Subscription,
+};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+
+/// Why the node could not start.
+pub type DdsError = String;
+
+fn qos(depth: usize, latched: bool) -> QosProfile {
+    QosProfile {
+        reliability: Reliability::Reliable {
+            when_full: WhenFull::Fail,
+        },
+        durability: if latched {
+            Durability::TransientLocal
+        } else {
+            Durability::Volatile
+        },
+        history: History::KeepLast { depth },
+        ..QosProfile::publisher_default()
+    }
+}
+
+/// A publisher of a ROS message type on one topic.
+pub struct Pub<T: Serialize> {
+    inner: Publisher<T>,
+}
+
+impl<T: Serialize> Pub<T> {
+    /// Sends `msg` (a full history drops it: the simulation never waits).
+    pub fn publish(&self, msg: T) {
+        let _ = self.inner.publish(msg);
+    }
+}
+
+/// A subscription of a ROS message type on one topic.
+pub struct Sub<T> {
+    inner: Subscription<T>,
+    /// The ROS topic.
+    pub topic: String,
+}
+
+impl<T: 'static + DeserializeOwned> Sub<T> {
+    /// Every message received since the last call (undecodable ones skipped), oldest first.
+    pub fn drain(&self) -> Vec<T> {
+        let mut out = Vec::new();
+        // Bounded: a flood cannot hold the simulation here.
+        for _ in 0..1000 {
+            match self.inner.take() {
+                Ok(Some((m, _))) => out.push(m),
+                Ok(None) => break,
+                Err(_) => continue,
+            }
+        }
+        out
+    }
+}
+
+/// The ROS 2 node: participant, node and `/rosout`.
+pub struct DdsNode {
+    node: Node,
+    // Kept alive with the node.
+    _context: Context,
+}
+
+/// The `pkg/Type` of a message as DDS names it.
+fn type_name(full: &str) -> MessageTypeName {
+    let (pkg, ty) = full.split_once('/').unwrap_or(("", full));
+    MessageTypeName::new(pkg, ty)
+}
+
+impl DdsNode {
+    /// Starts the participant in DDS domain `domain` (`ROS_DOMAIN_ID`) on `range`, and the node.
+    pub fn start(domain: u16, range: &NetworkRange) -> Result<Self, DdsError> {
+        let mut b = DomainParticipantBuilder::new(domain);
+        if let Some(nets) = range.only_networks() {
+            b = b.with_only_networks(nets);
+        }
+        let dp = b.build().map_err(|e| format!("DDS participant: {e:?}"))?;
+        let context =
+            Context::from_domain_participant(dp).map_err(|e| format!("ROS context: {e:?}"))?;
+        let name = NodeName::new("/", topics::NODE_NAME).map_err(|e| format!("{e:?}"))?;
+        let node = context
+            .new_node(
+                name,
+                NodeOptions::new()
+                    .enable_rosout(true)
+                    .start_parameter_services(false),
+            )
+            .map_err(|e| format!("ROS node: {e:?}"))?;
+        Ok(DdsNode {
+            node,
+            _context: context,
+        })
+    }
+
+    fn topic<T: crate::rosmsg::RosMessage>(
+        &mut self,
+        name: &str,
+        q: &QosProfile,
+    ) -> Result<ros2_client::dds::rustdds::Topic, DdsError> {
+        let n = Name::parse(name).map_err(|e| format!("topic {name}: {e:?}"))?;
+        self.node
+            .create_topic(&n, type_name(T::DEF.name), q)
+            .map_err(|e| format!("topic {name}: {e:?}"))
+    }
+
+    /// A publisher on `name` with `depth` messages of history (`latched`: transient local).
+    pub fn publisher<T: crate::rosmsg::RosMessage>(
+        &mut self,
+        name: &str,
+        depth: usize,
+        latched: bool,
+    ) -> Result<Pub<T>, DdsError> {
+        let q = qos(depth, latched);
+        let topic = self.topic::<T>(name, &q)?;
+        let inner = self
+            .node
+            .create_publisher::<T>(&topic, Some(q))
+            .map_err(|e| format!("publisher {name}: {e:?}"))?;
+        Ok(Pub { inner })
+    }
+
+    /// A subscription of `name`.
+    pub fn subscription<T: crate::rosmsg::RosMessage + 'static>(
+        &mut self,
+        name: &str,
+    ) -> Result<Sub<T>, DdsError> {
+        let q = qos(10, false);
+        let topic = self.topic::<T>(name, &q)?;
+        let inner = self
+            .node
+            .create_subscription::<T>(&topic, Some(q))
+            .map_err(|e| format!("subscription {name}: {e:?}"))?;
+        Ok(Sub {
+            inner,
+            topic: name.to_string(),
+        })
+    }
+
+    /// Logs `msg` on `/rosout` at `level`, stamped `t` s of simulated time.
+    pub fn rosout(&self, level: LogLevel, t: f64, msg: &str) {
+        let ns = crate::rosmsg::Time::from_secs(t).nanos();
+        self.node.logging_handle().rosout_raw(
+            ros2_client::builtin_interfaces::Time::from_nanos(ns as i64),
+            level,
+            topics::NODE_NAME,
+            msg,
+            file!(),
+            "tracksim::ros",
+            line!(),
+        );
+    }
+}
+
+/// The node's publishers.
+pub struct Publishers {
+    /// `/clock`.
+    pub clock: Pub<Clock>,
+    /// `/odom`.
+    pub odom: Pub<Odometry>,
+    /// `/ground_truth/odom`.
+    pub truth: Pub<Odometry>,
+    /// `/tf`.
+    pub tf: Pub<TFMessage>,
+    /// `/tf_static`.
+    pub tf_static: Pub<TFMessage>,
+    /// `/joint_states`.
+    pub joints: Pub<JointState>,
+    /// `/tracks`.
+    pub tracks: Pub<TrackStates>,
+}
+
+impl Publishers {
+    /// Creates them on `node`.
+    pub fn new(node: &mut DdsNode) -> Result<Self, DdsError> {
+        Ok(Publishers {
+            clock: node.publisher(topics::CLOCK, 1, false)?,
+            odom: node.publisher(topics::ODOM, 10, false)?,
+            truth: node.publisher(topics::GROUND_TRUTH, 10, false)?,
+            tf: node.publisher(topics::TF, 100, false)?,
+            tf_static: node.publisher(topics::TF_STATIC, 1, true)?,
+            joints: node.publisher(topics::JOINT_STATES, 10, false)?,
+            tracks: node.publisher(topics::TRACKS, 10, false)?,
+        })
+    }
+}
+
+/// The node's subscriptions.
+pub struct Subscriptions {
+    /// `/cmd_vel`.
+    pub cmd_vel: Sub<Twist>,
+    /// Per track (by index): its belt speed command, if its name makes a ROS name.
+    pub track_speed: Vec<Option<Sub<Float64>>>,
+    /// Per flipper (by index): its target command, if its name makes a ROS name.
+    pub flipper_position: Vec<Option<Sub<Float64>>>,
+    /// `/flippers/cmd_positions`.
+    pub flipper_positions: Sub<JointState>,
+}
+
+impl Subscriptions {
+    /// Creates them on `node` for tracks `tracks` and flippers `flippers` (names); a name
+    /// that makes no valid ROS topic is skipped and reported in the second value.
+    pub fn new(
+        node: &mut DdsNode,
+        tracks: &[String],
+        flippers: &[String],
+    ) -> Result<(Self, Vec<String>), DdsError> {
+        let mut skipped = Vec::new();
+        let mut each =
+            |node: &mut DdsNode, topic: String| match node.subscription::<Float64>(&topic) {
+                Ok(s) => Some(s),
+                Err(e) => {
+                    skipped.push(e);
+                    None
+                }
+            };
+        let track_speed = tracks
+            .iter()
+            .map(|n| each(node, topics::track_speed(n)))
+            .collect();
+        let flipper_position = flippers
+            .iter()
+            .map(|n| each(node, topics::flipper_position(n)))
+            .collect();
+        Ok((
+            Subscriptions {
+                cmd_vel: node.subscription(topics::CMD_VEL)?,
+                track_speed,
+                flipper_position,
+                flipper_positions: node.subscription(topics::FLIPPER_POSITIONS)?,
+            },
+            skipped,
+        ))
+    }
+}

@@ -1,0 +1,26 @@
+//! `tracksim ros`: a scenario as a ROS 2 node over pure-Rust DDS (`ros2-client` on RustDDS;
+//! no ROS installation), on the same run loop as `tracksim run` and `drive` (`run::Runner`),
+//! recorded as a run. `docs/ROS2.md` lists the topics, types, frames, rates and QoS.
+//!
+//! - [`topics`]: the node's ROS names;
+//! - [`network`]: which interfaces DDS uses (loopback only by default);
+//! - [`sanitize`]: what a message may ask of the physics (non-finite values dropped, limits
+//!   clamped, unknown flipper names dropped) and the rate-limited warnings;
+//! - [`commands`]: the commands in force, turned into controls, and the `cmd_vel` watchdog;
+//! - [`messages`]: the published messages built from a sample;
+//! - [`sensors`]: the vehicle's sensors on their topics, at their rates;
+//! - [`dds`]: the participant, node, publishers, subscriptions and `/rosout`;
+//! - [`session`]: the session loop and its run folder.
+
+pub mod commands;
+pub mod dds;
+pub mod messages;
+pub mod network;
+pub mod sanitize;
+pub mod sensors;
+pub mod session;
+pub mod topics;
+
+pub use commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
+pub use network::NetworkRange;
+pub use session::{RosOptions, RosSession, run_ros};

@@ -1,0 +1,44 @@
+//! The node's ROS names: node `/tracksim`, its topics (absolute names; on DDS `rt/<name>`,
+//! types `pkg::msg::dds_::Type_`) and the per-track and per-flipper command topics.
+//! Track and flipper names may hold `-`, which ROS names do not: it becomes `_`.
+
+/// The node's name.
+pub const NODE_NAME: &str = "tracksim";
+/// Body twist command (`geometry_msgs/Twist`).
+pub const CMD_VEL: &str = "/cmd_vel";
+/// Simulated clock (`rosgraph_msgs/Clock`).
+pub const CLOCK: &str = "/clock";
+/// Encoder odometry (`nav_msgs/Odometry`).
+pub const ODOM: &str = "/odom";
+/// True pose and velocity (`nav_msgs/Odometry`).
+pub const GROUND_TRUTH: &str = "/ground_truth/odom";
+/// Transforms (`tf2_msgs/TFMessage`).
+pub const TF: &str = "/tf";
+/// Fixed transforms, latched (`tf2_msgs/TFMessage`).
+pub const TF_STATIC: &str = "/tf_static";
+/// Flipper angles and belt travel (`sensor_msgs/JointState`).
+pub const JOINT_STATES: &str = "/joint_states";
+/// Per-track figures (`tracksim_msgs/TrackStates`).
+pub const TRACKS: &str = "/tracks";
+/// Every flipper's target by name in one message (`sensor_msgs/JointState`, rad).
+pub const FLIPPER_POSITIONS: &str = "/flippers/cmd_positions";
+
+/// A track or flipper name as a ROS name token (`-` to `_`).
+pub fn token(name: &str) -> String {
+    name.replace('-', "_")
+}
+
+/// The belt speed command topic of track `name` (`std_msgs/Float64`, m/s).
+pub fn track_speed(name: &str) -> String {
+    format!("/tracks/{}/cmd_speed", token(name))
+}
+
+/// The target angle command topic of flipper `name` (`std_msgs/Float64`, rad).
+pub fn flipper_position(name: &str) -> String {
+    format!("/flippers/{}/cmd_position", token(name))
+}
+
+/// The topic of sensor `name`.
+pub fn sensor(name: &str) -> String {
+    format!("/{}", token(name))
+}

@@ -1,0 +1,353 @@
+"""The independent DDS peer of test_ros_dds.py, run INSIDE a network namespace with only `lo`
+(the test starts it under `unshare --net`): brings `lo` up with a multicast route, starts
+`tracksim ros` on a bundled scenario, and with Eclipse Cyclone DDS (the `cyclonedds` PyPI
+package, its own C library; message types declared as IDL with the ROS 2 type names)
+subscribes /odom and /joint_states and publishes /cmd_vel. Prints one JSON line of what it
+measured; every wait is bounded and the child is always killed.
+
+Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors]
+
+- drive (default): packbot_flat; /cmd_vel at 0.3 m/s for 4 s at 20 Hz, then silence;
+- sensors: packbot_sensors (flippers and sensors); /imu read for its rate and gravity, flipper
+  targets sent by Float64 and by a JointState naming an unknown flipper, a NaN /cmd_vel, and
+  /rosout read for the warnings.
+"""
+
+import json
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+
+from cyclonedds.core import Policy, Qos
+from cyclonedds.domain import DomainParticipant
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl.annotations import final
+from cyclonedds.idl.types import array, float64, int32, sequence, uint8, uint32
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.topic import Topic
+from cyclonedds.util import duration
+
+FORWARD_MPS = 0.3  # commanded on /cmd_vel
+DRIVE_S = 4.0  # wall seconds of cmd_vel at 20 Hz
+SILENT_S = 1.5  # then silence (the watchdog stops it after 0.5 s)
+
+
+@final
+@dataclass
+class Time(IdlStruct, typename="builtin_interfaces::msg::dds_::Time_"):
+    sec: int32
+    nanosec: uint32
+
+
+@final
+@dataclass
+class Header(IdlStruct, typename="std_msgs::msg::dds_::Header_"):
+    stamp: Time
+    frame_id: str
+
+
+@final
+@dataclass
+class Vector3(IdlStruct, typename="geometry_msgs::msg::dds_::Vector3_"):
+    x: float64
+    y: float64
+    z: float64
+
+
+@final
+@dataclass
+class Twist(IdlStruct, typename="geometry_msgs::msg::dds_::Twist_"):
+    linear: Vector3
+    angular: Vector3
+
+
+@final
+@dataclass
+class Point(IdlStruct, typename="geometry_msgs::msg::dds_::Point_"):
+    x: float64
+    y: float64
+    z: float64
+
+
+@final
+@dataclass
+class Quaternion(IdlStruct, typename="geometry_msgs::msg::dds_::Quaternion_"):
+    x: float64
+    y: float64
+    z: float64
+    w: float64
+
+
+@final
+@dataclass
+class Pose(IdlStruct, typename="geometry_msgs::msg::dds_::Pose_"):
+    position: Point
+    orientation: Quaternion
+
+
+@final
+@dataclass
+class PoseWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::PoseWithCovariance_"):
+    pose: Pose
+    covariance: array[float64, 36]
+
+
+@final
+@dataclass
+class TwistWithCovariance(IdlStruct, typename="geometry_msgs::msg::dds_::TwistWithCovariance_"):
+    twist: Twist
+    covariance: array[float64, 36]
+
+
+@final
+@dataclass
+class Odometry(IdlStruct, typename="nav_msgs::msg::dds_::Odometry_"):
+    header: Header
+    child_frame_id: str
+    pose: PoseWithCovariance
+    twist: TwistWithCovariance
+
+
+@final
+@dataclass
+class JointState(IdlStruct, typename="sensor_msgs::msg::dds_::JointState_"):
+    header: Header
+    name: sequence[str]
+    position: sequence[float64]
+    velocity: sequence[float64]
+    effort: sequence[float64]
+
+
+@final
+@dataclass
+class Float64(IdlStruct, typename="std_msgs::msg::dds_::Float64_"):
+    data: float64
+
+
+@final
+@dataclass
+class Imu(IdlStruct, typename="sensor_msgs::msg::dds_::Imu_"):
+    header: Header
+    orientation: Quaternion
+    orientation_covariance: array[float64, 9]
+    angular_velocity: Vector3
+    angular_velocity_covariance: array[float64, 9]
+    linear_acceleration: Vector3
+    linear_acceleration_covariance: array[float64, 9]
+
+
+@final
+@dataclass
+class Log(IdlStruct, typename="rcl_interfaces::msg::dds_::Log_"):
+    stamp: Time
+    level: uint8
+    name: str
+    msg: str
+    file: str
+    function: str
+    line: uint32
+
+
+def netns_setup():
+    """`lo` up with multicast and a multicast route (this namespace has nothing else)."""
+    for cmd in (
+        ["ip", "link", "set", "lo", "up"],
+        ["ip", "link", "set", "lo", "multicast", "on"],
+        ["ip", "route", "add", "224.0.0.0/4", "dev", "lo"],
+    ):
+        subprocess.run(cmd, check=True, timeout=10)
+    links = subprocess.run(["ip", "-o", "link"], capture_output=True, text=True, timeout=10).stdout
+    return [line.split(":")[1].strip() for line in links.splitlines()]
+
+
+def twist(v):
+    return Twist(linear=Vector3(v, 0.0, 0.0), angular=Vector3(0.0, 0.0, 0.0))
+
+
+QOS = Qos(
+    Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100)),
+    Policy.History.KeepLast(10),
+    Policy.DataRepresentation(use_cdrv0_representation=True),
+)
+
+
+def finish(child, result):
+    """SIGTERM (tracksim writes its run folder), bounded; the child's exit and output."""
+    child.terminate()
+    try:
+        stdout, stderr = child.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        child.kill()
+        stdout, stderr = child.communicate(timeout=10)
+    result.update(exit_code=child.returncode, stdout=stdout[-3000:], stderr=stderr[-3000:])
+
+
+def take(reader, kind, into, n=200):
+    for s in reader.take(N=n):
+        if isinstance(s, kind):
+            into.append(s)
+
+
+def sensors(binary, out, links):
+    dp = DomainParticipant(0)
+    # 200 Hz read every 50 ms: a history deep enough to keep every message.
+    deep = Qos(
+        Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100)),
+        Policy.History.KeepLast(200),
+        Policy.DataRepresentation(use_cdrv0_representation=True),
+    )
+    imu_r = DataReader(dp, Topic(dp, "rt/imu", Imu), qos=deep)
+    joints_r = DataReader(dp, Topic(dp, "rt/joint_states", JointState), qos=QOS)
+    odom_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
+    log_r = DataReader(dp, Topic(dp, "rt/rosout", Log), qos=QOS)
+    cmd_w = DataWriter(dp, Topic(dp, "rt/cmd_vel", Twist), qos=QOS)
+    fl_w = DataWriter(dp, Topic(dp, "rt/flippers/front_left/cmd_position", Float64), qos=QOS)
+    all_w = DataWriter(dp, Topic(dp, "rt/flippers/cmd_positions", JointState), qos=QOS)
+    child = subprocess.Popen(
+        [binary, "ros", "packbot_sensors", "--out", out, "--no-plot", "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links}
+    imu, joints, odom, logs = [], [], [], []
+
+    def drain():
+        take(imu_r, Imu, imu, 1000)
+        take(joints_r, JointState, joints)
+        take(odom_r, Odometry, odom)
+        take(log_r, Log, logs)
+
+    try:
+        deadline = time.monotonic() + 20.0
+        while not (imu and joints and odom) and time.monotonic() < deadline:
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.05)
+        if not (imu and joints and odom):
+            raise RuntimeError("no /imu, /joint_states or /odom within 20 s")
+        time.sleep(1.0)
+        drain()
+        start_odom, start_joints = odom[-1], joints[-1]
+        result["flipper_start"] = list(start_joints.position[:2])
+        t_end = time.monotonic() + 3.0
+        header = Header(stamp=Time(0, 0), frame_id="")
+        while time.monotonic() < t_end:
+            nan = float("nan")
+            cmd_w.write(Twist(linear=Vector3(nan, 0.0, 0.0), angular=Vector3(0.0, 0.0, 0.0)))
+            fl_w.write(Float64(0.9))
+            all_w.write(JointState(header, ["front_right", "no_such_flipper"], [0.9, 0.1], [], []))
+            drain()
+            time.sleep(0.05)
+        drain()
+        stamp = lambda m: m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec
+        span = stamp(imu[-1]) - stamp(imu[0])
+        result.update(
+            joint_names=list(joints[-1].name),
+            flipper_end=list(joints[-1].position[:2]),
+            odom_dx=odom[-1].pose.pose.position.x - start_odom.pose.pose.position.x,
+            imu_messages=len(imu),
+            imu_rate_hz=(len(imu) - 1) / span if span > 0 else 0.0,
+            imu_frame=imu[-1].header.frame_id,
+            imu_accel_z=sum(m.linear_acceleration.z for m in imu) / len(imu),
+            rosout=[m.msg for m in logs],
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
+def drive(binary, out, links):
+    qos = QOS
+    dp = DomainParticipant(0)
+    odom_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=qos)
+    joints_r = DataReader(dp, Topic(dp, "rt/joint_states", JointState), qos=qos)
+    truth_r = DataReader(dp, Topic(dp, "rt/ground_truth/odom", Odometry), qos=qos)
+    cmd_w = DataWriter(dp, Topic(dp, "rt/cmd_vel", Twist), qos=qos)
+    child = subprocess.Popen(
+        [binary, "ros", "packbot_flat", "--out", out, "--no-plot", "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links, "forward_mps": FORWARD_MPS}
+    odom, joints, truth = [], [], []
+
+    def drain():
+        for s in odom_r.take(N=100):
+            if isinstance(s, Odometry):
+                odom.append(s)
+        for s in joints_r.take(N=100):
+            if isinstance(s, JointState):
+                joints.append(s)
+        for s in truth_r.take(N=100):
+            if isinstance(s, Odometry):
+                truth.append(s)
+
+    try:
+        # Discovery: wait (bounded) for the first odometry message.
+        deadline = time.monotonic() + 20.0
+        while not odom and time.monotonic() < deadline and child.poll() is None:
+            drain()
+            time.sleep(0.05)
+        result["discovered_s"] = 20.0 - (deadline - time.monotonic())
+        if not odom:
+            raise RuntimeError("no /odom from tracksim within 20 s")
+        start = (odom[-1], joints[-1] if joints else None, truth[-1] if truth else None)
+        # Drive: cmd_vel at 20 Hz.
+        t_end = time.monotonic() + DRIVE_S
+        while time.monotonic() < t_end:
+            cmd_w.write(twist(FORWARD_MPS))
+            drain()
+            time.sleep(0.05)
+        drain()
+        driven = (odom[-1], joints[-1], truth[-1])
+        # Silence: the watchdog stops the robot.
+        t_end = time.monotonic() + SILENT_S
+        while time.monotonic() < t_end:
+            drain()
+            time.sleep(0.05)
+        drain()
+        stopped = (odom[-1], joints[-1], truth[-1])
+        stamp = lambda m: m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec
+        result.update(
+            odom_messages=len(odom),
+            joint_messages=len(joints),
+            frame_id=start[0].header.frame_id,
+            child_frame_id=start[0].child_frame_id,
+            joint_names=list(driven[1].name),
+            t_start=stamp(start[0]),
+            t_driven=stamp(driven[0]),
+            t_stopped=stamp(stopped[0]),
+            odom_x_start=start[0].pose.pose.position.x,
+            odom_x_driven=driven[0].pose.pose.position.x,
+            odom_x_stopped=stopped[0].pose.pose.position.x,
+            odom_v_driven=driven[0].twist.twist.linear.x,
+            odom_v_stopped=stopped[0].twist.twist.linear.x,
+            truth_v_driven=driven[2].twist.twist.linear.x,
+            truth_v_stopped=stopped[2].twist.twist.linear.x,
+            joints_start=list(start[1].position) if start[1] else None,
+            joints_driven=list(driven[1].position),
+            joints_stopped=list(stopped[1].position),
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)  # SIGTERM: tracksim writes its run folder
+    print(json.dumps(result))
+
+
+def main():
+    binary, out = sys.argv[1], sys.argv[2]
+    mode = sys.argv[3] if len(sys.argv) > 3 else "drive"
+    links = netns_setup()
+    {"drive": drive, "sensors": sensors}[mode](binary, out, links)
+
+
+if __name__ == "__main__":
+    main()
