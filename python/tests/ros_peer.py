@@ -342,11 +342,61 @@ def drive(binary, out, links):
     print(json.dumps(result))
 
 
+def urdf(binary, out, links):
+    """The bundled URDF robot (packbot_urdf_stairs): its joints by their URDF names, driven by
+    /cmd_vel, its front_left flipper raised by a Float64 command."""
+    dp = DomainParticipant(0)
+    joints_r = DataReader(dp, Topic(dp, "rt/joint_states", JointState), qos=QOS)
+    odom_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
+    cmd_w = DataWriter(dp, Topic(dp, "rt/cmd_vel", Twist), qos=QOS)
+    fl_w = DataWriter(dp, Topic(dp, "rt/flippers/front_left/cmd_position", Float64), qos=QOS)
+    child = subprocess.Popen(
+        [binary, "ros", "packbot_urdf_stairs", "--out", out, "--no-plot", "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links}
+    joints, odom = [], []
+
+    def drain():
+        take(joints_r, JointState, joints)
+        take(odom_r, Odometry, odom)
+
+    try:
+        deadline = time.monotonic() + 20.0
+        while not (joints and odom) and time.monotonic() < deadline:
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.05)
+        if not (joints and odom):
+            raise RuntimeError("no /joint_states or /odom within 20 s")
+        start = odom[-1]
+        t_end = time.monotonic() + 2.0
+        while time.monotonic() < t_end:
+            cmd_w.write(twist(FORWARD_MPS))
+            fl_w.write(Float64(0.6))
+            drain()
+            time.sleep(0.05)
+        drain()
+        result.update(
+            joint_names=list(joints[-1].name),
+            positions=list(joints[-1].position),
+            odom_dx=odom[-1].pose.pose.position.x - start.pose.pose.position.x,
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
 def main():
     binary, out = sys.argv[1], sys.argv[2]
     mode = sys.argv[3] if len(sys.argv) > 3 else "drive"
     links = netns_setup()
-    {"drive": drive, "sensors": sensors}[mode](binary, out, links)
+    {"drive": drive, "sensors": sensors, "urdf": urdf}[mode](binary, out, links)
 
 
 if __name__ == "__main__":

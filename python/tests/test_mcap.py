@@ -153,7 +153,7 @@ def test_joint_states_tf_and_tracks(recording):
     for _, tf, _ in msgs["/tf"]:
         frames = [(t.header.frame_id, t.child_frame_id) for t in tf.transforms]
         assert frames == [("odom", "base_link"), ("base_link", "front_left_flipper_link"),
-                          ("base_link", "front_right_flipper_link")]
+                          ("base_link", "front_right_flipper_link"), ("map", "odom")]
     static = {t.child_frame_id: t.header.frame_id
               for t in msgs["/tf_static"][0][1].transforms}
     assert static["imu_link"] == "base_link"
@@ -190,7 +190,7 @@ def test_sensor_messages_decode_to_their_data(recording):
         bottom = depth[-1][np.isfinite(depth[-1])]
         assert bottom.size > 0 and (0.05 < bottom).all() and (bottom < 5.0).all()
     for _, cloud, _ in msgs["/elevation"]:
-        assert cloud.header.frame_id == "odom"
+        assert cloud.header.frame_id == "map"
         assert [f.name for f in cloud.fields] == ["x", "y", "z"]
         assert len(cloud.data) == cloud.row_step * cloud.height
         pts = np.frombuffer(bytes(cloud.data), dtype="<f4").reshape(-1, 3)

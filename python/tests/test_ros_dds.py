@@ -139,3 +139,21 @@ def test_bad_commands_never_reach_the_physics(sensors):
     # Rate-limited: about one warning of each kind per second over 3 s, not 60.
     assert len(sensors["rosout"]) <= 10
     assert "more like it" in sensors["stderr"]
+
+
+@pytest.fixture(scope="module")
+def urdf_robot(tmp_path_factory):
+    """packbot_urdf_stairs: the bundled URDF robot (ros_peer.py `urdf`)."""
+    return _peer(tmp_path_factory, "urdf")
+
+
+def test_the_bundled_urdf_robot_runs_under_ros(urdf_robot):
+    # Joints by their URDF names, then the belts of vehicles/packbot510_urdf.toml's tracks.
+    names = urdf_robot["joint_names"]
+    assert names[:2] == ["front_left", "front_right"], names
+    assert "left_belt" in names and "flipper_left_belt" in names, names
+    # /cmd_vel at 0.3 m/s for 2 s drove it (after discovery latency), and front_left rose
+    # towards its 0.6 rad command while front_right stayed at 0.
+    assert 0.2 < urdf_robot["odom_dx"] < 0.65, urdf_robot["odom_dx"]
+    fl, fr = urdf_robot["positions"][:2]
+    assert 0.45 < fl < 0.65 and abs(fr) < 0.05, (fl, fr)

@@ -146,12 +146,12 @@ fn run_mcap_messages_carry_the_run_values() {
     for k in [0, r.samples.len() / 2, r.samples.len() - 1] {
         let s = &r.samples[k];
         let stamp = Time::from_secs(s.t);
-        // Ground truth: the body pose in odom, the velocity in base_link.
+        // Ground truth: the body pose in map, the velocity in base_link.
         let g = &truth[k];
         assert_eq!(g.header.stamp, stamp);
         assert_eq!(
             (g.header.frame_id.as_str(), g.child_frame_id.as_str()),
-            ("odom", "base_link")
+            ("map", "base_link")
         );
         let p = g.pose.pose.position;
         assert_eq!([p.x, p.y, p.z], [s.pose.x, s.pose.y, s.pose.z]);
@@ -173,11 +173,37 @@ fn run_mcap_messages_carry_the_run_values() {
         assert_eq!([op.x, op.y], [s.odom[0], s.odom[1]]);
         let oq = o.pose.pose.orientation;
         assert!((2.0 * oq.z.atan2(oq.w) - s.odom[2]).abs() < 1e-9);
-        // /tf: odom -> base_link, then each flipper turned by its angle at its pivot.
+        // /tf: odom -> base_link (the encoders, as /odom), each flipper turned by its angle
+        // at its pivot, and map -> odom, with which map -> base_link is the true pose.
         let t = &tf[k].transforms;
-        assert_eq!(t.len(), 1 + sc.vehicle.flippers.len());
-        assert_eq!(t[0].transform.translation.x, s.pose.x);
+        assert_eq!(t.len(), 2 + sc.vehicle.flippers.len());
+        assert_eq!(t[0].transform.translation.x, s.odom[0]);
+        assert_eq!(t[0].transform.translation.y, s.odom[1]);
         assert_eq!(t[0].child_frame_id, "base_link");
+        let m = t.last().unwrap();
+        assert_eq!(
+            (m.header.frame_id.as_str(), m.child_frame_id.as_str()),
+            ("map", "odom")
+        );
+        let iso = |tr: &tracksim::rosmsg::Transform| {
+            let (v, q) = (tr.translation, tr.rotation);
+            glam::DAffine3::from_rotation_translation(
+                glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w),
+                glam::DVec3::new(v.x, v.y, v.z),
+            )
+        };
+        let composed = iso(&m.transform) * iso(&t[0].transform);
+        let at = composed.translation;
+        assert!(
+            (glam::DVec3::from(at) - glam::DVec3::new(s.pose.x, s.pose.y, s.pose.z)).length()
+                < 1e-9,
+            "map -> odom -> base_link {at:?} is not the true position at t = {} s",
+            s.t
+        );
+        let (yaw_c, pitch_c, roll_c) =
+            glam::DQuat::from_mat3(&composed.matrix3.into()).to_euler(glam::EulerRot::ZYX);
+        assert!((yaw_c - s.pose.yaw).abs() < 1e-9 && (pitch_c - s.pose.pitch).abs() < 1e-9);
+        assert!((roll_c - s.pose.roll).abs() < 1e-9);
         for (i, f) in sc.vehicle.flippers.iter().enumerate() {
             let tr = &t[1 + i];
             assert_eq!(tr.header.frame_id, "base_link");

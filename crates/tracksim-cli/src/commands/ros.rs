@@ -17,6 +17,10 @@ pub struct RosArgs {
     /// use_sim_time).
     #[arg(long)]
     pub fast: bool,
+    /// Also publish map -> odom on /tf from the true pose (perfect localisation), so that
+    /// map -> base_link is the truth; leave it off when AMCL or a SLAM node publishes it.
+    #[arg(long)]
+    pub map_tf: bool,
     /// End the session at this simulated time, s (default: on Ctrl-C or SIGTERM).
     #[arg(long)]
     pub duration: Option<f64>,
@@ -73,6 +77,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     }
     let opts = RosOptions {
         fast: a.fast,
+        map_tf: a.map_tf,
         max_time,
         domain_id: domain(a.domain_id)?,
         network,

@@ -4,7 +4,9 @@
 //! written in time order.
 //!
 //! Frames (REP 103 axes, REP 105 names):
-//! - `odom`: the world frame (the odom frame coincides with the world at the start);
+//! - `map`: the world frame (REP 105); ground truth and the elevation map are in it;
+//! - `odom`: the encoders' odometry frame (it coincides with `map` at the start; `map ->
+//!   odom` on `/tf` is the drift the slip has caused);
 //! - `base_link`: the chassis (the vehicle file's body frame);
 //! - `<flipper>_flipper_link`: each flipper, origin at its pivot, axes those of `base_link` at
 //!   angle 0, turned by the flipper angle about its axis;
@@ -14,8 +16,9 @@
 //!
 //! Topics (one message per output sample unless said otherwise):
 //! - `/clock` (`rosgraph_msgs/Clock`);
-//! - `/tf` (`tf2_msgs/TFMessage`): `odom -> base_link` (the true 3-D pose, so sensor data lands
-//!   where it was taken) and `base_link -> <flipper>_flipper_link`;
+//! - `/tf` (`tf2_msgs/TFMessage`): `odom -> base_link` (the encoders' estimate, as `/odom`),
+//!   `base_link -> <flipper>_flipper_link`, and `map -> odom` (the drift, so `map ->
+//!   base_link` is the true pose and sensor data lands where it was taken);
 //! - `/tf_static` (`tf2_msgs/TFMessage`, once at t = 0, QoS transient local): the sensor
 //!   mounts and optical frames;
 //! - `/odom` (`nav_msgs/Odometry`): what the encoders report (`Sample::odom`, slip included),
@@ -31,12 +34,12 @@
 //! - `/tracks` (`tracksim_msgs/TrackStates`, frame `base_link`): slip, traction, normal load,
 //!   belt speed, command and position, motor figures ([`crate::rosmsg::TrackStates`]);
 //! - every sensor on `/<sensor name>` at its own readings: an IMU as `sensor_msgs/Imu` (frame
-//!   `<sensor>_link`, orientation in `odom`, covariances of its white noise on the diagonal);
+//!   `<sensor>_link`, orientation in `map`, covariances of its white noise on the diagonal);
 //!   a lidar as `sensor_msgs/LaserScan` with one scan line, else `sensor_msgs/PointCloud2`
 //!   (organised: elevation rows of azimuth columns, x y z float32 in `<sensor>_link`, NaN for
 //!   no return); a depth camera as `sensor_msgs/Image` `32FC1` (m along the optical axis, REP
 //!   117 infinities) in `<sensor>_optical_frame`; an elevation map as `sensor_msgs/PointCloud2`
-//!   of its cells' surface points in `odom` (organised: `x` rows of `y` columns, NaN where a
+//!   of its cells' surface points in `map` (organised: `x` rows of `y` columns, NaN where a
 //!   cell is unknown); encoders as `sensor_msgs/JointState` with the names of `/joint_states`
 //!   (their quantised readings; the flippers' velocity NaN: not measured).
 
@@ -57,7 +60,10 @@ use std::path::{Path, PathBuf};
 
 /// The file name of the recording in a run folder.
 pub const MCAP_FILE: &str = "run.mcap";
-/// The world frame.
+/// The world frame (REP 105 `map`): ground truth and the elevation map are in it.
+pub const MAP_FRAME: &str = "map";
+/// The odometry frame (REP 105): `/odom` and `/tf`'s `odom -> base_link` are the encoders'
+/// estimate in it; `map -> odom` is where that estimate drifted from the truth.
 pub const ODOM_FRAME: &str = "odom";
 /// The chassis frame.
 pub const BASE_FRAME: &str = "base_link";
@@ -281,7 +287,7 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
     }
 }
 
-/// The true odometry of sample `s`: pose in `odom`, velocities in `base_link` axes.
+/// The true odometry of sample `s`: pose in `map`, velocities in `base_link` axes.
 pub fn true_odometry(s: &Sample) -> Odometry {
     let r = pose_rotation(&s.pose);
     let inv = r.inverse();
@@ -300,11 +306,47 @@ pub fn true_odometry(s: &Sample) -> Odometry {
         ..TwistWithCovariance::default()
     };
     Odometry {
-        header: Header::new(s.t, ODOM_FRAME),
+        header: Header::new(s.t, MAP_FRAME),
         child_frame_id: BASE_FRAME.into(),
         pose,
         twist,
     }
+}
+
+/// The pose of an odometry message: its position (m) and rotation.
+fn pose_of(o: &Odometry) -> (DVec3, DQuat) {
+    let p = &o.pose.pose;
+    let q = &p.orientation;
+    (
+        DVec3::new(p.position.x, p.position.y, p.position.z),
+        DQuat::from_xyzw(q.x, q.y, q.z, q.w),
+    )
+}
+
+/// `/tf` of sample `s` (REP 105): `odom -> base_link` from the encoder odometry `odom` (what
+/// `/odom` says: planar, slip included), `base_link -> <flipper>_flipper_link` (origin at
+/// the pivot, turned by the flipper angle about its axis), and with `with_map` also
+/// `map -> odom`, the encoders' drift from the true pose (a perfect localisation: `map ->
+/// base_link` is the truth, so sensor data lands where it was taken).
+pub fn tf_of_sample(sc: &Scenario, s: &Sample, odom: &Odometry, with_map: bool) -> TFMessage {
+    let (at, rot) = pose_of(odom);
+    let mut transforms = vec![transform(s.t, ODOM_FRAME, BASE_FRAME, at, rot)];
+    for (f, angle) in sc.vehicle.flippers.iter().zip(&s.flipper_angle) {
+        transforms.push(transform(
+            s.t,
+            BASE_FRAME,
+            &flipper_frame(&f.name),
+            f.pivot,
+            DQuat::from_axis_angle(f.axis.normalize(), *angle),
+        ));
+    }
+    if with_map {
+        // map->odom = (map->base_link) * (odom->base_link)^-1.
+        let r = (pose_rotation(&s.pose) * rot.inverse()).normalize();
+        let t = DVec3::new(s.pose.x, s.pose.y, s.pose.z) - r * at;
+        transforms.push(transform(s.t, MAP_FRAME, ODOM_FRAME, t, r));
+    }
+    TFMessage { transforms }
 }
 
 /// The per-track message of sample `s`.
@@ -367,25 +409,9 @@ fn record_samples(
                 clock: rosmsg::Time::from_secs(s.t),
             },
         )?;
-        let mut transforms = vec![transform(
-            s.t,
-            ODOM_FRAME,
-            BASE_FRAME,
-            DVec3::new(s.pose.x, s.pose.y, s.pose.z),
-            pose_rotation(&s.pose),
-        )];
-        for (f, angle) in sc.vehicle.flippers.iter().zip(&s.flipper_angle) {
-            let rot = DQuat::from_axis_angle(f.axis.normalize(), *angle);
-            transforms.push(transform(
-                s.t,
-                BASE_FRAME,
-                &flipper_frame(&f.name),
-                f.pivot,
-                rot,
-            ));
-        }
-        rec.push(tf, s.t, &TFMessage { transforms })?;
-        rec.push(odom, s.t, &encoder_odometry(s, &model))?;
+        let enc = encoder_odometry(s, &model);
+        rec.push(tf, s.t, &tf_of_sample(sc, s, &enc, true))?;
+        rec.push(odom, s.t, &enc)?;
         rec.push(truth, s.t, &true_odometry(s))?;
         let flipper_rate: Vec<f64> = match last {
             Some(p) if s.t > p.t => s
@@ -685,7 +711,7 @@ fn record_elevation(
                 }
             }
         }
-        let msg = cloud(Header::new(*t, ODOM_FRAME), xs.len(), ys.len(), xyz);
+        let msg = cloud(Header::new(*t, MAP_FRAME), xs.len(), ys.len(), xyz);
         rec.push(ch, *t, &msg)?;
     }
     Ok(())

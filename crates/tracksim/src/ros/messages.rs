@@ -1,17 +1,18 @@
 //! The messages the node publishes, built from the run's latest [`Sample`]: the same frames,
-//! joint names and conversions as `run.mcap` ([`crate::output::mcap`]) except `/tf`'s
-//! `odom -> base_link`, which here is the encoders' estimate (what `/odom` says, planar), as
-//! a robot's base controller broadcasts it (REP 105); the true pose is on
-//! `/ground_truth/odom`.
+//! joint names and conversions as `run.mcap` ([`crate::output::mcap`]): `/tf`'s `odom ->
+//! base_link` is the encoders' estimate (what `/odom` says, planar), as a robot's base
+//! controller broadcasts it (REP 105); the true pose is on `/ground_truth/odom`, and on `/tf`
+//! as `map -> odom` only when asked (`--map-tf`), since a localisation node (AMCL, SLAM)
+//! publishes that transform itself.
 
 use crate::model::{Mount, Scenario, SensorKind};
 use crate::output::mcap::{
-    BASE_FRAME, ODOM_FRAME, belt_joint, flipper_frame, optical_frame, optical_rotation,
-    sensor_frame, transform,
+    BASE_FRAME, belt_joint, flipper_frame, optical_frame, optical_rotation, sensor_frame,
+    tf_of_sample, transform,
 };
 use crate::rosmsg::{Clock, Header, JointState, Odometry, TFMessage, Time};
 use crate::world::Sample;
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 
 /// `/clock` at `t` s of simulated time.
 pub fn clock(t: f64) -> Clock {
@@ -20,29 +21,10 @@ pub fn clock(t: f64) -> Clock {
     }
 }
 
-/// `/tf` of sample `s`: `odom -> base_link` from the encoder odometry `odom` (planar: z 0,
-/// yaw only) and `base_link -> <flipper>_flipper_link` (origin at the pivot, turned by the
-/// flipper angle about its axis).
-pub fn tf(sc: &Scenario, s: &Sample, odom: &Odometry) -> TFMessage {
-    let p = &odom.pose.pose;
-    let q = &p.orientation;
-    let mut transforms = vec![transform(
-        s.t,
-        ODOM_FRAME,
-        BASE_FRAME,
-        DVec3::new(p.position.x, p.position.y, p.position.z),
-        DQuat::from_xyzw(q.x, q.y, q.z, q.w),
-    )];
-    for (f, angle) in sc.vehicle.flippers.iter().zip(&s.flipper_angle) {
-        transforms.push(transform(
-            s.t,
-            BASE_FRAME,
-            &flipper_frame(&f.name),
-            f.pivot,
-            DQuat::from_axis_angle(f.axis.normalize(), *angle),
-        ));
-    }
-    TFMessage { transforms }
+/// `/tf` of sample `s`: [`tf_of_sample`] (`odom -> base_link` from the encoder odometry
+/// `odom`, the flippers, and with `map` also `map -> odom` from the true pose).
+pub fn tf(sc: &Scenario, s: &Sample, odom: &Odometry, map: bool) -> TFMessage {
+    tf_of_sample(sc, s, odom, map)
 }
 
 /// `/tf_static`: each sensor's frame on its mount (`base_link` or the flipper's link) and the

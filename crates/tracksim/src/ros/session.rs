@@ -30,6 +30,9 @@ pub struct RosOptions {
     /// Step as fast as the computer can (`/clock` tells the others the time) instead of at
     /// real time.
     pub fast: bool,
+    /// Also publish `map -> odom` on `/tf` from the true pose (a perfect localisation; leave
+    /// it off when a localisation node such as AMCL or a SLAM node publishes it).
+    pub map_tf: bool,
     /// End the session at this simulated time, s (None: on Ctrl-C or SIGTERM).
     pub max_time: Option<f64>,
     /// The DDS domain (`ROS_DOMAIN_ID`).
@@ -125,13 +128,16 @@ struct SamplePublisher {
     encoders: crate::world::Odometry,
     joint_names: Vec<String>,
     track_names: Vec<String>,
+    map_tf: bool,
 }
 
 impl SamplePublisher {
     fn publish(&self, sc: &Scenario, s: &Sample, prev: Option<&Sample>) {
         let odom = encoder_odometry(s, &self.encoders);
         self.pubs.clock.publish(messages::clock(s.t));
-        self.pubs.tf.publish(messages::tf(sc, s, &odom));
+        self.pubs
+            .tf
+            .publish(messages::tf(sc, s, &odom, self.map_tf));
         self.pubs.odom.publish(odom);
         self.pubs.truth.publish(true_odometry(s));
         self.pubs
@@ -210,6 +216,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         encoders: encoder_model(sc),
         joint_names: messages::joint_names(sc),
         track_names: track_names.clone(),
+        map_tf: opts.map_tf,
     };
     let mut sensors = SensorPublishers::new(&mut node, sc).map_err(dds_error)?;
     let mut runner = Runner::new(sc)?.without_commands().unbounded();
