@@ -43,10 +43,12 @@
 //!   cell is unknown); encoders as `sensor_msgs/JointState` with the names of `/joint_states`
 //!   (their quantised readings; the flippers' velocity NaN: not measured).
 
+pub use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
+use super::ros_sensors::{Reading, SensorMessage, sensor_message};
 use crate::error::{Error, Result};
 use crate::model::{Parent, Scenario, SensorKind, SensorModel};
 use crate::rosmsg::{
-    self, Clock, Header, Image, Imu, JointState, LaserScan, Odometry, PointCloud2, PointField,
+    self, Clock, Header, Image, Imu, JointState, LaserScan, Odometry, PointCloud2,
     PoseWithCovariance, Quaternion, RosMessage, TFMessage, TrackStates, Transform,
     TransformStamped, Twist, TwistWithCovariance, Vector3,
 };
@@ -60,8 +62,6 @@ use std::path::{Path, PathBuf};
 
 /// The file name of the recording in a run folder.
 pub const MCAP_FILE: &str = "run.mcap";
-/// The world frame (REP 105 `map`): ground truth and the elevation map are in it.
-pub const MAP_FRAME: &str = "map";
 /// The odometry frame (REP 105): `/odom` and `/tf`'s `odom -> base_link` are the encoders'
 /// estimate in it; `map -> odom` is where that estimate drifted from the truth.
 pub const ODOM_FRAME: &str = "odom";
@@ -71,16 +71,6 @@ pub const BASE_FRAME: &str = "base_link";
 /// The frame of flipper `name`.
 pub fn flipper_frame(name: &str) -> String {
     format!("{name}_flipper_link")
-}
-
-/// The frame of sensor `name`.
-pub fn sensor_frame(name: &str) -> String {
-    format!("{name}_link")
-}
-
-/// The optical frame of depth camera `name` (z forward, x right, y down).
-pub fn optical_frame(name: &str) -> String {
-    format!("{name}_optical_frame")
 }
 
 /// The joint name of track `name`'s belt in `/joint_states`.
@@ -521,31 +511,7 @@ fn axis(stream: &SensorStream, name: &str) -> Vec<f64> {
         .unwrap_or_default()
 }
 
-/// Little-endian float32 bytes of `values`.
-fn f32_bytes(values: impl IntoIterator<Item = f64>) -> Vec<u8> {
-    values
-        .into_iter()
-        .flat_map(|v| (v as f32).to_le_bytes())
-        .collect()
-}
-
-/// An organised cloud of `rows` x `cols` x y z float32 points.
-fn cloud(header: Header, rows: usize, cols: usize, xyz: Vec<f64>) -> PointCloud2 {
-    let is_dense = xyz.iter().all(|v| v.is_finite());
-    PointCloud2 {
-        header,
-        height: rows as u32,
-        width: cols as u32,
-        fields: PointField::xyz32(),
-        is_bigendian: false,
-        point_step: 12,
-        row_step: 12 * cols as u32,
-        data: f32_bytes(xyz),
-        is_dense,
-    }
-}
-
-/// One sensor's readings on `/<name>`.
+/// One sensor's readings on `/<name>` ([`sensor_message`]).
 fn record_sensor(
     rec: &mut Recorder,
     result: &RunResult,
@@ -553,166 +519,37 @@ fn record_sensor(
     stream: &SensorStream,
 ) -> std::result::Result<(), String> {
     let topic = format!("/{}", m.name);
-    let frame = sensor_frame(&m.name);
-    match m.kind {
-        SensorKind::Imu(p) => {
-            let ch = rec.channel::<Imu>(&topic, false)?;
-            let diag = |sigma: f64| {
-                let v = sigma * sigma;
-                [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
-            };
-            let rate = m.rate_hz.sqrt();
-            for (k, t) in stream.times.iter().enumerate() {
-                let (a, g, q) = (
-                    reading(stream, "accel", k),
-                    reading(stream, "gyro", k),
-                    reading(stream, "orientation", k),
-                );
-                if a.len() < 3 || g.len() < 3 || q.len() < 4 {
-                    return Err(format!("sensor {}: reading {k} is incomplete", m.name));
-                }
-                let msg = Imu {
-                    header: Header::new(*t, &frame),
-                    orientation: Quaternion {
-                        x: q[0],
-                        y: q[1],
-                        z: q[2],
-                        w: q[3],
-                    },
-                    orientation_covariance: [0.0; 9],
-                    angular_velocity: vec3(DVec3::new(g[0], g[1], g[2])),
-                    angular_velocity_covariance: diag(p.gyro_noise_density * rate),
-                    linear_acceleration: vec3(DVec3::new(a[0], a[1], a[2])),
-                    linear_acceleration_covariance: diag(p.accel_noise_density * rate),
-                };
-                rec.push(ch, *t, &msg)?;
-            }
-        }
-        SensorKind::Encoders(_) => {
-            let ch = rec.channel::<JointState>(&topic, false)?;
-            let names = joint_names(result);
-            for (k, t) in stream.times.iter().enumerate() {
-                let mut position = reading(stream, "flipper_angle", k);
-                let mut velocity = vec![f64::NAN; position.len()];
-                position.extend(reading(stream, "belt_position", k));
-                velocity.extend(reading(stream, "belt_speed", k));
-                let msg = JointState {
-                    header: Header::new(*t, ""),
-                    name: names.clone(),
-                    position,
-                    velocity,
-                    effort: Vec::new(),
-                };
-                rec.push(ch, *t, &msg)?;
-            }
-        }
-        SensorKind::Lidar(p) => record_lidar(rec, m, &p, stream)?,
-        SensorKind::DepthCamera(p) => {
-            let ch = rec.channel::<Image>(&topic, false)?;
-            let optical = optical_frame(&m.name);
-            for (k, t) in stream.times.iter().enumerate() {
-                let msg = Image {
-                    header: Header::new(*t, &optical),
-                    height: p.height as u32,
-                    width: p.width as u32,
-                    encoding: "32FC1".into(),
-                    is_bigendian: 0,
-                    step: 4 * p.width as u32,
-                    data: f32_bytes(reading(stream, "depth", k)),
-                };
-                rec.push(ch, *t, &msg)?;
-            }
-        }
-        SensorKind::ElevationMap(_) => record_elevation(rec, m, stream)?,
-    }
-    Ok(())
-}
-
-/// A lidar: `LaserScan` for one scan line, else an organised `PointCloud2`.
-fn record_lidar(
-    rec: &mut Recorder,
-    m: &SensorModel,
-    p: &crate::model::LidarModel,
-    stream: &SensorStream,
-) -> std::result::Result<(), String> {
-    let topic = format!("/{}", m.name);
-    let frame = sensor_frame(&m.name);
-    let az = axis(stream, "azimuth");
-    if p.elevation_rays == 1 {
-        let ch = rec.channel::<LaserScan>(&topic, false)?;
-        let first = az.first().copied().unwrap_or(0.0);
-        let last = az.last().copied().unwrap_or(0.0);
-        let step = if az.len() > 1 { az[1] - az[0] } else { 0.0 };
-        for (k, t) in stream.times.iter().enumerate() {
-            let msg = LaserScan {
-                header: Header::new(*t, &frame),
-                angle_min: first as f32,
-                angle_max: last as f32,
-                angle_increment: step as f32,
-                time_increment: 0.0,
-                scan_time: (1.0 / m.rate_hz) as f32,
-                range_min: p.min_range as f32,
-                range_max: p.max_range as f32,
-                ranges: reading(stream, "range", k)
-                    .iter()
-                    .map(|r| *r as f32)
-                    .collect(),
-                intensities: Vec::new(),
-            };
-            rec.push(ch, *t, &msg)?;
-        }
-    } else {
-        let ch = rec.channel::<PointCloud2>(&topic, false)?;
-        for (k, t) in stream.times.iter().enumerate() {
-            let msg = cloud(
-                Header::new(*t, &frame),
-                p.elevation_rays,
-                p.azimuth_rays,
-                reading(stream, "points", k),
-            );
-            rec.push(ch, *t, &msg)?;
-        }
-    }
-    Ok(())
-}
-
-/// An elevation map: its cells' surface points in `odom`, an organised `PointCloud2`.
-fn record_elevation(
-    rec: &mut Recorder,
-    m: &SensorModel,
-    stream: &SensorStream,
-) -> std::result::Result<(), String> {
-    let ch = rec.channel::<PointCloud2>(&format!("/{}", m.name), false)?;
-    let (xs, ys) = (axis(stream, "x"), axis(stream, "y"));
+    let names = joint_names(result);
+    let axis = |name: &str| axis(stream, name);
+    let mut channel = None;
     for (k, t) in stream.times.iter().enumerate() {
-        let (h, pos, q) = (
-            reading(stream, "height", k),
-            reading(stream, "position", k),
-            reading(stream, "orientation", k),
-        );
-        if pos.len() < 3 || q.len() < 4 || h.len() != xs.len() * ys.len() {
-            return Err(format!("sensor {}: reading {k} is incomplete", m.name));
-        }
-        let rot = DQuat::from_xyzw(q[0], q[1], q[2], q[3]);
-        let heading = rot * DVec3::X;
-        let (s, c) = heading.y.atan2(heading.x).sin_cos();
-        let mut xyz = Vec::with_capacity(3 * h.len());
-        for (i, xi) in xs.iter().enumerate() {
-            for (j, yj) in ys.iter().enumerate() {
-                let z = h[i * ys.len() + j];
-                if z.is_finite() {
-                    xyz.extend([
-                        pos[0] + c * xi - s * yj,
-                        pos[1] + s * xi + c * yj,
-                        pos[2] + z,
-                    ]);
-                } else {
-                    xyz.extend([f64::NAN; 3]);
-                }
+        let get = |name: &str| reading(stream, name, k);
+        let r = Reading {
+            channel: &get,
+            axis: &axis,
+        };
+        let msg = sensor_message(m, *t, &r, &names)?;
+        let ch = match channel {
+            Some(c) => c,
+            None => {
+                let c = match &msg {
+                    SensorMessage::Imu(_) => rec.channel::<Imu>(&topic, false)?,
+                    SensorMessage::Scan(_) => rec.channel::<LaserScan>(&topic, false)?,
+                    SensorMessage::Cloud(_) => rec.channel::<PointCloud2>(&topic, false)?,
+                    SensorMessage::Image(_) => rec.channel::<Image>(&topic, false)?,
+                    SensorMessage::Joints(_) => rec.channel::<JointState>(&topic, false)?,
+                };
+                channel = Some(c);
+                c
             }
+        };
+        match &msg {
+            SensorMessage::Imu(x) => rec.push(ch, *t, x)?,
+            SensorMessage::Scan(x) => rec.push(ch, *t, x)?,
+            SensorMessage::Cloud(x) => rec.push(ch, *t, x)?,
+            SensorMessage::Image(x) => rec.push(ch, *t, x)?,
+            SensorMessage::Joints(x) => rec.push(ch, *t, x)?,
         }
-        let msg = cloud(Header::new(*t, MAP_FRAME), xs.len(), ys.len(), xyz);
-        rec.push(ch, *t, &msg)?;
     }
     Ok(())
 }

@@ -13,6 +13,7 @@ pub mod mcap;
 pub mod plot;
 pub mod replay;
 pub mod report;
+pub mod ros_sensors;
 pub mod sensors;
 pub mod side_line;
 pub mod side_view;

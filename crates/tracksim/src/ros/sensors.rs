@@ -1,25 +1,13 @@
-//! The vehicle's sensors on ROS topics, each reading once, when it is new (at the sensor's own
-//! rate): the same messages, frames and topics (`/<sensor name>`) as `run.mcap`
-//! ([`crate::output::mcap`]) for the kinds a node publishes live:
-//! - IMU: `sensor_msgs/Imu` in `<sensor>_link` (orientation in `odom`, covariances of its
-//!   white noise on the diagonal);
-//! - lidar: `sensor_msgs/LaserScan` for one scan line, else an organised
-//!   `sensor_msgs/PointCloud2` (x y z float32 in `<sensor>_link`, NaN for no return);
-//! - depth camera: `sensor_msgs/Image` `32FC1` (m along the optical axis) in
-//!   `<sensor>_optical_frame`;
-//! - encoders: `sensor_msgs/JointState` with the names of `/joint_states` (quantised; the
-//!   flippers' velocity NaN: not measured).
-//!
-//! An elevation map is not published live (it is in `run.mcap`).
+//! The vehicle's sensors on ROS topics (`/<sensor name>`), each reading once, when it is new
+//! (at the sensor's own rate): the same messages and frames as `run.mcap`
+//! ([`crate::output::ros_sensors`] builds them for both), the elevation map included.
 
 use super::dds::{DdsError, DdsNode, Pub};
 use super::topics;
-use crate::model::{Scenario, SensorKind, SensorModel};
-use crate::output::mcap::{optical_frame, sensor_frame};
-use crate::rosmsg::{
-    Header, Image, Imu, JointState, LaserScan, PointCloud2, PointField, Quaternion, Vector3,
-};
-use crate::sensors::{Channel, Sensor, SensorSet};
+use crate::model::{Scenario, SensorKind};
+use crate::output::ros_sensors::{Reading, SensorMessage, sensor_message};
+use crate::rosmsg::{Image, Imu, JointState, LaserScan, PointCloud2};
+use crate::sensors::{Channel, SensorSet};
 
 /// A sensor's publisher, by the message its readings become.
 enum Publisher {
@@ -28,7 +16,6 @@ enum Publisher {
     Cloud(Pub<PointCloud2>),
     Image(Pub<Image>),
     Joints(Pub<JointState>),
-    None,
 }
 
 /// The sensors' publishers and the time of the reading each sent last.
@@ -38,32 +25,14 @@ pub struct SensorPublishers {
     joint_names: Vec<String>,
 }
 
-fn data<'a>(chs: &'a [Channel], name: &str) -> &'a [f64] {
+fn data(chs: &[Channel], name: &str) -> Vec<f64> {
     chs.iter()
         .find(|c| c.name == name)
-        .map_or(&[], |c| c.data.as_slice())
-}
-
-fn v3(a: &[f64]) -> Vector3 {
-    match a {
-        [x, y, z, ..] => Vector3 {
-            x: *x,
-            y: *y,
-            z: *z,
-        },
-        _ => Vector3::default(),
-    }
-}
-
-fn f32_bytes(values: &[f64]) -> Vec<u8> {
-    values
-        .iter()
-        .flat_map(|v| (*v as f32).to_le_bytes())
-        .collect()
+        .map_or_else(Vec::new, |c| c.data.clone())
 }
 
 impl SensorPublishers {
-    /// A publisher per sensor of `sc`'s vehicle (an elevation map has none).
+    /// A publisher per sensor of `sc`'s vehicle.
     pub fn new(node: &mut DdsNode, sc: &Scenario) -> Result<Self, DdsError> {
         let mut pubs = Vec::new();
         for m in &sc.vehicle.sensors {
@@ -73,10 +42,11 @@ impl SensorPublishers {
                 SensorKind::Lidar(p) if p.elevation_rays == 1 => {
                     Publisher::Scan(node.publisher(&t, 10, false)?)
                 }
-                SensorKind::Lidar(_) => Publisher::Cloud(node.publisher(&t, 10, false)?),
+                SensorKind::Lidar(_) | SensorKind::ElevationMap(_) => {
+                    Publisher::Cloud(node.publisher(&t, 10, false)?)
+                }
                 SensorKind::DepthCamera(_) => Publisher::Image(node.publisher(&t, 10, false)?),
                 SensorKind::Encoders(_) => Publisher::Joints(node.publisher(&t, 10, false)?),
-                SensorKind::ElevationMap(_) => Publisher::None,
             });
         }
         Ok(SensorPublishers {
@@ -86,107 +56,37 @@ impl SensorPublishers {
         })
     }
 
-    /// Publishes every reading of `set` newer than the last one sent.
-    pub fn publish(&mut self, set: &SensorSet) {
+    /// Publishes every reading of `set` newer than the last one sent; a reading that cannot
+    /// become a message is reported to `warn`.
+    pub fn publish(&mut self, set: &SensorSet, warn: &mut dyn FnMut(&str)) {
         for i in 0..set.len().min(self.pubs.len()) {
             let t = set.reading_time(i);
             if t <= self.sent[i] {
                 continue;
             }
             self.sent[i] = t;
-            self.publish_one(set.sensor(i), t, i);
-        }
-    }
-
-    fn publish_one(&self, s: &dyn Sensor, t: f64, i: usize) {
-        let m: &SensorModel = s.model();
-        let chs = s.channels();
-        let header = Header::new(t, &sensor_frame(&m.name));
-        match (&self.pubs[i], m.kind) {
-            (Publisher::Imu(p), SensorKind::Imu(k)) => {
-                let diag = |sigma: f64| {
-                    let v = sigma * sigma;
-                    [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
-                };
-                let rate = m.rate_hz.sqrt();
-                let q = data(chs, "orientation");
-                let orientation = match q {
-                    [x, y, z, w, ..] => Quaternion {
-                        x: *x,
-                        y: *y,
-                        z: *z,
-                        w: *w,
-                    },
-                    _ => Quaternion::default(),
-                };
-                p.publish(Imu {
-                    header,
-                    orientation,
-                    orientation_covariance: [0.0; 9],
-                    angular_velocity: v3(data(chs, "gyro")),
-                    angular_velocity_covariance: diag(k.gyro_noise_density * rate),
-                    linear_acceleration: v3(data(chs, "accel")),
-                    linear_acceleration_covariance: diag(k.accel_noise_density * rate),
-                });
+            let s = set.sensor(i);
+            let chs = s.channels();
+            let axes = s.axes();
+            let r = Reading {
+                channel: &|name| data(chs, name),
+                axis: &|name| data(&axes, name),
+            };
+            match (
+                &self.pubs[i],
+                sensor_message(s.model(), t, &r, &self.joint_names),
+            ) {
+                (Publisher::Imu(p), Ok(SensorMessage::Imu(m))) => p.publish(m),
+                (Publisher::Scan(p), Ok(SensorMessage::Scan(m))) => p.publish(m),
+                (Publisher::Cloud(p), Ok(SensorMessage::Cloud(m))) => p.publish(m),
+                (Publisher::Image(p), Ok(SensorMessage::Image(m))) => p.publish(m),
+                (Publisher::Joints(p), Ok(SensorMessage::Joints(m))) => p.publish(m),
+                (_, Err(e)) => warn(&e),
+                _ => warn(&format!(
+                    "sensor {}: its message does not match its topic",
+                    s.model().name
+                )),
             }
-            (Publisher::Scan(p), SensorKind::Lidar(k)) => {
-                let axes = s.axes();
-                let az = axes
-                    .iter()
-                    .find(|a| a.name == "azimuth")
-                    .map_or(&[][..], |a| a.data.as_slice());
-                let first = az.first().copied().unwrap_or(0.0);
-                let step = if az.len() > 1 { az[1] - az[0] } else { 0.0 };
-                p.publish(LaserScan {
-                    header,
-                    angle_min: first as f32,
-                    angle_max: az.last().copied().unwrap_or(0.0) as f32,
-                    angle_increment: step as f32,
-                    time_increment: 0.0,
-                    scan_time: (1.0 / m.rate_hz) as f32,
-                    range_min: k.min_range as f32,
-                    range_max: k.max_range as f32,
-                    ranges: data(chs, "range").iter().map(|r| *r as f32).collect(),
-                    intensities: Vec::new(),
-                });
-            }
-            (Publisher::Cloud(p), SensorKind::Lidar(k)) => {
-                let xyz = data(chs, "points");
-                p.publish(PointCloud2 {
-                    header,
-                    height: k.elevation_rays as u32,
-                    width: k.azimuth_rays as u32,
-                    fields: PointField::xyz32(),
-                    is_bigendian: false,
-                    point_step: 12,
-                    row_step: 12 * k.azimuth_rays as u32,
-                    data: f32_bytes(xyz),
-                    is_dense: xyz.iter().all(|v| v.is_finite()),
-                });
-            }
-            (Publisher::Image(p), SensorKind::DepthCamera(k)) => p.publish(Image {
-                header: Header::new(t, &optical_frame(&m.name)),
-                height: k.height as u32,
-                width: k.width as u32,
-                encoding: "32FC1".into(),
-                is_bigendian: 0,
-                step: 4 * k.width as u32,
-                data: f32_bytes(data(chs, "depth")),
-            }),
-            (Publisher::Joints(p), SensorKind::Encoders(_)) => {
-                let mut position = data(chs, "flipper_angle").to_vec();
-                let mut velocity = vec![f64::NAN; position.len()];
-                position.extend(data(chs, "belt_position"));
-                velocity.extend(data(chs, "belt_speed"));
-                p.publish(JointState {
-                    header: Header::new(t, ""),
-                    name: self.joint_names.clone(),
-                    position,
-                    velocity,
-                    effort: Vec::new(),
-                });
-            }
-            _ => {}
         }
     }
 }

@@ -235,7 +235,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
     if let Some(s) = runner.samples().last() {
         publisher.publish(sc, s, None);
     }
-    sensors.publish(runner.sensors());
+    sensors.publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, 0.0, e));
     let mut state = CommandState::new(&sc.vehicle);
     let mut rec = Record::default();
     let dt = sc.solver.dt;
@@ -252,7 +252,8 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         }
         loop {
             runner.step()?;
-            sensors.publish(runner.sensors());
+            let now = runner.time();
+            sensors.publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, now, e));
             if runner.at_sample() {
                 break;
             }
