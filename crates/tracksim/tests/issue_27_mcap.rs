@@ -195,13 +195,12 @@ fn run_mcap_messages_carry_the_run_values() {
         let composed = iso(&m.transform) * iso(&t[0].transform);
         let at = composed.translation;
         assert!(
-            (glam::DVec3::from(at) - glam::DVec3::new(s.pose.x, s.pose.y, s.pose.z)).length()
-                < 1e-9,
+            (at - glam::DVec3::new(s.pose.x, s.pose.y, s.pose.z)).length() < 1e-9,
             "map -> odom -> base_link {at:?} is not the true position at t = {} s",
             s.t
         );
         let (yaw_c, pitch_c, roll_c) =
-            glam::DQuat::from_mat3(&composed.matrix3.into()).to_euler(glam::EulerRot::ZYX);
+            glam::DQuat::from_mat3(&composed.matrix3).to_euler(glam::EulerRot::ZYX);
         assert!((yaw_c - s.pose.yaw).abs() < 1e-9 && (pitch_c - s.pose.pitch).abs() < 1e-9);
         assert!((roll_c - s.pose.roll).abs() < 1e-9);
         for (i, f) in sc.vehicle.flippers.iter().enumerate() {
