@@ -14,6 +14,7 @@ Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors]
 """
 
 import json
+import struct
 import subprocess
 import sys
 import time
@@ -140,6 +141,29 @@ class Imu(IdlStruct, typename="sensor_msgs::msg::dds_::Imu_"):
 
 @final
 @dataclass
+class PointField(IdlStruct, typename="sensor_msgs::msg::dds_::PointField_"):
+    name: str
+    offset: uint32
+    datatype: uint8
+    count: uint32
+
+
+@final
+@dataclass
+class PointCloud2(IdlStruct, typename="sensor_msgs::msg::dds_::PointCloud2_"):
+    header: Header
+    height: uint32
+    width: uint32
+    fields: sequence[PointField]
+    is_bigendian: bool
+    point_step: uint32
+    row_step: uint32
+    data: sequence[uint8]
+    is_dense: bool
+
+
+@final
+@dataclass
 class Log(IdlStruct, typename="rcl_interfaces::msg::dds_::Log_"):
     stamp: Time
     level: uint8
@@ -202,6 +226,7 @@ def sensors(binary, out, links):
     joints_r = DataReader(dp, Topic(dp, "rt/joint_states", JointState), qos=QOS)
     odom_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
     log_r = DataReader(dp, Topic(dp, "rt/rosout", Log), qos=QOS)
+    elev_r = DataReader(dp, Topic(dp, "rt/elevation", PointCloud2), qos=QOS)
     cmd_w = DataWriter(dp, Topic(dp, "rt/cmd_vel", Twist), qos=QOS)
     fl_w = DataWriter(dp, Topic(dp, "rt/flippers/front_left/cmd_position", Float64), qos=QOS)
     all_w = DataWriter(dp, Topic(dp, "rt/flippers/cmd_positions", JointState), qos=QOS)
@@ -212,9 +237,10 @@ def sensors(binary, out, links):
         text=True,
     )
     result = {"links": links}
-    imu, joints, odom, logs = [], [], [], []
+    imu, joints, odom, logs, elev = [], [], [], [], []
 
     def drain():
+        take(elev_r, PointCloud2, elev)
         take(imu_r, Imu, imu, 1000)
         take(joints_r, JointState, joints)
         take(odom_r, Odometry, odom)
@@ -255,6 +281,19 @@ def sensors(binary, out, links):
             imu_accel_z=sum(m.linear_acceleration.z for m in imu) / len(imu),
             rosout=[m.msg for m in logs],
         )
+        if elev:
+            c = elev[-1]
+            z = [v for v in struct.unpack(f"<{len(c.data) // 4}f", bytes(c.data))[2::3]
+                 if v == v]
+            z.sort()
+            result.update(
+                elevation_messages=len(elev),
+                elevation_frame=c.header.frame_id,
+                elevation_shape=[c.height, c.width, c.point_step],
+                elevation_fields=[f.name for f in c.fields],
+                elevation_known=len(z),
+                elevation_median_z=z[len(z) // 2] if z else None,
+            )
     except Exception as e:  # reported to the test, which fails on it
         result["error"] = repr(e)
     finally:

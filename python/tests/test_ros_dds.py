@@ -157,3 +157,15 @@ def test_the_bundled_urdf_robot_runs_under_ros(urdf_robot):
     assert 0.2 < urdf_robot["odom_dx"] < 0.65, urdf_robot["odom_dx"]
     fl, fr = urdf_robot["positions"][:2]
     assert 0.45 < fl < 0.65 and abs(fr) < 0.05, (fl, fr)
+
+
+def test_elevation_map_live_in_map_frame(sensors):
+    # vehicles/packbot510_sensors.toml: 2 x 2 m at 0.03125 m (64 x 64 cells), 20 Hz, an
+    # organised PointCloud2 of the cells' surface points in the world frame. The robot stands
+    # on flat ground (z = 0) with the stairs 0.9 m ahead: most known cells are at z = 0.
+    assert sensors.get("elevation_messages", 0) > 20, sensors.get("elevation_messages")
+    assert sensors["elevation_frame"] == "map"
+    assert sensors["elevation_shape"] == [64, 64, 12]
+    assert sensors["elevation_fields"] == ["x", "y", "z"]
+    assert sensors["elevation_known"] > 1000
+    assert abs(sensors["elevation_median_z"]) < 0.02, sensors["elevation_median_z"]
