@@ -403,27 +403,7 @@ fn record_samples(
         rec.push(tf, s.t, &tf_of_sample(sc, s, &enc, true))?;
         rec.push(odom, s.t, &enc)?;
         rec.push(truth, s.t, &true_odometry(s))?;
-        let flipper_rate: Vec<f64> = match last {
-            Some(p) if s.t > p.t => s
-                .flipper_angle
-                .iter()
-                .zip(&p.flipper_angle)
-                .map(|(a, b)| (a - b) / (s.t - p.t))
-                .collect(),
-            _ => vec![0.0; s.flipper_angle.len()],
-        };
-        let mut position = s.flipper_angle.clone();
-        position.extend(&s.belt_position);
-        let mut velocity = flipper_rate;
-        velocity.extend(&s.belt_speed);
-        let js = JointState {
-            header: Header::new(s.t, ""),
-            name: names.clone(),
-            position,
-            velocity,
-            effort: Vec::new(),
-        };
-        rec.push(joints, s.t, &js)?;
+        rec.push(joints, s.t, &joint_state(&names, s, last))?;
         rec.push(tracks, s.t, &track_states(s, &result.track_names))?;
         last = Some(s);
     }
@@ -441,47 +421,68 @@ pub fn optical_rotation() -> DQuat {
     if q.w < 0.0 { -q } else { q }
 }
 
-/// The mount frame of a sensor and its position in it.
-fn mount_of(sc: &Scenario, m: &SensorModel) -> (String, DVec3) {
-    match m.mount {
-        crate::model::Mount::Body => (BASE_FRAME.to_string(), m.position),
-        crate::model::Mount::Flipper(i) => {
-            let f = &sc.vehicle.flippers[i];
-            (flipper_frame(&f.name), m.position - f.pivot)
-        }
+/// `/joint_states` of sample `s`: flipper angles (rad; velocity by backward difference from
+/// `prev`, 0 without it), belt travel (m) and measured belt speed (m/s).
+pub fn joint_state(names: &[String], s: &Sample, prev: Option<&Sample>) -> JointState {
+    let mut position = s.flipper_angle.clone();
+    position.extend(&s.belt_position);
+    let mut velocity: Vec<f64> = match prev {
+        Some(p) if s.t > p.t => s
+            .flipper_angle
+            .iter()
+            .zip(&p.flipper_angle)
+            .map(|(a, b)| (a - b) / (s.t - p.t))
+            .collect(),
+        _ => vec![0.0; s.flipper_angle.len()],
+    };
+    velocity.extend(&s.belt_speed);
+    JointState {
+        header: Header::new(s.t, ""),
+        name: names.to_vec(),
+        position,
+        velocity,
+        effort: Vec::new(),
     }
 }
 
-/// `/tf_static`: every sensor's frame on its mount, and the depth cameras' optical frames.
-fn record_static(rec: &mut Recorder, sc: &Scenario) -> std::result::Result<(), String> {
+/// `/tf_static`: each sensor's frame on its mount (`base_link` or the flipper's link) and the
+/// depth cameras' optical frames (encoders have no frame).
+pub fn tf_static(sc: &Scenario) -> TFMessage {
     let mut transforms = Vec::new();
     for m in &sc.vehicle.sensors {
         if matches!(m.kind, SensorKind::Encoders(_)) {
             continue;
         }
-        let (parent, at) = mount_of(sc, m);
-        transforms.push(transform(
-            0.0,
-            &parent,
-            &sensor_frame(&m.name),
-            at,
-            m.rotation,
-        ));
+        let (parent, at) = match m.mount {
+            crate::model::Mount::Body => (BASE_FRAME.to_string(), m.position),
+            crate::model::Mount::Flipper(i) => {
+                let f = &sc.vehicle.flippers[i];
+                (flipper_frame(&f.name), m.position - f.pivot)
+            }
+        };
+        let frame = sensor_frame(&m.name);
+        transforms.push(transform(0.0, &parent, &frame, at, m.rotation));
         if matches!(m.kind, SensorKind::DepthCamera(_)) {
             transforms.push(transform(
                 0.0,
-                &sensor_frame(&m.name),
+                &frame,
                 &optical_frame(&m.name),
                 DVec3::ZERO,
                 optical_rotation(),
             ));
         }
     }
-    if transforms.is_empty() {
+    TFMessage { transforms }
+}
+
+/// `/tf_static` ([`tf_static`]) once at t = 0, when the vehicle has sensor frames.
+fn record_static(rec: &mut Recorder, sc: &Scenario) -> std::result::Result<(), String> {
+    let msg = tf_static(sc);
+    if msg.transforms.is_empty() {
         return Ok(());
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
-    rec.push(ch, 0.0, &TFMessage { transforms })
+    rec.push(ch, 0.0, &msg)
 }
 
 /// Reading `k` of a stream's channel called `name` (f64; empty if there is no such channel).
