@@ -291,6 +291,21 @@ fn bad_flags_are_refused_with_the_limit() {
         &run(&["bench", "--repeat", "18446744073709551615"]),
         "--repeat",
     );
+    // `tracksim ros`: refused before any DDS socket is opened.
+    for d in ["nan", "-1", "86401"] {
+        let arg = format!("--duration={d}");
+        refused(&arg, &run(&["ros", f, &arg]), "--duration");
+    }
+    refused(
+        "--domain-id 300",
+        &run(&["ros", f, "--domain-id", "300"]),
+        "--domain-id",
+    );
+    refused(
+        "--network foo",
+        &run(&["ros", f, "--network", "foo"]),
+        "--network",
+    );
 }
 
 #[test]

@@ -45,18 +45,30 @@ pub struct RosArgs {
 
 /// The DDS domain: the flag, else `ROS_DOMAIN_ID`, else 0.
 fn domain(flag: Option<u16>) -> Result<u16, Failure> {
-    if let Some(d) = flag {
-        return Ok(d);
-    }
-    match std::env::var("ROS_DOMAIN_ID") {
-        Ok(s) if !s.trim().is_empty() => s.trim().parse().map_err(|_| {
-            bad_arg(
+    // RTPS ports are 7400 + 250 * domain + offsets: above 232 they leave the u16 port range.
+    const MAX_DOMAIN: u16 = 232;
+    let (key, d) = match flag {
+        Some(d) => ("--domain-id", d),
+        None => match std::env::var("ROS_DOMAIN_ID") {
+            Ok(s) if !s.trim().is_empty() => (
                 "ROS_DOMAIN_ID",
-                format!("must be a domain number 0-232, got {s:?}"),
-            )
-        }),
-        _ => Ok(0),
+                s.trim().parse().map_err(|_| {
+                    bad_arg(
+                        "ROS_DOMAIN_ID",
+                        format!("must be a domain number 0-{MAX_DOMAIN}, got {s:?}"),
+                    )
+                })?,
+            ),
+            _ => return Ok(0),
+        },
+    };
+    if d > MAX_DOMAIN {
+        return Err(bad_arg(
+            key,
+            format!("must be a domain number 0-{MAX_DOMAIN} (DDS ports run out above), got {d}"),
+        ));
     }
+    Ok(d)
 }
 
 /// `tracksim ros`.
