@@ -75,15 +75,7 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
     server.shutdown();
     let session = session?;
     let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
-    let s = &session.result.summary;
-    out!(
-        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
-        s.sim_time_s,
-        s.elapsed_time_s,
-        s.paced_real_time_factor,
-        s.real_time_factor
-    );
-    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+    super::session_report(&session.result.summary);
     let interrupted = matches!(session.result.outcome, tracksim::Outcome::Interrupted(_));
     for w in &written {
         out!("wrote      {}", w.display());

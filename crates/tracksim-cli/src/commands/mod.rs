@@ -128,6 +128,19 @@ pub fn check_duration(d: f64, dt: f64) -> Result<f64, Failure> {
     }
 }
 
+/// The first lines a paced session (`drive`, `ros`) prints when it ends: simulated and wall
+/// time with both real-time factors, and the outcome.
+pub fn session_report(s: &tracksim::Summary) {
+    out!(
+        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
+        s.sim_time_s,
+        s.elapsed_time_s,
+        s.paced_real_time_factor,
+        s.real_time_factor
+    );
+    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+}
+
 /// The address to listen on: loopback unless `--bind` says otherwise (then with a warning).
 pub fn bind_address(bind: Option<std::net::IpAddr>) -> std::net::IpAddr {
     match bind {

@@ -113,21 +113,13 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     );
     let session = run_ros(&sc, &opts, &mut |w| eprintln!("warning: {w}"))?;
     let written = session.write(&sc, &file, &a.out, !a.no_plot, a.mcap)?;
-    let s = &session.result.summary;
-    out!(
-        "simulated  {:.3} s in {:.3} s wall ({:.2} x real time paced, stepping alone {:.1} x)",
-        s.sim_time_s,
-        s.elapsed_time_s,
-        s.paced_real_time_factor,
-        s.real_time_factor
-    );
+    super::session_report(&session.result.summary);
     out!(
         "commands   {} received, {} problems (dropped or clamped), {} watchdog stops",
         session.received,
         session.problems,
         session.watchdog_stops
     );
-    out!("outcome    {}: {}", s.outcome, s.outcome_reason);
     for w in &written {
         out!("wrote      {}", w.display());
     }
