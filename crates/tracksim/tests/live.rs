@@ -177,7 +177,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
 #[test]
 fn reset_restarts_the_session() {
     let sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
-    let hub = Hub::new();
+    let hub = Hub::with_grace(0.0);
     let server = Server::start(
         tracksim::live::DEFAULT_BIND,
         0,
@@ -209,7 +209,7 @@ fn reset_restarts_the_session() {
     until(&mut ws, 5000, "t back below 0.2 s", |m| {
         m["t"].as_f64().unwrap() < 0.2
     });
-    // Closing the driver's page ends the session.
+    // With no reconnect grace, closing the only page ends the session.
     ws.close(None).unwrap();
     let _ = ws.flush();
     while ws.read().is_ok() {}
@@ -487,4 +487,107 @@ fn view_serves_the_listed_sensor_streams_only() {
             "{bad} leaked"
         );
     }
+}
+
+/// The first message of type `kind`; panics after `max` messages.
+fn next_of(ws: &mut Ws, max: usize, kind: &str) -> serde_json::Value {
+    for _ in 0..max {
+        let m = next_json(ws);
+        if m["type"] == kind {
+            return m;
+        }
+    }
+    panic!("no {kind} message in {max} messages");
+}
+
+/// Issue 28.6: a dropped driver's page may come back within the grace period. Meanwhile the
+/// robot stops (a dead-man stop, recorded in commands.toml so the session still replays), a
+/// page without the driver's token only watches, the page with it drives again; once the
+/// grace has passed with no page connected, the session ends and says why.
+#[test]
+fn a_dropped_driver_reconnects_within_the_grace() {
+    let file = root().join("scenarios/packbot_flat.toml");
+    let sc = tracksim::load_scenario(&file).unwrap();
+    let hub = Hub::with_grace(3.0);
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::Drive {
+            hub: hub.clone(),
+            scene_json: "{}".into(),
+        },
+    )
+    .unwrap();
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let session = std::thread::spawn(move || {
+        tracksim::live::run_session(&sc2, &hub2, DriveOptions::default())
+    });
+    let url = format!("ws://{}/ws", server.addr());
+    let (mut ws, _) = tungstenite::connect(&url).unwrap();
+    let hello = next_of(&mut ws, 50, "hello");
+    assert_eq!(hello["role"], "driver", "{hello}");
+    assert_eq!(hello["grace_s"], 3.0, "{hello}");
+    let token = hello["token"].as_str().unwrap().to_string();
+    control(&mut ws, 0.3, serde_json::json!([]));
+    let moving = until(&mut ws, 5000, "moving at 0.25 m/s", |m| {
+        m["forward_mps"].as_f64().unwrap() > 0.25
+    });
+    assert_eq!(moving["driver"]["connected"], true, "{moving}");
+    // The driver's page drops (no close frame: the TCP connection just goes).
+    drop(ws);
+    // Another page without the token: it only watches, sees the seat held and the robot stop.
+    let (mut other, _) = tungstenite::connect(&url).unwrap();
+    let hello = next_of(&mut other, 50, "hello");
+    assert_eq!(hello["role"], "watcher", "{hello}");
+    assert!(hello["token"].is_null(), "{hello}");
+    let held = until(&mut other, 5000, "the seat held", |m| {
+        m["driver"]["connected"] == false
+    });
+    let left = held["driver"]["grace_left_s"].as_f64().unwrap();
+    assert!(left > 0.0 && left <= 3.0, "{held}");
+    let stopped = until(&mut other, 5000, "stopped", |m| {
+        m["control"]["forward_mps"] == 0.0 && m["forward_mps"].as_f64().unwrap().abs() < 0.02
+    });
+    let t_stop = stopped["t"].as_f64().unwrap();
+    // The driver's page comes back with its token and drives on.
+    let (mut back, _) = tungstenite::connect(format!("{url}?token={token}")).unwrap();
+    let hello = next_of(&mut back, 50, "hello");
+    assert_eq!(hello["role"], "driver", "{hello}");
+    assert_eq!(hello["token"], token.as_str());
+    control(&mut back, 0.3, serde_json::json!([]));
+    let again = until(&mut back, 5000, "moving again", |m| {
+        m["forward_mps"].as_f64().unwrap() > 0.25
+    });
+    assert_eq!(again["driver"]["reconnects"], 1, "{again}");
+    assert!(again["t"].as_f64().unwrap() > t_stop);
+    // Both pages go; after the grace the session ends on its own.
+    drop(back);
+    drop(other);
+    let s = session.join().unwrap().unwrap();
+    assert_eq!(s.result.outcome.name(), "ended_by_operator");
+    assert!(
+        s.result.outcome.reason().contains("within the 3 s grace"),
+        "{}",
+        s.result.outcome.reason()
+    );
+    // Commands: forward, the dead-man stop, forward again, the final dead-man stop.
+    let forward: Vec<f64> = s.commands.iter().map(|(_, c)| c.forward_mps).collect();
+    assert_eq!(forward, vec![0.3, 0.0, 0.3, 0.0], "{:?}", s.commands);
+    // The session replays as a run.
+    let dir = tempfile_dir("reconnect");
+    s.write(&sc, &file, &dir, false).unwrap();
+    let text = std::fs::read_to_string(dir.join("commands.toml")).unwrap();
+    let cmd_file = dir.join("commands.toml");
+    let over = tracksim::Overrides {
+        commands: Some(cmd_file.clone()),
+        duration_s: Some(s.duration()),
+        ..Default::default()
+    };
+    let rerun = tracksim::load_scenario_with(&file, &over).unwrap();
+    let r = tracksim::run_scenario(&rerun, |_, _| {}).unwrap();
+    assert_eq!(
+        tracksim::output::trajectory_csv(&r),
+        std::fs::read_to_string(dir.join("trajectory.csv")).unwrap(),
+        "{text}"
+    );
 }

@@ -4,7 +4,8 @@ use super::{Failure, bad_arg, bind_address, check_duration, overrides, scenario_
 use std::path::PathBuf;
 
 /// Drive a scenario live from a 3-D page in the browser (prints its URL); the session is
-/// a run: on stop (stop button, closed page, Ctrl-C, SIGTERM) its outputs go to --out.
+/// a run: on stop (stop button, Ctrl-C, SIGTERM, --duration, or no page back within the
+/// reconnect grace) its outputs go to --out.
 #[derive(clap::Args)]
 pub struct DriveArgs {
     /// Scenario file (TOML), or the name of a bundled scenario.
@@ -33,6 +34,11 @@ pub struct DriveArgs {
     /// Start simulating only once a page has connected (the clock starts then).
     #[arg(long)]
     pub wait_for_page: bool,
+    /// How long a dropped driver's page (a reload, a network hiccup) may take to reconnect
+    /// and drive on, s; the robot stops meanwhile. With no page connected after it, the
+    /// session ends.
+    #[arg(long, default_value_t = tracksim::live::DEFAULT_RECONNECT_GRACE_S)]
+    pub reconnect_grace: f64,
 }
 
 /// `tracksim drive`.
@@ -50,7 +56,17 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         .duration
         .map(|d| check_duration(d, sc.solver.dt))
         .transpose()?;
-    let hub = Hub::new();
+    if !(a.reconnect_grace.is_finite() && (0.0..=86_400.0).contains(&a.reconnect_grace)) {
+        return Err(bad_arg(
+            "--reconnect-grace",
+            format!(
+                "must be a number of seconds in [0, 86400] (default {}), got {}",
+                tracksim::live::DEFAULT_RECONNECT_GRACE_S,
+                a.reconnect_grace
+            ),
+        ));
+    }
+    let hub = Hub::with_grace(a.reconnect_grace);
     let scene_json = tracksim::output::Scene::new(&sc).to_json();
     let mode = Mode::Drive {
         hub: hub.clone(),
@@ -63,7 +79,11 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         "drive      open {} in a browser (the first page to connect drives)",
         server.url()
     );
-    out!("           stop: the page's stop button, closing the page, Ctrl-C or SIGTERM");
+    out!(
+        "           stop: the page's stop button, Ctrl-C or SIGTERM; a dropped page may \
+         reconnect within {} s (the robot stops meanwhile)",
+        a.reconnect_grace
+    );
     let opts = DriveOptions {
         speed: a.speed,
         max_time,

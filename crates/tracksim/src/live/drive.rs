@@ -9,6 +9,7 @@
 //! `trajectory.csv`.
 
 use super::hub::{DriveControl, Hub};
+use super::hud_feed::HudFeed;
 use super::sensor_feed::SensorFeed;
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
@@ -88,24 +89,35 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
     ((b.x - a.x) * heading.0 + (b.y - a.y) * heading.1 + (b.z - a.z) * heading.2) / dt
 }
 
+/// What successive states of a session carry besides the pose: sensor readings new since the
+/// last state, and the warnings' data.
+#[derive(Default)]
+struct Feeds {
+    sensors: SensorFeed,
+    hud: HudFeed,
+}
+
 /// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
 /// and of stepping alone), the body's mean forward speed over the last 0.1 s (m/s), the
 /// controls in force, the outcome (`ended`: the session's; else the scenario's, once
-/// decided) and `sensors`: the lidar and depth camera readings new since the last state
-/// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres).
+/// decided), `sensors`: the lidar and depth camera readings new since the last state
+/// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres), the
+/// warnings' data ([`HudFeed::fields`]: `slip`, `stall`, `stall_since_s`, `tilt_limit_deg`,
+/// `ahead`) and `driver` (`connected`, `grace_left_s`, `reconnects`).
 fn state_json(
     runner: &Runner,
     control: &DriveControl,
-    speed: f64,
+    (speed, hub): (f64, &Hub),
     ended: Option<&(Outcome, f64)>,
-    feed: &mut SensorFeed,
+    feeds: &mut Feeds,
 ) -> String {
     let sim = runner.sim();
     let p = sim.body_pose();
     let n = sim.track_names().len();
     let nf = sim.flipper_names().len();
     let outcome = ended.or(runner.decided());
-    serde_json::json!({
+    let driver = hub.driver_status();
+    let mut state = serde_json::json!({
         "type": "state",
         "t": sim.time(),
         "pose": [p.x, p.y, p.z, p.roll, p.pitch, p.yaw],
@@ -124,9 +136,17 @@ fn state_json(
             "yaw_rate_rad_s": control.yaw_rate_rad_s,
             "flipper_angle_deg": control.flipper_angle_deg,
         },
-        "sensors": feed.new_readings(runner),
-    })
-    .to_string()
+        "sensors": feeds.sensors.new_readings(runner),
+        "driver": {
+            "connected": driver.connected,
+            "grace_left_s": driver.grace_left_s,
+            "reconnects": driver.reconnects,
+        },
+    });
+    if let serde_json::Value::Object(m) = &mut state {
+        m.extend(feeds.hud.fields(runner));
+    }
+    state.to_string()
 }
 
 /// Runs a session until the hub is asked to stop (or `opts.max_time`): a [`Runner`] paced to
@@ -151,7 +171,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     let mut controls = vec![current.clone()];
     let mut commands = Vec::new();
     let mut last_publish: Option<Instant> = None;
-    let mut feed = SensorFeed::default();
+    let mut feeds = Feeds::default();
     let end = loop {
         // A sample boundary: stop, reset and control changes happen only here.
         if opts
@@ -166,13 +186,28 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         if opts.max_time.is_some_and(|m| runner.time() >= m - 0.5 * dt) {
             break End::Reached;
         }
+        if hub.abandoned() {
+            break End::Abandoned(hub.grace_s());
+        }
         if hub.take_reset() {
             runner.reset(None)?;
             current = idle.clone();
             controls = vec![current.clone()];
             commands.clear();
+            feeds.hud.reset();
         }
-        if let Some(c) = hub.take_control()
+        // Without a driver (its page dropped, or none yet) the robot stops, as a dead-man
+        // would; the flippers hold their targets.
+        let wanted = if hub.driver_status().connected {
+            hub.take_control()
+        } else {
+            Some(DriveControl {
+                forward_mps: 0.0,
+                yaw_rate_rad_s: 0.0,
+                ..current.clone()
+            })
+        };
+        if let Some(c) = wanted
             && c != current
         {
             runner.apply(&to_controls(sc, &c));
@@ -183,7 +218,13 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
             runner.step()?;
             if last_publish.is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S) {
                 last_publish = Some(Instant::now());
-                hub.publish(state_json(&runner, &current, opts.speed, None, &mut feed));
+                hub.publish(state_json(
+                    &runner,
+                    &current,
+                    (opts.speed, hub),
+                    None,
+                    &mut feeds,
+                ));
             }
             if runner.at_sample() {
                 break;
@@ -191,7 +232,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         }
         controls.push(current.clone());
     };
-    let result = runner_result(runner, end, hub, &current, opts.speed, &mut feed);
+    let result = runner_result(runner, end, (opts.speed, hub), &current, &mut feeds);
     Ok(Session {
         result,
         commands,
@@ -210,13 +251,18 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
 fn runner_result(
     runner: Runner,
     end: End,
-    hub: &Hub,
+    (speed, hub): (f64, &Hub),
     current: &DriveControl,
-    speed: f64,
-    feed: &mut SensorFeed,
+    feeds: &mut Feeds,
 ) -> RunResult {
     let outcome = runner.outcome(&end);
-    hub.publish(state_json(&runner, current, speed, Some(&outcome), feed));
+    hub.publish(state_json(
+        &runner,
+        current,
+        (speed, hub),
+        Some(&outcome),
+        feeds,
+    ));
     runner.finish(end)
 }
 

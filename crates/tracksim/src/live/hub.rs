@@ -6,16 +6,23 @@
 //! not sent yet (older ones are dropped for a slow client) and, for the driver, hands the
 //! messages it receives to the hub.
 //!
-//! Protocol (JSON text frames). Server to client: `{"type":"hello","role":"driver"|"watcher"}`
-//! once, then `{"type":"state", ...}` (see `drive::state_json`). Client to server (driver
-//! only; a watcher's messages are answered with an error and ignored):
+//! Protocol (JSON text frames). Server to client:
+//! `{"type":"hello","role":"driver"|"watcher","token":T|null,"grace_s":G}` on connecting and
+//! again whenever the role changes (a watcher promoted to driver), then
+//! `{"type":"state", ...}` (see `drive::state_json`). A driver keeps its token `T` and
+//! presents it when it reconnects (`/ws?token=T`) to take the seat back within the grace
+//! period `G`, s ([`super::seat`]). Client to server (driver only; a watcher's messages are
+//! answered with an error and ignored):
 //! - `{"type":"control","forward_mps":F,"yaw_rate_rad_s":W,"flipper_angle_deg":[A|null,...]}`
 //!   (m/s, rad/s, degrees by flipper index; `null` keeps a flipper's target);
 //! - `{"type":"reset"}`: the session starts again from the scenario's start;
 //! - `{"type":"stop"}`: the session ends and its outputs are written.
 //!
-//! When the driver's connection closes (the page is closed), the session ends too.
+//! When the driver's connection closes, the robot stops and the seat is held for the driver
+//! for the grace period ([`super::seat::Seat`]); the session ends on `stop`, Ctrl-C/SIGTERM,
+//! its `--duration`, or when the grace has passed with no page connected.
 
+use super::seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus, Seat};
 use serde::Deserialize;
 use std::net::TcpStream;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -58,22 +65,51 @@ enum ClientMessage {
 }
 
 /// State shared by the simulation loop and the connections.
-#[derive(Default)]
 pub struct Hub {
     /// Generation and text of the newest state.
     state: Mutex<(u64, Arc<String>)>,
     control: Mutex<Option<DriveControl>>,
     reset: AtomicBool,
     stop: AtomicBool,
-    driver: Mutex<Option<u64>>,
+    seat: Mutex<Seat>,
     next_id: AtomicU64,
     watchers: AtomicU64,
 }
 
 impl Hub {
-    /// A hub with no state yet.
+    /// A hub with no state yet, and the default reconnect grace
+    /// ([`DEFAULT_RECONNECT_GRACE_S`]).
     pub fn new() -> Arc<Hub> {
-        Arc::new(Hub::default())
+        Hub::with_grace(DEFAULT_RECONNECT_GRACE_S)
+    }
+
+    /// A hub whose dropped driver has `grace_s` seconds to reconnect (0: none).
+    pub fn with_grace(grace_s: f64) -> Arc<Hub> {
+        Arc::new(Hub {
+            state: Mutex::default(),
+            control: Mutex::default(),
+            reset: AtomicBool::default(),
+            stop: AtomicBool::default(),
+            seat: Mutex::new(Seat::new(grace_s)),
+            next_id: AtomicU64::default(),
+            watchers: AtomicU64::default(),
+        })
+    }
+
+    /// The driver's status: connected, or the grace left to a dropped one.
+    pub fn driver_status(&self) -> DriverStatus {
+        self.seat.lock().expect("hub lock").status()
+    }
+
+    /// The reconnect grace, s.
+    pub fn grace_s(&self) -> f64 {
+        self.seat.lock().expect("hub lock").grace_s()
+    }
+
+    /// Whether the session has been left: the driver dropped, its grace passed, and no page
+    /// is connected to take the seat.
+    pub fn abandoned(&self) -> bool {
+        self.connections() == 0 && self.seat.lock().expect("hub lock").abandoned()
     }
 
     /// Publishes a new state (replacing any the connections have not sent yet).
@@ -114,7 +150,7 @@ impl Hub {
 
     /// Handles one message of connection `id`; returns an error text for the client.
     fn receive(&self, id: u64, text: &str) -> Option<String> {
-        if *self.driver.lock().expect("hub lock") != Some(id) {
+        if !self.seat.lock().expect("hub lock").drives(id) {
             return Some("this connection only watches: another one drives".into());
         }
         match serde_json::from_str::<ClientMessage>(text) {
@@ -154,40 +190,64 @@ impl Hub {
     }
 }
 
-/// Serves one WebSocket connection until it closes or the session stops. The first connection
-/// drives; later ones watch. When the driver leaves, the session ends.
-pub(super) fn serve_socket(stream: TcpStream, hub: &Hub) -> std::io::Result<()> {
+/// The token a page presents in its WebSocket URL's query (`token=HEX`), if any.
+fn query_token(query: &str) -> Option<&str> {
+    query
+        .split('&')
+        .find_map(|kv| kv.strip_prefix("token="))
+        .filter(|t| !t.is_empty() && t.len() <= 64 && t.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
+/// The hello of a connection that drives (with its token) or watches.
+fn hello(token: Option<&str>, grace_s: f64) -> String {
+    let role = if token.is_some() { "driver" } else { "watcher" };
+    serde_json::json!({ "type": "hello", "role": role, "token": token, "grace_s": grace_s })
+        .to_string()
+}
+
+/// Serves one WebSocket connection (its request's query in `query`) until it closes or the
+/// session stops. It drives if it takes the seat ([`Seat::claim`]: the first page, a dropped
+/// driver presenting its token within the grace, anybody once the seat is free), else it
+/// watches and takes the seat when it falls free. When the driver leaves, its control is
+/// dropped (the session stops the robot) and the seat is held for the grace period.
+pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io::Result<()> {
     let mut ws = tungstenite::accept(stream).map_err(std::io::Error::other)?;
     let id = hub.next_id.fetch_add(1, Ordering::Relaxed);
-    let driver = {
-        let mut d = hub.driver.lock().expect("hub lock");
-        if d.is_none() {
-            *d = Some(id);
-        }
-        *d == Some(id)
-    };
+    let presented = query_token(query);
+    let token = hub.seat.lock().expect("hub lock").claim(id, presented);
     hub.watchers.fetch_add(1, Ordering::Relaxed);
     ws.get_mut().set_read_timeout(Some(POLL))?;
-    let role = if driver { "driver" } else { "watcher" };
-    let hello = serde_json::json!({ "type": "hello", "role": role }).to_string();
-    let result = socket_loop(&mut ws, hub, id, hello);
-    hub.watchers.fetch_sub(1, Ordering::Relaxed);
-    if driver {
-        hub.request_stop();
+    let result = socket_loop(&mut ws, hub, (id, presented), token);
+    let mut seat = hub.seat.lock().expect("hub lock");
+    if seat.drives(id) {
+        *hub.control.lock().expect("hub lock") = None;
     }
+    seat.leave(id);
+    hub.watchers.fetch_sub(1, Ordering::Relaxed);
     result
 }
 
 fn socket_loop(
     ws: &mut tungstenite::WebSocket<TcpStream>,
     hub: &Hub,
-    id: u64,
-    hello: String,
+    (id, presented): (u64, Option<&str>),
+    mut token: Option<String>,
 ) -> std::io::Result<()> {
     let other = std::io::Error::other;
-    ws.send(Message::text(hello)).map_err(other)?;
+    let grace = hub.grace_s();
+    ws.send(Message::text(hello(token.as_deref(), grace)))
+        .map_err(other)?;
     let mut sent = 0u64;
     loop {
+        if token.is_none() {
+            // A watcher takes a free seat; a reconnected driver whose old connection was
+            // still open takes it back once that one has closed.
+            token = hub.seat.lock().expect("hub lock").claim(id, presented);
+            if token.is_some() {
+                ws.send(Message::text(hello(token.as_deref(), grace)))
+                    .map_err(other)?;
+            }
+        }
         if hub.stop_requested() {
             // The last state, then a close frame; errors do not matter any more.
             let (_, s) = hub.latest();

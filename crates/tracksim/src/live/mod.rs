@@ -6,17 +6,22 @@
 //!   loopback unless told otherwise;
 //! - [`hub`]: the latest-value state and control shared by the simulation and the
 //!   connections, and the WebSocket protocol;
+//! - [`seat`]: who drives, and the grace a dropped driver has to come back;
 //! - [`drive`]: the paced session loop, recorded as a run;
+//! - [`hud_feed`]: slip, stall, tilt limit and the terrain ahead, for the page's warnings;
 //! - [`sensor_feed`]: the lidar and depth camera readings a live state carries.
 
 pub mod assets;
 pub mod drive;
 pub mod hub;
+pub mod hud_feed;
+pub mod seat;
 pub mod sensor_feed;
 pub mod server;
 
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
+pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};
 pub use server::{Mode, Server, view_files};
 
 /// The default address: loopback only.

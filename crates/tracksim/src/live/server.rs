@@ -188,7 +188,8 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
         && path == "/ws"
         && let Mode::Drive { hub, .. } = mode
     {
-        return super::hub::serve_socket(stream, hub);
+        let query = target.split_once('?').map_or("", |(_, q)| q);
+        return super::hub::serve_socket(stream, hub, query);
     }
     // Consume the head: the body of a GET is empty.
     let mut sink = vec![0u8; head.len()];

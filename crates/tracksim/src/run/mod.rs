@@ -7,12 +7,14 @@
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`outcome`]: success and failure conditions;
 //! - [`expect`]: a run checked against its scenario's `[expect]` table;
+//! - [`events`]: stalls, the largest tilt and the outcome, for a review (and the stall live);
 //! - [`summary`]: the numbers of `summary.json`;
 //! - [`track_summary`]: per-track figures and the odometry error in it;
 //! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
 //! - [`turn_summary`]: commanded against achieved turns.
 
 pub mod drawbar_summary;
+pub mod events;
 pub mod expect;
 pub mod outcome;
 pub mod runner;

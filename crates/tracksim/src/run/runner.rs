@@ -29,6 +29,9 @@ pub enum End {
     Interrupted,
     /// The operator of a live session ended it.
     ByOperator,
+    /// The driver's page of a live session left and did not come back within the grace
+    /// period, s, with no other page connected.
+    Abandoned(f64),
 }
 
 /// A scenario being run: the simulation, its command timeline, the samples so far and the
@@ -244,6 +247,14 @@ impl Runner {
         }
     }
 
+    /// The scenario's outcome so far in words ("undecided" until decided).
+    fn decided_text(&self) -> String {
+        match &self.decided {
+            Some((o, when)) => format!("{}: {} (t = {when:.3} s)", o.name(), o.reason()),
+            None => "undecided".into(),
+        }
+    }
+
     /// The outcome a run ending now with `end` has, and its time, s.
     pub fn outcome(&self, end: &End) -> (Outcome, f64) {
         let t = self.time();
@@ -258,11 +269,15 @@ impl Runner {
             End::ByOperator => (
                 Outcome::EndedByOperator(format!(
                     "ended by the operator at t = {t:.3} s; the scenario's outcome: {}",
-                    match &self.decided {
-                        Some((o, when)) =>
-                            format!("{}: {} (t = {when:.3} s)", o.name(), o.reason()),
-                        None => "undecided".into(),
-                    }
+                    self.decided_text()
+                )),
+                t,
+            ),
+            End::Abandoned(grace) => (
+                Outcome::EndedByOperator(format!(
+                    "the driver's page left and no page came back within the {grace} s grace; \
+                     ended at t = {t:.3} s; the scenario's outcome: {}",
+                    self.decided_text()
                 )),
                 t,
             ),

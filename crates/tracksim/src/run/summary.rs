@@ -81,6 +81,9 @@ pub struct Summary {
     /// `[[sensors]]`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub sensors: Vec<SensorSummary>,
+    /// Moments to jump to in a review, in time order: each stall, the largest tilt, the
+    /// outcome ([`super::events::run_events`]).
+    pub events: Vec<super::events::RunEvent>,
 }
 
 /// A sensor's line in `summary.json`.
@@ -260,6 +263,7 @@ impl Summary {
             turns: super::turn_summaries(&sc.vehicle, samples),
             randomized: sc.randomized.clone(),
             sensors: Vec::new(),
+            events: super::events::run_events(samples, sc.outcome.max_tilt, outcome),
         }
     }
 }

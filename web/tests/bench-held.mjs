@@ -1,0 +1,93 @@
+// Real time held (issue 28.7, BENCHMARKS.md): a paced `tracksim drive` session driven from the
+// 3-D page in headless Chromium (software WebGL) while a `nice -n 19` busy loop takes a core,
+// on the bundled stairs with flippers and on Quince at its step. The page drives as a trainee
+// would (forward held, the flippers set as the scenario's own commands set them); every wall
+// second the test reads the page's latest state. Reported per run: the paced RTF of each wall
+// second (min, median), the largest lag of the simulated clock behind the wall clock, the
+// compute RTF (simulated time over stepping time alone: the headroom), the frames the page drew.
+// Runs are interleaved: without load, with load, without, with, ...
+// Usage: TRACKSIM_BIN=... node bench-held.mjs [DURATION_S] [REPEATS]
+import { spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { chromium } from 'playwright-core';
+
+const here = path.dirname(new URL(import.meta.url).pathname);
+const root = path.resolve(here, '../..');
+const bin = process.env.TRACKSIM_BIN || path.join(root, 'target/release/tracksim');
+const duration = Number(process.argv[2] || 30);
+const repeats = Number(process.argv[3] || 2);
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'tracksim-held-'));
+
+// What the page does: keys held, and flipper key presses at simulated times.
+const cases = [
+  { file: 'scenarios/packbot_stairs.toml', hold: 'ArrowUp', presses: [[0, 'r', 7], [6, 'f', 3]] }, // 35 deg, then 20 deg
+  { file: 'scenarios/quince_step_240.toml', hold: 'ArrowUp', presses: [[0, 'r', 9]] }, // front pair 45 deg
+];
+
+async function one(c, load, i) {
+  const out = path.join(tmp, `${path.basename(c.file, '.toml')}-${load ? 'load' : 'quiet'}-${i}`);
+  const busy = load ? spawn('nice', ['-n', '19', 'sh', '-c', 'while :; do :; done'], { stdio: 'ignore' }) : null;
+  const child = spawn(bin, ['drive', c.file, '--port', '0', '--duration', String(duration), '--wait-for-page',
+    '--no-plot', '--out', out], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let text = '';
+  const url = new Promise((resolve) => child.stdout.on('data', (d) => {
+    text += d;
+    const m = text.match(/http:\/\/127\.0\.0\.1:\d+\//);
+    if (m) resolve(m[0]);
+  }));
+  let done = false;
+  const exited = new Promise((resolve) => child.on('exit', () => { done = true; resolve(); }));
+  const ctx = await chromium.launchPersistentContext(fs.mkdtempSync(path.join(tmp, 'p-')), {
+    executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
+    viewport: { width: 1280, height: 720 },
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+      '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  const page = await ctx.newPage();
+  await page.goto(await url);
+  await page.waitForFunction(() => window.tracksim?.state, null, { timeout: 60000 });
+  await page.keyboard.down(c.hold);
+  const pending = c.presses.map((p) => [...p]);
+  const ticks = [];
+  const t0 = performance.now();
+  while (!done) {
+    const s = await page.evaluate(() => window.tracksim.state && { t: window.tracksim.state.t, frames: window.tracksim.frames });
+    if (s) ticks.push({ wall: (performance.now() - t0) / 1000, t: s.t, frames: s.frames });
+    for (const p of pending.filter((q) => q[2] > 0 && s && s.t >= q[0])) {
+      for (; p[2] > 0; p[2]--) await page.keyboard.press(p[1]);
+    }
+    await Promise.race([exited, new Promise((r) => setTimeout(r, 1000))]);
+  }
+  await ctx.close();
+  if (busy) busy.kill();
+  const s = JSON.parse(fs.readFileSync(path.join(out, 'summary.json'), 'utf8'));
+  // Paced RTF of each wall second, and the lag of the simulated clock behind the wall clock
+  // since the first reading (what a trainee feels as the robot falling behind).
+  const rtfs = [];
+  let lag = 0;
+  for (let k = 1; k < ticks.length; k++) {
+    const a = ticks[k - 1], b = ticks[k];
+    if (b.wall - a.wall > 0.5 && b.t > a.t) rtfs.push((b.t - a.t) / (b.wall - a.wall));
+    lag = Math.max(lag, (b.wall - ticks[0].wall) - (b.t - ticks[0].t));
+  }
+  const fps = ticks.length > 1 ? (ticks.at(-1).frames - ticks[0].frames) / (ticks.at(-1).wall - ticks[0].wall) : 0;
+  return { file: c.file, load, rtfs, lag, compute: s.real_time_factor, paced: s.paced_real_time_factor, fps, x: s.final_pose.x, z: s.final_pose.z };
+}
+
+const med = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+const rows = [];
+for (let i = 0; i < repeats; i++) for (const c of cases) for (const load of [false, true]) {
+  const r = await one(c, load, i);
+  rows.push(r);
+  console.log(`${path.basename(r.file)} ${load ? 'load ' : 'quiet'} paced RTF per second min ${Math.min(...r.rtfs).toFixed(3)} median ${med(r.rtfs).toFixed(3)}, ` +
+    `largest lag ${r.lag.toFixed(3)} s, whole session paced ${r.paced.toFixed(3)}, compute RTF ${r.compute.toFixed(2)}, page ${r.fps.toFixed(1)} frames/s, ` +
+    `final x ${r.x.toFixed(2)} z ${r.z.toFixed(2)} m`);
+}
+for (const c of cases) for (const load of [false, true]) {
+  const xs = rows.filter((r) => r.file === c.file && r.load === load);
+  console.log(`median ${path.basename(c.file)} ${load ? 'with a nice-d core of load' : 'quiet                     '}: ` +
+    `compute RTF ${med(xs.map((r) => r.compute)).toFixed(2)}, worst second ${Math.min(...xs.flatMap((r) => r.rtfs)).toFixed(3)}, ` +
+    `largest lag ${Math.max(...xs.map((r) => r.lag)).toFixed(3)} s, page ${med(xs.map((r) => r.fps)).toFixed(1)} frames/s`);
+}
