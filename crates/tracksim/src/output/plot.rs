@@ -617,6 +617,7 @@ mod tests {
                     centre_of_mass_body_m: [0.0; 3],
                 },
                 randomized: Default::default(),
+                events: Vec::new(),
                 mean_speed_mps: if sim_time > 0.0 {
                     (last.x - first.x) / sim_time
                 } else {
