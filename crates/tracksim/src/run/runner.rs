@@ -11,6 +11,7 @@
 use super::RunResult;
 use super::outcome::{self, Outcome, check_outcome};
 use super::scripted::Scripted;
+use super::course::{CourseScore, CourseTracker};
 use super::summary::{Summary, WallTimes};
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
@@ -52,7 +53,11 @@ pub struct Runner {
     decided: Option<(Outcome, f64)>,
     stepping: f64,
     wall: Instant,
+    /// Wall-clock date of the start (or the last reset).
+    started: std::time::SystemTime,
     sampled: bool,
+    /// The course being scored (`[course]`), if any.
+    course: Option<CourseTracker>,
 }
 
 impl Runner {
@@ -70,7 +75,6 @@ impl Runner {
         let sensors = SensorSet::new(&sim, true);
         let mut r = Runner {
             stop_on_outcome: sc.outcome.stop,
-            sc,
             sim,
             every,
             end_step,
@@ -81,7 +85,13 @@ impl Runner {
             decided: None,
             stepping: 0.0,
             wall: Instant::now(),
+            started: std::time::SystemTime::now(),
             sampled: true,
+            course: sc
+                .course
+                .as_ref()
+                .map(|c| CourseTracker::new(c, sc.outcome.max_tilt)),
+            sc,
         };
         r.samples.push(r.sim.sample());
         Ok(r)
@@ -207,6 +217,9 @@ impl Runner {
         let i = self.sim.steps();
         self.sampled = i.is_multiple_of(self.every) || self.end_step == Some(i);
         if self.sampled {
+            if let Some(c) = &mut self.course {
+                c.update(&self.sim, self.sim.time());
+            }
             if self.decided.is_none() {
                 self.decide();
             }
@@ -240,7 +253,10 @@ impl Runner {
     /// Checks the outcome conditions now (if still undecided).
     pub fn decide(&mut self) {
         if self.decided.is_none() {
-            self.decided = check_outcome(&self.sc.outcome, &self.sim).map(|o| (o, self.time()));
+            let course = || self.course.as_ref().and_then(CourseTracker::outcome);
+            self.decided = check_outcome(&self.sc.outcome, &self.sim)
+                .or_else(course)
+                .map(|o| (o, self.time()));
         }
     }
 
@@ -266,17 +282,27 @@ impl Runner {
                 )),
                 t,
             ),
-            End::Reached => self
-                .decided
-                .clone()
-                .unwrap_or_else(|| (outcome::at_end(&self.sc.outcome, t), t)),
+            End::Reached => self.decided.clone().unwrap_or_else(|| match &self.course {
+                Some(c) => (c.unfinished(t), t),
+                None => (outcome::at_end(&self.sc.outcome, t), t),
+            }),
         }
     }
 
+    /// The course's score so far (`[course]`; `None` without one): what a HUD shows live.
+    pub fn course(&self) -> Option<CourseScore> {
+        self.course.as_ref().map(CourseTracker::score)
+    }
+
     /// Starts again from the compiled scenario ([`Simulation::reset`]): the clock, the
-    /// commands, the samples and the outcome.
+    /// commands, the samples and the outcome. A course restarts too, with one reset fault
+    /// more (the resets carry over: [`CourseTracker::reset`]).
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         self.sim.reset(seed)?;
+        if let Some(c) = &mut self.course {
+            c.reset();
+        }
+        self.started = std::time::SystemTime::now();
         self.samples = vec![self.sim.sample()];
         if !self.sensors.is_empty() {
             self.sensors = SensorSet::new(&self.sim, self.record);
@@ -299,10 +325,15 @@ impl Runner {
             stepping: self.stepping,
             elapsed: self.wall.elapsed().as_secs_f64(),
             paced: self.pace.is_some(),
+            started: Some(self.started),
         };
+        if let Some(c) = &mut self.course {
+            c.close();
+        }
         let mut summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
         let sensors = self.sensors.into_streams();
         summary.sensors = sensors.iter().map(super::SensorSummary::of).collect();
+        summary.course = self.course.as_ref().map(CourseTracker::score);
         RunResult {
             samples: self.samples,
             track_names: self.sim.track_names().to_vec(),
