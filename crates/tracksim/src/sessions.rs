@@ -113,10 +113,7 @@ impl SortKey {
             Date,
             Folder,
         ];
-        Self::NAMES
-            .iter()
-            .position(|n| *n == name)
-            .map(|i| all[i])
+        Self::NAMES.iter().position(|n| *n == name).map(|i| all[i])
     }
 }
 
@@ -208,7 +205,10 @@ pub fn scan_sessions(dir: &Path) -> Result<SessionTable> {
     for f in found {
         let folder = f.parent().unwrap_or(dir).to_path_buf();
         let text = crate::files::read_text_bounded(&f, MAX_SUMMARY_BYTES);
-        match text.map_err(|e| e.to_string()).and_then(|s| parse_summary(&s, &folder)) {
+        match text
+            .map_err(|e| e.to_string())
+            .and_then(|s| parse_summary(&s, &folder))
+        {
             Ok(row) => t.rows.push(row),
             Err(e) => t
                 .warnings
@@ -239,8 +239,9 @@ pub fn sort_rows(rows: &mut [SessionRow], key: SortKey, reverse: bool) {
             SortKey::Time => opt_cmp(a.time_s, b.time_s),
             SortKey::Faults => opt_cmp(a.faults, b.faults),
             SortKey::Penalty => opt_cmp(a.penalty_s, b.penalty_s),
-            SortKey::Score => opt_cmp(b.repetitions, a.repetitions)
-                .then_with(|| opt_cmp(a.score_s, b.score_s)),
+            SortKey::Score => {
+                opt_cmp(b.repetitions, a.repetitions).then_with(|| opt_cmp(a.score_s, b.score_s))
+            }
             SortKey::Outcome => a.outcome.cmp(&b.outcome),
             SortKey::Date => a.date.cmp(&b.date),
             SortKey::Folder => a.folder.cmp(&b.folder),

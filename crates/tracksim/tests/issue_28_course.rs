@@ -37,8 +37,10 @@ fn drive(courses: &[CourseModel], duration: f64) -> (Vec<(f64, f64)>, Vec<Course
     let sc = scenario(duration, "");
     let mut runner = Runner::new(&sc).unwrap().without_sensors();
     let tilt = sc.outcome.max_tilt;
-    let mut trackers: Vec<CourseTracker> =
-        courses.iter().map(|c| CourseTracker::new(c, tilt)).collect();
+    let mut trackers: Vec<CourseTracker> = courses
+        .iter()
+        .map(|c| CourseTracker::new(c, tilt))
+        .collect();
     let mut xs = Vec::new();
     while !runner.finished() {
         runner.step().unwrap();
@@ -124,7 +126,11 @@ fn gates_in_order_lines_forwards_touches_once_time_limit() {
     assert!((gate_times[0] - first_at(&xs, start_x + 0.25)).abs() < 1e-9);
     // The line: the first sample past it.
     assert!((gate_times[1] - first_at(&xs, start_x + 0.6)).abs() < 1e-9);
-    assert!(o.score.time_s == t_rep && o.score.score_s == t_rep, "{:?}", o.score);
+    assert!(
+        o.score.time_s == t_rep && o.score.score_s == t_rep,
+        "{:?}",
+        o.score
+    );
 
     // Skipped: gate 0 only; gate 2 reached out of order is not counted.
     let k = &s[1];
@@ -171,7 +177,9 @@ fn completed_course_ends_the_run_and_queries_change_nothing() {
     let with = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     assert_eq!(with.outcome.name(), "success", "{:?}", with.outcome);
     assert!(
-        with.summary.outcome_reason.contains("course completed: 1 repetitions"),
+        with.summary
+            .outcome_reason
+            .contains("course completed: 1 repetitions"),
         "{}",
         with.summary.outcome_reason
     );
@@ -218,7 +226,11 @@ fn reset_and_tip_over_are_faults() {
     assert_eq!(r.course().unwrap().next_gate, 1);
     r.reset(None).unwrap();
     let c = r.course().unwrap();
-    assert_eq!((c.faults.reset, c.next_gate, c.elapsed_s), (1, 0, 0.0), "{c:?}");
+    assert_eq!(
+        (c.faults.reset, c.next_gate, c.elapsed_s),
+        (1, 0, 0.0),
+        "{c:?}"
+    );
     assert!((c.penalty_s - 30.0).abs() < 1e-12);
     assert!(c.events[0].detail.contains("reset 1"), "{:?}", c.events);
     while r.time() < 1.0 {
@@ -237,7 +249,11 @@ fn reset_and_tip_over_are_faults() {
     let mut spec_sc = sc.clone();
     spec_sc.start_pitch = 10f64.to_radians();
     let res = tracksim::run_scenario(&spec_sc, |_, _| {}).unwrap();
-    assert!(res.summary.outcome_reason.contains("tipped over"), "{}", res.summary.outcome_reason);
+    assert!(
+        res.summary.outcome_reason.contains("tipped over"),
+        "{}",
+        res.summary.outcome_reason
+    );
     let c = res.summary.course.unwrap();
     assert_eq!(c.faults.tip_over, 1, "{c:?}");
 }
@@ -286,7 +302,12 @@ fn sessions_table_sorts_and_writes_csv() {
     let csv = table_csv(&t.rows);
     let lines: Vec<&str> = csv.lines().collect();
     assert!(lines[0].starts_with("trainee,scenario,course,repetitions,time_s,faults"));
-    assert!(lines[1].starts_with("Adam,course_figure8_ramps.toml,figure-8,1/1,35.00,1,5.00,40.00,success,"), "{}", lines[1]);
+    assert!(
+        lines[1]
+            .starts_with("Adam,course_figure8_ramps.toml,figure-8,1/1,35.00,1,5.00,40.00,success,"),
+        "{}",
+        lines[1]
+    );
     assert_eq!(lines.len(), 4);
     assert!(table_text(&t.rows).lines().count() == 4);
     assert!(scan_sessions(&root.join("missing")).is_err());

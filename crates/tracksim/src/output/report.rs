@@ -75,7 +75,11 @@ pub fn course_line(c: &crate::run::CourseScore) -> String {
         c.repetitions_done,
         c.repetitions_required,
         c.status.replace('_', " "),
-        if reps.is_empty() { "-".into() } else { reps.join(", ") },
+        if reps.is_empty() {
+            "-".into()
+        } else {
+            reps.join(", ")
+        },
         f.total(),
         f.touch,
         f.tip_over,

@@ -212,9 +212,7 @@ impl CourseTracker {
             }
             self.touching[i] = now;
         }
-        if self.status == "running"
-            && self.model.time_limit.is_some_and(|l| t > l + 1e-9)
-        {
+        if self.status == "running" && self.model.time_limit.is_some_and(|l| t > l + 1e-9) {
             self.status = "time_limit";
             let detail = format!(
                 "time limit of {} s passed: {} of {} repetitions",
@@ -294,7 +292,9 @@ impl CourseTracker {
         self.event(
             0.0,
             "fault",
-            format!("reset {resets} (at t = {before:.2} s of the previous attempt): the course restarts"),
+            format!(
+                "reset {resets} (at t = {before:.2} s of the previous attempt): the course restarts"
+            ),
         );
     }
 
@@ -302,11 +302,7 @@ impl CourseTracker {
     /// out of time; `None` while running.
     pub fn outcome(&self) -> Option<Outcome> {
         let s = self.score();
-        let faults = format!(
-            "{} faults, {:.1} s penalty",
-            s.faults.total(),
-            s.penalty_s
-        );
+        let faults = format!("{} faults, {:.1} s penalty", s.faults.total(), s.penalty_s);
         match self.status {
             "completed" => Some(Outcome::Success(format!(
                 "course completed: {} repetitions in {:.2} s, {faults}: score {:.2} s",
@@ -382,10 +378,7 @@ impl CourseTracker {
 /// Whether marked obstacle `o` intersects a collider of the vehicle: one intersection query
 /// of its box against the colliders of the vehicle's collision group (nothing is changed).
 fn touches(sim: &Simulation, o: &crate::model::CourseObstacle) -> bool {
-    let pose = Pose::from_parts(
-        f(o.centre - sim.origin()),
-        q(DQuat::from_rotation_z(o.yaw)),
-    );
+    let pose = Pose::from_parts(f(o.centre - sim.origin()), q(DQuat::from_rotation_z(o.yaw)));
     let shape = Cuboid::new(f(o.half));
     let groups = InteractionGroups::new(Group::ALL, VEHICLE_GROUP, InteractionTestMode::And);
     let qp = sim

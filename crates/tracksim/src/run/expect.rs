@@ -42,8 +42,18 @@ pub fn check_expectations(e: &Expectation, r: &RunResult) -> Vec<String> {
     match &s.course {
         Some(c) => {
             let sc = &c.score;
-            checks.push(("course repetitions".into(), e.course_repetitions, f64::from(sc.repetitions), ""));
-            checks.push(("course faults".into(), e.course_faults, f64::from(sc.faults), ""));
+            checks.push((
+                "course repetitions".into(),
+                e.course_repetitions,
+                f64::from(sc.repetitions),
+                "",
+            ));
+            checks.push((
+                "course faults".into(),
+                e.course_faults,
+                f64::from(sc.faults),
+                "",
+            ));
             checks.push(("course score".into(), e.course_score, sc.score_s, "s"));
         }
         None if course.iter().any(Option::is_some) => {

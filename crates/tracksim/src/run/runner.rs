@@ -9,9 +9,9 @@
 //! replaced).
 
 use super::RunResult;
+use super::course::{CourseScore, CourseTracker};
 use super::outcome::{self, Outcome, check_outcome};
 use super::scripted::Scripted;
-use super::course::{CourseScore, CourseTracker};
 use super::summary::{Summary, WallTimes};
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
