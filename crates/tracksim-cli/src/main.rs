@@ -56,6 +56,7 @@ enum Cmd {
     Sweep(sweep::SweepArgs),
     Merge(merge::MergeArgs),
     List(list::ListArgs),
+    Sessions(sessions::SessionsArgs),
     Export(export::ExportArgs),
 }
 
@@ -72,6 +73,7 @@ fn main() -> ExitCode {
         Cmd::Sweep(a) => sweep::sweep(a),
         Cmd::Merge(a) => merge::merge(a),
         Cmd::List(a) => list::list(a),
+        Cmd::Sessions(a) => sessions::sessions(a),
         Cmd::Export(a) => export::export(a),
     };
     match r {

@@ -674,3 +674,58 @@ fn check_prints_masses_design_figures_and_warnings() {
         o.stdout
     );
 }
+
+/// Issue 28.3: `run --trainee` records the trainee and the start date; `sessions` tabulates the
+/// folder (text and CSV into a file), warns about a broken summary and refuses a bad folder or
+/// sort key with exit 2.
+#[test]
+fn sessions_tabulates_runs_with_their_trainee() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = tmp.path();
+    let text = format!(
+        "{FLAT}[course]\nname = \"line\"\n[[course.gates]]\nx_m = 0.05\ny_m = 0.0\nwidth_m = 1.0\n"
+    );
+    let s = scenario(d, "s.toml", &text);
+    let out = d.join("runs/a");
+    let (s, o) = (s.to_str().unwrap(), out.to_str().unwrap());
+    let r = run(&["run", s, "--out", o, "--no-plot", "--trainee", "Ada"]);
+    assert_eq!(r.code, 0, "{}{}", r.stdout, r.stderr);
+    assert!(
+        r.stdout.contains("course     line: 1 of 1 repetitions"),
+        "{}",
+        r.stdout
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["trainee"], "Ada");
+    assert_eq!(summary["course"]["score"]["repetitions"], 1);
+    std::fs::create_dir_all(d.join("runs/broken")).unwrap();
+    std::fs::write(d.join("runs/broken/summary.json"), "nope").unwrap();
+    let runs = d.join("runs");
+    let r = run(&["sessions", runs.to_str().unwrap(), "--sort", "score"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stdout.lines().nth(1).unwrap().starts_with("Ada "),
+        "{}",
+        r.stdout
+    );
+    assert!(r.stderr.contains("broken/summary.json"), "{}", r.stderr);
+    let csv = d.join("t.csv");
+    let r = run(&[
+        "sessions",
+        runs.to_str().unwrap(),
+        "--csv",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let t = std::fs::read_to_string(&csv).unwrap();
+    assert!(t.lines().nth(1).unwrap().starts_with("Ada,"), "{t}");
+    let r = run(&["sessions", d.join("missing").to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    let r = run(&["sessions", runs.to_str().unwrap(), "--sort", "speed"]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("--sort"), "{}", r.stderr);
+    let r = run(&["run", s, "--out", o, "--trainee", ""]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+}

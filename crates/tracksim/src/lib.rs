@@ -24,6 +24,7 @@
 //! - [`bench`](mod@bench), [`validate`]: the paper's Table II and Table IV;
 //! - [`sensor_bench`]: what sensing costs, timed against no sensors in one run;
 //! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
+//! - [`sessions`]: the runs of a folder tabulated (trainee, course, score, date);
 //! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest;
 //! - `live`: `drive` and `view`, the 3-D page;
 //! - `ros` (feature `ros`): `tracksim ros`, the scenario as a ROS 2 node.
@@ -50,6 +51,7 @@ pub mod rosmsg;
 pub mod run;
 pub mod sensor_bench;
 pub mod sensors;
+pub mod sessions;
 pub mod spec;
 pub mod sweep;
 pub mod terrain;

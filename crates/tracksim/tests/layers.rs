@@ -20,7 +20,9 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
-    &["bench", "validate", "env", "sweep", "compare", "bundled"],
+    &[
+        "bench", "validate", "env", "sweep", "compare", "bundled", "sessions",
+    ],
     &["sensor_bench"],
     &["live"],
     &["ros"],

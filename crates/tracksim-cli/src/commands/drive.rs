@@ -39,6 +39,9 @@ pub struct DriveArgs {
     /// session ends.
     #[arg(long, default_value_t = tracksim::live::DEFAULT_RECONNECT_GRACE_S)]
     pub reconnect_grace: f64,
+    /// The trainee (operator) driving, recorded in summary.json (`tracksim sessions` lists it).
+    #[arg(long)]
+    pub trainee: Option<String>,
 }
 
 /// `tracksim drive`.
@@ -46,6 +49,7 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
     use tracksim::live::{DriveOptions, Hub, Mode, Server};
     let file = scenario_file(&a.file)?;
     let sc = tracksim::load_scenario_with(&file, &overrides(a.method.as_deref(), None, None)?)?;
+    let trainee = super::trainee(a.trainee.as_deref())?;
     if !(a.speed.is_finite() && a.speed > 0.0) {
         return Err(bad_arg(
             "--speed",
@@ -93,7 +97,8 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
     let session = tracksim::live::run_session(&sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
-    let session = session?;
+    let mut session = session?;
+    session.result.summary.trainee = trainee;
     let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
     super::session_report(&session.result.summary);
     let interrupted = matches!(session.result.outcome, tracksim::Outcome::Interrupted(_));

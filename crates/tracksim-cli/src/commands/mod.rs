@@ -11,6 +11,7 @@ pub mod list;
 pub mod merge;
 pub mod ros;
 pub mod run;
+pub mod sessions;
 pub mod sweep;
 pub mod validate;
 pub mod view;
@@ -139,6 +140,9 @@ pub fn session_report(s: &tracksim::Summary) {
         s.real_time_factor
     );
     out!("outcome    {}: {}", s.outcome, s.outcome_reason);
+    if let Some(c) = &s.course {
+        out!("{}", tracksim::output::report::course_line(c));
+    }
 }
 
 /// The address to listen on: loopback unless `--bind` says otherwise (then with a warning).
@@ -154,4 +158,25 @@ pub fn bind_address(bind: Option<std::net::IpAddr>) -> std::net::IpAddr {
         Some(a) => a,
         None => tracksim::live::DEFAULT_BIND,
     }
+}
+
+/// Most characters of a `--trainee` name.
+pub const MAX_TRAINEE_CHARS: usize = 100;
+
+/// A `--trainee` name checked: 1 to [`MAX_TRAINEE_CHARS`] characters, no control characters.
+pub fn trainee(name: Option<&str>) -> Result<Option<String>, Failure> {
+    let Some(n) = name else {
+        return Ok(None);
+    };
+    let count = n.chars().count();
+    if n.trim().is_empty() || count > MAX_TRAINEE_CHARS || n.chars().any(char::is_control) {
+        return Err(bad_arg(
+            "--trainee",
+            format!(
+                "must be 1 to {MAX_TRAINEE_CHARS} characters without control characters, got \
+                 {count} characters"
+            ),
+        ));
+    }
+    Ok(Some(n.trim().to_string()))
 }

@@ -43,6 +43,9 @@ pub struct RunArgs {
     /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
     #[arg(long)]
     pub commands: Option<PathBuf>,
+    /// The trainee (operator) of the run, recorded in summary.json (`tracksim sessions`).
+    #[arg(long)]
+    pub trainee: Option<String>,
 }
 
 fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
@@ -63,6 +66,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
     let sc = tracksim::load_scenario_with(&file, &o)?;
+    let trainee = super::trainee(a.trainee.as_deref())?;
     let bar = progress_bar(!a.quiet && !a.json && std::io::stderr().is_terminal());
     on_stop(|| {});
     let wall = std::time::Instant::now();
@@ -82,7 +86,8 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let result = result?;
+    let mut result = result?;
+    result.summary.trainee = trainee;
     let which = tracksim::output::Outputs {
         replay: true,
         plots: !a.no_plot,

@@ -58,6 +58,10 @@ pub fn compile_scenario(
     sensor_rates(&mut c, &vehicle, solver.dt);
     let outcome = outcome(&mut c, &spec.outcome);
     let expect = super::expect::compile_expect(&mut c, &spec.expect);
+    let course = spec
+        .course
+        .as_ref()
+        .map(|k| super::course::compile_course(&mut c, k));
     let drawbar = spec
         .drawbar
         .as_ref()
@@ -75,6 +79,7 @@ pub fn compile_scenario(
     Ok(Scenario {
         outcome,
         expect,
+        course,
         drawbar,
         method,
         overridden: Vec::new(),

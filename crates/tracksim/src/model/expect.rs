@@ -34,6 +34,12 @@ pub struct Expectation {
     pub loose_box_final_z: Option<Range>,
     /// Every conveyor's belt travel, m.
     pub conveyor_travel: Option<Range>,
+    /// Repetitions of the course completed.
+    pub course_repetitions: Option<Range>,
+    /// Faults on the course (every kind).
+    pub course_faults: Option<Range>,
+    /// The course's score time (time plus penalties), s.
+    pub course_score: Option<Range>,
 }
 
 impl Expectation {
@@ -80,5 +86,8 @@ pub(crate) fn compile_expect(c: &mut Checker, e: &ExpectSpec) -> Expectation {
         loose_box_final_x: range("loose_box_final_x_m", e.loose_box_final_x_m, 1.0),
         loose_box_final_z: range("loose_box_final_z_m", e.loose_box_final_z_m, 1.0),
         conveyor_travel: range("conveyor_travel_m", e.conveyor_travel_m, 1.0),
+        course_repetitions: range("course_repetitions", e.course_repetitions, 1.0),
+        course_faults: range("course_faults", e.course_faults, 1.0),
+        course_score: range("course_score_s", e.course_score_s, 1.0),
     }
 }

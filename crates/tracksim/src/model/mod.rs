@@ -11,6 +11,7 @@
 //! - `drawbar.rs`: a drawbar load on the chassis ([`Drawbar`], `[drawbar]`);
 //! - `conveyor.rs`: conveyors (tracks on the world, [`ConveyorModel`]) and loose boxes
 //!   ([`LooseBoxModel`]) of `[terrain]`;
+//! - `course.rs`: a scenario's `[course]` ([`CourseModel`]: gates, repetitions, penalties);
 //! - `expect.rs`: a scenario's `[expect]` table ([`Expectation`]);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `method.rs`: the track method as data ([`Method`]: names, what it models);
@@ -34,6 +35,7 @@ mod compile_vehicle;
 mod compliance;
 mod controls;
 mod conveyor;
+mod course;
 mod design;
 mod drawbar;
 mod expect;
@@ -60,6 +62,10 @@ pub use compliance::{
 };
 pub use controls::*;
 pub use conveyor::{ConveyorModel, LooseBoxModel};
+pub use course::{
+    CourseModel, CourseObstacle, Gate, GateKind, MAX_COURSE_NAME_CHARS, MAX_COURSE_OBSTACLES,
+    MAX_GATES, MAX_REPETITIONS, Penalties,
+};
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use expect::{Expectation, Range};

@@ -108,6 +108,8 @@ pub struct Scenario {
     pub outcome: OutcomeModel,
     /// What a run must show (`[expect]`; empty: nothing checked).
     pub expect: super::Expectation,
+    /// The operator-training course (`[course]`), if any: scored by the run layer.
+    pub course: Option<super::CourseModel>,
     /// A drawbar load on the chassis (`[drawbar]`), if any.
     pub drawbar: Option<super::Drawbar>,
     /// Track method (`simulation.method`).

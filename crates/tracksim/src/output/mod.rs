@@ -205,7 +205,7 @@ fn check_finite_csv(csv: &str) -> Result<()> {
 }
 
 /// Refuses a summary with a non-finite number (serde writes it as `null`; the only optional
-/// field is `scenario`), as [`check_finite_csv`] does for the trajectory.
+/// fields are `scenario` and `trainee`), as [`check_finite_csv`] does for the trajectory.
 fn check_finite_summary(result: &RunResult) -> Result<()> {
     fn null_at(v: &serde_json::Value, at: &str) -> Option<String> {
         match v {
@@ -216,7 +216,7 @@ fn check_finite_summary(result: &RunResult) -> Result<()> {
                 .find_map(|(i, x)| null_at(x, &format!("{at}[{i}]"))),
             serde_json::Value::Object(m) => m
                 .iter()
-                .filter(|(k, _)| !(at.is_empty() && k.as_str() == "scenario"))
+                .filter(|(k, _)| !(at.is_empty() && ["scenario", "trainee"].contains(&k.as_str())))
                 .find_map(|(k, x)| {
                     null_at(
                         x,

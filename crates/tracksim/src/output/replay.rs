@@ -287,6 +287,89 @@ pub struct SceneSensor {
     pub depth_camera: Option<SceneDepthCamera>,
 }
 
+/// A gate of a course as the page draws it: a waypoint's circle or a gate line.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneGate {
+    /// `waypoint` or `line`.
+    pub kind: &'static str,
+    /// Centre, m (world x, y).
+    pub centre_m: [f64; 2],
+    /// A waypoint's radius, m (`null` for a line).
+    pub radius_m: Option<f64>,
+    /// A line's width, m (`null` for a waypoint).
+    pub width_m: Option<f64>,
+    /// The direction a line is crossed in, rad about z from +x (`null` for a waypoint).
+    pub yaw_rad: Option<f64>,
+}
+
+/// A marked obstacle of a course (a box not to be touched).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneCourseObstacle {
+    /// Name.
+    pub name: String,
+    /// Centre, m (world).
+    pub centre_m: [f64; 3],
+    /// Half extents, m.
+    pub half_m: [f64; 3],
+    /// Yaw about z, rad.
+    pub yaw_rad: f64,
+}
+
+/// A course (`[course]`) as the page draws it; its score is in the live state and
+/// `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneCourse {
+    /// Name.
+    pub name: String,
+    /// Gates in the order they are passed.
+    pub gates: Vec<SceneGate>,
+    /// Marked obstacles.
+    pub obstacles: Vec<SceneCourseObstacle>,
+    /// Repetitions to complete.
+    pub repetitions: u32,
+    /// Time limit, s (`null`: none).
+    pub time_limit_s: Option<f64>,
+}
+
+impl SceneCourse {
+    /// The scene form of a compiled course.
+    pub fn new(c: &crate::model::CourseModel) -> Self {
+        use crate::model::GateKind;
+        SceneCourse {
+            name: c.name.clone(),
+            gates: c
+                .gates
+                .iter()
+                .map(|g| {
+                    let (kind, radius_m, width_m, yaw_rad) = match g.kind {
+                        GateKind::Waypoint { radius } => ("waypoint", Some(radius), None, None),
+                        GateKind::Line { width, yaw } => ("line", None, Some(width), Some(yaw)),
+                    };
+                    SceneGate {
+                        kind,
+                        centre_m: [g.x, g.y],
+                        radius_m,
+                        width_m,
+                        yaw_rad,
+                    }
+                })
+                .collect(),
+            obstacles: c
+                .obstacles
+                .iter()
+                .map(|o| SceneCourseObstacle {
+                    name: o.name.clone(),
+                    centre_m: arr(o.centre),
+                    half_m: arr(o.half),
+                    yaw_rad: o.yaw,
+                })
+                .collect(),
+            repetitions: c.repetitions,
+            time_limit_s: c.time_limit,
+        }
+    }
+}
+
 /// `scene.json`: what a replay or a live view draws, with the sampling of the recorded data.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scene {
@@ -312,6 +395,10 @@ pub struct Scene {
     pub loose_boxes: Vec<SceneLooseBox>,
     /// The vehicle's sensors (`[[sensors]]`), in file order.
     pub sensors: Vec<SceneSensor>,
+    /// The course (`[course]`), `null` when there is none.
+    pub course: Option<SceneCourse>,
+    /// The scenario's tip-over limit on |roll| and |pitch| (`outcome.max_tilt_deg`), degrees.
+    pub max_tilt_deg: f64,
 }
 
 fn arr(v: DVec3) -> [f64; 3] {
@@ -528,6 +615,8 @@ impl Scene {
                 })
                 .collect(),
             sensors: sensors(&sc.vehicle),
+            course: sc.course.as_ref().map(SceneCourse::new),
+            max_tilt_deg: sc.outcome.max_tilt.to_degrees(),
         }
     }
 

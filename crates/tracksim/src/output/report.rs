@@ -50,6 +50,9 @@ pub fn run_report(file: &Path, sc: &Scenario, result: &RunResult, written: &[Pat
         "outcome    {}: {} (t = {:.3} s)",
         s.outcome, s.outcome_reason, s.outcome_time_s
     ));
+    if let Some(c) = &s.course {
+        l.push(course_line(c));
+    }
     if let Some(v) = crate::run::expect_verdict(sc, result) {
         l.push(format!("expect     {v}"));
     }
@@ -59,4 +62,29 @@ pub fn run_report(file: &Path, sc: &Scenario, result: &RunResult, written: &[Pat
             .map(|w| format!("wrote      {}", w.display())),
     );
     l.join("\n")
+}
+
+/// The course line of a report: repetitions, times, faults, penalties, the score.
+pub fn course_line(c: &crate::run::CourseScore) -> String {
+    let reps: Vec<String> = c.rep_times_s.iter().map(|t| format!("{t:.2}")).collect();
+    let f = &c.faults;
+    format!(
+        "course     {}: {} of {} repetitions ({}) [{} s], {} faults (touch {}, tip-over {}, \
+         reset {}), penalty {:.1} s: score {:.2} s",
+        c.name,
+        c.repetitions_done,
+        c.repetitions_required,
+        c.status.replace('_', " "),
+        if reps.is_empty() {
+            "-".into()
+        } else {
+            reps.join(", ")
+        },
+        f.total(),
+        f.touch,
+        f.tip_over,
+        f.reset,
+        c.penalty_s,
+        c.score.score_s
+    )
 }

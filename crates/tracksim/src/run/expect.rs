@@ -38,6 +38,29 @@ pub fn check_expectations(e: &Expectation, r: &RunResult) -> Vec<String> {
         ("mean speed".into(), e.mean_speed, s.mean_speed_mps, "m/s"),
         ("progress".into(), e.progress, s.progress_m, "m"),
     ];
+    let course = [e.course_repetitions, e.course_faults, e.course_score];
+    match &s.course {
+        Some(c) => {
+            let sc = &c.score;
+            checks.push((
+                "course repetitions".into(),
+                e.course_repetitions,
+                f64::from(sc.repetitions),
+                "",
+            ));
+            checks.push((
+                "course faults".into(),
+                e.course_faults,
+                f64::from(sc.faults),
+                "",
+            ));
+            checks.push(("course score".into(), e.course_score, sc.score_s, "s"));
+        }
+        None if course.iter().any(Option::is_some) => {
+            misses.push("a course figure was expected but the scenario has no [course]".into());
+        }
+        None => {}
+    }
     if let Some(last) = r.samples.last() {
         for (i, b) in last.loose_poses.iter().enumerate() {
             checks.push((

@@ -6,6 +6,7 @@
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`outcome`]: success and failure conditions;
+//! - [`course`]: a `[course]` scored at every sample ([`CourseTracker`], [`CourseScore`]);
 //! - [`expect`]: a run checked against its scenario's `[expect]` table;
 //! - [`events`]: stalls, the largest tilt and the outcome, for a review (and the stall live);
 //! - [`summary`]: the numbers of `summary.json`;
@@ -13,6 +14,7 @@
 //! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
 //! - [`turn_summary`]: commanded against achieved turns.
 
+pub mod course;
 pub mod drawbar_summary;
 pub mod events;
 pub mod expect;
@@ -24,12 +26,15 @@ pub mod timeline;
 pub mod track_summary;
 pub mod turn_summary;
 
+pub use course::{
+    CourseEvent, CourseScore, CourseTracker, FaultCounts, MAX_COURSE_EVENTS, ScoreSummary,
+};
 pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
 pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner};
 pub use scripted::Scripted;
-pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes};
+pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
 pub use timeline::Timeline;
 pub use track_summary::{
     DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,

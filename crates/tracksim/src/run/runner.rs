@@ -9,6 +9,7 @@
 //! replaced).
 
 use super::RunResult;
+use super::course::{CourseScore, CourseTracker};
 use super::outcome::{self, Outcome, check_outcome};
 use super::scripted::Scripted;
 use super::summary::{Summary, WallTimes};
@@ -55,7 +56,11 @@ pub struct Runner {
     decided: Option<(Outcome, f64)>,
     stepping: f64,
     wall: Instant,
+    /// Wall-clock date of the start (or the last reset).
+    started: std::time::SystemTime,
     sampled: bool,
+    /// The course being scored (`[course]`), if any.
+    course: Option<CourseTracker>,
 }
 
 impl Runner {
@@ -73,7 +78,6 @@ impl Runner {
         let sensors = SensorSet::new(&sim, true);
         let mut r = Runner {
             stop_on_outcome: sc.outcome.stop,
-            sc,
             sim,
             every,
             end_step,
@@ -84,7 +88,13 @@ impl Runner {
             decided: None,
             stepping: 0.0,
             wall: Instant::now(),
+            started: std::time::SystemTime::now(),
             sampled: true,
+            course: sc
+                .course
+                .as_ref()
+                .map(|c| CourseTracker::new(c, sc.outcome.max_tilt)),
+            sc,
         };
         r.samples.push(r.sim.sample());
         Ok(r)
@@ -210,6 +220,9 @@ impl Runner {
         let i = self.sim.steps();
         self.sampled = i.is_multiple_of(self.every) || self.end_step == Some(i);
         if self.sampled {
+            if let Some(c) = &mut self.course {
+                c.update(&self.sim, self.sim.time());
+            }
             if self.decided.is_none() {
                 self.decide();
             }
@@ -243,7 +256,10 @@ impl Runner {
     /// Checks the outcome conditions now (if still undecided).
     pub fn decide(&mut self) {
         if self.decided.is_none() {
-            self.decided = check_outcome(&self.sc.outcome, &self.sim).map(|o| (o, self.time()));
+            let course = || self.course.as_ref().and_then(CourseTracker::outcome);
+            self.decided = check_outcome(&self.sc.outcome, &self.sim)
+                .or_else(course)
+                .map(|o| (o, self.time()));
         }
     }
 
@@ -281,17 +297,27 @@ impl Runner {
                 )),
                 t,
             ),
-            End::Reached => self
-                .decided
-                .clone()
-                .unwrap_or_else(|| (outcome::at_end(&self.sc.outcome, t), t)),
+            End::Reached => self.decided.clone().unwrap_or_else(|| match &self.course {
+                Some(c) => (c.unfinished(t), t),
+                None => (outcome::at_end(&self.sc.outcome, t), t),
+            }),
         }
     }
 
+    /// The course's score so far (`[course]`; `None` without one): what a HUD shows live.
+    pub fn course(&self) -> Option<CourseScore> {
+        self.course.as_ref().map(CourseTracker::score)
+    }
+
     /// Starts again from the compiled scenario ([`Simulation::reset`]): the clock, the
-    /// commands, the samples and the outcome.
+    /// commands, the samples and the outcome. A course restarts too, with one reset fault
+    /// more (the resets carry over: [`CourseTracker::reset`]).
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         self.sim.reset(seed)?;
+        if let Some(c) = &mut self.course {
+            c.reset();
+        }
+        self.started = std::time::SystemTime::now();
         self.samples = vec![self.sim.sample()];
         if !self.sensors.is_empty() {
             self.sensors = SensorSet::new(&self.sim, self.record);
@@ -314,10 +340,15 @@ impl Runner {
             stepping: self.stepping,
             elapsed: self.wall.elapsed().as_secs_f64(),
             paced: self.pace.is_some(),
+            started: Some(self.started),
         };
+        if let Some(c) = &mut self.course {
+            c.close();
+        }
         let mut summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
         let sensors = self.sensors.into_streams();
         summary.sensors = sensors.iter().map(super::SensorSummary::of).collect();
+        summary.course = self.course.as_ref().map(CourseTracker::score);
         RunResult {
             samples: self.samples,
             track_names: self.sim.track_names().to_vec(),

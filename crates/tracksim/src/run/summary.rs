@@ -84,6 +84,40 @@ pub struct Summary {
     /// Moments to jump to in a review, in time order: each stall, the largest tilt, the
     /// outcome ([`super::events::run_events`]).
     pub events: Vec<super::events::RunEvent>,
+    /// The trainee (operator) of the session, as the front end was told (`--trainee`);
+    /// `null` when not given.
+    pub trainee: Option<String>,
+    /// Wall-clock date and time the run started (or was last reset), UTC, ISO 8601
+    /// (`2026-12-03T12:27:37Z`).
+    pub started_utc: String,
+    /// The course's score (`[course]` scenarios only; docs/COURSES.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub course: Option<super::CourseScore>,
+}
+
+/// `t` as an ISO 8601 UTC date and time to the second (`2026-12-03T12:27:37Z`); a time before
+/// 1970 is given as 1970-01-01T00:00:00Z.
+pub fn iso8601_utc(t: std::time::SystemTime) -> String {
+    let secs = t
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    // Civil date from days since 1970-01-01 (H. Hinnant's algorithm, proleptic Gregorian).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
 }
 
 /// A sensor's line in `summary.json`.
@@ -212,6 +246,8 @@ pub struct WallTimes {
     pub elapsed: f64,
     /// Whether it was paced to the wall clock.
     pub paced: bool,
+    /// Wall-clock date of the start (`None`: now).
+    pub started: Option<std::time::SystemTime>,
 }
 
 impl Summary {
@@ -264,6 +300,9 @@ impl Summary {
             randomized: sc.randomized.clone(),
             sensors: Vec::new(),
             events: super::events::run_events(samples, sc.outcome.max_tilt, outcome),
+            trainee: None,
+            started_utc: iso8601_utc(wall.started.unwrap_or_else(std::time::SystemTime::now)),
+            course: None,
         }
     }
 }
@@ -293,6 +332,16 @@ mod tests {
     /// Issue 11.3: a robot stalled at a step that jittered by millimetres reported 1.96 m of
     /// path for 0.18 m of progress. Jitter of +-3 mm (x and y) every 10 ms for 10 s adds nothing; a
     /// straight drive of 1 m in 3 mm samples counts 1 m.
+    /// Known dates: the epoch, a leap day, the end of a century year that is not a leap year.
+    #[test]
+    fn iso8601_dates() {
+        let at = |s: u64| iso8601_utc(std::time::UNIX_EPOCH + std::time::Duration::from_secs(s));
+        assert_eq!(at(0), "1970-01-01T00:00:00Z");
+        assert_eq!(at(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(at(4_107_542_399), "2100-02-28T23:59:59Z");
+        assert_eq!(at(1_796_301_257), "2026-12-03T12:34:17Z");
+    }
+
     #[test]
     fn path_length_ignores_jitter_and_counts_driving() {
         let jitter: Vec<Sample> = (0..1000)

@@ -45,4 +45,13 @@ pub struct ExpectSpec {
     /// Range of every conveyor's belt travel over the run, `[min, max]` m.
     #[serde(default)]
     pub conveyor_travel_m: Option<[f64; 2]>,
+    /// Range of the repetitions of the `[course]` completed, `[min, max]`.
+    #[serde(default)]
+    pub course_repetitions: Option<[f64; 2]>,
+    /// Range of the course's faults (every kind), `[min, max]`.
+    #[serde(default)]
+    pub course_faults: Option<[f64; 2]>,
+    /// Range of the course's score time (time plus penalties), `[min, max]` s.
+    #[serde(default)]
+    pub course_score_s: Option<[f64; 2]>,
 }

@@ -9,12 +9,14 @@
 //! - `terrain.rs`: a scenario's `[terrain]` table ([`TerrainSpec`] and its parts);
 //! - `randomize.rs`: a scenario's `[randomize]` table ([`RandomParamSpec`]);
 //! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
+//! - `course.rs`: a scenario's `[course]` table ([`CourseSpec`]): gates, repetitions, faults.
 //! - `expect.rs`: a scenario's `[expect]` table ([`ExpectSpec`]): what a run must show.
 //! - `sensor.rs`: a vehicle's `[[sensors]]` table ([`SensorSpec`]).
 //! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
 //!   by position, no fixed-size array with extra entries.
 
 mod conveyor;
+mod course;
 mod expect;
 mod randomize;
 mod scenario;
@@ -24,6 +26,7 @@ mod terrain;
 mod vehicle;
 
 pub use conveyor::*;
+pub use course::*;
 pub use expect::*;
 pub use randomize::*;
 pub use scenario::*;

@@ -39,6 +39,10 @@ pub struct ScenarioSpec {
     /// effect on the simulation.
     #[serde(default)]
     pub expect: super::ExpectSpec,
+    /// An operator-training course (`[course]`): scored by every front end, no effect on the
+    /// simulation.
+    #[serde(default)]
+    pub course: Option<super::CourseSpec>,
     /// Optional outputs (`[output]`) every front end writes for this scenario; no effect on
     /// the simulation.
     #[serde(default)]
