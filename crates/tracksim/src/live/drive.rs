@@ -103,7 +103,8 @@ struct Feeds {
 /// decided), `sensors`: the lidar and depth camera readings new since the last state
 /// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres), the
 /// warnings' data ([`HudFeed::fields`]: `slip`, `stall`, `stall_since_s`, `tilt_limit_deg`,
-/// `ahead`), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
+/// `ahead`), `course` (the live score of a `[course]` scenario, [`crate::run::CourseScore`];
+/// null without one), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
 /// in the last state: the page should not reconnect).
 fn state_json(
     runner: &Runner,
@@ -139,6 +140,7 @@ fn state_json(
         },
         "sensors": feeds.sensors.new_readings(runner),
         "session_ended": ended.is_some(),
+        "course": runner.course(),
         "driver": {
             "connected": driver.connected,
             "grace_left_s": driver.grace_left_s,
