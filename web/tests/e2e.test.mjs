@@ -396,9 +396,14 @@ async function openDrive(ctx, url, init) {
   assert.deepEqual(errors, []);
   return { page, errors };
 }
-/** Pixels of a 2-D canvas (by id) or of the WebGL canvas (id null) in a CSS-pixel rectangle. */
-async function pixels(page, id, rect) {
-  return page.evaluate(([id, rect]) => {
+/**
+ * Reads a 2-D canvas (by id) or the WebGL canvas (id null) in the page, in a rectangle of
+ * canvas pixels: the grey level's standard deviation, the number of pixels within 40 (each
+ * channel) of each colour of `hexes`, the RGB at `at` ([x, y], if given), and the mean
+ * difference (|dR| + |dG|) from the snapshot named `compare` (kept as `keep`, if given).
+ */
+async function pixels(page, id, { rect = null, hexes = [], at = null, keep = null, compare = null } = {}) {
+  return page.evaluate(({ id, rect, hexes, at, keep, compare }) => {
     const src = id ? document.getElementById(id) : document.querySelector('#view canvas');
     const c = document.createElement('canvas');
     c.width = src.width; c.height = src.height;
@@ -406,22 +411,25 @@ async function pixels(page, id, rect) {
     g.drawImage(src, 0, 0);
     const r = rect ?? { x: 0, y: 0, w: src.width, h: src.height };
     const d = g.getImageData(r.x, r.y, r.w, r.h).data;
+    const want = hexes.map((h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16)));
+    const counts = want.map(() => 0);
     let s = 0, s2 = 0, n = 0;
-    const colours = {};
     for (let i = 0; i < d.length; i += 4) {
       const y = (d[i] + d[i + 1] + d[i + 2]) / 3; s += y; s2 += y * y; n++;
-      const key = `${d[i] >> 4},${d[i + 1] >> 4},${d[i + 2] >> 4}`;
-      colours[key] = (colours[key] ?? 0) + 1;
+      want.forEach((w, k) => { if (Math.abs(d[i] - w[0]) < 40 && Math.abs(d[i + 1] - w[1]) < 40 && Math.abs(d[i + 2] - w[2]) < 40) counts[k]++; });
     }
-    return { std: Math.sqrt(s2 / n - (s / n) ** 2), n, colours, data: Array.from(d) };
-  }, [id, rect]);
-}
-/** How many pixels are within 40 (each channel) of colour `hex`. */
-function countColour(px, hex) {
-  const [r, g, b] = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
-  let n = 0;
-  for (let i = 0; i < px.data.length; i += 4) if (Math.abs(px.data[i] - r) < 40 && Math.abs(px.data[i + 1] - g) < 40 && Math.abs(px.data[i + 2] - b) < 40) n++;
-  return n;
+    window.__snaps = window.__snaps ?? {};
+    if (keep) window.__snaps[keep] = d;
+    let diff = null;
+    if (compare) {
+      const o = window.__snaps[compare];
+      diff = 0;
+      for (let i = 0; i < d.length; i += 4) diff += Math.abs(d[i] - o[i]) + Math.abs(d[i + 1] - o[i + 1]);
+      diff /= n;
+    }
+    const rgb = at ? Array.from(d.slice(4 * (at[1] * r.w + at[0]), 4 * (at[1] * r.w + at[0]) + 3)) : null;
+    return { std: Math.sqrt(s2 / n - (s / n) ** 2), n, counts, rgb, diff };
+  }, { id, rect, hexes, at, keep, compare });
 }
 const near = (a, b, tol) => a.every((x, i) => Math.abs(x - b[i]) < tol);
 
@@ -504,8 +512,8 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.waitForFunction(() => window.tracksim.view === 'follow', null, { timeout: 10000 });
     // The minimap: drawn, the robot's red arrow on it, n hides and shows it.
     await frames(page, 2);
-    const map = await pixels(page, 'minimap');
-    assert.ok(map.std > 5 && countColour(map, '#ff3030') > 10, `minimap: std ${map.std}, robot pixels ${countColour(map, '#ff3030')}`);
+    const map = await pixels(page, 'minimap', { hexes: ['#ff3030'] });
+    assert.ok(map.std > 5 && map.counts[0] > 10, `minimap: std ${map.std}, robot pixels ${map.counts[0]}`);
     assert.ok((await page.evaluate(() => window.tracksim.minimap.draws)) > 10);
     await page.keyboard.press('n');
     assert.equal(await page.evaluate(() => document.getElementById('minimap').offsetWidth), 0);
@@ -516,14 +524,11 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     assert.ok(pip.shown && pip.view === 'chassis front (default mount)', JSON.stringify(pip));
     const rect = { x: pip.rect.x, y: pip.rect.top, w: pip.rect.w, h: pip.rect.h };
     await frames(page, 2);
-    const withPip = await pixels(page, null, rect);
+    const withPip = await pixels(page, null, { rect, keep: 'pip' });
     await page.keyboard.press('t');
     await frames(page, 3);
     assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false);
-    const without = await pixels(page, null, rect);
-    let diff = 0;
-    for (let i = 0; i < withPip.data.length; i += 4) diff += Math.abs(withPip.data[i] - without.data[i]) + Math.abs(withPip.data[i + 1] - without.data[i + 1]);
-    diff /= withPip.n;
+    const { diff } = await pixels(page, null, { rect, compare: 'pip' });
     assert.ok(withPip.std > 5 && diff > 10, `picture in picture: std ${withPip.std}, mean difference ${diff}`);
     await page.keyboard.press('t');
     await frames(page, 2);
@@ -559,12 +564,11 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     info = await show({ pose: [0, 0, 0, rad(10), rad(0.9 * 70), 0] });
     assert.equal(info.tiltLevel, 'red');
     assert.match(await cls('w-tilt'), /\bon\b/);
-    const tiltPx = await pixels(page, 'w-tiltc');
-    assert.ok(countColour(tiltPx, '#e23b3b') > 20, 'the pitch bar is red');
+    assert.ok((await pixels(page, 'w-tiltc', { hexes: ['#e23b3b'] })).counts[0] > 20, 'the pitch bar is red');
     info = await show({ stall: true, slip: [0.8, 0.1], outcome: { name: 'failure', reason: 'tipped over (roll 75 deg)', t: 12.5 } });
     assert.equal(info.stall, true);
     assert.match(await cls('w-stall'), /\bon\b/);
-    assert.ok(Math.abs(info.slip - 0.8) < 1e-9 && countColour(await pixels(page, 'w-slip'), '#e23b3b') > 20, 'a red slip bar');
+    assert.ok(Math.abs(info.slip - 0.8) < 1e-9 && (await pixels(page, 'w-slip', { hexes: ['#e23b3b'] })).counts[0] > 20, 'a red slip bar');
     assert.match(await cls('banner'), /failure/);
     assert.match(await page.textContent('#banner'), /FAILURE: tipped over/);
     info = await show({
@@ -582,12 +586,10 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     assert.match(courseText, /reps +1 \/ 3/);
     assert.ok(Math.abs(info.step_m - 0.15) < 1e-9, `step ahead ${info.step_m}`);
     // The side view: terrain colour above the base line where the step is, the flippers drawn.
-    const side = await pixels(page, 'w-side');
     const { scale, zBase, xMin } = info.side;
-    const col = Math.round((1.2 - xMin) * scale), row = Math.round(zBase - 0.1 * scale);
-    const at = 4 * (row * (await page.evaluate(() => document.getElementById('w-side').width)) + col);
-    assert.deepEqual(side.data.slice(at, at + 3), [0x8a, 0x7a, 0x5c], 'the step is drawn 0.1 m up at 1.2 m ahead');
-    assert.ok(countColour(side, '#f0b040') > 10, 'the flippers are drawn');
+    const side = await pixels(page, 'w-side', { hexes: ['#f0b040'], at: [Math.round((1.2 - xMin) * scale), Math.round(zBase - 0.1 * scale)] });
+    assert.deepEqual(side.rgb, [0x8a, 0x7a, 0x5c], 'the step is drawn 0.1 m up at 1.2 m ahead');
+    assert.ok(side.counts[0] > 10, 'the flippers are drawn');
     await page.screenshot({ path: path.join(artifacts, 'hud-warnings.png') });
     await page.evaluate(() => { window.tracksim.hudOverride = null; });
     await frames(page, 2);
@@ -642,7 +644,7 @@ test('review: the inputs strip, event markers and jumps of the wall session', as
     assert.equal(inputs.source, 'controls.csv');
     assert.deepEqual(inputs.lanes[0].series, ['forward m/s', 'yaw rad/s']);
     assert.ok(inputs.drawn > 10);
-    assert.ok(countColour(await pixels(page, 'inputs'), '#5ad35a') > 20, 'the forward command is drawn');
+    assert.ok((await pixels(page, 'inputs', { hexes: ['#5ad35a'] })).counts[0] > 20, 'the forward command is drawn');
     // ] and [ jump to the next and previous events; a marker's click jumps to its event.
     await page.click('#play');
     await page.$eval('#scrub', (e) => { e.value = '0'; e.dispatchEvent(new Event('input')); });

@@ -575,7 +575,7 @@ const isNum = (x) => typeof x === 'number' && Number.isFinite(x);
 // The scenario's tip-over limit: scene.json's max_tilt_deg (read under the names it may take).
 const sceneTiltLimit = [scene.max_tilt_deg, scene.outcome?.max_tilt_deg, scene.tilt_limit_deg].find(isNum) ?? null;
 // The terrain profile ahead when the state brings none: heights (ray cast down onto the drawn
-// terrain) along the heading, relative to the terrain under the body, every 0.1 m.
+// terrain) along the heading, relative to the terrain under the body, every 0.2 m, 4 times a s.
 const caster = new THREE.Raycaster();
 const down = new THREE.Vector3(0, 0, -1), rayFrom = new THREE.Vector3();
 let aheadCache = { at: -1, key: '', value: null };
@@ -589,10 +589,10 @@ function groundAt(x, y, zTop) {
 function profileAhead(x, y, z, yaw) {
   const now = performance.now();
   const key = `${x.toFixed(2)},${y.toFixed(2)},${yaw.toFixed(2)}`;
-  if (aheadCache.key === key || now - aheadCache.at < 100) return aheadCache.value;
+  if (aheadCache.key === key || now - aheadCache.at < 250) return aheadCache.value;
   const d_m = [], z_m = [];
   const z0 = groundAt(x, y, z + 3) ?? z;
-  for (let d = -0.8; d <= 1.6 + 1e-9; d += 0.1) {
+  for (let d = -0.8; d <= 1.6 + 1e-9; d += 0.2) {
     const g = groundAt(x + d * Math.cos(yaw), y + d * Math.sin(yaw), z + 3);
     d_m.push(d); z_m.push(g === null ? 0 : g - z0);
   }
@@ -603,6 +603,7 @@ function profileAhead(x, y, z, yaw) {
 function layout() {
   const base = live ? 8 : $('bar').offsetHeight + 16;
   for (const id of ['warn', 'minimap', 'depth']) $(id).style.bottom = `${base}px`;
+  $('course').style.top = `${$('hud').offsetTop + $('hud').offsetHeight + 8}px`;
   if ($('depth').offsetWidth > 0) $('warn').style.left = `${Math.max(0.5 * window.innerWidth, $('depth').offsetWidth + 16 + 0.5 * $('warn').offsetWidth)}px`;
   return base;
 }
@@ -970,6 +971,7 @@ function replayFrame() {
 if (live) connect();
 function frame() {
   if (live) liveFrame(); else replayFrame();
+  layout();
   placeCamera();
   renderer.render(world, camera);
   renderPip();

@@ -238,7 +238,8 @@ export function createHud(vehicle, els) {
     } else { els.driver.classList.add('hidden'); info.driverBanner = null; }
     // Course score.
     const cs = vs.course;
-    if (cs) {
+    const scored = cs && ['name', 'next_gate', 'repetitions', 'faults', 'elapsed_s'].some((k) => cs[k] !== undefined && cs[k] !== null);
+    if (scored) {
       els.course.classList.remove('hidden');
       const pick = (...ks) => { for (const k of ks) if (cs[k] !== undefined && cs[k] !== null) return cs[k]; return undefined; };
       const faults = pick('faults') ?? {};
