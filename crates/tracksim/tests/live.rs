@@ -294,7 +294,11 @@ fn view_serves_a_compare_folder_by_index() {
         }
     }
     std::fs::create_dir_all(base.join("not_a_run")).unwrap();
-    std::fs::write(base.join("compare.csv"), "method,outcome\nplates,x\nokada2020,y\n").unwrap();
+    std::fs::write(
+        base.join("compare.csv"),
+        "method,outcome\nplates,x\nokada2020,y\n",
+    )
+    .unwrap();
     std::fs::write(base.join("secret.txt"), "SECRET").unwrap();
     let files = tracksim::live::view_files(&base).unwrap();
     let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
@@ -311,7 +315,11 @@ fn view_serves_a_compare_folder_by_index() {
         .map(|r| (r["name"].as_str().unwrap(), r["base"].as_str().unwrap()))
         .collect();
     assert_eq!(names, [("plates", "/run/0"), ("okada2020", "/run/1")]);
-    assert!(get(addr, "/run/1/trajectory.csv").1.ends_with("okada2020 trajectory.csv"));
+    assert!(
+        get(addr, "/run/1/trajectory.csv")
+            .1
+            .ends_with("okada2020 trajectory.csv")
+    );
     assert!(get(addr, "/scene.json").1.ends_with("plates scene.json"));
     for bad in [
         "/run/trajectory.csv",

@@ -399,7 +399,11 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
             "compare": false,
             "runs": [{ "index": 0, "name": name, "base": "/run" }],
         });
-        files.push(("/runs.json".into(), "application/json", list.to_string().into_bytes()));
+        files.push((
+            "/runs.json".into(),
+            "application/json",
+            list.to_string().into_bytes(),
+        ));
         return Ok(files);
     }
     let mut files = Vec::new();
@@ -423,6 +427,10 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
         return run_files(dir, "/run", true);
     }
     let list = serde_json::json!({ "compare": true, "runs": listed });
-    files.push(("/runs.json".into(), "application/json", list.to_string().into_bytes()));
+    files.push((
+        "/runs.json".into(),
+        "application/json",
+        list.to_string().into_bytes(),
+    ));
     Ok(files)
 }
