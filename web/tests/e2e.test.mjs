@@ -379,9 +379,9 @@ async function frames(page, n = 4) {
   const f = await page.evaluate(() => window.tracksim.frames);
   await page.waitForFunction((f) => window.tracksim.frames >= f, f + n, { timeout: 10000 });
 }
-/** Waits `dt` s of simulated time; returns the state then. */
-async function simWait(page, dt) {
-  const t0 = await page.evaluate(() => window.tracksim.state.t);
+/** Waits `dt` s of simulated time (from `from` s, else from now); returns the state then. */
+async function simWait(page, dt, from = null) {
+  const t0 = from ?? (await page.evaluate(() => window.tracksim.state.t));
   await page.waitForFunction((t) => window.tracksim.state.t >= t, t0 + dt, { timeout: 60000 });
   return page.evaluate(() => window.tracksim.state);
 }
@@ -434,7 +434,8 @@ async function pixels(page, id, { rect = null, hexes = [], at = null, keep = nul
 const near = (a, b, tol) => a.every((x, i) => Math.abs(x - b[i]) < tol);
 
 test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, minimap, picture in picture, help, HUD', async () => {
-  const drive = start(['drive', 'scenarios/packbot_stairs.toml', '--port', '0', '--out', path.join(tmp, 'pad'), '--no-plot', '--duration', '40', '--speed', '2']);
+  // Quince on flat ground: two flipper pairs (D-pad: the front pair), room to drive.
+  const drive = start(['drive', 'scenarios/quince_flat.toml', '--port', '0', '--out', path.join(tmp, 'pad'), '--no-plot', '--duration', '60', '--wait-for-page']);
   const url = await drive.url;
   const ctx = await browser();
   try {
@@ -452,7 +453,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.waitForFunction(() => window.tracksim.state.control.forward_mps > 0, null, { timeout: 10000 });
     const a = await page.evaluate(() => window.tracksim.state);
     assert.ok(Math.abs(a.control.forward_mps - 0.3) < 1e-9 && a.control.yaw_rate_rad_s === 0, JSON.stringify(a.control));
-    const b = await simWait(page, 1.0);
+    const b = await simWait(page, 1.5, a.t);
     const dx = b.pose[0] - a.pose[0], dt = b.t - a.t;
     // From rest, the belts' ramp-up and a few per cent of slip on friction 0.6 cost some of
     // 0.3 m/s x dt; nothing can make the robot outrun its belts (5 % for the 0.1 s state
@@ -463,7 +464,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.waitForFunction(() => window.tracksim.state.control.yaw_rate_rad_s > 0, null, { timeout: 10000 });
     const c = await page.evaluate(() => window.tracksim.state);
     assert.ok(Math.abs(c.control.yaw_rate_rad_s - 1.0) < 1e-9 && c.control.forward_mps === 0, JSON.stringify(c.control));
-    const d = await simWait(page, 0.5);
+    const d = await simWait(page, 0.5, c.t);
     assert.ok(d.pose[5] - c.pose[5] > 0.1, `yaw ${c.pose[5]} -> ${d.pose[5]}`);
     await setAxes(page, [1, 0, 0, 0]);
     await page.waitForFunction(() => window.tracksim.state.control.yaw_rate_rad_s < 0, null, { timeout: 10000 });
@@ -474,14 +475,17 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     const e = await simWait(page, 0.6);
     assert.ok(Math.abs(e.forward_mps) < 0.02, `still moving at ${e.forward_mps} m/s after LB released`);
     // D-pad up (button 12) raises the front flipper pair's target 5 deg a press; they follow.
+    // The front pair (front_left + front_right) moves; the rear pair's targets stay unset.
     const initial = scene.vehicle.flippers.map((f) => (f.initial_angle_rad * 180) / Math.PI);
+    const front = scene.vehicle.flippers.map((f, i) => [f.name, i]).filter(([n]) => n.startsWith('front')).map(([, i]) => i);
+    assert.equal(front.length, 2);
     for (let press = 1; press <= 2; press++) {
       await setButton(page, 12, true); await frames(page); await setButton(page, 12, false); await frames(page);
-      await page.waitForFunction((want) => window.tracksim.state.control.flipper_angle_deg.every((x, i) => x !== null && Math.abs(x - want[i]) < 1e-9),
-        initial.map((x) => x + 5 * press), { timeout: 10000 });
+      await page.waitForFunction(([want, front]) => window.tracksim.state.control.flipper_angle_deg.every((x, i) => (front.includes(i) ? x !== null && Math.abs(x - want[i]) < 1e-9 : x === null)),
+        [initial.map((x) => x + 5 * press), front], { timeout: 10000 });
     }
-    await page.waitForFunction((want) => window.tracksim.state.flipper.every((r, i) => Math.abs((r * 180) / Math.PI - want[i]) < 1.0),
-      initial.map((x) => x + 10), { timeout: 30000 });
+    await page.waitForFunction(([want, front]) => front.every((i) => Math.abs((window.tracksim.state.flipper[i] * 180) / Math.PI - want[i]) < 1.0),
+      [initial.map((x) => x + 10), front], { timeout: 30000 });
 
     // ---- views: v cycles follow (chase), orbit, top-down, the onboard default mount ----
     assert.deepEqual(await page.evaluate(() => window.tracksim.views), ['follow', 'orbit', 'top-down', 'chassis front (default mount)']);
@@ -606,7 +610,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
 const wallOut = path.join(tmp, 'wall');
 
 test('drive into a wall: the STALL warning appears', async () => {
-  const drive = start(['drive', 'scenarios/wall_low_friction.toml', '--port', '0', '--out', wallOut, '--no-plot', '--duration', '30', '--speed', '2']);
+  const drive = start(['drive', 'scenarios/wall_low_friction.toml', '--port', '0', '--out', wallOut, '--no-plot', '--duration', '30', '--speed', '2', '--wait-for-page']);
   const url = await drive.url;
   const ctx = await browser();
   try {

@@ -6,19 +6,24 @@
 import { StallDetector, tiltDeg } from '/hud.js';
 
 const num = (x) => typeof x === 'number' && Number.isFinite(x);
+/** Window of the forward speed's mean in the stall rule, s (as the live state's forward_mps). */
+const STALL_MEAN_S = 0.1;
 
 /** Events of a run, sorted by time: [{t_s, kind, detail}]. `traj` is a parsed CSV. */
 export function computeEvents(traj, summary, trackNames) {
   const ev = [];
   const c = (n) => traj.col(n);
-  const [it, ivx, ivy, iyaw, iroll, ipitch] = ['t_s', 'vx_mps', 'vy_mps', 'yaw_rad', 'roll_rad', 'pitch_rad'].map(c);
+  const [it, ix, iy, iyaw, iroll, ipitch] = ['t_s', 'x_m', 'y_m', 'yaw_rad', 'roll_rad', 'pitch_rad'].map(c);
   const cmd = trackNames.map((n) => c(`belt_cmd_${n}_mps`)).filter((i) => i >= 0);
-  // Stall episodes: belts commanded, the robot not moving, for a second or more.
-  if (cmd.length && ivx >= 0 && ivy >= 0 && iyaw >= 0) {
+  // Stall episodes: belts commanded, the robot not moving (its forward speed a mean over
+  // STALL_MEAN_S, as the live state's), for a second or more.
+  if (cmd.length && ix >= 0 && iy >= 0 && iyaw >= 0) {
     const det = new StallDetector();
-    let open = null;
+    let open = null, j = 0;
     for (const r of traj.rows) {
-      const fwd = r[ivx] * Math.cos(r[iyaw]) + r[ivy] * Math.sin(r[iyaw]);
+      while (j < traj.rows.length - 1 && traj.rows[j + 1][it] <= r[it] - STALL_MEAN_S + 1e-9) j++;
+      const q = traj.rows[j], span = r[it] - q[it];
+      const fwd = span > 0 ? ((r[ix] - q[ix]) * Math.cos(r[iyaw]) + (r[iy] - q[iy]) * Math.sin(r[iyaw])) / span : 0;
       const st = det.update(r[it], cmd.map((i) => r[i]), fwd);
       if (st && !open) { open = { t_s: det.since, kind: 'stall', detail: '' }; ev.push(open); }
       if (!st && open) { open.t_end_s = r[it]; open.detail = `stalled ${(r[it] - open.t_s).toFixed(1)} s`; open = null; }
