@@ -431,23 +431,29 @@ async function pixels(page, id, { rect = null, hexes = [], at = null, keep = nul
     return { std: Math.sqrt(s2 / n - (s / n) ** 2), n, counts, rgb, diff };
   }, { id, rect, hexes, at, keep, compare });
 }
+/** With E2E_TIMES set, prints the seconds since the test began at each step (to find slow ones). */
+let T0 = Date.now();
+const lap = (label) => { if (process.env.E2E_TIMES) console.error(`  ${((Date.now() - T0) / 1000).toFixed(1)} s  ${label}`); };
 const near = (a, b, tol) => a.every((x, i) => Math.abs(x - b[i]) < tol);
 
 test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, minimap, picture in picture, help, HUD', async () => {
   // Quince on flat ground: two flipper pairs (D-pad: the front pair), room to drive.
+  T0 = Date.now();
   const drive = start(['drive', 'scenarios/quince_flat.toml', '--port', '0', '--out', path.join(tmp, 'pad'), '--no-plot', '--duration', '60', '--wait-for-page']);
   const url = await drive.url;
   const ctx = await browser();
   try {
     const { page } = await openDrive(ctx, url, gamepadStub);
+    lap('page open');
     const scene = await page.evaluate(async () => (await fetch('/scene.json')).json());
-    await simWait(page, 1.0); // settled on the ground
+    await simWait(page, 0.5); // settled on the ground
     // Without the dead-man (LB, button 4) the stick does nothing.
     await setAxes(page, [0, -1, 0, 0]);
     const s0 = await page.evaluate(() => window.tracksim.state);
     const s1 = await simWait(page, 0.5);
     assert.equal(s1.control.forward_mps, 0);
     assert.ok(Math.abs(s1.pose[0] - s0.pose[0]) < 0.01, `moved without LB: ${s0.pose[0]} -> ${s1.pose[0]}`);
+    lap('no LB done');
     // LB + left stick forward (axes[1] = -1): 0.3 m/s forward (the page's default speed).
     await setButton(page, 4, true);
     await page.waitForFunction(() => window.tracksim.state.control.forward_mps > 0, null, { timeout: 10000 });
@@ -459,6 +465,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     // 0.3 m/s x dt; nothing can make the robot outrun its belts (5 % for the 0.1 s state
     // interval at either end).
     assert.ok(dx > 0.5 * 0.3 * dt && dx < 1.05 * 0.3 * dt + 0.03, `dx ${dx} m in ${dt} s at 0.3 m/s`);
+    lap('forward done');
     // Stick left (axes[0] = -1): yaw rate +1 rad/s, the yaw grows (left, REP 103).
     await setAxes(page, [-1, 0, 0, 0]);
     await page.waitForFunction(() => window.tracksim.state.control.yaw_rate_rad_s > 0, null, { timeout: 10000 });
@@ -474,19 +481,21 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.waitForFunction(() => window.tracksim.state.control.forward_mps === 0 && window.tracksim.state.control.yaw_rate_rad_s === 0, null, { timeout: 10000 });
     const e = await simWait(page, 0.6);
     assert.ok(Math.abs(e.forward_mps) < 0.02, `still moving at ${e.forward_mps} m/s after LB released`);
+    lap('turn+release done');
     // D-pad up (button 12) raises the front flipper pair's target 5 deg a press; they follow.
     // The front pair (front_left + front_right) moves; the rear pair's targets stay unset.
     const initial = scene.vehicle.flippers.map((f) => (f.initial_angle_rad * 180) / Math.PI);
     const front = scene.vehicle.flippers.map((f, i) => [f.name, i]).filter(([n]) => n.startsWith('front')).map(([, i]) => i);
     assert.equal(front.length, 2);
     for (let press = 1; press <= 2; press++) {
-      await setButton(page, 12, true); await frames(page); await setButton(page, 12, false); await frames(page);
+      await setButton(page, 12, true); await frames(page, 2); await setButton(page, 12, false); await frames(page, 2);
       await page.waitForFunction(([want, front]) => window.tracksim.state.control.flipper_angle_deg.every((x, i) => (front.includes(i) ? x !== null && Math.abs(x - want[i]) < 1e-9 : x === null)),
         [initial.map((x) => x + 5 * press), front], { timeout: 10000 });
     }
     await page.waitForFunction(([want, front]) => front.every((i) => Math.abs((window.tracksim.state.flipper[i] * 180) / Math.PI - want[i]) < 1.0),
       [initial.map((x) => x + 10), front], { timeout: 30000 });
 
+    lap('flippers done');
     // ---- views: v cycles follow (chase), orbit, top-down, the onboard default mount ----
     assert.deepEqual(await page.evaluate(() => window.tracksim.views), ['follow', 'orbit', 'top-down', 'chassis front (default mount)']);
     const vx = scene.vehicle.body.vertices_m;
@@ -494,7 +503,6 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     for (let i = 0; i < vx.length; i += 3) { maxX = Math.max(maxX, vx[i]); maxZ = Math.max(maxZ, vx[i + 2]); }
     for (const name of ['follow', 'orbit', 'top-down', 'chassis front (default mount)']) {
       await page.waitForFunction((n) => window.tracksim.camera.view === n, name, { timeout: 10000 });
-      await frames(page, 2);
       const cam = await page.evaluate(() => window.tracksim.camera);
       const [x, y, z, , , yaw] = cam.pose;
       const toRobot = [x - cam.position[0], y - cam.position[1], z - cam.position[2]];
@@ -508,14 +516,14 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
       } else {
         const mount = add(cam.pose.slice(0, 3), rpyRotate(cam.pose.slice(3), [maxX + 0.01, 0, maxZ + 0.02]));
         assert.ok(dist(cam.position, mount) < 1e-4 && dist(cam.direction, rpyRotate(cam.pose.slice(3), [1, 0, 0])) < 1e-4, `onboard ${JSON.stringify(cam)}`);
-        assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false, 'no picture in picture of the onboard view in itself');
       }
-      await page.screenshot({ path: path.join(artifacts, `view-${name.split(' ')[0]}.png`) });
+      if (name !== 'orbit') await page.screenshot({ path: path.join(artifacts, `view-${name.split(' ')[0]}.png`) });
       await page.keyboard.press('v');
     }
     await page.waitForFunction(() => window.tracksim.view === 'follow', null, { timeout: 10000 });
+    lap('views done');
     // The minimap: drawn, the robot's red arrow on it, n hides and shows it.
-    await frames(page, 2);
+    await frames(page, 1);
     const map = await pixels(page, 'minimap', { hexes: ['#ff3030'] });
     assert.ok(map.std > 5 && map.counts[0] > 10, `minimap: std ${map.std}, robot pixels ${map.counts[0]}`);
     assert.ok((await page.evaluate(() => window.tracksim.minimap.draws)) > 10);
@@ -523,20 +531,30 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     assert.equal(await page.evaluate(() => document.getElementById('minimap').offsetWidth), 0);
     await page.keyboard.press('n');
     assert.ok((await page.evaluate(() => document.getElementById('minimap').offsetWidth)) > 0);
-    // Picture in picture (the onboard view in a corner): its rectangle differs with t off.
+    lap('minimap done');
+    // Picture in picture (the onboard view in a corner; t, off at first): its rectangle differs
+    // with it off; none in the onboard view itself.
+    assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false);
+    await page.keyboard.press('t');
+    await frames(page, 1);
     const pip = await page.evaluate(() => window.tracksim.pip);
     assert.ok(pip.shown && pip.view === 'chassis front (default mount)', JSON.stringify(pip));
     const rect = { x: pip.rect.x, y: pip.rect.top, w: pip.rect.w, h: pip.rect.h };
-    await frames(page, 2);
     const withPip = await pixels(page, null, { rect, keep: 'pip' });
     await page.keyboard.press('t');
-    await frames(page, 3);
+    await frames(page, 1);
     assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false);
     const { diff } = await pixels(page, null, { rect, compare: 'pip' });
     assert.ok(withPip.std > 5 && diff > 10, `picture in picture: std ${withPip.std}, mean difference ${diff}`);
     await page.keyboard.press('t');
-    await frames(page, 2);
+    await frames(page, 1);
     await page.screenshot({ path: path.join(artifacts, 'pip-minimap.png') });
+    await page.evaluate(() => window.tracksim.setView('chassis front (default mount)'));
+    await frames(page, 1);
+    assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false, 'no picture in picture of the onboard view in itself');
+    await page.keyboard.press('t');
+    await page.evaluate(() => window.tracksim.setView('follow'));
+    lap('pip done');
     // ? hides the help (remembered), F1 shows it.
     assert.ok((await page.evaluate(() => document.getElementById('help').offsetWidth)) > 0);
     await page.keyboard.press('?');
@@ -547,17 +565,16 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.keyboard.press('F1');
     assert.ok((await page.evaluate(() => document.getElementById('help').offsetWidth)) > 0);
 
+    lap('help done');
     // ---- HUD warnings from the live state: no stall at rest, the tilt title with the limit ----
     const live = await page.evaluate(() => window.tracksim.hud.info);
     assert.equal(live.stall, false);
     if (typeof scene.max_tilt_deg === 'number') assert.match(await page.textContent('#w-tilt-title'), new RegExp(`limit ${Math.round(scene.max_tilt_deg)}°`));
     // ---- and from made-up states (the server's fields as issue 28 names them) ----
     const base = await page.evaluate(() => window.tracksim.state);
-    const show = async (over) => {
-      await page.evaluate((vs) => { window.tracksim.hudOverride = vs; }, { ...base, belt_cmd: [0, 0], tilt_limit_deg: 70, ...over });
-      await frames(page, 2);
-      return page.evaluate(() => window.tracksim.hud.info);
-    };
+    // Shown at once (and kept by the following frames).
+    const show = (over) => page.evaluate((vs) => { window.tracksim.hudOverride = vs; return window.tracksim.hud.update(vs); },
+      { ...base, belt_cmd: [0, 0], tilt_limit_deg: 70, ...over });
     const cls = (id) => page.evaluate((id) => document.getElementById(id).className, id);
     const rad = (d) => (d * Math.PI) / 180;
     let info = await show({ pose: [0, 0, 0, rad(0.5 * 70), 0, 0] });
@@ -598,6 +615,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     await page.evaluate(() => { window.tracksim.hudOverride = null; });
     await frames(page, 2);
     assert.match(await cls('driver-banner'), /hidden/);
+    lap('hud done');
     await page.click('#stop');
     const { code, out: printed } = await drive.exited;
     assert.equal(code, 0, printed);
@@ -674,7 +692,7 @@ test('review: the inputs strip, event markers and jumps of the wall session', as
     assert.equal(await page.evaluate(() => window.tracksim.replayTime), events[stall].t_s);
     // The replay shows the stall warning during the episode.
     await page.$eval('#scrub', (e, t) => { e.value = String(t); e.dispatchEvent(new Event('input')); }, (events[stall].t_s + 0.5) / (await page.evaluate(() => window.tracksim.replayEnd)));
-    await frames(page, 3);
+    await frames(page, 2);
     assert.equal(await page.evaluate(() => window.tracksim.hud.info.stall), true);
     await page.screenshot({ path: path.join(artifacts, 'review.png') });
   } finally {
@@ -706,7 +724,7 @@ test('view of a compare folder: every method a ghost on one terrain, the outcome
     // The ghost stands where its own run was at the replay time.
     await page.click('#play');
     await page.$eval('#scrub', (e) => { e.value = '0.5'; e.dispatchEvent(new Event('input')); });
-    await frames(page, 3);
+    await frames(page, 2);
     const t = await page.evaluate(() => window.tracksim.replayTime);
     const rows = fs.readFileSync(path.join(cmp, methods[1], 'trajectory.csv'), 'utf8').trim().split('\n').slice(1).map((l) => l.split(',').map(Number));
     const k = rows.findIndex((r) => r[0] >= t - 1e-9);
@@ -717,7 +735,7 @@ test('view of a compare folder: every method a ghost on one terrain, the outcome
     // At the end the outcome is decided: the banner in its colour.
     const summary = JSON.parse(fs.readFileSync(path.join(cmp, methods[0], 'summary.json'), 'utf8'));
     await page.$eval('#scrub', (e) => { e.value = '1'; e.dispatchEvent(new Event('input')); });
-    await frames(page, 3);
+    await frames(page, 2);
     const banner = await page.evaluate(() => window.tracksim.hud.info.banner);
     assert.ok(banner && banner.kind === (summary.outcome === 'success' || summary.outcome === 'failure' ? summary.outcome : 'other'), JSON.stringify({ banner, outcome: summary.outcome }));
     assert.ok((await page.evaluate(() => window.tracksim.events)).filter((e) => e.kind === 'outcome').length >= 1);

@@ -390,7 +390,7 @@ orbit.enabled = false;
 const pipView = views.find((x) => x.anchor) ?? null;
 const pipCam = new THREE.PerspectiveCamera(60, 4 / 3, 0.01, 500);
 pipCam.up.set(0, 0, 1);
-let pipOn = pipView !== null;
+let pipOn = false; // t: on (a second render of the scene each frame)
 /** Size and place of the picture in picture, CSS px from the canvas's bottom right. */
 const PIP_W = 240, PIP_H = 150, PIP_RIGHT = 8;
 function pipRect() {

@@ -196,6 +196,7 @@ export function createHud(vehicle, els) {
   const geo = sideGeometry(vehicle);
   const names = (vehicle.tracks ?? []).map((t) => t.name);
   const stall = new StallDetector();
+  els.slip.style.height = `${Math.max(44, 12 * names.length)}px`; // a 12 px row per track
   const info = { stall: false, stallSource: null, slip: null, tiltFrac: 0, tiltLevel: 'ok', banner: null, driverBanner: null, course: null, side: null };
   function update(vs) {
     const [, , , roll = 0, pitch = 0] = vs.pose ?? [];
