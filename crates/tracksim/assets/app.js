@@ -603,7 +603,9 @@ function profileAhead(x, y, z, yaw) {
 function layout() {
   const base = live ? 8 : $('bar').offsetHeight + 16;
   for (const id of ['warn', 'minimap', 'depth']) $(id).style.bottom = `${base}px`;
-  $('course').style.top = `${$('hud').offsetTop + $('hud').offsetHeight + 8}px`;
+  const below = $('hud').offsetTop + $('hud').offsetHeight + 8;
+  $('course').style.top = `${below}px`;
+  $('legend').style.top = `${below + ($('course').offsetHeight ? $('course').offsetHeight + 8 : 0)}px`;
   if ($('depth').offsetWidth > 0) $('warn').style.left = `${Math.max(0.5 * window.innerWidth, $('depth').offsetWidth + 16 + 0.5 * $('warn').offsetWidth)}px`;
   return base;
 }

@@ -115,7 +115,7 @@ export function drawInputs(canvas, lanes, end, t) {
     let m = 1e-9;
     for (const s of lane.series) for (const v of s.v) if (num(v)) m = Math.max(m, Math.abs(v));
     g.strokeStyle = '#555'; g.lineWidth = 1; g.beginPath(); g.moveTo(0, mid); g.lineTo(w, mid); g.stroke();
-    const Y = (v) => mid - (v / m) * (lh / 2 - 3);
+    const Y = (v) => mid - (v / m) * (lh / 2 - 6); // 6 px clear of the lane's edges
     let lx = 4;
     g.fillStyle = '#bbb'; g.fillText(`${lane.title} (±${m.toPrecision(2)})`, lx, top + 10); lx += g.measureText(`${lane.title} (±${m.toPrecision(2)})`).width + 10;
     for (const s of lane.series) {
