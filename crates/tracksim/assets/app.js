@@ -392,11 +392,12 @@ const pipCam = new THREE.PerspectiveCamera(60, 4 / 3, 0.01, 500);
 pipCam.up.set(0, 0, 1);
 let pipOn = false; // t: on (a second render of the scene each frame)
 /** Size and place of the picture in picture, CSS px from the canvas's bottom right. */
-const PIP_W = 240, PIP_H = 150, PIP_RIGHT = 8;
+// Left, above the warnings' level (and the depth panel when it is shown).
+const PIP_W = 220, PIP_H = 140, PIP_LEFT = 8;
 function pipRect() {
-  const w = renderer.domElement.clientWidth, h = renderer.domElement.clientHeight;
-  const bottom = layout() + (mapOn ? 170 + 8 : 0) + 18;
-  return { x: w - PIP_W - PIP_RIGHT, y: bottom, w: PIP_W, h: PIP_H, top: h - bottom - PIP_H };
+  const h = renderer.domElement.clientHeight;
+  const bottom = layout() + Math.max($('warn').offsetHeight, depthShown ? $('depth').offsetHeight : 0) + 8;
+  return { x: PIP_LEFT, y: bottom, w: PIP_W, h: PIP_H, top: h - bottom - PIP_H };
 }
 function renderPip() {
   const shown = pipOn && pipView && !views[viewIndex].anchor;
@@ -413,7 +414,7 @@ function renderPip() {
   renderer.setScissorTest(false);
   renderer.setViewport(0, 0, renderer.domElement.clientWidth, renderer.domElement.clientHeight);
   const lab = $('pip-label');
-  lab.style.right = `${PIP_RIGHT}px`; lab.style.top = `${r.top - 18}px`;
+  lab.style.left = `${PIP_LEFT}px`; lab.style.top = `${r.top - 18}px`;
   lab.textContent = `onboard: ${pipView.name} (t: off)`;
   api.pip.rect = r;
 }

@@ -104,8 +104,9 @@ export function drawSlip(c, names, slip) {
   const [w, h] = sizeCanvas(c);
   const g = c.getContext('2d');
   g.clearRect(0, 0, w, h);
-  g.font = '11px ui-monospace, monospace';
-  const n = Math.max(names.length, 1), bh = Math.max(4, (h - 2) / n - 3), x0 = 70, bw = w - x0 - 40;
+  g.font = '10px ui-monospace, monospace';
+  const x0 = Math.min(100, 6 + Math.max(30, ...names.map((nm) => g.measureText(nm).width)));
+  const n = Math.max(names.length, 1), bh = Math.max(4, (h - 2) / n - 3), bw = w - x0 - 36;
   let worst = 0;
   names.forEach((name, i) => {
     const s = slip?.[i];
@@ -116,7 +117,7 @@ export function drawSlip(c, names, slip) {
     g.fillStyle = frac > SLIP_RED ? '#e23b3b' : '#4ca0e0'; g.fillRect(x0, y, bw * frac, bh);
     g.fillStyle = '#ddd'; g.fillRect(x0 + bw * SLIP_RED, y, 1, bh);
     g.fillStyle = '#eee';
-    g.fillText(name.slice(0, 10), 2, y + bh - 1);
+    g.fillText(name, 2, y + bh - 1);
     g.fillText(fmt(s, 2), x0 + bw + 4, y + bh - 1);
   });
   return worst;
