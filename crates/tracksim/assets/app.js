@@ -829,9 +829,17 @@ if (!live) {
     const lg = $('legend');
     lg.classList.remove('hidden');
     const out = (sm) => (sm ? ` (${sm.outcome})` : '');
-    lg.innerHTML = `<b>compare</b>` +
-      `<span class="sw" style="background:#4f5d3a;border:1px solid #ccc"></span>${runs.runs[0].name}${out(summary)}` +
-      ghosts.map((g) => `<span class="sw" style="background:${hex(g.colour)}"></span>${g.name}${out(g.summary)}`).join('');
+    const entry = (colour, text) => {
+      const sw = document.createElement('span');
+      sw.className = 'sw';
+      sw.style.background = colour;
+      lg.append(sw, document.createTextNode(text)); // names are folder names: text, never markup
+    };
+    const title = document.createElement('b');
+    title.textContent = 'compare';
+    lg.append(title);
+    entry('#4f5d3a', `${runs.runs[0].name}${out(summary)} (solid)`);
+    for (const g of ghosts) entry(hex(g.colour), `${g.name}${out(g.summary)}`);
   }
   api.runs = runs.runs.map((r) => r.name);
   api.ghosts = () => ghosts.map((g) => ({ name: g.name, colour: hex(g.colour), position: g.group.position.toArray(), visible: g.group.visible }));
