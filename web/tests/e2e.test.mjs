@@ -652,6 +652,17 @@ test('drive into a wall: the STALL warning appears', async () => {
 });
 
 test('review: the inputs strip, event markers and jumps of the wall session', async () => {
+  // A course on the folder (as issue 28's scene.json and summary.json carry it), unless the
+  // run has one: a gate and an obstacle, a gate passed and a fault.
+  const scenePath = path.join(wallOut, 'scene.json'), summaryPath = path.join(wallOut, 'summary.json');
+  const sceneJson = JSON.parse(fs.readFileSync(scenePath, 'utf8'));
+  const summaryJson = JSON.parse(fs.readFileSync(summaryPath, 'utf8'));
+  if (!sceneJson.course) {
+    sceneJson.course = { name: 'test', gates: [{ x_m: 0.5, y_m: 0, width_m: 1.0, yaw_deg: 0 }], obstacles: [{ centre_m: [0.3, 1.0, 0.1], half_m: [0.1, 0.1, 0.1], yaw_deg: 20 }], laps: 1, time_limit_s: 60 };
+    summaryJson.course = { events: [{ t_s: 0.7, kind: 'gate', detail: 'gate 1' }, { t_s: 1.2, kind: 'touch', detail: 'touched an obstacle' }] };
+    fs.writeFileSync(scenePath, JSON.stringify(sceneJson));
+    fs.writeFileSync(summaryPath, JSON.stringify(summaryJson));
+  }
   const view = start(['view', wallOut, '--port', '0']);
   const url = await view.url;
   const ctx = await browser();
@@ -660,6 +671,10 @@ test('review: the inputs strip, event markers and jumps of the wall session', as
     const events = await page.evaluate(() => window.tracksim.events);
     const kinds = events.map((e) => e.kind);
     assert.ok(kinds.includes('stall') && kinds.includes('tilt'), JSON.stringify(events));
+    for (const e of summaryJson.course.events ?? []) assert.ok(events.some((x) => x.kind === e.kind && x.t_s === e.t_s), `course event ${JSON.stringify(e)}`);
+    const nGates = sceneJson.course.gates.length;
+    assert.deepEqual(await page.evaluate(() => window.tracksim.course), { gates: nGates, obstacles: sceneJson.course.obstacles.length });
+    assert.equal(await page.evaluate(() => window.tracksim.minimap.gates), nGates);
     assert.equal(await page.evaluate(() => document.querySelectorAll('#markers button').length), events.length);
     // The inputs: from controls.csv, the forward command drawn (green).
     const inputs = await page.evaluate(() => window.tracksim.inputs);
