@@ -164,6 +164,10 @@ test('view: the replay page plays the recorded run', async () => {
     assert.equal(await page.evaluate(() => window.tracksim.replayTime), held);
     await page.$eval('#scrub', (e) => { e.value = '0.9'; e.dispatchEvent(new Event('input')); });
     await page.waitForFunction(() => Math.abs(window.tracksim.replayTime - 0.9 * window.tracksim.replayEnd) < 1e-6);
+    // A single run is listed alone (issue 28: a compare folder lists every method).
+    const runs = await page.evaluate(async () => (await fetch('/runs.json')).json());
+    assert.deepEqual(runs, { compare: false, runs: [{ index: 0, name: 'drive', base: '/run' }] });
+    assert.equal(await page.evaluate(async () => (await fetch('/run/0/trajectory.csv')).status), 404);
   } finally {
     await ctx.close();
     view.child.kill();
@@ -270,7 +274,8 @@ test('drive packbot_sensors: lidar hits, the depth panel and the onboard camera 
     assert.ok((await page.evaluate(() => document.getElementById('depth').offsetWidth)) > 0);
     // v: the camera moves to the front camera's mount and looks along its x axis.
     const far = await page.evaluate(() => window.tracksim.camera);
-    await page.keyboard.press('v');
+    assert.deepEqual(await page.evaluate(() => window.tracksim.views), ['follow', 'orbit', 'top-down', 'camera front_camera']);
+    for (let i = 0; i < 3; i++) await page.keyboard.press('v');
     await page.waitForFunction(() => window.tracksim.camera.view === 'camera front_camera', null, { timeout: 10000 });
     await page.waitForTimeout(300);
     const onb = await page.evaluate(() => window.tracksim.camera);
@@ -350,6 +355,406 @@ test('view of a packbot_sensors run: the page reads the npz streams and draws th
     assert.equal(depth.returns, dv.length);
     assert.ok(Math.abs(depth.near_m - Math.min(...dv)) < 1e-6 && Math.abs(depth.far_m - Math.max(...dv)) < 1e-6, JSON.stringify(depth));
     await page.screenshot({ path: path.join(artifacts, 'sensors-view.png') });
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});
+
+// ---------- issue 28: the operator trainer ----------
+
+/** A gamepad stub (standard mapping, 17 buttons, 4 axes) the test sets through window.__pad. */
+function gamepadStub() {
+  const pad = {
+    id: 'tracksim test pad', index: 0, connected: true, mapping: 'standard', timestamp: 0,
+    axes: [0, 0, 0, 0], buttons: Array.from({ length: 17 }, () => ({ pressed: false, touched: false, value: 0 })),
+  };
+  window.__pad = pad;
+  Object.defineProperty(Navigator.prototype, 'getGamepads', { configurable: true, value: () => [pad, null, null, null] });
+}
+const setButton = (page, i, on) => page.evaluate(([i, on]) => { Object.assign(window.__pad.buttons[i], { pressed: on, touched: on, value: on ? 1 : 0 }); }, [i, on]);
+const setAxes = (page, axes) => page.evaluate((a) => { window.__pad.axes = a; }, axes);
+/** Waits until the page has drawn `n` more frames (the page reads the pad once a frame). */
+async function frames(page, n = 4) {
+  const f = await page.evaluate(() => window.tracksim.frames);
+  await page.waitForFunction((f) => window.tracksim.frames >= f, f + n, { timeout: 10000 });
+}
+/** Waits `dt` s of simulated time (from `from` s, else from now); returns the state then. */
+async function simWait(page, dt, from = null) {
+  const t0 = from ?? (await page.evaluate(() => window.tracksim.state.t));
+  await page.waitForFunction((t) => window.tracksim.state.t >= t, t0 + dt, { timeout: 60000 });
+  return page.evaluate(() => window.tracksim.state);
+}
+/** Opens a drive page (after `init`, if any) and waits for the state. */
+async function openDrive(ctx, url, init) {
+  const page = await ctx.newPage();
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  if (init) await page.addInitScript(init);
+  await page.goto(url);
+  await page.waitForFunction(() => window.tracksim?.state && window.tracksim.frames > 10, null, { timeout: 60000 });
+  assert.deepEqual(errors, []);
+  return { page, errors };
+}
+/**
+ * Reads a 2-D canvas (by id) or the WebGL canvas (id null) in the page, in a rectangle of
+ * canvas pixels: the grey level's standard deviation, the number of pixels within 40 (each
+ * channel) of each colour of `hexes`, the RGB at `at` ([x, y], if given), and the mean
+ * difference (|dR| + |dG|) from the snapshot named `compare` (kept as `keep`, if given).
+ */
+async function pixels(page, id, { rect = null, hexes = [], at = null, keep = null, compare = null } = {}) {
+  return page.evaluate(({ id, rect, hexes, at, keep, compare }) => {
+    const src = id ? document.getElementById(id) : document.querySelector('#view canvas');
+    const c = document.createElement('canvas');
+    c.width = src.width; c.height = src.height;
+    const g = c.getContext('2d');
+    g.drawImage(src, 0, 0);
+    const r = rect ?? { x: 0, y: 0, w: src.width, h: src.height };
+    const d = g.getImageData(r.x, r.y, r.w, r.h).data;
+    const want = hexes.map((h) => [1, 3, 5].map((i) => parseInt(h.slice(i, i + 2), 16)));
+    const counts = want.map(() => 0);
+    let s = 0, s2 = 0, n = 0;
+    for (let i = 0; i < d.length; i += 4) {
+      const y = (d[i] + d[i + 1] + d[i + 2]) / 3; s += y; s2 += y * y; n++;
+      want.forEach((w, k) => { if (Math.abs(d[i] - w[0]) < 40 && Math.abs(d[i + 1] - w[1]) < 40 && Math.abs(d[i + 2] - w[2]) < 40) counts[k]++; });
+    }
+    window.__snaps = window.__snaps ?? {};
+    if (keep) window.__snaps[keep] = d;
+    let diff = null;
+    if (compare) {
+      const o = window.__snaps[compare];
+      diff = 0;
+      for (let i = 0; i < d.length; i += 4) diff += Math.abs(d[i] - o[i]) + Math.abs(d[i + 1] - o[i + 1]);
+      diff /= n;
+    }
+    const rgb = at ? Array.from(d.slice(4 * (at[1] * r.w + at[0]), 4 * (at[1] * r.w + at[0]) + 3)) : null;
+    return { std: Math.sqrt(s2 / n - (s / n) ** 2), n, counts, rgb, diff };
+  }, { id, rect, hexes, at, keep, compare });
+}
+/** With E2E_TIMES set, prints the seconds since the test began at each step (to find slow ones). */
+let T0 = Date.now();
+const lap = (label) => { if (process.env.E2E_TIMES) console.error(`  ${((Date.now() - T0) / 1000).toFixed(1)} s  ${label}`); };
+const near = (a, b, tol) => a.every((x, i) => Math.abs(x - b[i]) < tol);
+
+test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, minimap, picture in picture, help, HUD', async () => {
+  // Quince on flat ground: two flipper pairs (D-pad: the front pair), room to drive.
+  T0 = Date.now();
+  const drive = start(['drive', 'scenarios/quince_flat.toml', '--port', '0', '--out', path.join(tmp, 'pad'), '--no-plot', '--duration', '60', '--wait-for-page']);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    const { page } = await openDrive(ctx, url, gamepadStub);
+    lap('page open');
+    const scene = await page.evaluate(async () => (await fetch('/scene.json')).json());
+    await simWait(page, 0.5); // settled on the ground
+    // Without the dead-man (LB, button 4) the stick does nothing.
+    await setAxes(page, [0, -1, 0, 0]);
+    const s0 = await page.evaluate(() => window.tracksim.state);
+    const s1 = await simWait(page, 0.5);
+    assert.equal(s1.control.forward_mps, 0);
+    assert.ok(Math.abs(s1.pose[0] - s0.pose[0]) < 0.01, `moved without LB: ${s0.pose[0]} -> ${s1.pose[0]}`);
+    lap('no LB done');
+    // LB + left stick forward (axes[1] = -1): 0.3 m/s forward (the page's default speed).
+    await setButton(page, 4, true);
+    await page.waitForFunction(() => window.tracksim.state.control.forward_mps > 0, null, { timeout: 10000 });
+    const a = await page.evaluate(() => window.tracksim.state);
+    assert.ok(Math.abs(a.control.forward_mps - 0.3) < 1e-9 && a.control.yaw_rate_rad_s === 0, JSON.stringify(a.control));
+    const b = await simWait(page, 1.5, a.t);
+    const dx = b.pose[0] - a.pose[0], dt = b.t - a.t;
+    // From rest, the belts' ramp-up and a few per cent of slip on friction 0.6 cost some of
+    // 0.3 m/s x dt; nothing can make the robot outrun its belts (5 % for the 0.1 s state
+    // interval at either end).
+    assert.ok(dx > 0.5 * 0.3 * dt && dx < 1.05 * 0.3 * dt + 0.03, `dx ${dx} m in ${dt} s at 0.3 m/s`);
+    lap('forward done');
+    // Stick left (axes[0] = -1): yaw rate +1 rad/s, the yaw grows (left, REP 103).
+    await setAxes(page, [-1, 0, 0, 0]);
+    await page.waitForFunction(() => window.tracksim.state.control.yaw_rate_rad_s > 0, null, { timeout: 10000 });
+    const c = await page.evaluate(() => window.tracksim.state);
+    assert.ok(Math.abs(c.control.yaw_rate_rad_s - 1.0) < 1e-9 && c.control.forward_mps === 0, JSON.stringify(c.control));
+    const d = await simWait(page, 0.5, c.t);
+    assert.ok(d.pose[5] - c.pose[5] > 0.1, `yaw ${c.pose[5]} -> ${d.pose[5]}`);
+    await setAxes(page, [1, 0, 0, 0]);
+    await page.waitForFunction(() => window.tracksim.state.control.yaw_rate_rad_s < 0, null, { timeout: 10000 });
+    // Releasing LB stops the robot, the stick still pushed.
+    await setAxes(page, [0, -1, 0, 0]);
+    await setButton(page, 4, false);
+    await page.waitForFunction(() => window.tracksim.state.control.forward_mps === 0 && window.tracksim.state.control.yaw_rate_rad_s === 0, null, { timeout: 10000 });
+    const e = await simWait(page, 0.6);
+    assert.ok(Math.abs(e.forward_mps) < 0.02, `still moving at ${e.forward_mps} m/s after LB released`);
+    lap('turn+release done');
+    // D-pad up (button 12) raises the front flipper pair's target 5 deg a press; they follow.
+    // The front pair (front_left + front_right) moves; the rear pair's targets stay unset.
+    const initial = scene.vehicle.flippers.map((f) => (f.initial_angle_rad * 180) / Math.PI);
+    const front = scene.vehicle.flippers.map((f, i) => [f.name, i]).filter(([n]) => n.startsWith('front')).map(([, i]) => i);
+    assert.equal(front.length, 2);
+    for (let press = 1; press <= 2; press++) {
+      await setButton(page, 12, true); await frames(page, 2); await setButton(page, 12, false); await frames(page, 2);
+      await page.waitForFunction(([want, front]) => window.tracksim.state.control.flipper_angle_deg.every((x, i) => (front.includes(i) ? x !== null && Math.abs(x - want[i]) < 1e-9 : x === null)),
+        [initial.map((x) => x + 5 * press), front], { timeout: 10000 });
+    }
+    await page.waitForFunction(([want, front]) => front.every((i) => Math.abs((window.tracksim.state.flipper[i] * 180) / Math.PI - want[i]) < 1.0),
+      [initial.map((x) => x + 10), front], { timeout: 30000 });
+
+    lap('flippers done');
+    // ---- views: v cycles follow (chase), orbit, top-down, the onboard default mount ----
+    assert.deepEqual(await page.evaluate(() => window.tracksim.views), ['follow', 'orbit', 'top-down', 'chassis front (default mount)']);
+    const vx = scene.vehicle.body.vertices_m;
+    let maxX = -Infinity, maxZ = -Infinity;
+    for (let i = 0; i < vx.length; i += 3) { maxX = Math.max(maxX, vx[i]); maxZ = Math.max(maxZ, vx[i + 2]); }
+    for (const name of ['follow', 'orbit', 'top-down', 'chassis front (default mount)']) {
+      await page.waitForFunction((n) => window.tracksim.camera.view === n, name, { timeout: 10000 });
+      const cam = await page.evaluate(() => window.tracksim.camera);
+      const [x, y, z, , , yaw] = cam.pose;
+      const toRobot = [x - cam.position[0], y - cam.position[1], z - cam.position[2]];
+      const unit = (v) => { const l = Math.hypot(...v); return v.map((q) => q / l); };
+      if (name === 'follow') {
+        assert.ok(near(cam.position, [x - 1.8 * Math.cos(yaw), y - 1.8 * Math.sin(yaw), z + 0.9], 1e-6), `chase camera at ${cam.position}, robot ${cam.pose}`);
+      } else if (name === 'orbit') {
+        assert.ok(Math.hypot(...toRobot) > 0.5 && near(cam.direction, unit(toRobot), 1e-3), `orbit camera ${JSON.stringify(cam)}`);
+      } else if (name === 'top-down') {
+        assert.ok(near(cam.position, [x, y, z + 5], 1e-6) && near(cam.direction, [0, 0, -1], 1e-6), `top-down camera ${JSON.stringify(cam)}`);
+      } else {
+        const mount = add(cam.pose.slice(0, 3), rpyRotate(cam.pose.slice(3), [maxX + 0.01, 0, maxZ + 0.02]));
+        assert.ok(dist(cam.position, mount) < 1e-4 && dist(cam.direction, rpyRotate(cam.pose.slice(3), [1, 0, 0])) < 1e-4, `onboard ${JSON.stringify(cam)}`);
+      }
+      if (name !== 'orbit') await page.screenshot({ path: path.join(artifacts, `view-${name.split(' ')[0]}.png`) });
+      await page.keyboard.press('v');
+    }
+    await page.waitForFunction(() => window.tracksim.view === 'follow', null, { timeout: 10000 });
+    lap('views done');
+    // The minimap: drawn, the robot's red arrow on it, n hides and shows it.
+    await frames(page, 1);
+    const map = await pixels(page, 'minimap', { hexes: ['#ff3030'] });
+    assert.ok(map.std > 5 && map.counts[0] > 10, `minimap: std ${map.std}, robot pixels ${map.counts[0]}`);
+    assert.ok((await page.evaluate(() => window.tracksim.minimap.draws)) > 10);
+    await page.keyboard.press('n');
+    assert.equal(await page.evaluate(() => document.getElementById('minimap').offsetWidth), 0);
+    await page.keyboard.press('n');
+    assert.ok((await page.evaluate(() => document.getElementById('minimap').offsetWidth)) > 0);
+    lap('minimap done');
+    // Picture in picture (the onboard view in a corner; t, off at first): its rectangle differs
+    // with it off; none in the onboard view itself.
+    assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false);
+    await page.keyboard.press('t');
+    await frames(page, 1);
+    const pip = await page.evaluate(() => window.tracksim.pip);
+    assert.ok(pip.shown && pip.view === 'chassis front (default mount)', JSON.stringify(pip));
+    const rect = { x: pip.rect.x, y: pip.rect.top, w: pip.rect.w, h: pip.rect.h };
+    const withPip = await pixels(page, null, { rect, keep: 'pip' });
+    await page.keyboard.press('t');
+    await frames(page, 1);
+    assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false);
+    const { diff } = await pixels(page, null, { rect, compare: 'pip' });
+    assert.ok(withPip.std > 5 && diff > 10, `picture in picture: std ${withPip.std}, mean difference ${diff}`);
+    await page.keyboard.press('t');
+    await frames(page, 1);
+    await page.screenshot({ path: path.join(artifacts, 'pip-minimap.png') });
+    await page.evaluate(() => window.tracksim.setView('chassis front (default mount)'));
+    await frames(page, 1);
+    assert.equal((await page.evaluate(() => window.tracksim.pip)).shown, false, 'no picture in picture of the onboard view in itself');
+    await page.keyboard.press('t');
+    await page.evaluate(() => window.tracksim.setView('follow'));
+    lap('pip done');
+    // ? hides the help (remembered), F1 shows it.
+    assert.ok((await page.evaluate(() => document.getElementById('help').offsetWidth)) > 0);
+    await page.keyboard.press('?');
+    assert.equal(await page.evaluate(() => document.getElementById('help').offsetWidth), 0);
+    assert.equal(await page.evaluate(() => localStorage.getItem('tracksim.help')), 'hidden');
+    assert.ok((await page.evaluate(() => document.getElementById('help-tab').offsetWidth)) > 0);
+    await page.screenshot({ path: path.join(artifacts, 'help-hidden.png') });
+    await page.keyboard.press('F1');
+    assert.ok((await page.evaluate(() => document.getElementById('help').offsetWidth)) > 0);
+
+    lap('help done');
+    // ---- HUD warnings from the live state: no stall at rest, the tilt title with the limit ----
+    const live = await page.evaluate(() => window.tracksim.hud.info);
+    assert.equal(live.stall, false);
+    if (typeof scene.max_tilt_deg === 'number') assert.match(await page.textContent('#w-tilt-title'), new RegExp(`limit ${Math.round(scene.max_tilt_deg)}°`));
+    // ---- and from made-up states (the server's fields as issue 28 names them) ----
+    const base = await page.evaluate(() => window.tracksim.state);
+    // Shown at once (and kept by the following frames).
+    const show = (over) => page.evaluate((vs) => { window.tracksim.hudOverride = vs; return window.tracksim.hud.update(vs); },
+      { ...base, belt_cmd: [0, 0], tilt_limit_deg: 70, ...over });
+    const cls = (id) => page.evaluate((id) => document.getElementById(id).className, id);
+    const rad = (d) => (d * Math.PI) / 180;
+    let info = await show({ pose: [0, 0, 0, rad(0.5 * 70), 0, 0] });
+    assert.equal(info.tiltLevel, 'ok');
+    info = await show({ pose: [0, 0, 0, rad(0.7 * 70), 0, 0] });
+    assert.equal(info.tiltLevel, 'amber');
+    assert.match(await cls('w-tilt'), /amber/);
+    info = await show({ pose: [0, 0, 0, rad(10), rad(0.9 * 70), 0] });
+    assert.equal(info.tiltLevel, 'red');
+    assert.match(await cls('w-tilt'), /\bon\b/);
+    assert.ok((await pixels(page, 'w-tiltc', { hexes: ['#e23b3b'] })).counts[0] > 20, 'the pitch bar is red');
+    info = await show({ stall: true, slip: [0.8, 0.1], outcome: { name: 'failure', reason: 'tipped over (roll 75 deg)', t: 12.5 } });
+    assert.equal(info.stall, true);
+    assert.match(await cls('w-stall'), /\bon\b/);
+    assert.ok(Math.abs(info.slip - 0.8) < 1e-9 && (await pixels(page, 'w-slip', { hexes: ['#e23b3b'] })).counts[0] > 20, 'a red slip bar');
+    assert.match(await cls('banner'), /failure/);
+    assert.match(await page.textContent('#banner'), /FAILURE: tipped over/);
+    info = await show({
+      outcome: { name: 'success', reason: 'reached z', t: 14 },
+      driver: { connected: false, grace_left_s: 7.2 },
+      course: { name: 'figure8', next_gate: 2, gates_total: 4, repetitions: 1, laps: 3, rep_times_s: [61.2], elapsed_s: 42.5, time_limit_s: 300, faults: { reset: 0, tip_over: 1, touch: 2 }, penalty_s: 10, finished: false, events: [] },
+      ahead: { d_m: [-0.5, 0, 0.4, 0.41, 1.0, 1.5], z_m: [0, 0, 0, 0.15, 0.15, 0.15] },
+      flipper: [rad(40), rad(40)],
+    });
+    assert.match(await cls('banner'), /success/);
+    assert.match(await page.textContent('#driver-banner'), /driver disconnected — reconnect within 8 s/);
+    const courseText = await page.textContent('#course');
+    assert.match(courseText, /gate +3 \/ 4/);
+    assert.match(courseText, /tip-over 1, touch 2/);
+    assert.match(courseText, /reps +1 \/ 3/);
+    assert.ok(Math.abs(info.step_m - 0.15) < 1e-9, `step ahead ${info.step_m}`);
+    // The side view: terrain colour above the base line where the step is, the flippers drawn.
+    const { scale, zBase, xMin } = info.side;
+    const side = await pixels(page, 'w-side', { hexes: ['#f0b040'], at: [Math.round((1.2 - xMin) * scale), Math.round(zBase - 0.1 * scale)] });
+    assert.deepEqual(side.rgb, [0x8a, 0x7a, 0x5c], 'the step is drawn 0.1 m up at 1.2 m ahead');
+    assert.ok(side.counts[0] > 10, 'the flippers are drawn');
+    await page.screenshot({ path: path.join(artifacts, 'hud-warnings.png') });
+    await page.evaluate(() => { window.tracksim.hudOverride = null; });
+    await frames(page, 2);
+    assert.match(await cls('driver-banner'), /hidden/);
+    lap('hud done');
+    await page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+});
+
+const wallOut = path.join(tmp, 'wall');
+
+test('drive into a wall: the STALL warning appears', async () => {
+  const drive = start(['drive', 'scenarios/wall_low_friction.toml', '--port', '0', '--out', wallOut, '--no-plot', '--duration', '30', '--speed', '2', '--wait-for-page']);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    const { page } = await openDrive(ctx, url);
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction(() => window.tracksim.hud.info.stall, null, { timeout: 60000 });
+    const s = await page.evaluate(() => window.tracksim.state);
+    assert.ok(s.pose[0] > 0.2 && s.pose[0] < 1.0 && Math.abs(s.forward_mps) < 0.02 && s.control.forward_mps > 0, JSON.stringify(s.pose));
+    assert.match(await page.evaluate(() => document.getElementById('w-stall').className), /\bon\b/);
+    await page.screenshot({ path: path.join(artifacts, 'hud-stall.png') });
+    await simWait(page, 0.5);
+    await page.keyboard.up('ArrowUp');
+    await page.waitForFunction(() => !window.tracksim.hud.info.stall, null, { timeout: 10000 });
+    await page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+});
+
+test('review: the inputs strip, event markers and jumps of the wall session', async () => {
+  // A course on the folder (as issue 28's scene.json and summary.json carry it), unless the
+  // run has one: a gate and an obstacle, a gate passed and a fault.
+  const scenePath = path.join(wallOut, 'scene.json'), summaryPath = path.join(wallOut, 'summary.json');
+  const sceneJson = JSON.parse(fs.readFileSync(scenePath, 'utf8'));
+  const summaryJson = JSON.parse(fs.readFileSync(summaryPath, 'utf8'));
+  if (!sceneJson.course) {
+    sceneJson.course = { name: 'test', gates: [{ x_m: 0.5, y_m: 0, width_m: 1.0, yaw_deg: 0 }], obstacles: [{ centre_m: [0.3, 1.0, 0.1], half_m: [0.1, 0.1, 0.1], yaw_deg: 20 }], laps: 1, time_limit_s: 60 };
+    summaryJson.course = { events: [{ t_s: 0.7, kind: 'gate', detail: 'gate 1' }, { t_s: 1.2, kind: 'touch', detail: 'touched an obstacle' }] };
+    fs.writeFileSync(scenePath, JSON.stringify(sceneJson));
+    fs.writeFileSync(summaryPath, JSON.stringify(summaryJson));
+  }
+  const view = start(['view', wallOut, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, url);
+    const events = await page.evaluate(() => window.tracksim.events);
+    const kinds = events.map((e) => e.kind);
+    assert.ok(kinds.includes('stall') && kinds.includes('tilt'), JSON.stringify(events));
+    for (const e of summaryJson.course.events ?? []) assert.ok(events.some((x) => x.kind === e.kind && x.t_s === e.t_s), `course event ${JSON.stringify(e)}`);
+    const nGates = sceneJson.course.gates.length;
+    assert.deepEqual(await page.evaluate(() => window.tracksim.course), { gates: nGates, obstacles: sceneJson.course.obstacles.length });
+    assert.equal(await page.evaluate(() => window.tracksim.minimap.gates), nGates);
+    assert.equal(await page.evaluate(() => document.querySelectorAll('#markers button').length), events.length);
+    // The inputs: from controls.csv, the forward command drawn (green).
+    const inputs = await page.evaluate(() => window.tracksim.inputs);
+    assert.equal(inputs.source, 'controls.csv');
+    assert.deepEqual(inputs.lanes[0].series, ['forward m/s', 'yaw rad/s']);
+    assert.ok(inputs.drawn > 10);
+    assert.ok((await pixels(page, 'inputs', { hexes: ['#5ad35a'] })).counts[0] > 20, 'the forward command is drawn');
+    // ] and [ jump to the next and previous events; a marker's click jumps to its event.
+    await page.click('#play');
+    await page.$eval('#scrub', (e) => { e.value = '0'; e.dispatchEvent(new Event('input')); });
+    await page.waitForFunction(() => window.tracksim.replayTime === 0);
+    // The page's rule: next is the first event more than 0.05 s ahead, previous the last more
+    // than 0.25 s behind (so that [ while playing past an event goes back beyond it).
+    const next = (t) => events.find((e) => e.t_s > t + 0.05);
+    const prev = (t) => [...events].reverse().find((e) => e.t_s < t - 0.25);
+    const now = () => page.evaluate(() => window.tracksim.replayTime);
+    await page.keyboard.press(']');
+    const first = next(0);
+    assert.equal(await now(), first.t_s);
+    const second = next(first.t_s);
+    if (second) {
+      await page.keyboard.press(']');
+      assert.equal(await now(), second.t_s);
+      const back = prev(second.t_s);
+      await page.keyboard.press('[');
+      assert.equal(await now(), back ? back.t_s : second.t_s);
+    }
+    const stall = events.findIndex((e) => e.kind === 'stall');
+    await page.click(`#markers button[data-index="${stall}"]`);
+    assert.equal(await page.evaluate(() => window.tracksim.replayTime), events[stall].t_s);
+    // The replay shows the stall warning during the episode.
+    await page.$eval('#scrub', (e, t) => { e.value = String(t); e.dispatchEvent(new Event('input')); }, (events[stall].t_s + 0.5) / (await page.evaluate(() => window.tracksim.replayEnd)));
+    await frames(page, 2);
+    assert.equal(await page.evaluate(() => window.tracksim.hud.info.stall), true);
+    await page.screenshot({ path: path.join(artifacts, 'review.png') });
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});
+
+test('view of a compare folder: every method a ghost on one terrain, the outcome banner', async () => {
+  const cmp = path.join(tmp, 'compare');
+  const methods = ['plates', 'constraint_to_ground'];
+  execFileSync(bin, ['compare', 'scenarios/wall_low_friction.toml', '--methods', methods.join(','), '--duration', '2', '--out', cmp], { cwd: root, stdio: 'ignore' });
+  const view = start(['view', cmp, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, url);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.runs), methods);
+    const status = (u) => page.evaluate(async (u) => (await fetch(u)).status, u);
+    assert.equal(await status('/run/0/trajectory.csv'), 200);
+    assert.equal(await status('/run/1/summary.json'), 200);
+    assert.equal(await status('/run/2/trajectory.csv'), 404);
+    assert.equal(await status('/run/trajectory.csv'), 404);
+    assert.equal(await status('/run/1/../../secret'), 404);
+    const ghosts = await page.evaluate(() => window.tracksim.ghosts());
+    assert.equal(ghosts.length, 1);
+    assert.equal(ghosts[0].name, methods[1]);
+    assert.match(await page.textContent('#legend'), new RegExp(`${methods[0]}.*${methods[1]}`));
+    // The ghost stands where its own run was at the replay time.
+    await page.click('#play');
+    await page.$eval('#scrub', (e) => { e.value = '0.5'; e.dispatchEvent(new Event('input')); });
+    await frames(page, 2);
+    const t = await page.evaluate(() => window.tracksim.replayTime);
+    const rows = fs.readFileSync(path.join(cmp, methods[1], 'trajectory.csv'), 'utf8').trim().split('\n').slice(1).map((l) => l.split(',').map(Number));
+    const k = rows.findIndex((r) => r[0] >= t - 1e-9);
+    const w = k > 0 ? (t - rows[k - 1][0]) / (rows[k][0] - rows[k - 1][0]) : 0;
+    const want = [1, 2, 3].map((c) => (k > 0 ? rows[k - 1][c] + w * (rows[k][c] - rows[k - 1][c]) : rows[k][c]));
+    const got = (await page.evaluate(() => window.tracksim.ghosts()))[0].position;
+    assert.ok(near(got, want, 1e-6), `ghost at ${got}, its run at ${want}`);
+    // At the end the outcome is decided: the banner in its colour.
+    const summary = JSON.parse(fs.readFileSync(path.join(cmp, methods[0], 'summary.json'), 'utf8'));
+    await page.$eval('#scrub', (e) => { e.value = '1'; e.dispatchEvent(new Event('input')); });
+    await frames(page, 2);
+    const banner = await page.evaluate(() => window.tracksim.hud.info.banner);
+    assert.ok(banner && banner.kind === (summary.outcome === 'success' || summary.outcome === 'failure' ? summary.outcome : 'other'), JSON.stringify({ banner, outcome: summary.outcome }));
+    assert.ok((await page.evaluate(() => window.tracksim.events)).filter((e) => e.kind === 'outcome').length >= 1);
+    await page.screenshot({ path: path.join(artifacts, 'compare.png') });
   } finally {
     await ctx.close();
     view.child.kill();

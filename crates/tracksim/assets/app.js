@@ -2,15 +2,24 @@
 // Frames are REP 103 (x forward, y left, z up): the camera's up is +z. Every length is in m.
 import * as THREE from 'three';
 import { OrbitControls } from '/vendor/OrbitControls.js';
+import { createHud, tiltDeg } from '/hud.js';
+import { createMinimap, gateEnds } from '/minimap.js';
+import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs } from '/review.js';
 
 const $ = (id) => document.getElementById(id);
 const deg = (r) => (r * 180) / Math.PI;
 const session = await (await fetch('/session.json')).json();
 const scene = await (await fetch('/scene.json')).json();
 const live = session.mode === 'drive';
+// The runs a replay shows: one, or every method of a `tracksim compare` folder (/runs.json).
+let runs = { compare: false, runs: [{ index: 0, name: 'run', base: '/run' }] };
+if (!live) {
+  const r = await fetch('/runs.json');
+  if (r.ok) runs = await r.json();
+}
 
 // Exposed for tests and curious users: the latest state and what is drawn.
-const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [] };
+const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [], hudOverride: null };
 window.tracksim = api;
 
 // ---------- renderer, camera, lights ----------
@@ -77,6 +86,39 @@ if (scene.success_x_m !== null) {
   line.position.set(scene.success_x_m, 0, (t.ground_z_m ?? 0) + 0.002);
   world.add(line);
 }
+// The course (scene.course, issue 28): each gate as two posts and a bar, obstacles as red boxes.
+const course = scene.course ?? null;
+const gateMeshes = [];
+if (course) {
+  const z0 = t.ground_z_m ?? 0;
+  const postMat = new THREE.MeshStandardMaterial({ color: 0x40c0ff });
+  for (const gt of course.gates ?? []) {
+    const e = gateEnds(gt);
+    const group = new THREE.Group();
+    for (const p of [e.a, e.b]) {
+      const post = new THREE.Mesh(new THREE.CylinderGeometry(0.02, 0.02, 0.5, 8), postMat);
+      post.rotation.x = Math.PI / 2; // the cylinder's axis is its y: stand it up along z
+      post.position.set(p[0], p[1], z0 + 0.25);
+      group.add(post);
+    }
+    const bar = new THREE.Mesh(new THREE.BoxGeometry(0.02, 2 * e.half, 0.02), postMat);
+    bar.position.set(e.c[0], e.c[1], z0 + 0.5);
+    bar.rotation.z = ((gt.yaw_deg ?? 0) * Math.PI) / 180;
+    group.add(bar);
+    world.add(group);
+    gateMeshes.push(group);
+  }
+  const obsMat = new THREE.MeshStandardMaterial({ color: 0xd05a3c, roughness: 0.7 });
+  for (const o of course.obstacles ?? []) {
+    const m = new THREE.Mesh(new THREE.BoxGeometry(2 * o.half_m[0], 2 * o.half_m[1], 2 * o.half_m[2]), obsMat);
+    m.position.fromArray(o.centre_m);
+    m.rotation.z = ((o.yaw_deg ?? 0) * Math.PI) / 180;
+    world.add(m);
+  }
+}
+api.course = course ? { gates: gateMeshes.length, obstacles: (course.obstacles ?? []).length } : null;
+// What the side-view gauge ray-casts when the state brings no profile ahead.
+const terrainObjects = world.children.filter((o) => o.isMesh);
 
 // ---------- vehicle ----------
 const v = scene.vehicle;
@@ -115,7 +157,8 @@ function buildTrack(tr, parent) {
   g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
   g.setIndex(idx);
   g.computeVertexNormals();
-  parent.add(new THREE.Mesh(g, beltMat));
+  const beltMesh = new THREE.Mesh(g, beltMat);
+  parent.add(beltMesh);
   const gr = tr.grousers;
   const instanced = [];
   if (gr) {
@@ -127,7 +170,7 @@ function buildTrack(tr, parent) {
       instanced.push(im);
     });
   }
-  return { tr, lat, instanced };
+  return { tr, lat, instanced, beltMesh };
 }
 const tracks = v.tracks.map((tr) => buildTrack(tr, tr.parent < 0 ? robot : flipperPivots[tr.parent].inner));
 
@@ -269,10 +312,12 @@ function drawDepth(name, w, h, at, t) {
 function showDepth(on) { depthShown = on && cams.length > 0; $('depth').classList.toggle('hidden', !depthShown); api.depthShown = depthShown; }
 showDepth(depthShown);
 
-// Views: the follow camera, then each depth camera's mount (or, without one, a default mount
-// on the chassis front, on top of the body at its front, looking forward). The three.js camera
-// looks along its -z with +y up; a sensor looks along its +x with +z up.
-const views = [{ name: 'follow' }];
+// Views (v cycles): the chase camera behind the robot ('follow'), a free mouse orbit around
+// it ('orbit'), a map view from above ('top-down'), then each depth camera's mount (or,
+// without one, a default mount on the chassis front, on top of the body at its front, looking
+// forward). The three.js camera looks along its -z with +y up; a sensor looks along its +x
+// with +z up.
+const views = [{ name: 'follow' }, { name: 'orbit' }, { name: 'top-down' }];
 function addMount(name, frame, xyz, quat, hfov) {
   const anchor = new THREE.Object3D();
   anchor.position.fromArray(xyz);
@@ -289,34 +334,123 @@ if (cams.length === 0) {
 }
 const sensorToCamera = new THREE.Quaternion().setFromRotationMatrix(
   new THREE.Matrix4().makeBasis(new THREE.Vector3(0, -1, 0), new THREE.Vector3(0, 0, 1), new THREE.Vector3(-1, 0, 0)));
+// Top-down: the camera's right is world -y, its up world +x (x up the screen, as the minimap).
+const topDownQuat = new THREE.Quaternion().setFromRotationMatrix(
+  new THREE.Matrix4().makeBasis(new THREE.Vector3(0, -1, 0), new THREE.Vector3(1, 0, 0), new THREE.Vector3(0, 0, 1)));
+/** Chase camera offset in the robot's heading frame (behind, above), m; top-down height, m. */
+const CHASE_BACK_M = 1.8, CHASE_UP_M = 0.9, TOP_DOWN_M = 5;
 let viewIndex = 0;
 api.views = views.map((x) => x.name);
 api.view = 'follow';
-function nextView() {
-  viewIndex = (viewIndex + 1) % views.length;
-  api.view = views[viewIndex].name;
-  if (viewIndex === 0) { followInit = false; camera.fov = 50; camera.updateProjectionMatrix(); }
-  orbit.enabled = viewIndex === 0;
+function setView(i) {
+  viewIndex = ((i % views.length) + views.length) % views.length;
+  const vw = views[viewIndex];
+  api.view = vw.name;
+  if (!vw.anchor && Math.abs(camera.fov - 50) > 1e-9) { camera.fov = 50; camera.updateProjectionMatrix(); }
+  if (vw.name === 'orbit') followInit = false;
+  orbit.enabled = vw.name === 'orbit';
 }
-// Places the camera of an onboard view at its mount (after the robot is posed).
-function onboard(vw) {
+function nextView() { setView(viewIndex + 1); }
+api.setView = (name) => setView(views.findIndex((x) => x.name === name));
+// Places `cam` at an onboard view's mount (after the robot is posed).
+function onboard(vw, cam = camera) {
   robot.updateMatrixWorld(true);
-  vw.anchor.getWorldPosition(camera.position);
-  vw.anchor.getWorldQuaternion(camera.quaternion).multiply(sensorToCamera);
-  const fov = deg(2 * Math.atan(Math.tan(vw.hfov / 2) / camera.aspect));
-  if (Math.abs(camera.fov - fov) > 1e-9) { camera.fov = fov; camera.updateProjectionMatrix(); }
+  vw.anchor.getWorldPosition(cam.position);
+  vw.anchor.getWorldQuaternion(cam.quaternion).multiply(sensorToCamera);
+  const fov = deg(2 * Math.atan(Math.tan(vw.hfov / 2) / cam.aspect));
+  if (Math.abs(cam.fov - fov) > 1e-9) { cam.fov = fov; cam.updateProjectionMatrix(); }
+}
+// The chase camera: behind the robot along its heading (yaw only), looking at it.
+function chase() {
+  const p = robot.position, yaw = lastPose ? lastPose[5] : 0;
+  camera.position.set(p.x - CHASE_BACK_M * Math.cos(yaw), p.y - CHASE_BACK_M * Math.sin(yaw), p.z + CHASE_UP_M);
+  camera.up.set(0, 0, 1);
+  camera.lookAt(p.x + 0.5 * Math.cos(yaw), p.y + 0.5 * Math.sin(yaw), p.z);
+  orbit.target.copy(p);
+}
+function topDown() {
+  const p = robot.position;
+  camera.position.set(p.x, p.y, p.z + TOP_DOWN_M);
+  camera.quaternion.copy(topDownQuat);
+  orbit.target.copy(p);
 }
 const camDir = new THREE.Vector3();
 function placeCamera() {
   const vw = views[viewIndex];
-  if (vw.anchor) onboard(vw); else follow();
+  if (vw.anchor) onboard(vw);
+  else if (vw.name === 'follow') chase();
+  else if (vw.name === 'top-down') topDown();
+  else follow();
   camera.getWorldDirection(camDir);
   api.camera = { view: vw.name, position: camera.position.toArray(), direction: camDir.toArray(), fov_deg: camera.fov, pose: lastPose };
 }
+orbit.enabled = false;
+
+// Picture in picture: the first onboard view, drawn into a corner while another view is shown.
+const pipView = views.find((x) => x.anchor) ?? null;
+const pipCam = new THREE.PerspectiveCamera(60, 4 / 3, 0.01, 500);
+pipCam.up.set(0, 0, 1);
+let pipOn = false; // t: on (a second render of the scene each frame)
+/** Size and place of the picture in picture, CSS px from the canvas's bottom right. */
+// Left, above the warnings' level (and the depth panel when it is shown).
+const PIP_W = 220, PIP_H = 140, PIP_LEFT = 8;
+function pipRect() {
+  const h = renderer.domElement.clientHeight;
+  const bottom = layout() + Math.max($('warn').offsetHeight, depthShown ? $('depth').offsetHeight : 0) + 8;
+  return { x: PIP_LEFT, y: bottom, w: PIP_W, h: PIP_H, top: h - bottom - PIP_H };
+}
+function renderPip() {
+  const shown = pipOn && pipView && !views[viewIndex].anchor;
+  $('pip-label').classList.toggle('hidden', !shown);
+  api.pip = { on: pipOn, shown: !!shown, view: pipView?.name ?? null };
+  if (!shown) return;
+  const r = pipRect();
+  pipCam.aspect = r.w / r.h;
+  onboard(pipView, pipCam);
+  renderer.setScissorTest(true);
+  renderer.setScissor(r.x, r.y, r.w, r.h);
+  renderer.setViewport(r.x, r.y, r.w, r.h);
+  renderer.render(world, pipCam);
+  renderer.setScissorTest(false);
+  renderer.setViewport(0, 0, renderer.domElement.clientWidth, renderer.domElement.clientHeight);
+  const lab = $('pip-label');
+  lab.style.left = `${PIP_LEFT}px`; lab.style.top = `${r.top - 18}px`;
+  lab.textContent = `onboard: ${pipView.name} (t: off)`;
+  api.pip.rect = r;
+}
+
+// The minimap (n) and the help panel (? or F1; remembered).
+let mapOn = true;
+const minimap = createMinimap($('minimap'), scene);
+api.minimap = minimap.info;
+function showMap(on) { mapOn = on; $('minimap').classList.toggle('hidden', !on); api.mapShown = on; }
+showMap(true);
+const storage = (() => { try { return window.localStorage; } catch { return null; } })();
+function showHelp(on) {
+  $('help').classList.toggle('hidden', !on);
+  $('help-tab').classList.toggle('hidden', on);
+  api.helpShown = on;
+  try { storage?.setItem('tracksim.help', on ? 'shown' : 'hidden'); } catch { /* private mode */ }
+}
+showHelp(storage?.getItem('tracksim.help') !== 'hidden');
+$('help-tab').addEventListener('click', () => showHelp(true));
+// The path so far (x y, every 5 cm), for the minimap.
+const path = [];
+function recordPath(x, y) {
+  const n = path.length;
+  if (n >= 2 && Math.hypot(path[n - 2] - x, path[n - 1] - y) < 0.05) return;
+  if (n >= 2 && Math.hypot(path[n - 2] - x, path[n - 1] - y) > 2) path.length = 0; // a reset or a jump
+  path.push(x, y);
+  if (path.length > 20000) path.splice(0, 2);
+}
 window.addEventListener('keydown', (e) => {
   const k = e.key.toLowerCase();
+  if (e.ctrlKey || e.altKey || e.metaKey) return;
   if (k === 'v') nextView();
   if (k === 'b') showDepth(!depthShown);
+  if (k === 'n') showMap(!mapOn);
+  if (k === 't') pipOn = !pipOn;
+  if (k === '?' || e.key === 'F1') { showHelp($('help').classList.contains('hidden')); e.preventDefault(); }
 });
 const sensorHud = () => [
   `view       ${api.view} (v: next of ${views.length})`,
@@ -382,7 +516,7 @@ api.sensorFiles = {};
 async function loadReplaySensors() {
   for (const s of sensors.filter((x) => x.kind === 'lidar' || x.kind === 'depth_camera')) {
     try {
-      const r = await fetch(`/run/sensors/${encodeURIComponent(s.name)}.npz`);
+      const r = await fetch(`${runs.runs[0].base}/sensors/${encodeURIComponent(s.name)}.npz`);
       if (!r.ok) { api.sensorFiles[s.name] = `not served (${r.status})`; continue; }
       replaySensors.push({ s, npz: parseNpz(await r.arrayBuffer()), shown: -1 });
       api.sensorFiles[s.name] = 'loaded';
@@ -432,6 +566,51 @@ const trackNames = v.tracks.map((tr) => tr.name);
 function hud(lines) { $('hud').textContent = lines.join('\n'); }
 const fmt = (x, d = 2) => (x === null || x === undefined || Number.isNaN(x) ? '-' : x.toFixed(d));
 
+// ---------- warnings (hud.js) ----------
+const warn = createHud(v, {
+  stall: $('w-stall'), tiltWarn: $('w-tilt'), tiltTitle: $('w-tilt-title'), slip: $('w-slip'), tilt: $('w-tiltc'), side: $('w-side'),
+  banner: $('banner'), driver: $('driver-banner'), course: $('course'),
+});
+api.hud = { update: (vs) => warn.update(vs), info: warn.info, geometry: warn.geo };
+const isNum = (x) => typeof x === 'number' && Number.isFinite(x);
+// The scenario's tip-over limit: scene.json's max_tilt_deg (read under the names it may take).
+const sceneTiltLimit = [scene.max_tilt_deg, scene.outcome?.max_tilt_deg, scene.tilt_limit_deg].find(isNum) ?? null;
+// The terrain profile ahead when the state brings none: heights (ray cast down onto the drawn
+// terrain) along the heading, relative to the terrain under the body, every 0.2 m, 4 times a s.
+const caster = new THREE.Raycaster();
+const down = new THREE.Vector3(0, 0, -1), rayFrom = new THREE.Vector3();
+let aheadCache = { at: -1, key: '', value: null };
+function groundAt(x, y, zTop) {
+  rayFrom.set(x, y, zTop);
+  caster.set(rayFrom, down);
+  caster.far = 50;
+  const h = caster.intersectObjects(terrainObjects, false)[0];
+  return h ? h.point.z : null;
+}
+function profileAhead(x, y, z, yaw) {
+  const now = performance.now();
+  const key = `${x.toFixed(2)},${y.toFixed(2)},${yaw.toFixed(2)}`;
+  if (aheadCache.key === key || now - aheadCache.at < 250) return aheadCache.value;
+  const d_m = [], z_m = [];
+  const z0 = groundAt(x, y, z + 3) ?? z;
+  for (let d = -0.8; d <= 1.6 + 1e-9; d += 0.2) {
+    const g = groundAt(x + d * Math.cos(yaw), y + d * Math.sin(yaw), z + 3);
+    d_m.push(d); z_m.push(g === null ? 0 : g - z0);
+  }
+  aheadCache = { at: now, key, value: { d_m, z_m, source: 'page' } };
+  return aheadCache.value;
+}
+// Layout: the panels at the bottom stand above the replay's time bar.
+function layout() {
+  const base = live ? 8 : $('bar').offsetHeight + 16;
+  for (const id of ['warn', 'minimap', 'depth']) $(id).style.bottom = `${base}px`;
+  const below = $('hud').offsetTop + $('hud').offsetHeight + 8;
+  $('course').style.top = `${below}px`;
+  $('legend').style.top = `${below + ($('course').offsetHeight ? $('course').offsetHeight + 8 : 0)}px`;
+  if ($('depth').offsetWidth > 0) $('warn').style.left = `${Math.max(0.5 * window.innerWidth, $('depth').offsetWidth + 16 + 0.5 * $('warn').offsetWidth)}px`;
+  return base;
+}
+
 // ---------- drive ----------
 let speedLin = 0.3, speedAng = 1.0;
 const held = new Set();
@@ -469,6 +648,7 @@ const pad = { stopped: false, prev: [] };
 window.addEventListener('keydown', (e) => {
   if (!live) {
     if (e.key === ' ') { togglePlay(); e.preventDefault(); }
+    if (e.key === '[' || e.key === ']') jumpTo(jumpTarget(events, playTime, e.key === ']' ? 1 : -1));
     return;
   }
   const k = e.key.toLowerCase();
@@ -536,6 +716,20 @@ function liveFrame() {
   if (!s) { hud(['waiting for the simulation ...']); return; }
   const [x, y, z, roll, pitch, yaw] = s.pose;
   pose(x, y, z, roll, pitch, yaw, s.flipper, s.belt_position);
+  recordPath(x, y);
+  // The warnings: the server's fields where it sends them (slip, stall, ahead, tilt_limit_deg,
+  // course, driver), else what the page can tell. A test may show a made-up state instead.
+  const vs = api.hudOverride ?? {
+    t: s.t, pose: s.pose, forward_mps: s.forward_mps, belt_cmd: s.belt_speed,
+    slip: Array.isArray(s.slip) ? s.slip : pageSlip(s),
+    stall: typeof s.stall === 'boolean' ? s.stall : null,
+    flipper: s.flipper,
+    tilt_limit_deg: isNum(s.tilt_limit_deg) ? s.tilt_limit_deg : sceneTiltLimit,
+    ahead: s.ahead && Array.isArray(s.ahead.d_m) ? s.ahead : profileAhead(x, y, z, yaw),
+    outcome: s.outcome, course: s.course ?? null, driver: s.driver ?? null,
+  };
+  warn.update(vs);
+  if (mapOn) minimap.draw(vs.pose, path, [], isNum(s.course?.next_gate) ? s.course.next_gate : null);
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
   hud([
     `${ended ? 'SESSION ENDED (outputs written)' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}`,
@@ -552,6 +746,12 @@ function liveFrame() {
   ]);
 }
 
+// Slip per track when the state brings none: 1 - forward speed / belt command (belts
+// commanded faster than 0.05 m/s; 0 otherwise), an estimate that ignores turning.
+function pageSlip(s) {
+  return (s.belt_speed ?? []).map((b) => (Math.abs(b) > 0.05 ? Math.max(0, Math.min(1, 1 - (s.forward_mps ?? 0) / b)) : 0));
+}
+
 // ---------- replay ----------
 function parseCsv(text) {
   const lines = text.trim().split('\n');
@@ -563,27 +763,143 @@ function parseCsv(text) {
 let replay = null;
 let playing = true, playTime = 0, lastWall = null;
 function togglePlay() { playing = !playing; $('play').textContent = playing ? 'pause' : 'play'; }
+// A ghost of a compare replay: the robot's body, flippers and belts, translucent, one colour.
+const GHOST_COLOURS = [0xff5050, 0x40a0ff, 0xffd040, 0xc060ff, 0x40e0a0, 0xff9040, 0xffffff, 0x90ff40];
+function makeGhost(colour) {
+  const mat = new THREE.MeshStandardMaterial({ color: colour, transparent: true, opacity: 0.4, depthWrite: false });
+  const g = new THREE.Group();
+  g.add(new THREE.Mesh(robot.children[0].geometry, mat));
+  const pivots = flipperPivots.map((fp) => {
+    const pivot = new THREE.Group();
+    pivot.position.copy(fp.pivot.position);
+    const inner = new THREE.Group();
+    inner.position.copy(fp.inner.position);
+    pivot.add(inner);
+    g.add(pivot);
+    for (const m of fp.inner.children) if (m.isMesh) inner.add(new THREE.Mesh(m.geometry, mat));
+    return { pivot, inner, axis: fp.axis };
+  });
+  tracks.forEach((tk) => (tk.tr.parent < 0 ? g : pivots[tk.tr.parent].inner).add(new THREE.Mesh(tk.beltMesh.geometry, mat)));
+  world.add(g);
+  return { group: g, pivots };
+}
+const hex = (c) => `#${c.toString(16).padStart(6, '0')}`;
+const ghosts = [];
+let events = [], lanes = [];
 if (!live) {
-  const traj = parseCsv(await (await fetch('/run/trajectory.csv')).text());
-  const belts = parseCsv(await (await fetch('/run/belts.csv')).text());
-  const summaryResp = await fetch('/run/summary.json');
+  const base = runs.runs[0].base;
+  const traj = parseCsv(await (await fetch(`${base}/trajectory.csv`)).text());
+  const belts = parseCsv(await (await fetch(`${base}/belts.csv`)).text());
+  const summaryResp = await fetch(`${base}/summary.json`);
   const summary = summaryResp.ok ? await summaryResp.json() : null;
+  const controlsResp = await fetch(`${base}/controls.csv`);
+  const controls = controlsResp.ok ? parseCsv(await controlsResp.text()) : null;
   const c = (n) => traj.col(n);
   replay = {
-    traj, belts, summary,
+    traj, belts, summary, controls,
     pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map(c),
+    vel: ['vx_mps', 'vy_mps'].map(c),
     flip: flipperNames.map((n) => c(`flipper_${n}_rad`)),
     speed: trackNames.map((n) => c(`belt_speed_${n}_mps`)),
+    cmd: trackNames.map((n) => c(`belt_cmd_${n}_mps`)),
+    slip: trackNames.map((n) => c(`slip_${n}`)),
     beltPos: trackNames.map((n) => belts.col(`belt_position_${n}_m`)),
     conveyorPos: conveyors.map((_, i) => belts.col(`conveyor_position_${i}_m`)),
     boxPose: looseBoxes.map((_, i) => ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((c) => belts.col(`box_${i}_${c}`))),
     end: traj.rows[traj.rows.length - 1][0],
   };
+  events = computeEvents(traj, summary, trackNames);
+  // The other methods of a compare folder: ghosts of their own colours, driven by the time bar.
+  for (const run of runs.runs.slice(1)) {
+    try {
+      const gt = parseCsv(await (await fetch(`${run.base}/trajectory.csv`)).text());
+      const gsr = await fetch(`${run.base}/summary.json`);
+      const gs = gsr.ok ? await gsr.json() : null;
+      const colour = GHOST_COLOURS[ghosts.length % GHOST_COLOURS.length];
+      const gh = { name: run.name, colour, traj: gt, summary: gs, ...makeGhost(colour), pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((n) => gt.col(n)), flip: flipperNames.map((n) => gt.col(`flipper_${n}_rad`)), end: gt.rows[gt.rows.length - 1][0] };
+      ghosts.push(gh);
+      replay.end = Math.max(replay.end, gh.end);
+      if (gs && isNum(gs.outcome_time_s) && gs.outcome) events.push({ t_s: gs.outcome_time_s, kind: 'outcome', detail: `${run.name}: ${gs.outcome}: ${gs.outcome_reason ?? ''}` });
+    } catch (err) {
+      api.errors.push(`run ${run.name}: ${err}`);
+    }
+  }
+  events.sort((a, b) => a.t_s - b.t_s);
+  if (runs.compare) {
+    const lg = $('legend');
+    lg.classList.remove('hidden');
+    const out = (sm) => (sm ? ` (${sm.outcome})` : '');
+    const entry = (colour, text) => {
+      const sw = document.createElement('span');
+      sw.className = 'sw';
+      sw.style.background = colour;
+      lg.append(sw, document.createTextNode(text)); // names are folder names: text, never markup
+    };
+    const title = document.createElement('b');
+    title.textContent = 'compare';
+    lg.append(title);
+    entry('#4f5d3a', `${runs.runs[0].name}${out(summary)} (solid)`);
+    for (const g of ghosts) entry(hex(g.colour), `${g.name}${out(g.summary)}`);
+  }
+  api.runs = runs.runs.map((r) => r.name);
+  api.ghosts = () => ghosts.map((g) => ({ name: g.name, colour: hex(g.colour), position: g.group.position.toArray(), visible: g.group.visible }));
+  api.events = events;
+  lanes = inputSeries(controls, traj, trackNames);
+  api.inputs = { lanes: lanes.map((l) => ({ title: l.title, series: l.series.map((x) => x.name) })), source: controls ? 'controls.csv' : 'trajectory.csv', drawn: 0 };
   await loadReplaySensors();
   api.replayEnd = replay.end;
   $('bar').classList.remove('hidden');
   $('play').addEventListener('click', togglePlay);
   $('scrub').addEventListener('input', (e) => { playTime = Number(e.target.value) * replay.end; });
+  const mk = $('markers');
+  events.forEach((ev, i) => {
+    const b = document.createElement('button');
+    b.className = 'marker';
+    b.dataset.index = String(i);
+    b.dataset.kind = ev.kind;
+    b.style.left = `${(100 * ev.t_s) / (replay.end || 1)}%`;
+    b.style.background = eventColour(ev.kind);
+    b.title = `${ev.t_s.toFixed(2)} s: ${ev.kind}${ev.detail ? ' — ' + ev.detail : ''}`;
+    b.addEventListener('click', () => jumpTo(ev));
+    mk.appendChild(b);
+  });
+}
+function jumpTo(ev) {
+  if (!ev) return;
+  playTime = Math.min(ev.t_s, replay.end);
+  api.replayTime = playTime;
+  $('event-label').textContent = `${ev.kind}${ev.detail ? ': ' + ev.detail : ''} (${ev.t_s.toFixed(2)} s)`;
+  api.lastJump = ev;
+}
+// The inputs strip: drawn once into a canvas of its own, copied with a cursor each frame.
+const inputsBase = document.createElement('canvas');
+function drawInputsStrip(t) {
+  const c = $('inputs');
+  const w = c.clientWidth;
+  if (!w) return;
+  if (c.width !== w) c.width = w;
+  if (inputsBase.width !== w || inputsBase.height !== c.height) {
+    inputsBase.width = w; inputsBase.height = c.height;
+    api.inputs.drawn = drawInputs(inputsBase, lanes, replay.end, null);
+  }
+  const g = c.getContext('2d');
+  g.clearRect(0, 0, c.width, c.height);
+  g.drawImage(inputsBase, 0, 0);
+  g.fillStyle = '#fff';
+  g.fillRect(Math.round((t / (replay.end || 1)) * w), 0, 1, c.height);
+}
+// The replay's path so far: the trajectory's samples up to the replay time (x y).
+let pathUpTo = -1;
+function recordReplayPath(t) {
+  const rows = replay.traj.rows, [ix, iy] = replay.pose;
+  if (t < pathUpTo) { path.length = 0; pathUpTo = -1; }
+  for (const row of rows) {
+    if (row[0] <= pathUpTo) continue;
+    if (row[0] > t) break;
+    const n = path.length;
+    if (n < 2 || Math.hypot(path[n - 2] - row[ix], path[n - 1] - row[iy]) >= 0.05) path.push(row[ix], row[iy]);
+    pathUpTo = row[0];
+  }
 }
 function lerpRow(rows, t) {
   let lo = 0, hi = rows.length - 1;
@@ -620,6 +936,32 @@ function replayFrame() {
     m.quaternion.setFromEuler(euler);
   });
   replaySensorFrame(playTime);
+  recordReplayPath(playTime);
+  for (const gh of ghosts) {
+    const gr = lerpRow(gh.traj.rows, playTime);
+    const [gx, gy, gz, groll, gpitch, gyaw] = gh.pose.map((i) => gr[i]);
+    gh.group.position.set(gx, gy, gz);
+    euler.set(groll, gpitch, gyaw, 'ZYX');
+    gh.group.quaternion.setFromEuler(euler);
+    gh.flip.forEach((i, k) => gh.pivots[k]?.pivot.quaternion.setFromAxisAngle(gh.pivots[k].axis, gr[i] ?? 0));
+    gh.now = [gx, gy, gz, groll, gpitch, gyaw];
+  }
+  const sm = replay.summary;
+  const vs = api.hudOverride ?? {
+    t: playTime, pose: [x, y, z, roll, pitch, yaw],
+    forward_mps: r[replay.vel[0]] * Math.cos(yaw) + r[replay.vel[1]] * Math.sin(yaw),
+    belt_cmd: replay.cmd.map((i) => (i >= 0 ? r[i] : 0)),
+    slip: replay.slip.every((i) => i >= 0) ? replay.slip.map((i) => r[i]) : null,
+    stall: events.some((ev) => ev.kind === 'stall' && playTime >= ev.t_s && playTime <= (ev.t_end_s ?? Infinity)),
+    flipper: replay.flip.map((i) => r[i]),
+    tilt_limit_deg: [sceneTiltLimit, sm?.max_tilt_deg].find(isNum) ?? null,
+    ahead: profileAhead(x, y, z, yaw),
+    outcome: sm && isNum(sm.outcome_time_s) && playTime >= sm.outcome_time_s ? { name: sm.outcome, reason: sm.outcome_reason, t: sm.outcome_time_s } : null,
+    course: sm?.course ?? null, driver: null,
+  };
+  warn.update(vs);
+  if (mapOn) minimap.draw(vs.pose, path, ghosts.filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), null);
+  drawInputsStrip(playTime);
   $('scrub').value = String(playTime / (replay.end || 1));
   $('clock').textContent = `${fmt(playTime, 2)} / ${fmt(replay.end, 2)} s`;
   const s = replay.summary;
@@ -640,8 +982,10 @@ function replayFrame() {
 if (live) connect();
 function frame() {
   if (live) liveFrame(); else replayFrame();
+  layout();
   placeCamera();
   renderer.render(world, camera);
+  renderPip();
   api.frames++;
   requestAnimationFrame(frame);
 }

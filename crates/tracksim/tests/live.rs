@@ -283,6 +283,58 @@ fn view_serves_only_its_own_files() {
 }
 
 #[test]
+fn view_serves_a_compare_folder_by_index() {
+    // A compare folder: a run per method (in compare.csv's order), no run of its own.
+    let base = tempfile_dir("compare_view");
+    for m in ["plates", "okada2020"] {
+        let run = base.join(m);
+        std::fs::create_dir_all(&run).unwrap();
+        for f in ["scene.json", "trajectory.csv", "belts.csv", "summary.json"] {
+            std::fs::write(run.join(f), format!("{m} {f}")).unwrap();
+        }
+    }
+    std::fs::create_dir_all(base.join("not_a_run")).unwrap();
+    std::fs::write(
+        base.join("compare.csv"),
+        "method,outcome\nplates,x\nokada2020,y\n",
+    )
+    .unwrap();
+    std::fs::write(base.join("secret.txt"), "SECRET").unwrap();
+    let files = tracksim::live::view_files(&base).unwrap();
+    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let addr = server.addr();
+    let (ok, body) = get(addr, "/runs.json");
+    assert!(ok.contains("200"), "{ok}");
+    let list: serde_json::Value =
+        serde_json::from_str(body.split("\r\n\r\n").nth(1).unwrap()).unwrap();
+    assert_eq!(list["compare"], true);
+    let names: Vec<_> = list["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| (r["name"].as_str().unwrap(), r["base"].as_str().unwrap()))
+        .collect();
+    assert_eq!(names, [("plates", "/run/0"), ("okada2020", "/run/1")]);
+    assert!(
+        get(addr, "/run/1/trajectory.csv")
+            .1
+            .ends_with("okada2020 trajectory.csv")
+    );
+    assert!(get(addr, "/scene.json").1.ends_with("plates scene.json"));
+    for bad in [
+        "/run/trajectory.csv",
+        "/run/2/trajectory.csv",
+        "/run/0/../secret.txt",
+        "/run/plates/trajectory.csv",
+        "/secret.txt",
+    ] {
+        let (status, body) = get(addr, bad);
+        assert!(status.contains("404"), "{bad}: {status}");
+        assert!(!body.contains("SECRET"), "{bad} leaked");
+    }
+}
+
+#[test]
 fn view_names_what_a_folder_lacks() {
     let d = tempfile_dir("empty_view");
     let e = tracksim::live::view_files(&d)

@@ -3,10 +3,12 @@
 use super::{Failure, bind_address};
 use std::path::PathBuf;
 
-/// Replay a finished run (of `run`, `drive` or `compare`) in the 3-D page.
+/// Replay a finished run (of `run`, `drive` or `compare`) in the 3-D page; a `compare` folder
+/// replays every method's run side by side, as ghosts on one terrain.
 #[derive(clap::Args)]
 pub struct ViewArgs {
-    /// The run's output folder (holding scene.json, trajectory.csv, belts.csv).
+    /// The run's output folder (holding scene.json, trajectory.csv, belts.csv), or the output
+    /// folder of `tracksim compare` (one such subfolder per method).
     pub dir: PathBuf,
     /// TCP port of the page (0: any free port).
     #[arg(long, default_value_t = tracksim::live::DEFAULT_PORT)]

@@ -1,6 +1,7 @@
 //! The page's files, embedded in the binary (nothing is read from disk or fetched at run time):
-//! the page itself and the pinned three.js module build with its OrbitControls, vendored from
-//! the npm registry by `scripts/update-three.sh` (version in [`THREE_VERSION`]).
+//! the page itself (`app.js` with its modules `hud.js`, `minimap.js`, `review.js`) and the
+//! pinned three.js module build with its OrbitControls, vendored from the npm registry by
+//! `scripts/update-three.sh` (version in [`THREE_VERSION`]).
 
 /// three.js version vendored under `crates/tracksim/assets/vendor/` (npm package `three`).
 pub const THREE_VERSION: &str = "0.187.0";
@@ -29,6 +30,21 @@ pub const ASSETS: &[Asset] = &[
         path: "/app.js",
         content_type: JS,
         bytes: include_bytes!("../../assets/app.js"),
+    },
+    Asset {
+        path: "/hud.js",
+        content_type: JS,
+        bytes: include_bytes!("../../assets/hud.js"),
+    },
+    Asset {
+        path: "/minimap.js",
+        content_type: JS,
+        bytes: include_bytes!("../../assets/minimap.js"),
+    },
+    Asset {
+        path: "/review.js",
+        content_type: JS,
+        bytes: include_bytes!("../../assets/review.js"),
     },
     Asset {
         path: "/vendor/three.module.js",

@@ -251,7 +251,7 @@ fn plain_sensor_npz(file: &str) -> bool {
 /// served at `/run/sensors/NAME.npz`: only plain names, each at most
 /// [`MAX_SENSOR_FILE_BYTES`], at most [`MAX_SENSOR_BYTES`] in all; a missing, too large or
 /// oddly named one is left out.
-fn sensor_files(dir: &std::path::Path, summary: &[u8]) -> Vec<(String, &'static str, Vec<u8>)> {
+fn sensor_files(dir: &std::path::Path, summary: &[u8]) -> Vec<ViewFile> {
     let Ok(summary) = serde_json::from_slice::<serde_json::Value>(summary) else {
         return Vec::new();
     };
@@ -280,10 +280,15 @@ fn sensor_files(dir: &std::path::Path, summary: &[u8]) -> Vec<(String, &'static 
     files
 }
 
-/// The files of a finished run that `tracksim view` serves, read from `dir` once: `scene.json`,
-/// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present),
-/// and the `.npz` sensor streams `summary.json` lists (see [`MAX_SENSOR_FILE_BYTES`]).
-pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Vec<u8>)>> {
+/// Most method runs of a `compare` folder that `tracksim view` serves (later ones are left out).
+pub const MAX_COMPARE_RUNS: usize = 16;
+
+/// One file `tracksim view` serves: (URL path, content type, bytes).
+pub type ViewFile = (String, &'static str, Vec<u8>);
+
+/// The files of one run in `dir`, their URLs under `prefix` (`/run` or `/run/<index>`), with
+/// its `scene.json` at `/scene.json` (`prefix` `/run`) or `<prefix>/scene.json`.
+fn run_files(dir: &std::path::Path, prefix: &str, sensors: bool) -> Result<Vec<ViewFile>> {
     let required = ["scene.json", "trajectory.csv", "belts.csv"];
     let optional = ["summary.json", "controls.csv"];
     let mut files = Vec::new();
@@ -296,10 +301,10 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Ve
                 } else {
                     "text/csv; charset=utf-8"
                 };
-                let url = if *name == "scene.json" {
+                let url = if *name == "scene.json" && prefix == "/run" {
                     "/scene.json".to_string()
                 } else {
-                    format!("/run/{name}")
+                    format!("{prefix}/{name}")
                 };
                 files.push((url, ctype, bytes));
             }
@@ -328,8 +333,105 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<(String, &'static str, Ve
             }
         }
     }
-    let summary = files.iter().find(|f| f.0 == "/run/summary.json");
-    let sensors = summary.map(|f| sensor_files(dir, &f.2)).unwrap_or_default();
-    files.extend(sensors);
+    if sensors {
+        let summary = files
+            .iter()
+            .find(|f| f.0 == format!("{prefix}/summary.json"));
+        let mut extra = summary.map(|f| sensor_files(dir, &f.2)).unwrap_or_default();
+        for f in &mut extra {
+            f.0 = f.0.replacen("/run/", &format!("{prefix}/"), 1);
+        }
+        files.extend(extra);
+    }
+    Ok(files)
+}
+
+/// The method runs of a `tracksim compare` folder: its subfolders holding a run, in the order
+/// of `compare.csv` (else by name), at most [`MAX_COMPARE_RUNS`].
+fn compare_runs(dir: &std::path::Path) -> Vec<(String, std::path::PathBuf)> {
+    let is_run = |p: &std::path::Path| {
+        ["scene.json", "trajectory.csv", "belts.csv"]
+            .iter()
+            .all(|f| p.join(f).is_file())
+    };
+    let mut subs: Vec<(String, std::path::PathBuf)> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .filter(|e| is_run(&e.path()))
+                .filter_map(|e| Some((e.file_name().into_string().ok()?, e.path())))
+                .collect()
+        })
+        .unwrap_or_default();
+    subs.sort();
+    let order: Vec<String> = std::fs::read_to_string(dir.join("compare.csv"))
+        .map(|t| {
+            t.lines()
+                .skip(1)
+                .filter_map(|l| l.split(',').next().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default();
+    let rank = |n: &str| order.iter().position(|m| m == n).unwrap_or(usize::MAX);
+    subs.sort_by_key(|(n, _)| rank(n));
+    subs.truncate(MAX_COMPARE_RUNS);
+    subs
+}
+
+/// The files of a finished run that `tracksim view` serves, read from `dir` once: `scene.json`,
+/// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present),
+/// and the `.npz` sensor streams `summary.json` lists (see [`MAX_SENSOR_FILE_BYTES`]), under
+/// `/run/`; and `/runs.json`, the list of runs. A `tracksim compare` folder (no `scene.json`,
+/// a run per method in its subfolders) serves each method's run under `/run/<index>/` (the
+/// sensor streams of the first only), the first's `scene.json` at `/scene.json`, and lists
+/// them all in `/runs.json`. URLs are fixed when the folder is read: none names a file.
+pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
+    let runs = if dir.join("scene.json").is_file() {
+        Vec::new()
+    } else {
+        compare_runs(dir)
+    };
+    if runs.is_empty() {
+        let mut files = run_files(dir, "/run", true)?;
+        let name = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "run".into());
+        let list = serde_json::json!({
+            "compare": false,
+            "runs": [{ "index": 0, "name": name, "base": "/run" }],
+        });
+        files.push((
+            "/runs.json".into(),
+            "application/json",
+            list.to_string().into_bytes(),
+        ));
+        return Ok(files);
+    }
+    let mut files = Vec::new();
+    let mut listed = Vec::new();
+    for (name, path) in &runs {
+        let i = listed.len();
+        let prefix = format!("/run/{i}");
+        let Ok(mut these) = run_files(path, &prefix, i == 0) else {
+            continue;
+        };
+        if i == 0
+            && let Some(scene) = these.iter().find(|f| f.0 == format!("{prefix}/scene.json"))
+        {
+            let scene = ("/scene.json".to_string(), scene.1, scene.2.clone());
+            these.push(scene);
+        }
+        files.extend(these);
+        listed.push(serde_json::json!({ "index": i, "name": name, "base": prefix }));
+    }
+    if listed.is_empty() {
+        return run_files(dir, "/run", true);
+    }
+    let list = serde_json::json!({ "compare": true, "runs": listed });
+    files.push((
+        "/runs.json".into(),
+        "application/json",
+        list.to_string().into_bytes(),
+    ));
     Ok(files)
 }
