@@ -698,15 +698,37 @@ function driveTick() {
 }
 
 let ended = false;
+// A dropped connection (a reload, a network hiccup) is not the session's end: the page
+// reconnects every 0.5 s, presenting the driver's token (kept for the tab in sessionStorage)
+// so that it takes the driver's seat back within the server's grace (live/seat.rs). It stops
+// trying once the last state said the session ended, or the grace has passed.
+const TOKEN_KEY = 'tracksim-driver-token';
+api.connected = false;
+api.reconnects = 0;
+let lostAt = null;
 function connect() {
-  ws = new WebSocket(`ws://${location.host}/ws`);
+  let token = null;
+  try { token = sessionStorage.getItem(TOKEN_KEY); } catch (_) { /* storage off: no token */ }
+  ws = new WebSocket(`ws://${location.host}/ws${token ? `?token=${encodeURIComponent(token)}` : ''}`);
+  ws.onopen = () => { api.connected = true; lostAt = null; lastSent = ''; };
   ws.onmessage = (ev) => {
     const m = JSON.parse(ev.data);
-    if (m.type === 'hello') api.role = m.role;
-    else if (m.type === 'state') { api.state = m; api.states++; liveSensors(m.sensors); }
-    else if (m.type === 'error') api.errors.push(m.message);
+    if (m.type === 'hello') {
+      api.role = m.role;
+      api.graceS = m.grace_s;
+      if (m.token) try { sessionStorage.setItem(TOKEN_KEY, m.token); } catch (_) { /* no storage */ }
+    } else if (m.type === 'state') {
+      api.state = m; api.states++; liveSensors(m.sensors);
+      if (m.session_ended) ended = true;
+    } else if (m.type === 'error') api.errors.push(m.message);
   };
-  ws.onclose = () => { ended = true; };
+  ws.onclose = () => {
+    api.connected = false;
+    if (ended) return;
+    lostAt ??= performance.now();
+    if ((performance.now() - lostAt) / 1000 > (api.graceS ?? 30) + 5) { ended = true; return; }
+    setTimeout(() => { api.reconnects++; connect(); }, 500);
+  };
 }
 $('stop').addEventListener('click', () => send({ type: 'stop' }));
 
@@ -732,7 +754,7 @@ function liveFrame() {
   if (mapOn) minimap.draw(vs.pose, path, [], isNum(s.course?.next_gate) ? s.course.next_gate : null);
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
   hud([
-    `${ended ? 'SESSION ENDED (outputs written)' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}`,
+    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}`,
     `sim time   ${fmt(s.t, 2)} s   x${fmt(s.speed, 2)} requested`,
     `RTF        paced ${fmt(s.rtf_paced, 2)}   compute ${fmt(s.rtf_compute, 1)}`,
     `speed      ${fmt(s.forward_mps, 3)} m/s (0.1 s mean)   cmd ${fmt(s.control.forward_mps, 2)} m/s, ${fmt(s.control.yaw_rate_rad_s, 2)} rad/s`,

@@ -7,9 +7,12 @@ use crate::world::Sample;
 
 /// A belt commanded faster than this counts as driven, m/s.
 pub const STALL_BELT_MPS: f64 = 0.05;
-/// A body slower than this (speed of its origin) counts as not moving, m/s.
+/// A body whose origin moved less than this mean speed over the hold time counts as not
+/// moving, m/s (the displacement over the window, not the instantaneous speed: a robot
+/// pushing against a wall vibrates at a few cm/s without going anywhere).
 pub const STALL_SPEED_MPS: f64 = 0.02;
-/// A body turning slower than this (|yaw rate|) counts as not turning, rad/s.
+/// A body whose heading turned less than this mean rate over the hold time counts as not
+/// turning, rad/s.
 pub const STALL_YAW_RATE_RAD_S: f64 = 0.05;
 /// How long belts must be driven with the body still before it counts as a stall, s.
 pub const STALL_HOLD_S: f64 = 1.0;
@@ -25,28 +28,46 @@ pub struct RunEvent {
     pub detail: String,
 }
 
-/// Whether a sample is driven but still: some belt commanded faster than
-/// [`STALL_BELT_MPS`], the body slower than [`STALL_SPEED_MPS`] and turning slower than
-/// [`STALL_YAW_RATE_RAD_S`].
-pub fn driven_but_still(s: &Sample) -> bool {
-    let driven = s.belt_cmd.iter().any(|c| c.abs() > STALL_BELT_MPS);
-    let [vx, vy, vz] = s.linvel;
-    let speed = (vx * vx + vy * vy + vz * vz).sqrt();
-    driven && speed < STALL_SPEED_MPS && s.angvel[2].abs() < STALL_YAW_RATE_RAD_S
+/// Whether a sample's belts are driven: some belt commanded faster than [`STALL_BELT_MPS`].
+pub fn driven(s: &Sample) -> bool {
+    s.belt_cmd.iter().any(|c| c.abs() > STALL_BELT_MPS)
 }
 
-/// A stall found sample by sample: driven but still for [`STALL_HOLD_S`].
+/// A stall found sample by sample: belts driven throughout the last [`STALL_HOLD_S`] while
+/// the body's origin moved less than [`STALL_SPEED_MPS`] and its heading turned less than
+/// [`STALL_YAW_RATE_RAD_S`] on average over that window.
 #[derive(Clone, Debug, Default)]
 pub struct StallDetector {
+    /// (t s, position m, yaw rad) of the driven samples of the window.
+    window: std::collections::VecDeque<(f64, [f64; 3], f64)>,
     since: Option<f64>,
 }
 
 impl StallDetector {
     /// Takes the next sample; returns the time the stall began while the robot is stalled.
     pub fn update(&mut self, s: &Sample) -> Option<f64> {
-        if driven_but_still(s) {
-            let since = *self.since.get_or_insert(s.t);
-            (s.t - since >= STALL_HOLD_S - 1e-9).then_some(since)
+        if !driven(s) {
+            self.window.clear();
+            self.since = None;
+            return None;
+        }
+        let p = [s.pose.x, s.pose.y, s.pose.z];
+        self.window.push_back((s.t, p, s.pose.yaw));
+        // Keep the latest sample at least the hold time back as the window's start.
+        while self.window.len() >= 2 && s.t - self.window[1].0 >= STALL_HOLD_S - 1e-9 {
+            self.window.pop_front();
+        }
+        let (t0, p0, yaw0) = self.window[0];
+        let span = s.t - t0;
+        let moved =
+            ((p[0] - p0[0]).powi(2) + (p[1] - p0[1]).powi(2) + (p[2] - p0[2]).powi(2)).sqrt();
+        let turned = (s.pose.yaw - yaw0 + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+            - std::f64::consts::PI;
+        let still = span >= STALL_HOLD_S - 1e-9
+            && moved < STALL_SPEED_MPS * span
+            && turned.abs() < STALL_YAW_RATE_RAD_S * span;
+        if still {
+            Some(*self.since.get_or_insert(t0))
         } else {
             self.since = None;
             None
@@ -122,47 +143,57 @@ pub fn run_events(
 mod tests {
     use super::*;
 
-    fn sample(t: f64, cmd: f64, v: f64) -> Sample {
+    /// A sample at `t` s with both belts commanded `cmd` m/s and the body at `x` m.
+    fn sample(t: f64, cmd: f64, x: f64) -> Sample {
         Sample {
             t,
             belt_cmd: vec![cmd, cmd],
-            linvel: [v, 0.0, 0.0],
+            pose: crate::world::PoseRpy {
+                x,
+                ..Default::default()
+            },
             ..Sample::default()
         }
     }
 
+    /// Samples every 0.01 s for `n`, the body moving at `v(t)` m/s plus a +-5 mm vibration
+    /// (a robot banging against a wall), belts at `cmd(t)` m/s.
+    fn run(n: usize, cmd: impl Fn(f64) -> f64, v: impl Fn(f64) -> f64) -> Vec<Sample> {
+        let mut x = 0.0;
+        (0..n)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                x += 0.01 * v(t);
+                let jitter = 0.005 * if i % 2 == 0 { 1.0 } else { -1.0 };
+                sample(t, cmd(t), x + jitter)
+            })
+            .collect()
+    }
+
     #[test]
     fn a_stall_needs_driven_belts_and_a_still_body_for_the_hold_time() {
-        // 0.01 s samples: driven and still from 1.0 s to 2.5 s, then moving.
-        let samples: Vec<Sample> = (0..400)
-            .map(|i| {
-                let t = i as f64 * 0.01;
-                let still = (1.0..2.5).contains(&t);
-                sample(
-                    t,
-                    if t >= 1.0 { 0.3 } else { 0.0 },
-                    if still { 0.0 } else { 0.3 },
-                )
-            })
-            .collect();
+        // Driven from 1.0 s; still (vibrating in place) from 1.0 s to 2.5 s, then moving.
+        let samples = run(
+            400,
+            |t| if t >= 1.0 { 0.3 } else { 0.0 },
+            |t| if (1.0..2.5).contains(&t) { 0.0 } else { 0.3 },
+        );
         let st = stalls(&samples);
         assert_eq!(st.len(), 1, "{st:?}");
-        assert!(
-            (st[0].0 - 1.0).abs() < 1e-9 && (st[0].1 - 2.5).abs() < 1e-9,
-            "{st:?}"
-        );
-        // Still but not driven, or driven and moving: no stall.
-        let idle: Vec<Sample> = (0..300)
-            .map(|i| sample(i as f64 * 0.01, 0.0, 0.0))
-            .collect();
-        assert!(stalls(&idle).is_empty());
+        // Flagged once the window spans the hold time; it began at 1.0 s, ends when the body
+        // has moved 2 cm in the last second (at 0.3 m/s, within 0.1 s of 2.5 s).
+        assert!((st[0].0 - 1.0).abs() < 0.011, "{st:?}");
+        assert!((st[0].1 - 2.5).abs() < 0.1, "{st:?}");
+        // Still but not driven: no stall.
+        assert!(stalls(&run(300, |_| 0.0, |_| 0.0)).is_empty());
+        // Driven and creeping at 0.03 m/s (a slow climb): no stall.
+        assert!(stalls(&run(300, |_| 0.3, |_| 0.03)).is_empty());
         // Still for less than the hold time: none.
-        let short: Vec<Sample> = (0..300)
-            .map(|i| {
-                let t = i as f64 * 0.01;
-                sample(t, 0.3, if (1.0..1.9).contains(&t) { 0.0 } else { 0.3 })
-            })
-            .collect();
+        let short = run(
+            300,
+            |_| 0.3,
+            |t| if (1.0..1.9).contains(&t) { 0.0 } else { 0.3 },
+        );
         assert!(stalls(&short).is_empty());
     }
 }
