@@ -760,3 +760,55 @@ test('view of a compare folder: every method a ghost on one terrain, the outcome
     view.child.kill();
   }
 });
+
+test('a course session: the live score from the server, a reload reconnects and drives on, the trainee in the sessions table', async () => {
+  const out = path.join(tmp, 'sessions', 'course-stairs');
+  const drive = start(['drive', 'scenarios/course_stairs.toml', '--port', '0', '--out', out, '--no-plot', '--wait-for-page',
+    '--trainee', 'Test Trainee', '--reconnect-grace', '20']);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    const { page } = await openDrive(ctx, url);
+    assert.equal(await page.evaluate(() => window.tracksim.role), 'driver');
+    // The server's fields: the score of the course (run/course.rs), the warnings' data.
+    const s0 = await page.evaluate(() => window.tracksim.state);
+    assert.equal(s0.course.name, 'stairs to the landing', JSON.stringify(s0.course));
+    assert.equal(s0.course.repetitions_required, 1);
+    assert.ok(s0.course.gates_total >= 1 && s0.course.next_gate === 0, JSON.stringify(s0.course));
+    assert.equal(s0.tilt_limit_deg, 70);
+    assert.equal(s0.slip.length, s0.belt_speed.length);
+    assert.equal(typeof s0.stall, 'boolean');
+    assert.equal(s0.driver.connected, true);
+    // The stairs begin 0.9 m ahead of the start (scenarios/course_stairs.toml: rise 0.15 m).
+    assert.ok(Math.abs(s0.ahead.step_m - 0.15) < 0.02, JSON.stringify(s0.ahead));
+    await page.waitForFunction(() => /stairs to the landing/.test(document.getElementById('course').textContent), null, { timeout: 10000 });
+    assert.match(await page.evaluate(() => document.getElementById('course').textContent), /reps\s+0 \/ 1/);
+    // Drive a little, then reload the page: it reconnects with its token and drives on.
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction(() => window.tracksim.state.forward_mps > 0.2, null, { timeout: 30000 });
+    await page.keyboard.up('ArrowUp');
+    await page.reload();
+    await page.waitForFunction(() => window.tracksim?.state && window.tracksim.role === 'driver' && window.tracksim.state.driver.reconnects === 1, null, { timeout: 30000 });
+    const x1 = await page.evaluate(() => window.tracksim.state.pose[0]);
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction((x) => window.tracksim.state.pose[0] > x + 0.05, x1, { timeout: 30000 });
+    await page.keyboard.up('ArrowUp');
+    await page.screenshot({ path: path.join(artifacts, 'course-live.png') });
+    await page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+  const summary = JSON.parse(fs.readFileSync(path.join(out, 'summary.json'), 'utf8'));
+  assert.equal(summary.trainee, 'Test Trainee');
+  assert.equal(summary.course.name, 'stairs to the landing');
+  assert.ok(summary.events.some((e) => e.kind === 'outcome'));
+  // The session in the folder's table, as CSV.
+  const csv = execFileSync(bin, ['sessions', path.join(tmp, 'sessions'), '--csv'], { cwd: root }).toString();
+  const [head, row] = csv.trim().split('\n');
+  assert.match(head, /trainee/);
+  assert.match(row, /Test Trainee/);
+  assert.match(row, /stairs to the landing/);
+});

@@ -3,7 +3,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from '/vendor/OrbitControls.js';
 import { createHud, tiltDeg } from '/hud.js';
-import { createMinimap, gateEnds } from '/minimap.js';
+import { createMinimap, gateEnds, itemYaw } from '/minimap.js';
 import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs } from '/review.js';
 
 const $ = (id) => document.getElementById(id);
@@ -103,7 +103,7 @@ if (course) {
     }
     const bar = new THREE.Mesh(new THREE.BoxGeometry(0.02, 2 * e.half, 0.02), postMat);
     bar.position.set(e.c[0], e.c[1], z0 + 0.5);
-    bar.rotation.z = ((gt.yaw_deg ?? 0) * Math.PI) / 180;
+    bar.rotation.z = itemYaw(gt);
     group.add(bar);
     world.add(group);
     gateMeshes.push(group);
@@ -112,7 +112,7 @@ if (course) {
   for (const o of course.obstacles ?? []) {
     const m = new THREE.Mesh(new THREE.BoxGeometry(2 * o.half_m[0], 2 * o.half_m[1], 2 * o.half_m[2]), obsMat);
     m.position.fromArray(o.centre_m);
-    m.rotation.z = ((o.yaw_deg ?? 0) * Math.PI) / 180;
+    m.rotation.z = itemYaw(o);
     world.add(m);
   }
 }

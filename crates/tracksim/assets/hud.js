@@ -240,13 +240,14 @@ export function createHud(vehicle, els) {
     } else { els.driver.classList.add('hidden'); info.driverBanner = null; }
     // Course score.
     const cs = vs.course;
-    const scored = cs && ['name', 'next_gate', 'repetitions', 'faults', 'elapsed_s'].some((k) => cs[k] !== undefined && cs[k] !== null);
+    const scored = cs && ['name', 'next_gate', 'repetitions_done', 'repetitions', 'faults', 'elapsed_s'].some((k) => cs[k] !== undefined && cs[k] !== null);
     if (scored) {
       els.course.classList.remove('hidden');
       const pick = (...ks) => { for (const k of ks) if (cs[k] !== undefined && cs[k] !== null) return cs[k]; return undefined; };
       const faults = pick('faults') ?? {};
-      const reps = pick('repetitions', 'laps_done', 'reps');
-      const laps = pick('laps', 'repetitions_total');
+      // run/course.rs CourseScore: repetitions_done of repetitions_required.
+      const reps = pick('repetitions_done', 'repetitions', 'laps_done', 'reps');
+      const laps = pick('repetitions_required', 'laps', 'repetitions_total');
       const next = pick('next_gate');
       const total = pick('gates_total', 'gates');
       const lines = [

@@ -5,12 +5,15 @@
 const num = (x) => typeof x === 'number' && Number.isFinite(x);
 
 /** Yaw (rad) of a quaternion x y z w. */
+/** A course item's yaw, rad: scene.json's `yaw_rad` (or a `yaw_deg`). */
+export function itemYaw(o) { return num(o.yaw_rad) ? o.yaw_rad : ((o.yaw_deg ?? 0) * Math.PI) / 180; }
+
 function quatYaw([x, y, z, w]) { return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)); }
 
 /** A gate's two ends (world x y) and its centre: width across its yaw, or a ring's radius. */
 export function gateEnds(gt) {
   const half = num(gt.width_m) ? gt.width_m / 2 : num(gt.radius_m) ? gt.radius_m : 0.5;
-  const yaw = ((gt.yaw_deg ?? 0) * Math.PI) / 180;
+  const yaw = itemYaw(gt);
   // The gate is crossed along its yaw: its ends lie across it.
   const ax = -Math.sin(yaw) * half, ay = Math.cos(yaw) * half;
   const cx = gt.x_m ?? gt.centre_m?.[0] ?? 0, cy = gt.y_m ?? gt.centre_m?.[1] ?? 0;
@@ -21,7 +24,7 @@ export function createMinimap(canvas, scene) {
   const boxes = (scene.terrain?.boxes ?? []).map((b) => ({ c: b.centre_m, h: b.half_m, yaw: quatYaw(b.quat_xyzw ?? [0, 0, 0, 1]), top: b.centre_m[2] + b.half_m[2] }));
   const course = scene.course ?? null;
   const gates = (course?.gates ?? []).map(gateEnds);
-  const obstacles = (course?.obstacles ?? []).map((o) => ({ c: o.centre_m, h: o.half_m, yaw: ((o.yaw_deg ?? 0) * Math.PI) / 180 }));
+  const obstacles = (course?.obstacles ?? []).map((o) => ({ c: o.centre_m, h: o.half_m, yaw: itemYaw(o) }));
   const ground = scene.terrain?.ground_z_m ?? 0;
   const info = { draws: 0, span_m: 0, gates: gates.length, obstacles: obstacles.length };
   /**

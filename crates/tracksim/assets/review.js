@@ -15,9 +15,16 @@ export function computeEvents(traj, summary, trackNames) {
   const c = (n) => traj.col(n);
   const [it, ix, iy, iyaw, iroll, ipitch] = ['t_s', 'x_m', 'y_m', 'yaw_rad', 'roll_rad', 'pitch_rad'].map(c);
   const cmd = trackNames.map((n) => c(`belt_cmd_${n}_mps`)).filter((i) => i >= 0);
+  // summary.json's events (run/events.rs: the stall rule the live HUD uses, the largest
+  // tilt) when the run has them; else found here from trajectory.csv.
+  const known = Array.isArray(summary?.events) ? summary.events : null;
+  for (const e of known ?? []) {
+    if (!num(e.t_s) || e.kind === 'outcome') continue;
+    ev.push({ t_s: e.t_s, kind: e.kind === 'largest_tilt' ? 'tilt' : String(e.kind), detail: String(e.detail ?? ''), ...(num(e.t_end_s) ? { t_end_s: e.t_end_s } : {}) });
+  }
   // Stall episodes: belts commanded, the robot not moving (its forward speed a mean over
   // STALL_MEAN_S, as the live state's), for a second or more.
-  if (cmd.length && ix >= 0 && iy >= 0 && iyaw >= 0) {
+  if (!known && cmd.length && ix >= 0 && iy >= 0 && iyaw >= 0) {
     const det = new StallDetector();
     let open = null, j = 0;
     for (const r of traj.rows) {
@@ -34,7 +41,7 @@ export function computeEvents(traj, summary, trackNames) {
     }
   }
   // The largest tilt.
-  if (iroll >= 0 && ipitch >= 0 && traj.rows.length) {
+  if (!known && iroll >= 0 && ipitch >= 0 && traj.rows.length) {
     let best = null;
     for (const r of traj.rows) { const a = tiltDeg(r[iroll], r[ipitch]); if (!best || a > best.a) best = { a, t: r[it] }; }
     ev.push({ t_s: best.t, kind: 'tilt', detail: `largest tilt ${best.a.toFixed(1)} deg` });

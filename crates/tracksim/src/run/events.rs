@@ -22,6 +22,9 @@ pub const STALL_HOLD_S: f64 = 1.0;
 pub struct RunEvent {
     /// When, s (a stall: when it began).
     pub t_s: f64,
+    /// When it ended, s (a stall only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t_end_s: Option<f64>,
     /// "stall", "largest_tilt" or "outcome".
     pub kind: &'static str,
     /// What happened, in words with units.
@@ -109,6 +112,7 @@ pub fn run_events(
         .into_iter()
         .map(|(b, e)| RunEvent {
             t_s: b,
+            t_end_s: Some(e),
             kind: "stall",
             detail: format!(
                 "belts driven (> {STALL_BELT_MPS} m/s), body still (< {STALL_SPEED_MPS} m/s) for {:.2} s",
@@ -120,6 +124,7 @@ pub fn run_events(
     if let Some(s) = samples.iter().max_by(|a, b| tilt(a).total_cmp(&tilt(b))) {
         events.push(RunEvent {
             t_s: s.t,
+            t_end_s: None,
             kind: "largest_tilt",
             detail: format!(
                 "roll {:.1} deg, pitch {:.1} deg ({:.0} % of the {:.1} deg limit)",
@@ -132,6 +137,7 @@ pub fn run_events(
     }
     events.push(RunEvent {
         t_s: outcome.1,
+        t_end_s: None,
         kind: "outcome",
         detail: format!("{}: {}", outcome.0.name(), outcome.0.reason()),
     });
