@@ -703,7 +703,8 @@ test('review: the inputs strip, event markers and jumps of the wall session', as
       assert.equal(await now(), back ? back.t_s : second.t_s);
     }
     const stall = events.findIndex((e) => e.kind === 'stall');
-    await page.click(`#markers button[data-index="${stall}"]`);
+    // (The marker's own click: a neighbouring marker may lie over it on the bar.)
+    await page.$eval(`#markers button[data-index="${stall}"]`, (b) => b.click());
     assert.equal(await page.evaluate(() => window.tracksim.replayTime), events[stall].t_s);
     // The replay shows the stall warning during the episode.
     await page.$eval('#scrub', (e, t) => { e.value = String(t); e.dispatchEvent(new Event('input')); }, (events[stall].t_s + 0.5) / (await page.evaluate(() => window.tracksim.replayEnd)));
