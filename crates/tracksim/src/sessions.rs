@@ -227,6 +227,15 @@ fn opt_cmp<T: PartialOrd>(a: Option<T>, b: Option<T>) -> Ordering {
     }
 }
 
+/// [`opt_cmp`] with the values in descending order (the most repetitions first); `None`
+/// still last.
+fn opt_cmp_desc<T: PartialOrd>(a: Option<T>, b: Option<T>) -> Ordering {
+    match (a, b) {
+        (Some(a), Some(b)) => b.partial_cmp(&a).unwrap_or(Ordering::Equal),
+        (a, b) => opt_cmp(a, b),
+    }
+}
+
 /// Sorts `rows` by `key` (ties by date, then folder); `reverse` turns the order round. Rows
 /// without the figure (no course) come last.
 pub fn sort_rows(rows: &mut [SessionRow], key: SortKey, reverse: bool) {
@@ -235,13 +244,12 @@ pub fn sort_rows(rows: &mut [SessionRow], key: SortKey, reverse: bool) {
             SortKey::Trainee => a.trainee.cmp(&b.trainee),
             SortKey::Scenario => a.scenario.cmp(&b.scenario),
             SortKey::Course => a.course.cmp(&b.course),
-            SortKey::Repetitions => opt_cmp(b.repetitions, a.repetitions),
+            SortKey::Repetitions => opt_cmp_desc(a.repetitions, b.repetitions),
             SortKey::Time => opt_cmp(a.time_s, b.time_s),
             SortKey::Faults => opt_cmp(a.faults, b.faults),
             SortKey::Penalty => opt_cmp(a.penalty_s, b.penalty_s),
-            SortKey::Score => {
-                opt_cmp(b.repetitions, a.repetitions).then_with(|| opt_cmp(a.score_s, b.score_s))
-            }
+            SortKey::Score => opt_cmp_desc(a.repetitions, b.repetitions)
+                .then_with(|| opt_cmp(a.score_s, b.score_s)),
             SortKey::Outcome => a.outcome.cmp(&b.outcome),
             SortKey::Date => a.date.cmp(&b.date),
             SortKey::Folder => a.folder.cmp(&b.folder),

@@ -285,19 +285,28 @@ fn sessions_table_sorts_and_writes_csv() {
     fake_summary(&root.join("a"), "Zoe", 1, 50.0, "2026-12-01T10:00:00Z");
     fake_summary(&root.join("b/1"), "Adam", 1, 40.0, "2026-12-02T10:00:00Z");
     fake_summary(&root.join("c"), "Mia", 0, 20.0, "2026-11-30T10:00:00Z");
+    // A run without a course: no score, listed after every scored session.
+    std::fs::create_dir_all(root.join("plain")).unwrap();
+    std::fs::write(
+        root.join("plain/summary.json"),
+        r#"{"scenario": "packbot_flat.toml", "outcome": "completed", "trainee": "Noah"}"#,
+    )
+    .unwrap();
     std::fs::create_dir_all(root.join("broken")).unwrap();
     std::fs::write(root.join("broken/summary.json"), "{ not json").unwrap();
     let mut t = scan_sessions(&root).unwrap();
-    assert_eq!(t.rows.len(), 3);
+    assert_eq!(t.rows.len(), 4);
     assert_eq!(t.warnings.len(), 1, "{:?}", t.warnings);
     assert!(t.warnings[0].contains("broken"), "{:?}", t.warnings);
     // Score: most repetitions first, then the lowest time plus penalties.
     sort_rows(&mut t.rows, SortKey::Score, false);
     let names: Vec<&str> = t.rows.iter().map(|r| r.trainee.as_str()).collect();
-    assert_eq!(names, ["Adam", "Zoe", "Mia"]);
+    assert_eq!(names, ["Adam", "Zoe", "Mia", "Noah"]);
+    sort_rows(&mut t.rows, SortKey::Repetitions, false);
+    assert_eq!(t.rows.last().unwrap().trainee, "Noah");
     sort_rows(&mut t.rows, SortKey::Date, true);
     let names: Vec<&str> = t.rows.iter().map(|r| r.trainee.as_str()).collect();
-    assert_eq!(names, ["Adam", "Zoe", "Mia"]);
+    assert_eq!(names, ["Adam", "Zoe", "Mia", "Noah"]);
     sort_rows(&mut t.rows, SortKey::Trainee, false);
     let csv = table_csv(&t.rows);
     let lines: Vec<&str> = csv.lines().collect();
@@ -308,8 +317,8 @@ fn sessions_table_sorts_and_writes_csv() {
         "{}",
         lines[1]
     );
-    assert_eq!(lines.len(), 4);
-    assert!(table_text(&t.rows).lines().count() == 4);
+    assert_eq!(lines.len(), 5, "a header and 4 sessions");
+    assert!(table_text(&t.rows).lines().count() == 5);
     assert!(scan_sessions(&root.join("missing")).is_err());
     assert!(scan_sessions(&root.join("a/summary.json")).is_err());
     assert_eq!(SortKey::parse("score"), Some(SortKey::Score));
