@@ -13,7 +13,7 @@ import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { chromium } from 'playwright-core';
+import { launchChromium } from './chromium.mjs';
 
 const here = path.dirname(new URL(import.meta.url).pathname);
 const root = path.resolve(here, '../..');
@@ -40,12 +40,7 @@ async function one(c, load, i) {
     if (m) resolve(m[0]);
   }));
   const exited = new Promise((resolve) => child.on('exit', resolve));
-  const ctx = await chromium.launchPersistentContext(fs.mkdtempSync(path.join(tmp, 'p-')), {
-    executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
-    viewport: { width: 1280, height: 720 },
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-      '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-  });
+  const ctx = await launchChromium(tmp, { width: 1280, height: 720 });
   const page = await ctx.newPage();
   await page.goto(await url);
   await page.waitForFunction(() => window.tracksim?.state, null, { timeout: 60000 });

@@ -9,7 +9,7 @@ import { spawn } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { chromium } from 'playwright-core';
+import { launchChromium } from './chromium.mjs';
 
 const here = path.dirname(new URL(import.meta.url).pathname);
 const root = path.resolve(here, '../..');
@@ -32,12 +32,7 @@ async function one(viewer, i) {
   let ctx = null;
   let page = null;
   if (viewer) {
-    ctx = await chromium.launchPersistentContext(fs.mkdtempSync(path.join(tmp, 'p-')), {
-      executablePath: process.env.CHROMIUM || '/usr/bin/chromium', headless: true,
-      viewport: { width: 1000, height: 640 },
-      args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-        '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-    });
+    ctx = await launchChromium(tmp);
     page = await ctx.newPage();
     await page.goto(await url);
   }

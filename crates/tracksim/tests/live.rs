@@ -45,6 +45,15 @@ fn until(
     panic!("no state with {what} in {max} messages");
 }
 
+/// A drive server on loopback (any free port) for `hub`, serving `scene_json`.
+fn drive_server(hub: Arc<Hub>, scene_json: impl Into<String>) -> Server {
+    let mode = Mode::Drive {
+        hub,
+        scene_json: scene_json.into(),
+    };
+    Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap()
+}
+
 fn control(ws: &mut Ws, forward: f64, flippers: serde_json::Value) {
     let msg = serde_json::json!({
         "type": "control", "forward_mps": forward, "yaw_rate_rad_s": 0.0,
@@ -58,15 +67,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
     let file = root().join("scenarios/packbot_stairs.toml");
     let sc = tracksim::load_scenario(&file).unwrap();
     let hub = Hub::new();
-    let server = Server::start(
-        tracksim::live::DEFAULT_BIND,
-        0,
-        Mode::Drive {
-            hub: hub.clone(),
-            scene_json: tracksim::output::Scene::new(&sc).to_json(),
-        },
-    )
-    .unwrap();
+    let server = drive_server(hub.clone(), tracksim::output::Scene::new(&sc).to_json());
     assert!(server.addr().ip().is_loopback());
     let (sc2, hub2) = (sc.clone(), hub.clone());
     let session = std::thread::spawn(move || {
@@ -178,15 +179,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
 fn reset_restarts_the_session() {
     let sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
     let hub = Hub::with_grace(0.0);
-    let server = Server::start(
-        tracksim::live::DEFAULT_BIND,
-        0,
-        Mode::Drive {
-            hub: hub.clone(),
-            scene_json: "{}".into(),
-        },
-    )
-    .unwrap();
+    let server = drive_server(hub.clone(), "{}");
     let (sc2, hub2) = (sc.clone(), hub.clone());
     let session = std::thread::spawn(move || {
         tracksim::live::run_session(
@@ -347,15 +340,7 @@ fn view_names_what_a_folder_lacks() {
 fn loopback_is_the_default() {
     assert!(tracksim::live::DEFAULT_BIND.is_loopback());
     let hub: Arc<Hub> = Hub::new();
-    let s = Server::start(
-        tracksim::live::DEFAULT_BIND,
-        0,
-        Mode::Drive {
-            hub,
-            scene_json: String::new(),
-        },
-    )
-    .unwrap();
+    let s = drive_server(hub, String::new());
     assert!(s.url().starts_with("http://127.0.0.1:"));
 }
 
@@ -404,15 +389,7 @@ fn drive_streams_lidar_points_and_depth_images() {
     assert_eq!(scene_v["sensors"][5]["mount_index"], 0);
     assert_eq!(scene_v["sensors"][2]["lidar"]["max_range_m"], 10.0);
     let hub = Hub::new();
-    let server = Server::start(
-        tracksim::live::DEFAULT_BIND,
-        0,
-        Mode::Drive {
-            hub: hub.clone(),
-            scene_json: scene,
-        },
-    )
-    .unwrap();
+    let server = drive_server(hub.clone(), scene);
     let (sc2, hub2) = (sc.clone(), hub.clone());
     let session = std::thread::spawn(move || {
         let opts = DriveOptions {
@@ -561,15 +538,7 @@ fn a_dropped_driver_reconnects_within_the_grace() {
     let file = root().join("scenarios/packbot_flat.toml");
     let sc = tracksim::load_scenario(&file).unwrap();
     let hub = Hub::with_grace(3.0);
-    let server = Server::start(
-        tracksim::live::DEFAULT_BIND,
-        0,
-        Mode::Drive {
-            hub: hub.clone(),
-            scene_json: "{}".into(),
-        },
-    )
-    .unwrap();
+    let server = drive_server(hub.clone(), "{}");
     let (sc2, hub2) = (sc.clone(), hub.clone());
     let session = std::thread::spawn(move || {
         tracksim::live::run_session(&sc2, &hub2, DriveOptions::default())

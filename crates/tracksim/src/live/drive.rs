@@ -21,6 +21,9 @@ use std::time::{Duration, Instant};
 /// Shortest wall time between two published states, s (at most 60 states per second).
 pub const PUBLISH_INTERVAL_S: f64 = 1.0 / 60.0;
 
+/// Course events a live state carries (the latest), at most.
+pub const LIVE_COURSE_EVENTS: usize = 10;
+
 /// Options of a session.
 #[derive(Clone, Copy, Debug)]
 pub struct DriveOptions {
@@ -103,8 +106,8 @@ struct Feeds {
 /// decided), `sensors`: the lidar and depth camera readings new since the last state
 /// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres), the
 /// warnings' data ([`HudFeed::fields`]: `slip`, `stall`, `stall_since_s`, `tilt_limit_deg`,
-/// `ahead`), `course` (the live score of a `[course]` scenario, [`crate::run::CourseScore`];
-/// null without one), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
+/// `ahead`), `course` (the live score of a `[course]` scenario, [`crate::run::CourseScore`],
+/// with its latest [`LIVE_COURSE_EVENTS`] events; null without one), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
 /// in the last state: the page should not reconnect).
 fn state_json(
     runner: &Runner,
@@ -140,7 +143,13 @@ fn state_json(
         },
         "sensors": feeds.sensors.new_readings(runner),
         "session_ended": ended.is_some(),
-        "course": runner.course(),
+        "course": runner.course().map(|mut c| {
+            // Only the latest events: the whole list grows with the session (summary.json
+            // has it all), and the state goes out up to 60 times a second.
+            let n = c.events.len().saturating_sub(LIVE_COURSE_EVENTS);
+            c.events.drain(..n);
+            c
+        }),
         "driver": {
             "connected": driver.connected,
             "grace_left_s": driver.grace_left_s,
