@@ -306,6 +306,15 @@ fn bad_flags_are_refused_with_the_limit() {
         &run(&["ros", f, "--network", "foo"]),
         "--network",
     );
+    // `drive` refuses its own flags before it listens on any port.
+    for g in ["nan", "-1", "1e9"] {
+        let arg = format!("--reconnect-grace={g}");
+        refused(&arg, &run(&["drive", f, &arg]), "--reconnect-grace");
+    }
+    let long = "x".repeat(101);
+    for name in ["", "tab\there", long.as_str()] {
+        refused("--trainee", &run(&["drive", f, "--trainee", name]), "--trainee");
+    }
 }
 
 #[test]
