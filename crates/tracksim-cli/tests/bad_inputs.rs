@@ -313,7 +313,11 @@ fn bad_flags_are_refused_with_the_limit() {
     }
     let long = "x".repeat(101);
     for name in ["", "tab\there", long.as_str()] {
-        refused("--trainee", &run(&["drive", f, "--trainee", name]), "--trainee");
+        refused(
+            "--trainee",
+            &run(&["drive", f, "--trainee", name]),
+            "--trainee",
+        );
     }
 }
 
