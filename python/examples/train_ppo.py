@@ -215,7 +215,8 @@ def plot(rows, baseline, learned, path, title):
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
     a1.plot(x, [r["success_rate"] for r in rows], "o-", ms=3,
             label="training episodes (stochastic policy)")
-    a1.axhline(baseline, color="grey", ls="--", label=f"scripted baseline, held-out: {baseline:.2f}")
+    a1.axhline(baseline, color="grey", ls="--",
+               label=f"scripted baseline, held-out: {baseline:.2f}")
     a1.axhline(learned, color="C2", ls=":", label=f"PPO final, held-out (deterministic): "
                f"{learned:.2f}")
     a1.set_ylabel("success rate")
@@ -235,6 +236,8 @@ def main():
     ap.add_argument("--task", default=str(DEFAULT_TASK),
                     help="scenario file or gymnasium id (e.g. tracksim/PackBotSteps-v0)")
     ap.add_argument("--steps", type=int, default=200_000, help="training env steps")
+    ap.add_argument("--minutes", type=float, default=0.0,
+                    help="stop training after the update that passes this wall time (0: none)")
     ap.add_argument("--envs", type=int, default=16, help="environments of the vector env")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1,
                     help="Rust threads of the vector env (default: the cores)")
@@ -264,6 +267,9 @@ def main():
     csv_path = args.csv or args.out / "curve.csv"
     png_path = args.png or args.out / "curve.png"
 
+    # The networks are small: one XLA thread leaves the cores to the simulation.
+    os.environ.setdefault("XLA_FLAGS", "--xla_cpu_multi_thread_eigen=false "
+                          "intra_op_parallelism_threads=1")
     import jax
     from skrl.envs.wrappers.jax import wrap_env
     from skrl.trainers.jax import SequentialTrainer
@@ -277,11 +283,24 @@ def main():
                                 seed=args.seed)
     env = wrap_env(learner_env, wrapper="gymnasium", verbose=False)
     agent = make_agent(env, args)
-    timesteps = -(-args.steps // args.envs)
+    # skrl's trainer, run one PPO update's worth of steps at a time (its env wrapper carries
+    # the observations over), so that the budget can be wall time as well as env steps.
     trainer = SequentialTrainer(env=env, agents=agent, cfg={
-        "timesteps": timesteps, "headless": True, "disable_progressbar": args.json,
+        "timesteps": args.rollouts, "headless": True, "disable_progressbar": True,
         "close_environment_at_exit": False})
-    trainer.train()
+    vector_steps, updates = 0, 0
+    while (vector_steps * args.envs < args.steps
+           and (not args.minutes or time.time() - t0 < 60 * args.minutes)):
+        trainer.train()
+        vector_steps += args.rollouts
+        updates += 1
+        if not args.json and updates % 10 == 0:
+            recent = learner_env.episodes[-50:]
+            print(f"{learner_env.env_steps} env steps, {time.time() - t0:.0f} s, "
+                  f"{len(learner_env.episodes)} episodes; last {len(recent)}: success "
+                  f"{np.mean([e[1] for e in recent]) if recent else float('nan'):.2f}, return "
+                  f"{np.mean([e[2] for e in recent]) if recent else float('nan'):.2f}",
+                  flush=True)
     train_wall_s = time.time() - t0
     env_steps = learner_env.env_steps
 
@@ -309,8 +328,9 @@ def main():
     plot(rows, base[0], learned[0], png_path, title)
     result = {
         "task": args.task, "action": args.action, "forward": args.forward,
-        "env_steps": env_steps, "train_episodes": len(learner_env.episodes),
-        "train_wall_s": round(train_wall_s, 1), "env_steps_per_s": round(env_steps / train_wall_s, 1),
+        "env_steps": env_steps, "updates": updates, "train_episodes": len(learner_env.episodes),
+        "train_wall_s": round(train_wall_s, 1),
+        "env_steps_per_s": round(env_steps / train_wall_s, 1),
         "eval_wall_s": round(eval_wall_s, 1), "test_episodes": args.test_episodes,
         "test_seed": args.test_seed, "baseline_success": base[0], "learned_success": learned[0],
         "baseline_return": round(base[1], 3), "learned_return": round(learned[1], 3),

@@ -17,3 +17,43 @@ def test_ray_sweep_on_two_local_cpus(tmp_path, short_step):  # noqa: F811
     finally:
         ray.shutdown()
     assert lines == dataset.sweep(short_step, tmp_path / "plain", runs=4, seed=5)
+
+
+def test_ray_vector_env_equals_the_native_one_on_two_local_cpus():
+    """The same seeds give the same episodes whether 3 envs live in one process or in 2 Ray
+    actors (2 + 1), through an autoreset: 1 s control periods end the 8 s episodes at step 8,
+    step 9 resets them."""
+    import numpy as np
+
+    import tracksim
+    from conftest import SCENARIOS
+    from tracksim.ray_vector import RayVectorEnv
+
+    path = SCENARIOS / "random" / "packbot_flippers_step_random.toml"
+    config = {"grid_shape": (2, 1), "control_period_s": 1.0}
+    native = tracksim.TracksimVectorEnv(path, 3, threads=1, config=config)
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        renv = RayVectorEnv(path, 3, num_actors=2, config=config)
+        assert renv.sizes == [2, 1]
+        assert renv.single_observation_space == native.single_observation_space
+        o1, i1 = native.reset(seed=7)
+        o2, i2 = renv.reset(seed=7)
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(i1["seed"], i2["seed"])
+        rng = np.random.default_rng(0)
+        resets = 0
+        for _ in range(10):
+            a = rng.uniform(-1, 1, (3, 4)).astype(np.float32)
+            r1, r2 = native.step(a), renv.step(a)
+            for x, y in zip(r1[:4], r2[:4]):
+                np.testing.assert_array_equal(x, y)
+            for k in ("progress_m", "seed", "autoreset", "outcome", "reason"):
+                np.testing.assert_array_equal(np.asarray(r1[4][k]), np.asarray(r2[4][k]))
+            resets += int(np.sum(r1[4]["autoreset"]))
+        assert resets >= 1
+        with pytest.raises(ValueError, match="num_actors"):
+            RayVectorEnv(path, 2, num_actors=3)
+        renv.close()
+    finally:
+        ray.shutdown()
