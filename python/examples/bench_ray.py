@@ -81,21 +81,21 @@ def main():
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     results = {}
     try:
-        envs = {}
-        for name, path in SCENARIOS.items():
-            envs[name] = {
-                "native, 2 threads": tracksim.TracksimVectorEnv(path, args.envs, threads=2),
-                "ray, 2 actors x 1 thread": RayVectorEnv(path, args.envs, num_actors=2),
-                "native, 1 thread": tracksim.TracksimVectorEnv(path, args.envs, threads=1),
-            }
         for r in range(args.rounds):
             for name, path in SCENARIOS.items():
                 steps = args.steps or episode_steps(path)
-                for label, env in envs[name].items():
+                # The Ray env's 2 actors take the 2 Ray CPUs: made (not timed) and ended here.
+                envs = {
+                    "native, 2 threads": tracksim.TracksimVectorEnv(path, args.envs, threads=2),
+                    "ray, 2 actors x 1 thread": RayVectorEnv(path, args.envs, num_actors=2),
+                    "native, 1 thread": tracksim.TracksimVectorEnv(path, args.envs, threads=1),
+                }
+                for label, env in envs.items():
                     sps = timed_episode(env, args.envs, steps)
                     results.setdefault((name, label), []).append(sps)
                     print(f"round {r} {name:6s} {label:36s} {sps:8.1f} env steps/s "
                           f"(load {os.getloadavg()[0]:.2f})", flush=True)
+                    env.close()
                 if args.sweep_runs:
                     p = str(path)
                     for label, fn in (
@@ -108,9 +108,6 @@ def main():
                         results.setdefault((name, label), []).append(sps)
                         print(f"round {r} {name:6s} {label:36s} {sps:8.1f} env steps/s "
                               f"(equivalent; load {os.getloadavg()[0]:.2f})", flush=True)
-        for name in envs:
-            for env in envs[name].values():
-                env.close()
     finally:
         ray.shutdown()
     print(f"\nmedians over {args.rounds} rounds ({args.envs} envs; ratios to native 2 threads "

@@ -73,6 +73,7 @@ class RayVectorEnv(gym.vector.VectorEnv):
                  num_cpus_per_actor: float = 1.0):
         import ray
 
+        self.actors = []
         if int(num_actors) < 1 or int(num_envs) < int(num_actors):
             raise ValueError(f"num_actors must be between 1 and num_envs ({num_envs}); got "
                              f"{num_actors}")
@@ -132,6 +133,6 @@ class RayVectorEnv(gym.vector.VectorEnv):
         return obs, rew, term, trunc, infos
 
     def close(self, **kwargs):
-        for a in self.actors:
+        for a in getattr(self, "actors", []):
             self._ray.kill(a)
         self.actors = []
