@@ -45,3 +45,22 @@ def test_ppo_example_refuses_an_unknown_task(tmp_path):
                         "--out", tmp_path], capture_output=True, text=True, timeout=120)
     assert r.returncode != 0
     assert "--task" in r.stderr and "tracksim/NoSuchTask-v0" in r.stderr
+
+
+def test_ppo_example_takes_a_task_by_gymnasium_id():
+    """`--task ID` resolves a registered id to its env's scenario (the task suite's
+    `tracksim/PackBotSteps-v0` once registered; a test id here)."""
+    import gymnasium as gym
+
+    sys.path.insert(0, str(EXAMPLE.parent))
+    try:
+        import train_ppo
+    finally:
+        sys.path.remove(str(EXAMPLE.parent))
+    gym.register("tracksim_test/Steps-v0", entry_point="tracksim:TracksimEnv",
+                 kwargs={"scenario": str(train_ppo.DEFAULT_TASK)})
+    try:
+        sc = train_ppo.resolve_task("tracksim_test/Steps-v0")
+    finally:
+        del gym.registry["tracksim_test/Steps-v0"]
+    assert pathlib.Path(sc.path).resolve() == train_ppo.DEFAULT_TASK.resolve()
