@@ -85,7 +85,10 @@ class LearnerVecEnv(gym.vector.VectorEnv):
         self.mode = mode
         self.forward = float(forward)
         self.full_dim = self.env.single_action_space.shape[0]
-        self.flippers = self.full_dim - 2  # twist action: forward, yaw rate, one per flipper
+        flippers = self.full_dim - 2  # twist action: forward, yaw rate, one per flipper
+        if mode == "flippers" and flippers < 1:
+            raise SystemExit(f"--action flippers: the vehicle of {self.env.scenario.path} has "
+                             "no flippers; use --action full")
         dim = 1 if mode == "flippers" else self.full_dim
         self.single_observation_space = self.env.single_observation_space
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (dim,), np.float32)
