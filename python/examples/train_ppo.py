@@ -286,6 +286,9 @@ def main():
     from skrl.trainers.jax import SequentialTrainer
     from skrl.utils import set_seed
 
+    import skrl
+
+    skrl.config.jax.device = "cpu"  # skrl's default asks for cuda:0 first, with a warning
     set_seed(args.seed)
     scenario = resolve_task(args.task)
     t0 = time.time()
