@@ -7,7 +7,10 @@
 - :class:`TracksimEnv`: a Gymnasium environment (``config={"observation": "dict"}`` adds the
   sensors to the observation); :class:`TracksimVectorEnv`: N of them stepped on Rust threads
   behind Gymnasium's ``VectorEnv`` API;
-- :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable.
+- :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable;
+- the task suite (:mod:`tracksim.tasks`, docs/TASKS.md): ``gymnasium.make("tracksim/PackBotFlat-v0")``
+  and the other ids, registered on import; :mod:`tracksim.baselines` their scripted policies;
+  :func:`bundled_path` finds a bundled scenario from the installed package.
 
 Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).
 """
@@ -20,9 +23,14 @@ from ._tracksim import (
     UnstableError,
     VecEnvCore,
     __version__,
+    bundled_names,
+    bundled_path,
 )
 from .env import ProgressReward, TracksimEnv
 from .vector import TracksimVectorEnv
+from . import tasks as _tasks
+
+_tasks.register_all()
 
 __all__ = [
     "EnvCore",
@@ -35,4 +43,6 @@ __all__ = [
     "UnstableError",
     "VecEnvCore",
     "__version__",
+    "bundled_names",
+    "bundled_path",
 ]

@@ -19,6 +19,8 @@ use tracksim::env::{EnvConfig, EnvValue, SensorObs};
 use tracksim::sensors::{Channel, SensorSet};
 use tracksim::{Controls, ScenarioTemplate};
 
+mod bundled;
+
 pyo3::create_exception!(
     _tracksim,
     ScenarioError,
@@ -849,6 +851,7 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyVecEnvCore>()?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    bundled::register(m)?;
     m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;
     m.add("UnstableError", m.py().get_type::<UnstableError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
