@@ -24,7 +24,10 @@ fn bundled_names() -> Vec<String> {
 /// be written.
 #[pyfunction]
 fn bundled_path(py: Python<'_>, name: &str) -> PyResult<String> {
-    match py.detach(|| bundled::resolve(name)).map_err(crate::py_err)? {
+    match py
+        .detach(|| bundled::resolve(name))
+        .map_err(crate::py_err)?
+    {
         Some(p) => Ok(p.display().to_string()),
         None => {
             let shown: String = name.chars().take(100).collect();
