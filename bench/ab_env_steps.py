@@ -2,10 +2,10 @@
 ...) in one run: `bench/env_steps.py` run by each interpreter (each a venv with one build).
 
     python bench/ab_env_steps.py PYTHON_A PYTHON_B PAIRS [--cases flat,stairs,quince]
-                                 [--steps 60] [--args-a "..."] [--args-b "..."]
+                                 [--steps 60] [--physics-a JSON] [--physics-b JSON]
 
-`--args-a`/`--args-b` are passed to that build's env_steps.py (e.g. `--args-b '--physics
-{"method": "okada2020_clustered", "solver_iterations": 2}'` to compare a physics setting).
+`--physics-a`/`--physics-b` are Scenario overrides for that build's env_steps.py (e.g.
+`--physics-b '{"solver_iterations": 2}'`, tracksim.TRAINING_PHYSICS) to compare a setting.
 
 Prints, per case, the median env steps/s of A and B, the ratio of medians (B / A) and the
 median of the per-pair ratios, with the 1-minute load average after each pair.
@@ -13,16 +13,16 @@ median of the per-pair ratios, with the 1-minute load average after each pair.
 import argparse
 import json
 import os
-import shlex
 import statistics as st
 import subprocess
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def once(python, cases, steps, extra):
+def once(python, cases, steps, physics):
+    extra = ["--physics", physics] if physics else []
     r = subprocess.run([python, os.path.join(HERE, "env_steps.py"), "--cases", cases,
-                        "--steps", str(steps), "--json"] + shlex.split(extra),
+                        "--steps", str(steps), "--json"] + extra,
                        check=True, capture_output=True, text=True)
     return json.loads(r.stdout.strip().splitlines()[-1])
 
@@ -34,15 +34,15 @@ def main():
     ap.add_argument("pairs", type=int)
     ap.add_argument("--cases", default="flat,stairs,quince")
     ap.add_argument("--steps", type=int, default=60)
-    ap.add_argument("--args-a", default="")
-    ap.add_argument("--args-b", default="")
+    ap.add_argument("--physics-a", default="")
+    ap.add_argument("--physics-b", default="")
     args = ap.parse_args()
     res = {"a": [], "b": []}
     loads = [os.getloadavg()[0]]
     for i in range(args.pairs):
         for who in (["a", "b"] if i % 2 == 0 else ["b", "a"]):
             py = args.a if who == "a" else args.b
-            cfg = args.args_a if who == "a" else args.args_b
+            cfg = args.physics_a if who == "a" else args.physics_b
             res[who].append(once(py, args.cases, args.steps, cfg))
         loads.append(os.getloadavg()[0])
     print("load average (1 min) after each pair:", " ".join(f"{x:.2f}" for x in loads))

@@ -7,15 +7,19 @@
 - :class:`TracksimEnv`: a Gymnasium environment (``config={"observation": "dict"}`` adds the
   sensors to the observation); :class:`TracksimVectorEnv`: N of them stepped on Rust threads
   behind Gymnasium's ``VectorEnv`` API;
-- :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable.
+- :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable;
+- the task suite (:mod:`tracksim.tasks`, docs/TASKS.md): ``gymnasium.make("tracksim/PackBotFlat-v0")``
+  and the other ids, registered on import; :mod:`tracksim.baselines` their scripted policies;
+  :func:`bundled_path` finds a bundled scenario from the installed package.
 
 Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).
 
-``TRAINING_PHYSICS`` is the faster physics for learning, as ``Scenario(path,
-**TRAINING_PHYSICS)``: grousers clustered in fours (``okada2020_clustered``) and 2 solver
-iterations. It is not the validated default: docs/LEARNING.md says what was shown equal (success
-rates of policies on the steps tasks) and what it does not keep (the paper's Table IV with
-Quince is validated with the default only).
+``TRAINING_PHYSICS`` is the faster physics for learning PackBot tasks, as ``Scenario(path,
+**TRAINING_PHYSICS)``: 2 solver iterations instead of 4. It is not the validated default:
+BENCHMARKS.md ("Env steps per core") says what was shown equal (success rates and climbing
+times of fixed policies over 100 held-out seeds of the steps tasks, flat-ground speed) and what
+it does not keep (Quince needs its 8 iterations; the paper's Table IV is validated with the
+default only).
 """
 
 from ._tracksim import (
@@ -26,13 +30,18 @@ from ._tracksim import (
     UnstableError,
     VecEnvCore,
     __version__,
+    bundled_names,
+    bundled_path,
 )
 from .env import ProgressReward, TracksimEnv
 
-#: Scenario overrides of the training physics (about 1.8x the env steps per core of the
-#: validated default on flat ground: BENCHMARKS.md "Env steps per core").
-TRAINING_PHYSICS = {"method": "okada2020_clustered", "solver_iterations": 2}
+#: Scenario overrides of the training physics for PackBot tasks (BENCHMARKS.md "Env steps per
+#: core": its speed-up and what was shown equal to the validated default).
+TRAINING_PHYSICS = {"solver_iterations": 2}
 from .vector import TracksimVectorEnv
+from . import tasks as _tasks
+
+_tasks.register_all()
 
 __all__ = [
     "EnvCore",
@@ -46,4 +55,6 @@ __all__ = [
     "UnstableError",
     "VecEnvCore",
     "__version__",
+    "bundled_names",
+    "bundled_path",
 ]

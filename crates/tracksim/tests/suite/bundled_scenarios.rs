@@ -1,4 +1,4 @@
-//! Every bundled scenario (`scenarios/`, `classic/`, `random/` at its file's seed) run to its
+//! Every bundled scenario (`scenarios/`, `classic/`, `random/`, `tasks/` at its file's seed) run to its
 //! end, as `tracksim run` runs it, against the `[expect]` table in the file itself (issue 23):
 //! the outcome and a few key figures its description promises. Until this test, bundled files
 //! were only run for 2 s, and two of them had silently stopped doing what they said

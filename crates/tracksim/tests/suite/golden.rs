@@ -1,8 +1,8 @@
 //! Golden trajectories: the physics must not change when the code is rearranged.
 //!
-//! Every bundled scenario is run under every track method for a short time and the SHA-256 of
-//! its `trajectory.csv` is compared with `tests/golden/trajectories.txt`. On a mismatch the test
-//! prints the new hashes; a deliberate physics change regenerates the file on purpose with
+//! Every bundled scenario of `scenarios/` and `scenarios/tasks/` is run under every track
+//! method for a short time and the SHA-256 of its `trajectory.csv` is compared with
+//! `tests/golden/trajectories.txt`. On a mismatch the test prints the new hashes; a deliberate physics change regenerates the file on purpose with
 //! `scripts/update-golden.sh` (which sets `TRACKSIM_UPDATE_GOLDEN=1`) and says why in its commit.
 
 use crate::common;
@@ -34,12 +34,19 @@ fn hash_run(file: &std::path::Path, method: &str) -> String {
 
 #[test]
 fn bundled_trajectories_are_unchanged() {
-    let files = common::bundled_scenarios();
+    // The top folder's files by file name, the task suite's as `tasks/NAME.toml`.
+    let files = common::bundled_scenarios()
+        .into_iter()
+        .chain(common::task_scenarios());
     let mut got = BTreeMap::new();
-    for f in &files {
-        let name = f.file_name().unwrap().to_string_lossy().to_string();
+    for f in files {
+        let name = f
+            .strip_prefix(root().join("scenarios"))
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
         for m in methods() {
-            got.insert(format!("{name} {m}"), hash_run(f, &m));
+            got.insert(format!("{name} {m}"), hash_run(&f, &m));
         }
     }
     let text: String = got.iter().map(|(k, h)| format!("{k} {h}\n")).collect();

@@ -71,10 +71,23 @@ pub fn bundled_scenarios() -> Vec<PathBuf> {
     files
 }
 
-/// Every bundled scenario file: `scenarios/` and its `classic/` and `random/` folders.
+/// The task suite's scenario files (`scenarios/tasks/`, docs/TASKS.md), sorted.
+#[allow(dead_code)]
+pub fn task_scenarios() -> Vec<PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios").join("tasks"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Every bundled scenario file: `scenarios/` and its `classic/`, `random/` and `tasks/`
+/// folders.
 pub fn all_bundled_scenarios() -> Vec<PathBuf> {
     let mut files = bundled_scenarios();
-    for dir in ["classic", "random"] {
+    for dir in ["classic", "random", "tasks"] {
         let mut more: Vec<_> = std::fs::read_dir(root().join("scenarios").join(dir))
             .unwrap()
             .map(|e| e.unwrap().path())

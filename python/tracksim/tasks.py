@@ -1,0 +1,113 @@
+"""The task suite: PackBot 510 with flippers on the terrains of the flipper-robot benchmark
+FTR-Bench (flat, battens, bollards, stairs up, stairs down) plus steps and slopes, each a
+bundled, randomised scenario file registered with Gymnasium under a ``tracksim/...-v0`` id on
+``import tracksim``::
+
+    env = gymnasium.make("tracksim/PackBotStairsUp-v0", config={"grid_shape": (8, 3)})
+
+The scenario files are embedded in the compiled module and resolved by name
+(:func:`tracksim.bundled_path`), so the ids work from an installed wheel. Success and failure
+conditions, randomised ranges and the scripted baselines' success rates: docs/TASKS.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Optional
+
+from ._tracksim import bundled_path
+
+#: The environment's default control period (s): ``max_episode_steps`` of every id is the
+#: task's duration over it. With another ``control_period_s`` in ``config`` the environment
+#: still truncates at the scenario's duration; pass ``max_episode_steps=`` to
+#: ``gymnasium.make`` so that Gymnasium's ``TimeLimit`` does not end episodes first.
+DEFAULT_CONTROL_PERIOD_S = 0.05
+
+
+@dataclass(frozen=True)
+class Task:
+    """One task of the suite.
+
+    ``id``: the Gymnasium id; ``scenario``: the bundled scenario's name
+    (:func:`tracksim.bundled_names`); ``terrain``: in words; ``duration_s``: the scenario's
+    ``simulation.duration_s`` (the episode's length in simulated seconds, checked against the
+    file by the tests).
+    """
+
+    id: str
+    scenario: str
+    terrain: str
+    duration_s: float
+
+    @property
+    def max_episode_steps(self) -> int:
+        """Control periods of the default length (:data:`DEFAULT_CONTROL_PERIOD_S`) in one
+        episode."""
+        return int(math.ceil(self.duration_s / DEFAULT_CONTROL_PERIOD_S - 1e-9))
+
+    def path(self) -> str:
+        """The scenario file (extracted from the installed package on first use)."""
+        return bundled_path(self.scenario)
+
+
+#: Every task, in the order of docs/TASKS.md.
+TASKS = (
+    Task("tracksim/PackBotFlat-v0", "tasks/packbot_flat", "flat lane 1.2 m wide", 15.0),
+    Task("tracksim/PackBotBattens-v0", "tasks/packbot_battens", "three battens across the path",
+         20.0),
+    Task("tracksim/PackBotBollards-v0", "tasks/packbot_bollards",
+         "three rows of posts (pile field)", 20.0),
+    Task("tracksim/PackBotStairsUp-v0", "tasks/packbot_stairs_up", "four stairs up", 20.0),
+    Task("tracksim/PackBotStairsDown-v0", "tasks/packbot_stairs_down",
+         "four stairs down from a landing", 20.0),
+    Task("tracksim/PackBotSteps-v0", "random/packbot_flippers_step_random", "one step up", 8.0),
+    Task("tracksim/PackBotSlope-v0", "tasks/packbot_slope", "an incline of 10-40 deg", 20.0),
+)
+
+#: The tasks by id.
+BY_ID = {t.id: t for t in TASKS}
+
+
+def task(task_id: str) -> Task:
+    """The task of ``task_id``; ``KeyError`` naming the ids for any other."""
+    try:
+        return BY_ID[task_id]
+    except KeyError:
+        raise KeyError(f"no task {task_id!r}: the tasks are {', '.join(BY_ID)}") from None
+
+
+def make_env(scenario: str, config: Optional[dict] = None,
+             reward: Optional[Callable[..., Any]] = None, render_mode: Optional[str] = None,
+             **kwargs):
+    """The entry point of every id: a :class:`tracksim.TracksimEnv` on the bundled scenario
+    ``scenario`` (a name of :func:`tracksim.bundled_names`); ``config``, ``reward``,
+    ``render_mode`` and any other keyword pass through to it."""
+    from .env import TracksimEnv
+
+    return TracksimEnv(bundled_path(scenario), config=config, reward=reward,
+                       render_mode=render_mode, **kwargs)
+
+
+def register_all() -> None:
+    """Registers every task's id with Gymnasium (done on ``import tracksim``; ids already
+    registered are left alone)."""
+    import gymnasium
+
+    for t in TASKS:
+        if t.id in gymnasium.registry:
+            continue
+        gymnasium.register(id=t.id, entry_point="tracksim.tasks:make_env",
+                           kwargs={"scenario": t.scenario},
+                           max_episode_steps=t.max_episode_steps,
+                           disable_env_checker=False)
+
+
+def make_vector(task_id: str, num_envs: int, threads: int = 1, config: Optional[dict] = None,
+                reward: Optional[Callable[..., Any]] = None):
+    """``num_envs`` episodes of the task ``task_id`` on Rust threads
+    (:class:`tracksim.TracksimVectorEnv`; it truncates at the scenario's duration itself)."""
+    from .vector import TracksimVectorEnv
+
+    return TracksimVectorEnv(task(task_id).path(), num_envs, threads=threads, config=config,
+                             reward=reward)
