@@ -569,10 +569,7 @@ impl PyEnvCore {
     /// unless `observation` is "learner").
     #[getter]
     fn learner_cost_us(&self) -> (u64, f64) {
-        self.env
-            .get()
-            .learner()
-            .map_or((0, 0.0), |l| l.cost())
+        self.env.get().learner().map_or((0, 0.0), |l| l.cost())
     }
 
     /// With `record_dir`: writes the episode so far as a run folder and starts it afresh

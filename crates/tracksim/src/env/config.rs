@@ -478,7 +478,10 @@ impl EnvConfig {
             );
         }
         let (rows, cols) = self.map_shape;
-        if rows.checked_mul(cols).is_none_or(|n| n == 0 || n > MAX_GRID_CELLS) {
+        if rows
+            .checked_mul(cols)
+            .is_none_or(|n| n == 0 || n > MAX_GRID_CELLS)
+        {
             c.push(
                 "map_shape",
                 format!(

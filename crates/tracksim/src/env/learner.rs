@@ -217,10 +217,7 @@ impl LearnerObs {
 
     /// Updates since the episode started and their mean wall time, us.
     pub fn cost(&self) -> (u64, f64) {
-        (
-            self.updates,
-            self.cost_s / self.updates.max(1) as f64 * 1e6,
-        )
+        (self.updates, self.cost_s / self.updates.max(1) as f64 * 1e6)
     }
 
     /// The name of every value (`goal_m[0]`, `elevation_map_m[3,5]`, ...), in order.

@@ -17,9 +17,7 @@ mod record;
 mod sensor_obs;
 mod vector;
 
-pub use config::{
-    ActionMode, EnvConfig, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode,
-};
+pub use config::{ActionMode, EnvConfig, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode};
 pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
 pub use sensor_obs::{STATE_KEY, SensorObs};
 pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
@@ -385,8 +383,8 @@ impl Env {
             let target = match self.cfg.flipper_action {
                 FlipperAction::Position => lo + (a(n + i) + 1.0) / 2.0 * (hi - lo),
                 FlipperAction::Velocity => {
-                    let t = deg[i].to_radians()
-                        + a(n + i) * self.cfg.max_flipper_rate_rad_s * period;
+                    let t =
+                        deg[i].to_radians() + a(n + i) * self.cfg.max_flipper_rate_rad_s * period;
                     let t = t.clamp(lo.min(hi), hi.max(lo));
                     match fl.limits {
                         Some([l, h]) => t.clamp(l, h),
