@@ -15,8 +15,13 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 # build. (The physics is the same in both: Rust does not reorder float operations.)
 PROFILE="${TRACKSIM_PROFILE:-dev}"
 OUTDIR=$([ "$PROFILE" = dev ] && echo debug || echo "$PROFILE")
-cargo build --profile "$PROFILE" -p tracksim-cli
-export TRACKSIM_BIN="$CARGO_TARGET_DIR/$OUTDIR/tracksim"
+# A CLI given in TRACKSIM_BIN (CI passes the one `cargo test --workspace` built) is used as it
+# is: `cargo build -p tracksim-cli` alone resolves other dependency features than the
+# workspace's test build and would compile much of the tree a second time.
+if [ -z "${TRACKSIM_BIN:-}" ] || [ ! -x "$TRACKSIM_BIN" ]; then
+  cargo build --profile "$PROFILE" -p tracksim-cli
+  export TRACKSIM_BIN="$CARGO_TARGET_DIR/$OUTDIR/tracksim"
+fi
 # Build the wheel and install it (what a user gets), not an editable install.
 rm -rf "$CARGO_TARGET_DIR/wheels"
 "$VENV/bin/maturin" build --profile "$PROFILE" --out "$CARGO_TARGET_DIR/wheels"

@@ -10,6 +10,12 @@
 - :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable.
 
 Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).
+
+``TRAINING_PHYSICS`` is the faster physics for learning, as ``Scenario(path,
+**TRAINING_PHYSICS)``: grousers clustered in fours (``okada2020_clustered``) and 2 solver
+iterations. It is not the validated default: docs/LEARNING.md says what was shown equal (success
+rates of policies on the steps tasks) and what it does not keep (the paper's Table IV with
+Quince is validated with the default only).
 """
 
 from ._tracksim import (
@@ -22,6 +28,10 @@ from ._tracksim import (
     __version__,
 )
 from .env import ProgressReward, TracksimEnv
+
+#: Scenario overrides of the training physics (about 1.8x the env steps per core of the
+#: validated default on flat ground: BENCHMARKS.md "Env steps per core").
+TRAINING_PHYSICS = {"method": "okada2020_clustered", "solver_iterations": 2}
 from .vector import TracksimVectorEnv
 
 __all__ = [
@@ -30,6 +40,7 @@ __all__ = [
     "Scenario",
     "ScenarioError",
     "Simulation",
+    "TRAINING_PHYSICS",
     "TracksimEnv",
     "TracksimVectorEnv",
     "UnstableError",

@@ -73,9 +73,37 @@ struct PyScenario {
 #[pymethods]
 impl PyScenario {
     /// Loads `path`; raises `ScenarioError` with every problem (file, key, fix).
+    ///
+    /// `method` (a track method name, as `simulation.method`) and `solver_iterations` (as
+    /// `simulation.solver_iterations`) override the file's values before every compilation,
+    /// checked like the file's own: the training physics of `tracksim.TRAINING_PHYSICS` is
+    /// `method="okada2020_clustered", solver_iterations=2` (docs/LEARNING.md says what it
+    /// keeps of the validated physics).
     #[new]
-    fn new(path: PathBuf) -> PyResult<Self> {
-        let t = tracksim::load_template(&path).map_err(py_err)?;
+    #[pyo3(signature = (path, method = None, solver_iterations = None))]
+    fn new(
+        path: PathBuf,
+        method: Option<&str>,
+        solver_iterations: Option<usize>,
+    ) -> PyResult<Self> {
+        let method = match method {
+            None => None,
+            Some(name) => Some(tracksim::Method::parse("method", name).map_err(|issue| {
+                PyValueError::new_err(format!("Scenario({}): {issue}", path.display()))
+            })?),
+        };
+        if solver_iterations == Some(0) {
+            return Err(PyValueError::new_err(format!(
+                "Scenario({}): solver_iterations must be at least 1, got 0",
+                path.display()
+            )));
+        }
+        let overrides = tracksim::Overrides {
+            method,
+            solver_iterations,
+            ..tracksim::Overrides::default()
+        };
+        let t = tracksim::ScenarioTemplate::load_with(&path, &overrides).map_err(py_err)?;
         Ok(PyScenario { t: Arc::new(t) })
     }
 

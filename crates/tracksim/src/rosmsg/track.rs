@@ -3,7 +3,7 @@
 //! has a `[tracks.motor]`, NaN for a track without one when another has one). Its `.msg` text
 //! ([`TRACK_STATES`], fields with their units) is also the file
 //! `ros/tracksim_msgs/msg/TrackStates.msg` of a ROS 2 package to build where a recording is
-//! read with generated types (`tests/issue_27_mcap.rs` keeps the two equal).
+//! read with generated types (`tests/suite/issue_27_mcap.rs` keeps the two equal).
 
 use super::builtin::{HEADER, Header};
 use super::schema::{MsgDef, RosMessage};

@@ -12,7 +12,7 @@
 //! Where the grousers meet a step edge, a riser or a tread, each contact plane is its own
 //! cluster: the grousers' edges still hook.
 //!
-//! Three settings come with it (`world_settings`), each measured (tests/issue_16_clustered.rs,
+//! Three settings come with it (`world_settings`), each measured (tests/suite/issue_16_clustered.rs,
 //! BENCHMARKS.md):
 //! - groups, not whole links: 4 points for a whole bottom run cannot carry the pressure
 //!   distribution along the track that skid steering turns against (the PackBot's spin turn

@@ -43,7 +43,7 @@
 //!   twice that), which affects every contact of the scenario. (A 0.1 kg plate floor alone did
 //!   not fix it.)
 //!
-//! # What it achieves (PackBot 510, dt = 1 ms, 4 iterations; `tests/plates.rs`)
+//! # What it achieves (PackBot 510, dt = 1 ms, 4 iterations; `tests/suite/plates.rs`)
 //! Flat ground at 0.3 m/s: 0.304 m/s over seconds 2-6, body at 0.085-0.087 m; a 0.05 m step is
 //! climbed. A 0.10 m step (`scenarios/packbot_step.toml`) is *not* climbed: the vehicle stays
 //! stable but stalls nose-up against the edge (also with sprocket friction 5 and 80 N

@@ -10,7 +10,7 @@
 //! (`ContactData::warmstart_tangent_world`); it is counted once per manifold, times the number
 //! of substeps (`simulation.solver_iterations`): exact in steady state, an estimate during
 //! impacts. Checked at rest on 0 and 20 deg against m g cos and m g sin
-//! (tests/issue_14_track_outputs.rs).
+//! (tests/suite/issue_14_track_outputs.rs).
 
 use super::Simulation;
 use crate::tracks::WORLD_GROUP;
