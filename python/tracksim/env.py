@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+from collections import OrderedDict
 from typing import Any, Callable, Optional, Union
 
 import gymnasium as gym
@@ -89,10 +90,11 @@ def observation_space(core) -> gym.Space:
     ``observation="learner"`` a ``Dict`` of the learner's entries (float32 ``Box`` each, their
     bounds as documented in :class:`TracksimEnv`)."""
     if core.observation == "learner":
-        return gym.spaces.Dict({
-            name: gym.spaces.Box(np.float32(low), np.float32(high), tuple(shape), np.float32)
+        # An OrderedDict keeps the documented order (a plain dict is sorted by gymnasium).
+        return gym.spaces.Dict(OrderedDict(
+            (name, gym.spaces.Box(np.float32(low), np.float32(high), tuple(shape), np.float32))
             for name, shape, low, high in core.learner_obs_spec
-        })
+        ))
     state = gym.spaces.Box(-np.inf, np.inf, (core.obs_dim,), np.float32)
     if core.observation != "dict":
         return state

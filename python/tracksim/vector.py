@@ -105,7 +105,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs):
         """Writes every environment's episode in progress as a run folder (``record_dir``)."""
-        self._core.flush_records()
+        if getattr(self, "_core", None) is not None:
+            self._core.flush_records()
 
     def _obs(self, state):
         """The observations of the state vectors ``state`` (with the sensors' stacked entries

@@ -128,7 +128,7 @@ impl Env {
     /// Starts a new episode with `seed` (with `record_dir`, the episode that ends here is
     /// written first).
     pub fn reset(&mut self, seed: u64) -> Result<()> {
-        let episode = self.record.as_ref().map_or(0, |r| r.episode + 1);
+        let episode = self.next_episode();
         let fresh = Env::episode(self.template.clone(), self.cfg.clone(), seed, episode)?;
         let old = std::mem::replace(self, fresh);
         old.write_record()?;
@@ -144,9 +144,17 @@ impl Env {
             return Ok(None);
         }
         let seed = self.runner.sim().seed();
-        let episode = self.record.as_ref().map_or(0, |r| r.episode + 1);
+        let episode = self.next_episode();
         let fresh = Env::episode(self.template.clone(), self.cfg.clone(), seed, episode)?;
         std::mem::replace(self, fresh).write_record()
+    }
+
+    /// The recorded number of the next episode: this one's plus one, unless this one was
+    /// never stepped (it writes nothing, and the next takes its number).
+    fn next_episode(&self) -> u64 {
+        self.record
+            .as_ref()
+            .map_or(0, |r| r.episode + u64::from(self.runner.sim().steps() > 0))
     }
 
     /// Writes this episode's folder if recording (consumes the episode).

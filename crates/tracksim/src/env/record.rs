@@ -4,8 +4,8 @@
 //! episode's controls as a scenario's `[[commands]]`, through the writer every front end uses
 //! ([`crate::output::write_outputs`]).
 //!
-//! An episode's folder is `record_dir/seed<SEED>-ep<K>` (K counts the episodes of one
-//! environment from 0), written when the next episode starts ([`super::Env::reset`], a vector
+//! An episode's folder is `record_dir/seed<SEED>-ep<K>` (K counts the stepped episodes of
+//! one environment from 0), written when the next episode starts ([`super::Env::reset`], a vector
 //! environment's autoreset) or the recording is flushed ([`super::Env::flush_record`], what the
 //! Python environments' `close()` calls); an episode that was not stepped writes nothing.
 //!
