@@ -3,40 +3,14 @@
 //! and episodes recorded as run folders that replay (`record_dir`).
 
 use crate::common::root;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::path::PathBuf;
 use std::sync::Arc;
 use tracksim::env::{Env, EnvConfig, EnvValue, LearnerObs, VecEnv};
 
-/// Counts the allocations of the current thread (tests run on their own threads), for
-/// `learner_observation_does_not_allocate`; the suite's allocator (the system's, counted:
-/// one thread-local increment per allocation).
-struct Counting;
-
-thread_local! {
-    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        ALLOCATIONS.with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(p, l, n) }
-    }
-}
-
-#[global_allocator]
-static ALLOC: Counting = Counting;
-
-fn allocations() -> u64 {
-    ALLOCATIONS.with(|c| c.get())
+/// Allocations of the current thread so far: the suite's counting allocator (defined in
+/// `issue_25_sensors`; tests run on their own threads).
+fn allocations() -> usize {
+    crate::issue_25_sensors::ALLOCATIONS.with(|c| c.get())
 }
 
 fn template(name: &str) -> Arc<tracksim::ScenarioTemplate> {
