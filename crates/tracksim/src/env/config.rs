@@ -308,6 +308,9 @@ impl EnvConfig {
             EnvValue::IntPair(a, b) => Some((a as f64, b as f64)),
             _ => None,
         };
+        if matches!(key, "flipper_action" | "record_dir") {
+            return self.set_flipper_or_record(key, value);
+        }
         match key {
             "action" => {
                 let EnvValue::Text(s) = &value else {
@@ -342,36 +345,6 @@ impl EnvConfig {
                         ),
                     )
                 })?;
-            }
-            "flipper_action" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a name: \"position\" or \"velocity\""));
-                };
-                self.flipper_action = FlipperAction::from_name(s).ok_or_else(|| {
-                    Error::setting(
-                        WHAT,
-                        key,
-                        format!(
-                            "{:?} is not a flipper action: use \"position\" (target angles \
-                             over flipper_range_rad) or \"velocity\" (rates up to \
-                             max_flipper_rate_rad_s)",
-                            crate::check::echoed(s)
-                        ),
-                    )
-                })?;
-            }
-            "record_dir" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a folder (a path as a string)"));
-                };
-                if s.is_empty() {
-                    return Err(Error::setting(
-                        WHAT,
-                        key,
-                        "an empty path: give the folder to write the episodes into",
-                    ));
-                }
-                self.record_dir = Some(s.into());
             }
             "goal_xy_m" => {
                 self.goal_xy_m = Some(pair(&value).ok_or_else(|| wrong("two numbers (x, y), m"))?);
@@ -427,6 +400,51 @@ impl EnvConfig {
                 };
                 *field = x;
             }
+        }
+        Ok(())
+    }
+
+    /// [`EnvConfig::set`] of `flipper_action` and `record_dir`.
+    fn set_flipper_or_record(&mut self, key: &str, value: EnvValue) -> Result<()> {
+        let wrong = |expected: &str| Error::Settings {
+            what: WHAT.into(),
+            issues: vec![SpecIssue::new(
+                key,
+                format!("expected {expected}, got {}", value.what()),
+            )],
+        };
+        match key {
+            "flipper_action" => {
+                let EnvValue::Text(s) = &value else {
+                    return Err(wrong("a name: \"position\" or \"velocity\""));
+                };
+                self.flipper_action = FlipperAction::from_name(s).ok_or_else(|| {
+                    Error::setting(
+                        WHAT,
+                        key,
+                        format!(
+                            "{:?} is not a flipper action: use \"position\" (target angles \
+                             over flipper_range_rad) or \"velocity\" (rates up to \
+                             max_flipper_rate_rad_s)",
+                            crate::check::echoed(s)
+                        ),
+                    )
+                })?;
+            }
+            "record_dir" => {
+                let EnvValue::Text(s) = &value else {
+                    return Err(wrong("a folder (a path as a string)"));
+                };
+                if s.is_empty() {
+                    return Err(Error::setting(
+                        WHAT,
+                        key,
+                        "an empty path: give the folder to write the episodes into",
+                    ));
+                }
+                self.record_dir = Some(s.into());
+            }
+            _ => unreachable!("set passes only these keys"),
         }
         Ok(())
     }
