@@ -1,9 +1,10 @@
-"""Is the training physics (``tracksim.TRAINING_PHYSICS``: ``okada2020_clustered`` grousers, 2
-solver iterations) the same physics on a learning task as the validated default (``okada2020``,
-the file's iterations)? Success rates of fixed policies over the same held-out seeds, both
+"""Is the training physics (``tracksim.TRAINING_PHYSICS``: 2 solver iterations instead of 4, or
+another setting given with ``--physics``) the same physics on a learning task as the validated
+default (``okada2020``, the file's iterations)? Success rates of fixed policies over the same held-out seeds, both
 settings, with a two-proportion z-test per policy.
 
-    python bench/physics_equivalence.py [--episodes 100] [--threads 2]
+    python bench/physics_equivalence.py [--episodes 100] [--threads 2] [--tasks 2,3]
+        [--physics '{"method": "okada2020_clustered"}']
 
 Tasks: the steps task (``scenarios/random/packbot_flippers_step_random.toml``, PackBot 510 with
 flippers, steps 0.12-0.24 m) and the step without flippers
@@ -55,13 +56,21 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--episodes", type=int, default=100)
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--physics", default=None,
+                    help="the setting compared with the validated one, as JSON Scenario "
+                         "overrides (default tracksim.TRAINING_PHYSICS)")
+    ap.add_argument("--tasks", default=None,
+                    help="comma-separated row numbers of the task table to run (default all)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
+    other = json.loads(args.physics) if args.physics else tracksim.TRAINING_PHYSICS
+    tasks = TASKS if args.tasks is None else [TASKS[int(i)] for i in args.tasks.split(",")]
+    print(f"validated physics against {other}", flush=True)
     seeds = list(range(10000, 10000 + args.episodes))
     rows = []
-    for name, file, action in TASKS:
+    for name, file, action in tasks:
         res = {}
-        for label, physics in (("validated", {}), ("training", tracksim.TRAINING_PHYSICS)):
+        for label, physics in (("validated", {}), ("training", other)):
             t0 = time.process_time()
             out, t = episodes(file, action, physics, seeds, args.threads)
             ok = [o == "success" for o in out]

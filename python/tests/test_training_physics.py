@@ -12,7 +12,10 @@ FLAT = str(SCENARIOS / "packbot_flat.toml")
 
 def test_overrides_reach_the_compiled_scenario():
     sc = tracksim.Scenario(FLAT, **tracksim.TRAINING_PHYSICS)
-    assert sc.info(0)["method"] == "okada2020_clustered"
+    assert sc.info(0)["solver_iterations"] == 2
+    assert tracksim.Scenario(FLAT).info(0)["solver_iterations"] == 4
+    clustered = tracksim.Scenario(FLAT, method="okada2020_clustered")
+    assert clustered.info(0)["method"] == "okada2020_clustered"
     assert tracksim.Scenario(FLAT).info(0)["method"] == "okada2020"
 
 

@@ -11,11 +11,12 @@
 
 Units are SI (m, s, rad); frames follow REP 103 (x forward, y left, z up).
 
-``TRAINING_PHYSICS`` is the faster physics for learning, as ``Scenario(path,
-**TRAINING_PHYSICS)``: grousers clustered in fours (``okada2020_clustered``) and 2 solver
-iterations. It is not the validated default: docs/LEARNING.md says what was shown equal (success
-rates of policies on the steps tasks) and what it does not keep (the paper's Table IV with
-Quince is validated with the default only).
+``TRAINING_PHYSICS`` is the faster physics for learning PackBot tasks, as ``Scenario(path,
+**TRAINING_PHYSICS)``: 2 solver iterations instead of 4. It is not the validated default:
+BENCHMARKS.md ("Env steps per core") says what was shown equal (success rates and climbing
+times of fixed policies over 100 held-out seeds of the steps tasks, flat-ground speed) and what
+it does not keep (Quince needs its 8 iterations; the paper's Table IV is validated with the
+default only).
 """
 
 from ._tracksim import (
@@ -29,9 +30,9 @@ from ._tracksim import (
 )
 from .env import ProgressReward, TracksimEnv
 
-#: Scenario overrides of the training physics (about 1.8x the env steps per core of the
-#: validated default on flat ground: BENCHMARKS.md "Env steps per core").
-TRAINING_PHYSICS = {"method": "okada2020_clustered", "solver_iterations": 2}
+#: Scenario overrides of the training physics for PackBot tasks (BENCHMARKS.md "Env steps per
+#: core": its speed-up and what was shown equal to the validated default).
+TRAINING_PHYSICS = {"solver_iterations": 2}
 from .vector import TracksimVectorEnv
 
 __all__ = [

@@ -77,8 +77,8 @@ impl PyScenario {
     /// `method` (a track method name, as `simulation.method`) and `solver_iterations` (as
     /// `simulation.solver_iterations`) override the file's values before every compilation,
     /// checked like the file's own: the training physics of `tracksim.TRAINING_PHYSICS` is
-    /// `method="okada2020_clustered", solver_iterations=2` (docs/LEARNING.md says what it
-    /// keeps of the validated physics).
+    /// `solver_iterations=2` (BENCHMARKS.md "Env steps per core" says what it keeps of the
+    /// validated physics).
     #[new]
     #[pyo3(signature = (path, method = None, solver_iterations = None))]
     fn new(
@@ -135,7 +135,8 @@ impl PyScenario {
         Ok(self.t.instantiate(seed).map_err(py_err)?.randomized)
     }
 
-    /// Scenario facts for `seed`: description, duration_s, dt_s, track_names, flipper_names,
+    /// Scenario facts for `seed`: description, duration_s, dt_s, solver_iterations, method,
+    /// vehicle, track_names, flipper_names,
     /// track_offsets_m (lateral offset of each track), randomized.
     fn info<'py>(&self, py: Python<'py>, seed: u64) -> PyResult<Bound<'py, PyDict>> {
         let sc = self.t.instantiate(seed).map_err(py_err)?;
@@ -143,6 +144,7 @@ impl PyScenario {
         d.set_item("description", &sc.description)?;
         d.set_item("duration_s", sc.duration)?;
         d.set_item("dt_s", sc.solver.dt)?;
+        d.set_item("solver_iterations", sc.solver.iterations)?;
         d.set_item("method", sc.method.name())?;
         let v = &sc.vehicle;
         d.set_item("vehicle", &v.name)?;
