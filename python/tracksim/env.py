@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import os
+from collections import OrderedDict
 from typing import Any, Callable, Optional, Union
 
 import gymnasium as gym
 import numpy as np
 
-from ._tracksim import EnvCore, Scenario
+from ._tracksim import EnvCore, LiveView, Scenario
 
 #: Index of roll and pitch in the observation vector (rad).
 ROLL, PITCH = 0, 1
@@ -38,10 +39,62 @@ class ProgressReward:
                 - self.energy_penalty * np.asarray(effort) * control_period_s)
 
 
+#: What ``render_mode="rgb_array"`` would need and what to use instead.
+RGB_ARRAY_REFUSAL = (
+    "render_mode='rgb_array' is not supported: tracksim has no offscreen renderer (its 3-D view "
+    "is a browser page, three.js over WebGL; frames for gymnasium's RecordVideo would need a "
+    "GPU or software GL stack inside the simulator, which the wheel does not carry). To watch "
+    "episodes use render_mode='human' (the live 3-D page on loopback, its URL printed), "
+    "config={'record_dir': DIR} (every episode written as a run folder; open one with "
+    "`tracksim view DIR/seed<SEED>-ep<K>`), or `tracksim view` of any run folder."
+)
+
+#: The render modes the environments support.
+RENDER_MODES = ["human"]
+
+
+def check_render_mode(render_mode: Optional[str]) -> None:
+    """Refuses a render mode other than None and "human", naming the alternatives."""
+    if render_mode is None or render_mode == "human":
+        return
+    if render_mode == "rgb_array":
+        raise ValueError(RGB_ARRAY_REFUSAL)
+    raise ValueError(f"render_mode={render_mode!r} is not supported: use None or 'human' "
+                     f"(the live 3-D page); {RGB_ARRAY_REFUSAL}")
+
+
+def plain_config(config: Optional[dict]) -> dict:
+    """``config`` with a path-like ``record_dir`` made a string."""
+    c = dict(config or {})
+    if c.get("record_dir") is not None and not isinstance(c["record_dir"], str):
+        c["record_dir"] = os.fspath(c["record_dir"])
+    return c
+
+
+def learner_obs(spec, flat):
+    """The learner's entries of the flat observation(s) ``flat`` (``(..., obs_dim)``): a dict of
+    float32 arrays of shape ``(..., *shape)``, views into ``flat``."""
+    out, at = {}, 0
+    lead = flat.shape[:-1]
+    for name, shape, _low, _high in spec:
+        n = int(np.prod(shape))
+        out[name] = flat[..., at:at + n].reshape(lead + tuple(shape))
+        at += n
+    return out
+
+
 def observation_space(core) -> gym.Space:
     """The observation space of one environment of ``core`` (an ``EnvCore`` or a
     ``VecEnvCore``): a float32 ``Box`` of the state vector, or with ``observation="dict"`` a
-    ``Dict`` of it (``"state"``) and one float32 ``Box`` per sensor."""
+    ``Dict`` of it (``"state"``) and one float32 ``Box`` per sensor, or with
+    ``observation="learner"`` a ``Dict`` of the learner's entries (float32 ``Box`` each, their
+    bounds as documented in :class:`TracksimEnv`)."""
+    if core.observation == "learner":
+        # An OrderedDict keeps the documented order (a plain dict is sorted by gymnasium).
+        return gym.spaces.Dict(OrderedDict(
+            (name, gym.spaces.Box(np.float32(low), np.float32(high), tuple(shape), np.float32))
+            for name, shape, low, high in core.learner_obs_spec
+        ))
     state = gym.spaces.Box(-np.inf, np.inf, (core.obs_dim,), np.float32)
     if core.observation != "dict":
         return state
@@ -68,8 +121,15 @@ class TracksimEnv(gym.Env):
 
     Action (float32, each in [-1, 1]): forward speed and yaw rate (``action="twist"``, scaled by
     ``max_forward_mps`` and ``max_yaw_rate_rad_s``) or one belt speed per track
-    (``action="belts"``, ``max_belt_speed_mps``), then one target per flipper mapped linearly
-    onto ``flipper_range_rad``.
+    (``action="belts"``, ``max_belt_speed_mps``), then one entry per flipper: with
+    ``flipper_action="position"`` (the default) its target angle, mapped linearly onto
+    ``flipper_range_rad``; with ``flipper_action="velocity"`` its rate, times
+    ``max_flipper_rate_rad_s`` (rad/s, default 1), integrated into the target angle over each
+    control period and clamped to ``flipper_range_rad`` and the joint's limits (0 holds the
+    flipper where its target is). The joint's position servo (the vehicle file's stiffness,
+    damping and torque limit) follows the moving target: a real velocity motor would let the
+    arm sag under load at rate 0 and its commands could not be recorded as a scenario's
+    ``flipper_angle_deg`` (see ``record_dir``).
 
     Reward: ``reward`` (default :class:`ProgressReward`). An episode terminates when the
     scenario's outcome is decided (success, failure, tip-over past ``max_tilt_deg``, off the
@@ -78,7 +138,8 @@ class TracksimEnv(gym.Env):
 
     ``config`` keys: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s,
     max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m,
-    no_terrain_m, observation.
+    no_terrain_m, observation, flipper_action, max_flipper_rate_rad_s, map_shape,
+    map_resolution_m, map_reach_m, goal_xy_m, record_dir.
 
     ``observation="vector"`` (the default) gives the state vector above. ``observation="dict"``
     gives a ``gymnasium.spaces.Dict``: ``"state"``, that vector, and one float32 entry per
@@ -99,29 +160,80 @@ class TracksimEnv(gym.Env):
 
     A vehicle without sensors gives ``{"state": ...}``. The reward function is given the state
     vector.
+
+    ``observation="learner"`` gives a ``gymnasium.spaces.Dict`` of float32 entries for a
+    learner (computed once per step into preallocated buffers, about 1 ms per step with the
+    default 64 x 64 map: ``python/examples/learner_obs_cost.py``):
+
+    - ``roll_pitch_rad`` (2,): roll and pitch (rad, bounds +-pi);
+    - ``orientation_xyzw`` (4,): the body's orientation quaternion in the world (bounds +-1);
+    - ``linear_velocity_mps`` (3,), ``angular_velocity_rad_s`` (3,): the body origin's velocity
+      and the body's angular velocity in the body frame (x forward, y left, z up);
+    - ``goal_m`` (3,): the goal relative to the body, body frame (m): ``goal_xy_m`` if set,
+      else the point of the ``[outcome]`` line ``success_x_m`` level with the start, else 10 m
+      ahead of the start; at ``success_z_m`` height if the outcome has one, else the body's;
+    - ``flipper_angle_rad`` (flippers,) (bounds +-2 pi), ``flipper_velocity_rad_s``
+      (flippers,): relative to the body (left out for a vehicle without flippers);
+    - ``track_slip`` (tracks,) (bounds +-2), ``track_traction_n`` (tracks,) (N, along the
+      body's x), ``track_contacts`` (tracks,) (count, >= 0): the figures of the CLI's
+      trajectory.csv, per track in ``track_names`` order;
+    - ``elevation_map_m`` (rows, columns): terrain heights (m) relative to the map's origin
+      around the body, level and turned with its yaw, cell ``[i, j]`` at ``(i + 0.5 - rows / 2)
+      * resolution`` ahead and ``(j + 0.5 - columns / 2) * resolution`` left: the vehicle's
+      ``elevation_map`` sensor if it has one (at its rate), else ``map_shape`` (default 64 x
+      64) cells of ``map_resolution_m`` (default 2 m / 64) on the body origin, searched
+      ``map_reach_m`` (default 1 m) above and below; ``no_terrain_m`` where there is none;
+      bounds [-reach, reach] with ``no_terrain_m``.
+
+    The reward function is given the flat vector of these entries (``roll_pitch_rad`` first,
+    so :class:`ProgressReward` reads roll and pitch as from the state vector).
+
+    Watching: ``render_mode="human"`` serves the live 3-D page (the one of ``tracksim drive``,
+    watch-only) on 127.0.0.1 (``render_port``, default a free port; the URL is printed and in
+    ``render_url``) and shows every step, paced to ``render_speed`` simulated seconds per wall
+    second (default 1: real time, the training runs no faster; None: never waits).
+    ``config={"record_dir": DIR}`` writes every episode as a run folder
+    ``DIR/seed<SEED>-ep<K>`` (summary.json, trajectory.csv, scene.json, belts.csv,
+    commands.toml) when the next one starts or the env closes: ``tracksim view`` opens it and
+    ``tracksim run FILE --commands DIR/.../commands.toml --duration T`` replays it byte for
+    byte (a file without ``[randomize]``, or the episode's seed the file's). ``rgb_array`` is
+    refused (:data:`RGB_ARRAY_REFUSAL` says why and the alternatives).
     """
 
-    metadata = {"render_modes": []}
+    metadata = {"render_modes": RENDER_MODES}
 
     def __init__(self, scenario: Union[str, os.PathLike, Scenario],
                  config: Optional[dict] = None,
                  reward: Optional[Callable[..., Any]] = None,
-                 render_mode: Optional[str] = None):
+                 render_mode: Optional[str] = None, render_port: int = 0,
+                 render_speed: Optional[float] = 1.0):
+        check_render_mode(render_mode)
         self.scenario = as_scenario(scenario)
-        self.config = dict(config or {})
+        self.config = plain_config(config)
         self.reward_fn = reward if reward is not None else ProgressReward()
         self.render_mode = render_mode
         self._core = EnvCore(self.scenario, self.scenario.file_seed, self.config)
         self.control_period_s = self._core.control_period_s
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_period_s}
         self.obs_names = self._core.obs_names
         self.dict_obs = self._core.observation == "dict"
+        self.learner_spec = self._core.learner_obs_spec
         self.observation_space = observation_space(self._core)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (self._core.action_dim,), np.float32)
+        self._view = None
+        self.render_url = None
+        if render_mode == "human":
+            self._view = LiveView(self._core, int(render_port), render_speed)
+            self.render_url = self._view.url
+            print(f"tracksim: watch the environment at {self.render_url}", flush=True)
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         super().reset(seed=seed)
         episode_seed = int(seed) if seed is not None else int(self.np_random.integers(0, 2**63))
         obs = self._obs(self._core.reset(episode_seed))
+        if self._view is not None:
+            self._view.new_episode(self._core)
+            self._view.show(self._core)
         return obs, {"seed": episode_seed, "randomized": self._core.randomized}
 
     def step(self, action):
@@ -129,10 +241,32 @@ class TracksimEnv(gym.Env):
         state, terminated, truncated, info = self._core.step(a)
         reward = float(self.reward_fn(state, info["progress_delta_m"], info["effort"],
                                       self.control_period_s))
+        if self._view is not None:
+            self._view.show(self._core)
         return self._obs(state), reward, bool(terminated), bool(truncated), info
 
+    def render(self):
+        """With ``render_mode="human"`` the page is fed at every step already (this publishes
+        the current state again); otherwise nothing to render (returns None)."""
+        if self._view is not None:
+            self._view.show(self._core)
+        return None
+
+    def close(self):
+        """Writes the episode in progress as a run folder (with ``record_dir``) and stops the
+        live page (with ``render_mode="human"``)."""
+        if getattr(self, "_core", None) is not None:
+            self._core.flush_record()
+        if getattr(self, "_view", None) is not None:
+            self._view.close()
+            self._view = None
+        super().close()
+
     def _obs(self, state):
-        """The observation of the state vector ``state`` (with the sensors' entries as a dict)."""
+        """The observation of the state vector ``state`` (with the sensors' entries as a dict),
+        or the learner's entries."""
+        if self.learner_spec:
+            return learner_obs(self.learner_spec, state)
         if not self.dict_obs:
             return state
         obs = {"state": state}

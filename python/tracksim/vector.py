@@ -11,7 +11,8 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from ._tracksim import Scenario, VecEnvCore
-from .env import ProgressReward, as_scenario, observation_space
+from .env import (ProgressReward, as_scenario, check_render_mode, learner_obs,
+                  observation_space, plain_config)
 
 
 class TracksimVectorEnv(gym.vector.VectorEnv):
@@ -28,16 +29,28 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
 
     With ``config={"observation": "dict"}`` the observations are a dict of stacked arrays:
     ``"state"`` (num_envs, obs_dim) and one entry per sensor (num_envs, *shape), laid out as
-    in :class:`tracksim.TracksimEnv`.
+    in :class:`tracksim.TracksimEnv`; with ``"learner"`` a dict of the learner's entries
+    stacked (num_envs, *shape). ``flipper_action``, ``record_dir`` (each environment's
+    episodes written as run folders at autoreset and on ``close()``) work as there.
+    ``render_mode`` is refused: watch one :class:`tracksim.TracksimEnv` with
+    ``render_mode="human"``, or record episodes with ``record_dir``.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
     def __init__(self, scenario: Union[str, os.PathLike, Scenario], num_envs: int,
                  threads: int = 1, config: Optional[dict] = None,
-                 reward: Optional[Callable[..., Any]] = None):
+                 reward: Optional[Callable[..., Any]] = None,
+                 render_mode: Optional[str] = None):
+        if render_mode is not None:
+            check_render_mode(render_mode)
+            raise ValueError(
+                f"render_mode={render_mode!r}: the vector environment renders nothing; watch "
+                "one tracksim.TracksimEnv with render_mode='human', or write episodes with "
+                "config={'record_dir': DIR} and open them with `tracksim view`")
+        self.render_mode = None
         self.scenario = as_scenario(scenario)
-        self.config = dict(config or {})
+        self.config = plain_config(config)
         self.reward_fn = reward if reward is not None else ProgressReward()
         self._core = VecEnvCore(self.scenario, int(num_envs), self.scenario.file_seed,
                                 int(threads), self.config)
@@ -45,6 +58,7 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         self.control_period_s = self._core.control_period_s
         self.obs_names = self._core.obs_names
         self.dict_obs = self._core.observation == "dict"
+        self.learner_spec = self._core.learner_obs_spec
         self.single_observation_space = observation_space(self._core)
         self.single_action_space = gym.spaces.Box(-1.0, 1.0, (self._core.action_dim,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
@@ -89,9 +103,16 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
                                    "autoreset", "outcome", "reason")}
         return obs, rewards, d["terminated"].copy(), d["truncated"].copy(), infos
 
+    def close_extras(self, **kwargs):
+        """Writes every environment's episode in progress as a run folder (``record_dir``)."""
+        if getattr(self, "_core", None) is not None:
+            self._core.flush_records()
+
     def _obs(self, state):
         """The observations of the state vectors ``state`` (with the sensors' stacked entries
-        as a dict)."""
+        as a dict), or the learner's entries stacked."""
+        if self.learner_spec:
+            return learner_obs(self.learner_spec, state)
         if not self.dict_obs:
             return state
         obs = {"state": state}

@@ -495,6 +495,18 @@ fn spec_out(spec: Vec<SensorObs>) -> SpecOut {
         .collect()
 }
 
+/// The learner's entries for Python: (name, shape, low, high) each.
+type LearnerSpecOut = Vec<(String, Vec<usize>, f64, f64)>;
+
+fn learner_spec_out(env: &tracksim::env::Env) -> LearnerSpecOut {
+    env.learner().map_or_else(Vec::new, |l| {
+        l.entries()
+            .iter()
+            .map(|e| (e.name.to_string(), e.shape.clone(), e.low, e.high))
+            .collect()
+    })
+}
+
 /// What `EnvCore.step` returns: observation, terminated, truncated, info.
 type StepOut<'py> = (Bound<'py, PyArray1<f32>>, bool, bool, Bound<'py, PyDict>);
 
@@ -557,7 +569,7 @@ impl PyEnvCore {
         self.env.get().obs_dim()
     }
 
-    /// The setting `observation`: "vector" or "dict".
+    /// The setting `observation`: "vector", "dict" or "learner".
     #[getter]
     fn observation(&self) -> &'static str {
         self.env.get().config().observation.name()
@@ -576,6 +588,28 @@ impl PyEnvCore {
         let mut o = vec![0f32; self.env.get().sensor_obs_dim()];
         self.env.get().observe_sensors(&mut o);
         sensor_obs_dict(py, &self.env.get().sensor_obs_spec(), &o, 1, false)
+    }
+
+    /// The learner's entries, in the order of the observation vector (`observation` =
+    /// "learner"): (name, shape, low, high) each; empty otherwise.
+    #[getter]
+    fn learner_obs_spec(&self) -> LearnerSpecOut {
+        learner_spec_out(&self.env.get())
+    }
+
+    /// The learner observation's updates this episode and their mean wall time, us ((0, 0)
+    /// unless `observation` is "learner").
+    #[getter]
+    fn learner_cost_us(&self) -> (u64, f64) {
+        self.env.get().learner().map_or((0, 0.0), |l| l.cost())
+    }
+
+    /// With `record_dir`: writes the episode so far as a run folder and starts it afresh
+    /// (what `close()` calls); returns the folder, or None (not recording, or no step yet).
+    fn flush_record(&mut self, py: Python<'_>) -> PyResult<Option<String>> {
+        let env = self.env.get_mut();
+        let dir = py.detach(|| env.flush_record()).map_err(py_err)?;
+        Ok(dir.map(|d| d.display().to_string()))
     }
 
     /// Action length.
@@ -758,7 +792,7 @@ impl PyVecEnvCore {
         self.obs_dim
     }
 
-    /// The setting `observation`: "vector" or "dict".
+    /// The setting `observation`: "vector", "dict" or "learner".
     #[getter]
     fn observation(&self) -> &'static str {
         self.v.get().envs()[0].config().observation.name()
@@ -779,6 +813,20 @@ impl PyVecEnvCore {
         let mut o = vec![0f32; self.v.get().len() * per];
         self.v.get().observe_sensors(&mut o);
         sensor_obs_dict(py, &spec, &o, self.v.get().len(), true)
+    }
+
+    /// The learner's entries of one environment (see `EnvCore.learner_obs_spec`).
+    #[getter]
+    fn learner_obs_spec(&self) -> LearnerSpecOut {
+        learner_spec_out(&self.v.get().envs()[0])
+    }
+
+    /// With `record_dir`: writes every environment's episode so far as a run folder (what
+    /// `close()` calls); returns the folders.
+    fn flush_records(&mut self, py: Python<'_>) -> PyResult<Vec<String>> {
+        let v = self.v.get_mut();
+        let dirs = py.detach(|| v.flush_records()).map_err(py_err)?;
+        Ok(dirs.iter().map(|d| d.display().to_string()).collect())
     }
 
     /// Action length.
@@ -805,6 +853,70 @@ impl PyVecEnvCore {
         let v = self.v.get();
         let e = &v.envs()[0];
         e.substeps() as f64 * e.simulation().dt()
+    }
+}
+
+/// A learning environment's live 3-D page (`render_mode="human"`): the drive page on
+/// loopback, watch-only, fed the environment's state by `show`.
+#[pyclass(name = "LiveView", module = "tracksim._tracksim")]
+struct PyLiveView {
+    w: Shared<tracksim::live::Watch>,
+}
+
+#[pymethods]
+impl PyLiveView {
+    /// Serves the page of `core`'s scenario on 127.0.0.1:`port` (0: a free port); `speed`
+    /// paces `show` (simulated seconds per wall second; None: never waits).
+    #[new]
+    #[pyo3(signature = (core, port=0, speed=None))]
+    fn new(core: &PyEnvCore, port: u16, speed: Option<f64>) -> PyResult<Self> {
+        if let Some(s) = speed
+            && !(s.is_finite() && s > 0.0 && s <= 1000.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "render speed: must be a finite number > 0 and at most 1000 (simulated seconds                  per wall second; None: unpaced), got {s}"
+            )));
+        }
+        let w = tracksim::live::Watch::start(
+            &core.env.get(),
+            std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST),
+            port,
+            speed,
+        )
+        .map_err(py_err)?;
+        Ok(PyLiveView { w: Shared::new(w) })
+    }
+
+    /// The page's URL.
+    #[getter]
+    fn url(&self) -> String {
+        self.w.get().url()
+    }
+
+    /// Pages connected.
+    #[getter]
+    fn connections(&self) -> u64 {
+        self.w.get().connections()
+    }
+
+    /// A new episode of `core` starts (its scene, if it changed; pacing restarts).
+    fn new_episode(&mut self, core: &PyEnvCore) {
+        self.w.get_mut().new_episode(&core.env.get());
+    }
+
+    /// Publishes `core`'s state, after waiting (GIL released) for the wall clock when paced.
+    fn show(&mut self, py: Python<'_>, core: &PyEnvCore) {
+        let t = core.env.get().simulation().time();
+        let wait = self.w.get_mut().wait(t);
+        if !wait.is_zero() {
+            py.detach(|| std::thread::sleep(wait));
+        }
+        self.w.get_mut().publish(&core.env.get());
+    }
+
+    /// Stops serving.
+    fn close(&mut self) {
+        self.w.get_mut().close();
     }
 }
 
@@ -879,6 +991,7 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_class::<PyEnvCore>()?;
     m.add_class::<PyVecEnvCore>()?;
+    m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     bundled::register(m)?;

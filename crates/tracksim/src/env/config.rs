@@ -39,6 +39,40 @@ impl ActionMode {
     }
 }
 
+/// What the flipper actions command.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FlipperAction {
+    /// A target angle: action -1 .. +1 mapped linearly onto `flipper_range_rad`.
+    #[default]
+    Position,
+    /// A rate: action -1 .. +1 times `max_flipper_rate_rad_s`, integrated into the target
+    /// angle over each control period (clamped to `flipper_range_rad` and the joint limits);
+    /// the joint's position servo follows the moving target.
+    Velocity,
+}
+
+impl FlipperAction {
+    /// The names of the modes, as [`EnvConfig::set`] takes them for `flipper_action`.
+    pub const NAMES: &'static [&'static str] = &["position", "velocity"];
+
+    /// The mode called `name` (`"position"` or `"velocity"`).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "position" => Some(FlipperAction::Position),
+            "velocity" => Some(FlipperAction::Velocity),
+            _ => None,
+        }
+    }
+
+    /// The mode's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            FlipperAction::Position => "position",
+            FlipperAction::Velocity => "velocity",
+        }
+    }
+}
+
 /// What an [`Env`](super::Env)'s observation is made of.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum ObservationMode {
@@ -48,17 +82,22 @@ pub enum ObservationMode {
     /// The state vector and one array per sensor of the vehicle
     /// ([`Env::observe_sensors`](super::Env::observe_sensors)).
     Dict,
+    /// What a learner needs, entry by entry (body-frame elevation map, goal, velocities,
+    /// orientation, flippers, per-track slip, traction and contacts): see
+    /// [`LearnerObs`](super::LearnerObs).
+    Learner,
 }
 
 impl ObservationMode {
     /// The names of the modes, as [`EnvConfig::set`] takes them for `observation`.
-    pub const NAMES: &'static [&'static str] = &["vector", "dict"];
+    pub const NAMES: &'static [&'static str] = &["vector", "dict", "learner"];
 
-    /// The mode called `name` (`"vector"` or `"dict"`).
+    /// The mode called `name` (`"vector"`, `"dict"` or `"learner"`).
     pub fn from_name(name: &str) -> Option<Self> {
         match name {
             "vector" => Some(ObservationMode::Vector),
             "dict" => Some(ObservationMode::Dict),
+            "learner" => Some(ObservationMode::Learner),
             _ => None,
         }
     }
@@ -68,6 +107,7 @@ impl ObservationMode {
         match self {
             ObservationMode::Vector => "vector",
             ObservationMode::Dict => "dict",
+            ObservationMode::Learner => "learner",
         }
     }
 }
@@ -97,8 +137,26 @@ pub struct EnvConfig {
     /// Height reported where a ray finds no terrain, m relative to the body (also in the
     /// cells of an elevation map that found none, with `observation = "dict"`).
     pub no_terrain_m: f64,
-    /// The state vector alone, or with the sensors' arrays.
+    /// The state vector alone, or with the sensors' arrays, or the learner's entries.
     pub observation: ObservationMode,
+    /// Flipper actions as target angles or as rates.
+    pub flipper_action: FlipperAction,
+    /// Flipper rate at action +1 with `flipper_action = "velocity"`, rad/s.
+    pub max_flipper_rate_rad_s: f64,
+    /// Cells of the learner's elevation map along and across the heading (a vehicle's own
+    /// `elevation_map` sensor replaces it).
+    pub map_shape: (usize, usize),
+    /// Cell size of the learner's elevation map, m.
+    pub map_resolution_m: f64,
+    /// The learner's elevation map looks for terrain from this far above the body origin down
+    /// to this far below it, m.
+    pub map_reach_m: f64,
+    /// The goal (world x, y), m (`None`: what the scenario's `[outcome]` implies, see
+    /// [`LearnerObs`](super::LearnerObs)).
+    pub goal_xy_m: Option<(f64, f64)>,
+    /// Write each episode as a run folder under this folder (`None`: record nothing); see
+    /// the env's `record.rs`.
+    pub record_dir: Option<std::path::PathBuf>,
 }
 
 impl Default for EnvConfig {
@@ -115,6 +173,13 @@ impl Default for EnvConfig {
             grid_ahead_m: 0.3,
             no_terrain_m: -1.0,
             observation: ObservationMode::Vector,
+            flipper_action: FlipperAction::Position,
+            max_flipper_rate_rad_s: 1.0,
+            map_shape: (64, 64),
+            map_resolution_m: 2.0 / 64.0,
+            map_reach_m: 1.0,
+            goal_xy_m: None,
+            record_dir: None,
         }
     }
 }
@@ -125,11 +190,11 @@ impl Default for EnvConfig {
 pub enum EnvValue {
     /// A number (`control_period_s`, the maxima, `grid_ahead_m`, `no_terrain_m`).
     Number(f64),
-    /// A name (`action`, `observation`).
+    /// A name (`action`, `observation`, `flipper_action`) or a folder (`record_dir`).
     Text(String),
-    /// Two numbers (`flipper_range_rad`, `grid_spacing_m`).
+    /// Two numbers (`flipper_range_rad`, `grid_spacing_m`, `goal_xy_m`).
     Pair(f64, f64),
-    /// Two whole numbers (`grid_shape`).
+    /// Two whole numbers (`grid_shape`, `map_shape`).
     IntPair(i64, i64),
 }
 
@@ -189,6 +254,13 @@ impl EnvConfig {
         "grid_ahead_m",
         "no_terrain_m",
         "observation",
+        "flipper_action",
+        "max_flipper_rate_rad_s",
+        "map_shape",
+        "map_resolution_m",
+        "map_reach_m",
+        "goal_xy_m",
+        "record_dir",
     ];
 
     /// The default configuration with `settings` applied in order, then checked: every
@@ -219,8 +291,10 @@ impl EnvConfig {
     }
 
     /// Sets `key` to `value` (the field of that name; `action` takes `"twist"` or `"belts"`,
-    /// `observation` `"vector"` or `"dict"`, `grid_shape` two whole numbers). An unknown key or a value of the wrong kind is refused
-    /// with the key named; ranges are checked by [`EnvConfig::check`].
+    /// `observation` `"vector"`, `"dict"` or `"learner"`, `flipper_action` `"position"` or
+    /// `"velocity"`, `grid_shape` and `map_shape` two whole numbers, `goal_xy_m` two numbers).
+    /// An unknown key or a value of the wrong kind is refused with the key named; ranges are
+    /// checked by [`EnvConfig::check`].
     pub fn set(&mut self, key: &str, value: EnvValue) -> Result<()> {
         let wrong = |expected: &str| Error::Settings {
             what: WHAT.into(),
@@ -234,6 +308,9 @@ impl EnvConfig {
             EnvValue::IntPair(a, b) => Some((a as f64, b as f64)),
             _ => None,
         };
+        if matches!(key, "flipper_action" | "record_dir") {
+            return self.set_flipper_or_record(key, value);
+        }
         match key {
             "action" => {
                 let EnvValue::Text(s) = &value else {
@@ -253,7 +330,7 @@ impl EnvConfig {
             }
             "observation" => {
                 let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a name: \"vector\" or \"dict\""));
+                    return Err(wrong("a name: \"vector\", \"dict\" or \"learner\""));
                 };
                 self.observation = ObservationMode::from_name(s).ok_or_else(|| {
                     Error::setting(
@@ -261,11 +338,16 @@ impl EnvConfig {
                         key,
                         format!(
                             "{:?} is not an observation mode: use \"vector\" (the state \
-                             vector) or \"dict\" (the state vector and one array per sensor)",
+                             vector), \"dict\" (the state vector and one array per sensor) or \
+                             \"learner\" (elevation map, goal, velocities, orientation, \
+                             flippers, per-track slip, traction and contacts)",
                             crate::check::echoed(s)
                         ),
                     )
                 })?;
+            }
+            "goal_xy_m" => {
+                self.goal_xy_m = Some(pair(&value).ok_or_else(|| wrong("two numbers (x, y), m"))?);
             }
             "flipper_range_rad" => {
                 self.flipper_range_rad =
@@ -275,7 +357,7 @@ impl EnvConfig {
                 self.grid_spacing_m =
                     pair(&value).ok_or_else(|| wrong("two numbers (along, across), m"))?;
             }
-            "grid_shape" => {
+            "grid_shape" | "map_shape" => {
                 let EnvValue::IntPair(r, c) = value else {
                     return Err(wrong("two whole numbers (rows, columns), e.g. (5, 3)"));
                 };
@@ -286,7 +368,11 @@ impl EnvConfig {
                         format!("rows and columns must be 0 or more, got ({r}, {c})"),
                     ));
                 };
-                self.grid_shape = (r, c);
+                if key == "grid_shape" {
+                    self.grid_shape = (r, c);
+                } else {
+                    self.map_shape = (r, c);
+                }
             }
             _ => {
                 let field = match key {
@@ -296,6 +382,9 @@ impl EnvConfig {
                     "max_belt_speed_mps" => &mut self.max_belt_speed_mps,
                     "grid_ahead_m" => &mut self.grid_ahead_m,
                     "no_terrain_m" => &mut self.no_terrain_m,
+                    "max_flipper_rate_rad_s" => &mut self.max_flipper_rate_rad_s,
+                    "map_resolution_m" => &mut self.map_resolution_m,
+                    "map_reach_m" => &mut self.map_reach_m,
                     _ => {
                         return Err(Error::Settings {
                             what: WHAT.into(),
@@ -315,10 +404,57 @@ impl EnvConfig {
         Ok(())
     }
 
+    /// [`EnvConfig::set`] of `flipper_action` and `record_dir`.
+    fn set_flipper_or_record(&mut self, key: &str, value: EnvValue) -> Result<()> {
+        let wrong = |expected: &str| Error::Settings {
+            what: WHAT.into(),
+            issues: vec![SpecIssue::new(
+                key,
+                format!("expected {expected}, got {}", value.what()),
+            )],
+        };
+        match key {
+            "flipper_action" => {
+                let EnvValue::Text(s) = &value else {
+                    return Err(wrong("a name: \"position\" or \"velocity\""));
+                };
+                self.flipper_action = FlipperAction::from_name(s).ok_or_else(|| {
+                    Error::setting(
+                        WHAT,
+                        key,
+                        format!(
+                            "{:?} is not a flipper action: use \"position\" (target angles \
+                             over flipper_range_rad) or \"velocity\" (rates up to \
+                             max_flipper_rate_rad_s)",
+                            crate::check::echoed(s)
+                        ),
+                    )
+                })?;
+            }
+            "record_dir" => {
+                let EnvValue::Text(s) = &value else {
+                    return Err(wrong("a folder (a path as a string)"));
+                };
+                if s.is_empty() {
+                    return Err(Error::setting(
+                        WHAT,
+                        key,
+                        "an empty path: give the folder to write the episodes into",
+                    ));
+                }
+                self.record_dir = Some(s.into());
+            }
+            _ => unreachable!("set passes only these keys"),
+        }
+        Ok(())
+    }
+
     /// Checks every limit, each problem named by its key: `control_period_s` from 1e-6 to
     /// 86400 s; the maxima finite, > 0 and at most 1000 (m/s, rad/s); `grid_spacing_m` finite
     /// and > 0; `flipper_range_rad`, `grid_ahead_m` and `no_terrain_m` finite; at most
-    /// [`MAX_GRID_CELLS`] grid cells.
+    /// [`MAX_GRID_CELLS`] grid cells; `max_flipper_rate_rad_s` finite, > 0 and at most 1000
+    /// rad/s; `map_shape` 1 to [`MAX_GRID_CELLS`] cells; `map_resolution_m` and `map_reach_m`
+    /// finite and > 0; `goal_xy_m` finite.
     pub fn check(&self) -> Result<()> {
         let mut c = Checker::default();
         c.positive("control_period_s", self.control_period_s, "s");
@@ -326,6 +462,11 @@ impl EnvConfig {
             ("max_forward_mps", self.max_forward_mps, "m/s"),
             ("max_yaw_rate_rad_s", self.max_yaw_rate_rad_s, "rad/s"),
             ("max_belt_speed_mps", self.max_belt_speed_mps, "m/s"),
+            (
+                "max_flipper_rate_rad_s",
+                self.max_flipper_rate_rad_s,
+                "rad/s",
+            ),
         ] {
             if !(v.is_finite() && v > 0.0 && v <= MAX_SPEED_MPS) {
                 c.push(
@@ -353,6 +494,24 @@ impl EnvConfig {
                      control period), got ({rows}, {cols})"
                 ),
             );
+        }
+        let (rows, cols) = self.map_shape;
+        if rows
+            .checked_mul(cols)
+            .is_none_or(|n| n == 0 || n > MAX_GRID_CELLS)
+        {
+            c.push(
+                "map_shape",
+                format!(
+                    "from 1 to {MAX_GRID_CELLS} cells (rows times columns: a ray cast each per \
+                     control period), got ({rows}, {cols})"
+                ),
+            );
+        }
+        c.positive("map_resolution_m", self.map_resolution_m, "m");
+        c.positive("map_reach_m", self.map_reach_m, "m");
+        if let Some((x, y)) = self.goal_xy_m {
+            c.finite("goal_xy_m", &[x, y]);
         }
         if c.issues.is_empty() {
             Ok(())

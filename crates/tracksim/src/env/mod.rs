@@ -5,15 +5,20 @@
 //! from [`StepInfo`], so they can be replaced).
 //!
 //! - `config.rs`: [`EnvConfig`] (built from named settings and checked);
-//! - `mod.rs`: [`Env`], [`StepInfo`] and the observation layout;
+//! - `mod.rs`: [`Env`], [`StepInfo`], the state vector's layout and the actions;
+//! - `learner.rs`: the learner's observation ([`LearnerObs`], `observation = "learner"`);
+//! - `record.rs`: episodes written as run folders (`record_dir`);
 //! - `sensor_obs.rs`: the sensors' arrays of a dict observation ([`Env::observe_sensors`]);
 //! - `vector.rs`: [`VecEnv`].
 
 mod config;
+mod learner;
+mod record;
 mod sensor_obs;
 mod vector;
 
-pub use config::{ActionMode, EnvConfig, EnvValue, MAX_GRID_CELLS, ObservationMode};
+pub use config::{ActionMode, EnvConfig, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode};
+pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
 pub use sensor_obs::{STATE_KEY, SensorObs};
 pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
 
@@ -54,27 +59,60 @@ pub struct Env {
     start: PoseRpy,
     progress: f64,
     done: bool,
+    /// The learner's observation (`observation = "learner"`).
+    learner: Option<LearnerObs>,
+    /// The controls of the step (reused: no allocation per step).
+    controls: Controls,
+    /// Flipper targets in force, degrees (what a recorded command says; the physics gets
+    /// their conversion to radians, as from a scenario's command).
+    flipper_deg: Vec<f64>,
+    /// The recording of the episode (`record_dir`).
+    record: Option<record::EpisodeRecord>,
 }
 
 impl Env {
     /// An environment at the start of an episode with `seed` (the `[randomize]` values are drawn
     /// from it). A configuration that fails [`EnvConfig::check`] is refused.
     pub fn new(template: Arc<ScenarioTemplate>, cfg: EnvConfig, seed: u64) -> Result<Self> {
+        Self::episode(template, cfg, seed, 0)
+    }
+
+    /// [`Env::new`] for the environment's episode number `episode` (named so in its recording).
+    fn episode(
+        template: Arc<ScenarioTemplate>,
+        cfg: EnvConfig,
+        seed: u64,
+        episode: u64,
+    ) -> Result<Self> {
         cfg.check()?;
         let scenario = Arc::new(template.instantiate(seed)?);
         let mut runner = Runner::from_shared(scenario.clone())?
             .without_commands()
-            .unbounded()
-            .unrecorded();
-        if cfg.observation == ObservationMode::Vector {
-            // Nothing reads the sensors: they cost nothing.
+            .unbounded();
+        if cfg.record_dir.is_none() {
+            runner = runner.unrecorded();
+        }
+        if cfg.observation != ObservationMode::Dict {
+            // Nothing reads the sensors: they cost nothing (the learner's map is its own).
             runner = runner.without_sensors();
         }
         if cfg.observation == ObservationMode::Dict {
             sensor_obs::check_names(runner.sensors())?;
         }
         let start = runner.sim().body_pose();
+        let learner = (cfg.observation == ObservationMode::Learner)
+            .then(|| LearnerObs::new(runner.sim(), &scenario, &cfg, &start));
+        let v = &scenario.vehicle;
+        let flipper_deg = (0..v.flippers.len())
+            .map(|i| runner.sim().flipper_target(i).to_degrees())
+            .collect();
+        let record = cfg
+            .record_dir
+            .clone()
+            .map(|d| record::EpisodeRecord::new(d, episode));
         Ok(Env {
+            record,
+            controls: Controls::keep(v),
             template,
             cfg,
             scenario,
@@ -82,13 +120,56 @@ impl Env {
             start,
             progress: 0.0,
             done: false,
+            learner,
+            flipper_deg,
         })
     }
 
-    /// Starts a new episode with `seed`.
+    /// Starts a new episode with `seed` (with `record_dir`, the episode that ends here is
+    /// written first).
     pub fn reset(&mut self, seed: u64) -> Result<()> {
-        *self = Env::new(self.template.clone(), self.cfg.clone(), seed)?;
+        let episode = self.next_episode();
+        let fresh = Env::episode(self.template.clone(), self.cfg.clone(), seed, episode)?;
+        let old = std::mem::replace(self, fresh);
+        old.write_record()?;
         Ok(())
+    }
+
+    /// Writes the episode so far as a run folder (with `record_dir`; see the `record_dir`
+    /// setting) and starts recording it afresh as if just reset with its seed: what closing a
+    /// recording environment does. Returns the folder written (`None`: not recording, or no
+    /// step yet).
+    pub fn flush_record(&mut self) -> Result<Option<std::path::PathBuf>> {
+        if self.record.is_none() {
+            return Ok(None);
+        }
+        let seed = self.runner.sim().seed();
+        let episode = self.next_episode();
+        let fresh = Env::episode(self.template.clone(), self.cfg.clone(), seed, episode)?;
+        std::mem::replace(self, fresh).write_record()
+    }
+
+    /// The recorded number of the next episode: this one's plus one, unless this one was
+    /// never stepped (it writes nothing, and the next takes its number).
+    fn next_episode(&self) -> u64 {
+        self.record
+            .as_ref()
+            .map_or(0, |r| r.episode + u64::from(self.runner.sim().steps() > 0))
+    }
+
+    /// Writes this episode's folder if recording (consumes the episode).
+    fn write_record(self) -> Result<Option<std::path::PathBuf>> {
+        let Some(rec) = self.record else {
+            return Ok(None);
+        };
+        let seed = self.runner.sim().seed();
+        rec.write(
+            self.runner,
+            &self.scenario,
+            self.template.path(),
+            seed,
+            self.done,
+        )
     }
 
     /// The configuration.
@@ -99,6 +180,11 @@ impl Env {
     /// The running simulation.
     pub fn simulation(&self) -> &Simulation {
         self.runner.sim()
+    }
+
+    /// The run loop of the episode (its simulation, outcome so far, course score).
+    pub fn runner(&self) -> &Runner {
+        &self.runner
     }
 
     /// The episode's compiled scenario.
@@ -126,14 +212,25 @@ impl Env {
         drive + v.flippers.len()
     }
 
+    /// The learner's observation (`observation = "learner"`), its layout and cost.
+    pub fn learner(&self) -> Option<&LearnerObs> {
+        self.learner.as_ref()
+    }
+
     /// Length of the observation vector (see [`Env::observe`]).
     pub fn obs_dim(&self) -> usize {
+        if let Some(l) = &self.learner {
+            return l.len();
+        }
         let v = &self.scenario.vehicle;
         10 + v.flippers.len() + v.tracks.len() + self.cfg.grid_shape.0 * self.cfg.grid_shape.1
     }
 
     /// Names of the observation entries, in order.
     pub fn obs_names(&self) -> Vec<String> {
+        if let Some(l) = &self.learner {
+            return l.value_names();
+        }
         let mut n: Vec<String> = [
             "roll_rad",
             "pitch_rad",
@@ -178,8 +275,13 @@ impl Env {
     /// up); flipper angles (rad); measured belt speeds (m/s); then the terrain height relative
     /// to the body origin (m) at each point of the grid ahead (rows along the heading from
     /// `grid_ahead_m`, columns from right to left, centred), by downward ray casts;
-    /// `no_terrain_m` where there is none.
+    /// `no_terrain_m` where there is none. With `observation = "learner"`, the learner's
+    /// entries one after the other instead ([`LearnerObs`]).
     pub fn observe(&self, out: &mut [f32]) {
+        if let Some(l) = &self.learner {
+            out.copy_from_slice(l.values());
+            return;
+        }
         let s = self.runner.sim().sample();
         let p = s.pose;
         let q = DQuat::from_euler(EulerRot::ZYX, p.yaw, p.pitch, p.roll);
@@ -246,32 +348,61 @@ impl Env {
         ))
     }
 
-    /// The controls of a normalised action (clipped to `[-1, 1]`; missing entries are 0).
+    /// The controls of a normalised action (clipped to `[-1, 1]`; missing entries are 0):
+    /// the drive actions scaled by the maxima; each flipper's target angle, with
+    /// `flipper_action = "position"` its action mapped linearly onto `flipper_range_rad`, with
+    /// `"velocity"` its target in force moved by the action times `max_flipper_rate_rad_s` over
+    /// the control period, clamped to `flipper_range_rad` and the joint's limits. Targets are
+    /// rounded through degrees (as a scenario's `flipper_angle_deg` is: a recorded episode
+    /// replays exactly).
     pub fn controls(&self, action: &[f32]) -> Controls {
+        let mut c = Controls::keep(&self.scenario.vehicle);
+        let mut deg = self.flipper_deg.clone();
+        self.write_controls(action, &mut c, &mut deg);
+        c
+    }
+
+    /// [`Env::controls`] into `c` (sized for the vehicle), the flipper targets in degrees into
+    /// `deg` (holding those in force).
+    fn write_controls(&self, action: &[f32], c: &mut Controls, deg: &mut [f64]) {
         let a = |i: usize| action.get(i).map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0));
         let v = &self.scenario.vehicle;
-        let (mut c, n) = match self.cfg.action {
-            ActionMode::Twist => (
-                Controls::twist(
-                    v,
+        let n = match self.cfg.action {
+            ActionMode::Twist => {
+                let (fwd, yaw) = (
                     a(0) * self.cfg.max_forward_mps,
                     a(1) * self.cfg.max_yaw_rate_rad_s,
-                ),
-                2,
-            ),
-            ActionMode::Belts => {
-                let mut c = Controls::keep(v);
-                for i in 0..v.tracks.len() {
-                    c.belt_speed[i] = Some(a(i) * self.cfg.max_belt_speed_mps);
+                );
+                for (b, t) in c.belt_speed.iter_mut().zip(&v.tracks) {
+                    *b = Some(fwd - yaw * t.lateral_offset());
                 }
-                (c, v.tracks.len())
+                2
+            }
+            ActionMode::Belts => {
+                for (i, b) in c.belt_speed.iter_mut().enumerate() {
+                    *b = Some(a(i) * self.cfg.max_belt_speed_mps);
+                }
+                v.tracks.len()
             }
         };
         let (lo, hi) = self.cfg.flipper_range_rad;
-        for i in 0..v.flippers.len() {
-            c.flipper_angle[i] = Some(lo + (a(n + i) + 1.0) / 2.0 * (hi - lo));
+        let period = self.substeps() as f64 * self.runner.sim().dt();
+        for (i, fl) in v.flippers.iter().enumerate() {
+            let target = match self.cfg.flipper_action {
+                FlipperAction::Position => lo + (a(n + i) + 1.0) / 2.0 * (hi - lo),
+                FlipperAction::Velocity => {
+                    let t =
+                        deg[i].to_radians() + a(n + i) * self.cfg.max_flipper_rate_rad_s * period;
+                    let t = t.clamp(lo.min(hi), hi.max(lo));
+                    match fl.limits {
+                        Some([l, h]) => t.clamp(l, h),
+                        None => t,
+                    }
+                }
+            };
+            deg[i] = target.to_degrees();
+            c.flipper_angle[i] = Some(deg[i].to_radians());
         }
-        c
     }
 
     /// Applies `action` (normalised, see [`Env::controls`]) for one control period and says
@@ -298,8 +429,30 @@ impl Env {
             info.reason = "the episode had already ended; call reset".into();
             return info;
         }
-        let controls = self.controls(action);
+        let mut controls = std::mem::take(&mut self.controls);
+        let mut deg = std::mem::take(&mut self.flipper_deg);
+        self.write_controls(action, &mut controls, &mut deg);
         self.runner.apply(&controls);
+        if let Some(r) = &mut self.record {
+            let drive = match self.cfg.action {
+                ActionMode::Twist => {
+                    let a = |i: usize| action.get(i).map_or(0.0, |x| (*x as f64).clamp(-1.0, 1.0));
+                    record::Drive::Twist(
+                        a(0) * self.cfg.max_forward_mps,
+                        a(1) * self.cfg.max_yaw_rate_rad_s,
+                    )
+                }
+                ActionMode::Belts => record::Drive::Belts,
+            };
+            let belts: Vec<f64> = controls
+                .belt_speed
+                .iter()
+                .map(|b| b.unwrap_or(0.0))
+                .collect();
+            r.push(&self.scenario, self.runner.time(), drive, &belts, &deg);
+        }
+        self.controls = controls;
+        self.flipper_deg = deg;
         for _ in 0..self.substeps() {
             if let Err(e) = self.runner.step() {
                 self.done = true;
@@ -315,6 +468,9 @@ impl Env {
         info.progress_delta_m = progress - self.progress;
         info.progress_m = progress;
         self.progress = progress;
+        if let Some(l) = &mut self.learner {
+            l.update(self.runner.sim());
+        }
         // Decided at every output interval of the period and at its end (the runner's check).
         self.runner.decide();
         let (t, dt) = (self.runner.time(), self.runner.sim().dt());

@@ -142,7 +142,7 @@ impl Env {
     /// order of the vehicle's `[[sensors]]`; see [`Env::observe_sensors`].
     pub fn sensor_obs_spec(&self) -> Vec<SensorObs> {
         match self.cfg.observation {
-            super::ObservationMode::Vector => Vec::new(),
+            super::ObservationMode::Vector | super::ObservationMode::Learner => Vec::new(),
             super::ObservationMode::Dict => specs(self.runner.sensors()),
         }
     }
@@ -160,7 +160,7 @@ impl Env {
     /// elevation map's heights relative to the sensor (m) with `no_terrain_m` where there is
     /// no terrain.
     pub fn observe_sensors(&self, out: &mut [f32]) {
-        if self.cfg.observation == super::ObservationMode::Vector {
+        if self.cfg.observation != super::ObservationMode::Dict {
             return;
         }
         let set = self.runner.sensors();

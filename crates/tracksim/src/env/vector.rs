@@ -271,6 +271,18 @@ impl VecEnv {
         }
     }
 
+    /// Writes every environment's episode so far as a run folder (with `record_dir`, see
+    /// [`Env::flush_record`]; closing a recording vector environment); returns the folders.
+    /// An environment whose episode had ended starts its next one at the next step as usual;
+    /// one cut short starts its episode again with the same seed.
+    pub fn flush_records(&mut self) -> Result<Vec<std::path::PathBuf>> {
+        let mut out = Vec::new();
+        for e in &mut self.envs {
+            out.extend(e.flush_record()?);
+        }
+        Ok(out)
+    }
+
     /// Runs `f` on every environment on the threads.
     fn par(&mut self, f: impl Fn(usize, &mut Env, usize) -> Result<()> + Sync) -> Result<()> {
         let chunk = self.envs.len().div_ceil(self.threads).max(1);

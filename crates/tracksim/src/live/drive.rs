@@ -95,9 +95,9 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
 /// What successive states of a session carry besides the pose: sensor readings new since the
 /// last state, and the warnings' data.
 #[derive(Default)]
-struct Feeds {
+pub(super) struct Feeds {
     sensors: SensorFeed,
-    hud: HudFeed,
+    pub(super) hud: HudFeed,
 }
 
 /// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
@@ -109,7 +109,7 @@ struct Feeds {
 /// `ahead`), `course` (the live score of a `[course]` scenario, [`crate::run::CourseScore`],
 /// with its latest [`LIVE_COURSE_EVENTS`] events; null without one), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
 /// in the last state: the page should not reconnect).
-fn state_json(
+pub(super) fn state_json(
     runner: &Runner,
     control: &DriveControl,
     (speed, hub): (f64, &Hub),

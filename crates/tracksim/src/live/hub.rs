@@ -74,6 +74,11 @@ pub struct Hub {
     seat: Mutex<Seat>,
     next_id: AtomicU64,
     watchers: AtomicU64,
+    /// Every connection watches (a learning environment's page: nobody drives).
+    watch_only: bool,
+    /// The scene the page loads (`/scene.json`), when it changes during the session (a new
+    /// episode of a randomised scenario); `None`: the server's.
+    scene: Mutex<Option<Arc<String>>>,
 }
 
 impl Hub {
@@ -93,7 +98,29 @@ impl Hub {
             seat: Mutex::new(Seat::new(grace_s)),
             next_id: AtomicU64::default(),
             watchers: AtomicU64::default(),
+            watch_only: false,
+            scene: Mutex::default(),
         })
+    }
+
+    /// A hub whose every connection watches: the page shows the state, nobody drives (a
+    /// learning environment's `render_mode="human"`).
+    pub fn watch_only() -> Arc<Hub> {
+        Arc::new(Hub {
+            watch_only: true,
+            ..Arc::into_inner(Hub::with_grace(0.0)).expect("a new hub")
+        })
+    }
+
+    /// Replaces the scene pages load at `/scene.json` (a page loaded before keeps its own
+    /// until reloaded).
+    pub fn set_scene(&self, json: String) {
+        *self.scene.lock().expect("hub lock") = Some(Arc::new(json));
+    }
+
+    /// The scene set by [`Hub::set_scene`], if any.
+    pub fn scene(&self) -> Option<Arc<String>> {
+        self.scene.lock().expect("hub lock").clone()
     }
 
     /// The driver's status: connected, or the grace left to a dropped one.
@@ -214,7 +241,11 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
     let mut ws = tungstenite::accept(stream).map_err(std::io::Error::other)?;
     let id = hub.next_id.fetch_add(1, Ordering::Relaxed);
     let presented = query_token(query);
-    let token = hub.seat.lock().expect("hub lock").claim(id, presented);
+    let token = if hub.watch_only {
+        None
+    } else {
+        hub.seat.lock().expect("hub lock").claim(id, presented)
+    };
     hub.watchers.fetch_add(1, Ordering::Relaxed);
     ws.get_mut().set_read_timeout(Some(POLL))?;
     let result = socket_loop(&mut ws, hub, (id, presented), token);
@@ -239,7 +270,7 @@ fn socket_loop(
         .map_err(other)?;
     let mut sent = 0u64;
     loop {
-        if token.is_none() {
+        if token.is_none() && !hub.watch_only {
             // A watcher takes a free seat; a reconnected driver whose old connection was
             // still open takes it back once that one has closed.
             token = hub.seat.lock().expect("hub lock").claim(id, presented);

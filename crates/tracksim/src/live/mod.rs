@@ -9,7 +9,8 @@
 //! - [`seat`]: who drives, and the grace a dropped driver has to come back;
 //! - [`drive`]: the paced session loop, recorded as a run;
 //! - [`hud_feed`]: slip, stall, tilt limit and the terrain ahead, for the page's warnings;
-//! - [`sensor_feed`]: the lidar and depth camera readings a live state carries.
+//! - [`sensor_feed`]: the lidar and depth camera readings a live state carries;
+//! - [`watch`]: a learning environment's live page (watch-only, `render_mode="human"`).
 
 pub mod assets;
 pub mod drive;
@@ -18,11 +19,13 @@ pub mod hud_feed;
 pub mod seat;
 pub mod sensor_feed;
 pub mod server;
+pub mod watch;
 
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
 pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};
 pub use server::{Mode, Server, view_files};
+pub use watch::Watch;
 
 /// The default address: loopback only.
 pub const DEFAULT_BIND: std::net::IpAddr = std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST);

@@ -211,12 +211,11 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
         return respond(&mut stream, "200 OK", "application/json", body.as_bytes());
     }
     match mode {
-        Mode::Drive { scene_json, .. } if path == "/scene.json" => respond(
-            &mut stream,
-            "200 OK",
-            "application/json",
-            scene_json.as_bytes(),
-        ),
+        Mode::Drive { scene_json, hub } if path == "/scene.json" => {
+            let set = hub.scene();
+            let body = set.as_deref().unwrap_or(scene_json);
+            respond(&mut stream, "200 OK", "application/json", body.as_bytes())
+        }
         Mode::View { files } => match files.iter().find(|f| f.0 == path) {
             Some((_, ctype, bytes)) => respond(&mut stream, "200 OK", ctype, bytes),
             None => respond(&mut stream, "404 Not Found", "text/plain", b"not found\n"),

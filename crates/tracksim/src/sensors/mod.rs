@@ -27,6 +27,7 @@ mod noise;
 pub mod scene;
 mod stream;
 
+pub use elevation_map::ElevationMap;
 pub use mount::SensorFrame;
 pub use stream::{LogData, SensorStream, StreamFormat};
 

@@ -34,7 +34,7 @@ pub mod track_loads;
 pub use mass::{MassReport, PartMass};
 pub use odometry::Odometry;
 pub use sample::{DriveSample, PoseRpy, Sample};
-pub use track_loads::TrackLoad;
+pub use track_loads::{TrackLoad, TrackOwners};
 
 use crate::model::Method;
 use crate::model::{Controls, Scenario};

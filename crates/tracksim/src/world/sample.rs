@@ -356,24 +356,27 @@ impl Simulation {
 
     /// Slip ratio of every track ([`Sample::slip`]).
     fn slip(&self) -> Vec<f64> {
-        self.scenario
-            .vehicle
-            .tracks
-            .iter()
-            .zip(&self.tracks)
-            .map(|(m, t)| {
-                let parent = match m.parent {
-                    Parent::Body => self.body,
-                    Parent::Flipper(i) => self.flippers[i].body,
-                };
-                let b = &self.world.bodies[parent];
-                let segs = m.path.segments();
-                let c = segs.iter().map(|s| s.start()).sum::<DVec3>() / segs.len() as f64;
-                let v = b.velocity_at_point(b.position() * f(c));
-                let ground = v.dot(b.rotation() * Vector::X) as f64;
-                slip_ratio(t.measured_belt_speed(), ground)
-            })
-            .collect()
+        let mut out = vec![0.0; self.tracks.len()];
+        self.slip_into(&mut out);
+        out
+    }
+
+    /// The slip ratio of every track ([`Sample::slip`], [`slip_ratio`]) into `out` (one per
+    /// track, in track order), without allocating.
+    pub fn slip_into(&self, out: &mut [f64]) {
+        let tracks = self.scenario.vehicle.tracks.iter().zip(&self.tracks);
+        for (o, (m, t)) in out.iter_mut().zip(tracks) {
+            let parent = match m.parent {
+                Parent::Body => self.body,
+                Parent::Flipper(i) => self.flippers[i].body,
+            };
+            let b = &self.world.bodies[parent];
+            let segs = m.path.segments();
+            let c = segs.iter().map(|s| s.start()).sum::<DVec3>() / segs.len() as f64;
+            let v = b.velocity_at_point(b.position() * f(c));
+            let ground = v.dot(b.rotation() * Vector::X) as f64;
+            *o = slip_ratio(t.measured_belt_speed(), ground);
+        }
     }
 
     /// Instantaneous centre of rotation in the chassis frame ([`Sample::icr`]).

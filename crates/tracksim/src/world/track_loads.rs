@@ -37,19 +37,37 @@ pub struct TrackLoad {
     pub reaction_n: f64,
 }
 
+/// Which track owns each vehicle body ([`Simulation::track_owners`]): fixed for the life of a
+/// simulation, so a caller that reads the loads every control period builds it once.
+pub type TrackOwners = HashMap<RigidBodyHandle, usize>;
+
 impl Simulation {
     /// The terrain's force on every track over the last step (zero before the first step).
     pub fn track_loads(&self) -> Vec<TrackLoad> {
         let mut loads = vec![TrackLoad::default(); self.tracks.len()];
-        if self.steps() == 0 {
-            return loads;
-        }
-        let owner: HashMap<RigidBodyHandle, usize> = self
-            .tracks
+        self.track_loads_into(&self.track_owners(), &mut loads);
+        loads
+    }
+
+    /// The track owning each body of the tracks (links, wheels, plates), by body handle.
+    pub fn track_owners(&self) -> TrackOwners {
+        self.tracks
             .iter()
             .enumerate()
             .flat_map(|(i, t)| t.bodies().into_iter().map(move |b| (b, i)))
-            .collect();
+            .collect()
+    }
+
+    /// [`Simulation::track_loads`] into `loads` (one per track, in track order)
+    /// with the owners `owner` of [`Simulation::track_owners`]: the same figures without
+    /// allocating.
+    pub fn track_loads_into(&self, owner: &TrackOwners, loads: &mut [TrackLoad]) {
+        for l in loads.iter_mut() {
+            *l = TrackLoad::default();
+        }
+        if self.steps() == 0 {
+            return;
+        }
         let cs = &self.world.colliders;
         let track_of = |h: ColliderHandle| -> Option<usize> {
             let c = cs.get(h)?;
@@ -69,7 +87,9 @@ impl Simulation {
                 (None, Some(t)) if terrain(p.collider1) => (t, -1.0f32),
                 _ => continue,
             };
-            let load = &mut loads[track];
+            let Some(load) = loads.get_mut(track) else {
+                continue;
+            };
             for m in p.solver_manifolds() {
                 let mut normal = 0.0f32;
                 let mut friction = None;
@@ -93,6 +113,5 @@ impl Simulation {
                 load.traction_n += rn + ft;
             }
         }
-        loads
     }
 }

@@ -18,7 +18,7 @@ use tracksim::spec::{BoxSpec, SensorSpec, VehicleSpec};
 /// updates allocate nothing.
 struct Counting;
 thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+    pub(crate) static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
 }
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, l: Layout) -> *mut u8 {

@@ -38,6 +38,7 @@ mod issue_25_sensors;
 mod issue_26_urdf;
 mod issue_27_mcap;
 mod issue_28_course;
+mod issue_29_env;
 mod layers;
 mod live;
 mod methods;

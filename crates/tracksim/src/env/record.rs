@@ -1,0 +1,182 @@
+//! Episodes written as run folders (`record_dir`): what `tracksim run` writes (`summary.json`,
+//! `trajectory.csv`, the replay data `scene.json` + `belts.csv` that `tracksim view DIR`
+//! opens, the sensor streams of a dict observation; no plots) and `commands.toml`, the
+//! episode's controls as a scenario's `[[commands]]`, through the writer every front end uses
+//! ([`crate::output::write_outputs`]).
+//!
+//! An episode's folder is `record_dir/seed<SEED>-ep<K>` (K counts the stepped episodes of
+//! one environment from 0), written when the next episode starts ([`super::Env::reset`], a vector
+//! environment's autoreset) or the recording is flushed ([`super::Env::flush_record`], what the
+//! Python environments' `close()` calls); an episode that was not stepped writes nothing.
+//!
+//! Replay: the controls are recorded in the units a scenario's command takes and applied
+//! through the same conversions (skid-steer twist, per-track belt speeds, flipper targets in
+//! degrees), before the step at the time they were given, as `run::Timeline` applies a
+//! command; so `tracksim run FILE --commands DIR/commands.toml --duration T` writes the same
+//! `trajectory.csv`, byte for byte, when FILE gives the episode's scenario: a file without
+//! `[randomize]` (any seed), or a randomised one whose episode seed was the file's
+//! `simulation.seed` (the episode's drawn values are in `summary.json` and in the header of
+//! `commands.toml`), and without `outcome.stop` (the run would stop at the decided outcome,
+//! the episode ran its control period to the end).
+
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::run::{End, Runner};
+use crate::spec::{CommandSpec, PerTrack};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The recording of one episode: where it goes and its controls so far.
+#[derive(Clone, Debug)]
+pub(super) struct EpisodeRecord {
+    /// The folder of every episode (`record_dir`).
+    pub dir: PathBuf,
+    /// The episode's index among the environment's recorded episodes.
+    pub episode: u64,
+    /// The control changes, in time order.
+    pub commands: Vec<CommandSpec>,
+}
+
+/// The drive part of a recorded command.
+pub(super) enum Drive {
+    /// Forward speed m/s and yaw rate rad/s.
+    Twist(f64, f64),
+    /// One belt speed per track, m/s.
+    Belts,
+}
+
+impl EpisodeRecord {
+    /// A recording into `dir` of the environment's episode number `episode`.
+    pub fn new(dir: PathBuf, episode: u64) -> Self {
+        EpisodeRecord {
+            dir,
+            episode,
+            commands: Vec::new(),
+        }
+    }
+
+    /// Records the controls applied at `t` s (if they differ from those in force): `drive`,
+    /// the belt speeds `belts` (m/s, with [`Drive::Belts`]) and the flipper targets `deg`.
+    pub fn push(&mut self, sc: &Scenario, t: f64, drive: Drive, belts: &[f64], deg: &[f64]) {
+        let v = &sc.vehicle;
+        let mut c = CommandSpec {
+            t_s: t,
+            flipper_angle_deg: v
+                .flippers
+                .iter()
+                .zip(deg)
+                .map(|(f, d)| (f.name.clone(), *d))
+                .collect(),
+            ..CommandSpec::default()
+        };
+        match drive {
+            Drive::Twist(f, w) => {
+                c.forward_mps = Some(f);
+                c.yaw_rate_rad_s = Some(w);
+            }
+            Drive::Belts => {
+                let by: BTreeMap<String, f64> = v
+                    .tracks
+                    .iter()
+                    .zip(belts)
+                    .map(|(t, b)| (t.name.clone(), *b))
+                    .collect();
+                c.belt_speed_mps = Some(PerTrack::ByName(by));
+            }
+        }
+        if let Some(last) = self.commands.last() {
+            let same = last.forward_mps == c.forward_mps
+                && last.yaw_rate_rad_s == c.yaw_rate_rad_s
+                && last.flipper_angle_deg == c.flipper_angle_deg
+                && belts_of(last) == belts_of(&c);
+            if same {
+                return;
+            }
+        }
+        self.commands.push(c);
+    }
+
+    /// The episode's folder.
+    pub fn folder(&self, seed: u64) -> PathBuf {
+        self.dir.join(format!("seed{seed}-ep{}", self.episode))
+    }
+
+    /// Finishes `runner` (`ended`: the episode reached its end, else it was cut short) and
+    /// writes the folder of the episode of `sc` with `seed` from the template at `file`;
+    /// returns the folder. Nothing is written for an episode without a step.
+    pub fn write(
+        &self,
+        runner: Runner,
+        sc: &Scenario,
+        file: &Path,
+        seed: u64,
+        ended: bool,
+    ) -> Result<Option<PathBuf>> {
+        if runner.sim().steps() == 0 {
+            return Ok(None);
+        }
+        let dir = self.folder(seed);
+        let result = runner.finish(if ended {
+            End::Reached
+        } else {
+            End::Interrupted
+        });
+        let which = crate::output::Outputs {
+            replay: true,
+            plots: false,
+            mcap: false,
+        };
+        crate::output::write_outputs(sc, &result, &dir, which)?;
+        let duration = result.samples.last().map_or(0.0, |s| s.t);
+        let text = self.commands_toml(sc, file, &dir.join("commands.toml"), seed, duration);
+        crate::files::write_atomic(&dir.join("commands.toml"), text.as_bytes())?;
+        Ok(Some(dir))
+    }
+
+    /// `commands.toml`: the controls as `[[commands]]`, with the command that replays them.
+    fn commands_toml(
+        &self,
+        sc: &Scenario,
+        file: &Path,
+        commands_file: &Path,
+        seed: u64,
+        duration: f64,
+    ) -> String {
+        #[derive(serde::Serialize)]
+        struct File<'a> {
+            commands: &'a [CommandSpec],
+        }
+        let body = toml::to_string(&File {
+            commands: &self.commands,
+        })
+        .expect("commands serialise");
+        let drawn = if sc.randomized.is_empty() {
+            String::new()
+        } else {
+            format!(
+                "# The episode's [randomize] values (seed {seed}): {}; the replay runs the \
+                 file's\n# simulation.seed, the same scenario only if that is {seed}.\n",
+                sc.randomized
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        format!(
+            "# The controls of a learning environment's episode (seed {seed}), applied at these\n\
+             # simulated times. This run reproduces the episode's trajectory.csv:\n\
+             #   tracksim run {} --commands {} --duration {duration}\n{drawn}{body}",
+            file.display(),
+            commands_file.display(),
+        )
+    }
+}
+
+/// The belt speeds of a command, for comparing two.
+fn belts_of(c: &CommandSpec) -> Option<&BTreeMap<String, f64>> {
+    match &c.belt_speed_mps {
+        Some(PerTrack::ByName(m)) => Some(m),
+        _ => None,
+    }
+}
