@@ -49,3 +49,14 @@ def test_training_physics_drives_like_the_validated_physics_on_flat_ground():
     v_training = run_flat(tracksim.Scenario(FLAT, **tracksim.TRAINING_PHYSICS))
     assert v_default == pytest.approx(0.3, rel=0.01)
     assert v_training == pytest.approx(v_default, rel=0.01)
+
+
+def test_a_task_takes_the_training_physics():
+    import gymnasium
+
+    env = gymnasium.make("tracksim/PackBotSteps-v0", physics=tracksim.TRAINING_PHYSICS)
+    assert env.unwrapped.scenario.info(0)["solver_iterations"] == 2
+    venv = tracksim.tasks.make_vector("tracksim/PackBotSteps-v0", 2,
+                                      physics=tracksim.TRAINING_PHYSICS_CLUSTERED)
+    obs, _ = venv.reset(seed=[1, 2])
+    assert np.all(np.isfinite(obs))

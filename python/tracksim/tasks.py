@@ -77,16 +77,26 @@ def task(task_id: str) -> Task:
         raise KeyError(f"no task {task_id!r}: the tasks are {', '.join(BY_ID)}") from None
 
 
+def _scenario(path: str, physics: Optional[dict]):
+    """The scenario file ``path``, with the Scenario overrides ``physics`` (e.g.
+    :data:`tracksim.TRAINING_PHYSICS`) if given."""
+    from ._tracksim import Scenario
+
+    return Scenario(path, **physics) if physics else path
+
+
 def make_env(scenario: str, config: Optional[dict] = None,
              reward: Optional[Callable[..., Any]] = None, render_mode: Optional[str] = None,
-             **kwargs):
+             physics: Optional[dict] = None, **kwargs):
     """The entry point of every id: a :class:`tracksim.TracksimEnv` on the bundled scenario
-    ``scenario`` (a name of :func:`tracksim.bundled_names`); ``config``, ``reward``,
-    ``render_mode`` and any other keyword pass through to it."""
+    ``scenario`` (a name of :func:`tracksim.bundled_names`); ``physics`` are Scenario
+    overrides (``tracksim.TRAINING_PHYSICS``: faster, shown equal on the steps tasks; default:
+    the validated physics of the file); ``config``, ``reward``, ``render_mode`` and any other
+    keyword pass through to it."""
     from .env import TracksimEnv
 
-    return TracksimEnv(bundled_path(scenario), config=config, reward=reward,
-                       render_mode=render_mode, **kwargs)
+    return TracksimEnv(_scenario(bundled_path(scenario), physics), config=config,
+                       reward=reward, render_mode=render_mode, **kwargs)
 
 
 def register_all() -> None:
@@ -104,10 +114,11 @@ def register_all() -> None:
 
 
 def make_vector(task_id: str, num_envs: int, threads: int = 1, config: Optional[dict] = None,
-                reward: Optional[Callable[..., Any]] = None):
+                reward: Optional[Callable[..., Any]] = None, physics: Optional[dict] = None):
     """``num_envs`` episodes of the task ``task_id`` on Rust threads
-    (:class:`tracksim.TracksimVectorEnv`; it truncates at the scenario's duration itself)."""
+    (:class:`tracksim.TracksimVectorEnv`; it truncates at the scenario's duration itself);
+    ``physics`` as in :func:`make_env`."""
     from .vector import TracksimVectorEnv
 
-    return TracksimVectorEnv(task(task_id).path(), num_envs, threads=threads, config=config,
-                             reward=reward)
+    return TracksimVectorEnv(_scenario(task(task_id).path(), physics), num_envs,
+                             threads=threads, config=config, reward=reward)
