@@ -251,6 +251,11 @@ def main():
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1,
                     help="Rust threads of the vector env (default: the cores)")
     ap.add_argument("--action", choices=("flippers", "full"), default="flippers")
+    ap.add_argument("--physics", choices=("validated", "training", "clustered"),
+                    default="validated",
+                    help="physics to train on (tracksim.TRAINING_PHYSICS, "
+                         "TRAINING_PHYSICS_CLUSTERED); the held-out evaluation always runs the "
+                         "validated physics of the file")
     ap.add_argument("--forward", type=float, default=0.6,
                     help="normalised forward speed with --action flippers and of the baseline")
     ap.add_argument("--rollouts", type=int, default=64, help="steps per env between updates")
@@ -291,10 +296,13 @@ def main():
     skrl.config.jax.device = "cpu"  # skrl's default asks for cuda:0 first, with a warning
     set_seed(args.seed)
     scenario = resolve_task(args.task)
+    overrides = {"validated": {}, "training": tracksim.TRAINING_PHYSICS,
+                 "clustered": tracksim.TRAINING_PHYSICS_CLUSTERED}[args.physics]
+    train_scenario = tracksim.Scenario(scenario.path, **overrides) if overrides else scenario
     t0 = time.time()
     # Training seeds: env i starts with seed + i, then its autoresets go on from there.
-    learner_env = LearnerVecEnv(scenario, args.envs, args.threads, args.action, args.forward,
-                                seed=args.seed)
+    learner_env = LearnerVecEnv(train_scenario, args.envs, args.threads, args.action,
+                                args.forward, seed=args.seed)
     env = wrap_env(learner_env, wrapper="gymnasium", verbose=False)
     agent = make_agent(env, args)
     # skrl's trainer, run one PPO update's worth of steps at a time (its env wrapper carries
@@ -342,6 +350,7 @@ def main():
     plot(rows, base[0], learned[0], png_path, title)
     result = {
         "task": args.task, "action": args.action, "forward": args.forward,
+        "physics": args.physics,
         "env_steps": env_steps, "updates": updates, "train_episodes": len(learner_env.episodes),
         "train_wall_s": round(train_wall_s, 1),
         "env_steps_per_s": round(env_steps / train_wall_s, 1),
