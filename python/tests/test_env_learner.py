@@ -184,3 +184,9 @@ def test_rgb_array_is_refused_naming_the_alternatives():
         assert alt in msg
     with pytest.raises(ValueError, match="renders nothing"):
         tracksim.TracksimVectorEnv(STAIRS, 2, render_mode="human")
+
+
+def test_a_bad_render_port_is_named():
+    for port in (-1, 70000, "8080", 1.5):
+        with pytest.raises(ValueError, match="render_port: a TCP port from 0 to 65535"):
+            tracksim.TracksimEnv(str(SCENARIOS / "packbot_flat.toml"), render_mode="human", render_port=port)

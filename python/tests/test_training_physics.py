@@ -60,3 +60,4 @@ def test_a_task_takes_the_training_physics():
                                       physics=tracksim.TRAINING_PHYSICS_CLUSTERED)
     obs, _ = venv.reset(seed=[1, 2])
     assert np.all(np.isfinite(obs))
+

@@ -223,7 +223,11 @@ class TracksimEnv(gym.Env):
         self._view = None
         self.render_url = None
         if render_mode == "human":
-            self._view = LiveView(self._core, int(render_port), render_speed)
+            port = render_port
+            if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
+                raise ValueError(f"render_port: a TCP port from 0 to 65535 (0: a free one), "
+                                 f"got {render_port!r}")
+            self._view = LiveView(self._core, port, render_speed)
             self.render_url = self._view.url
             print(f"tracksim: watch the environment at {self.render_url}", flush=True)
 

@@ -874,7 +874,7 @@ impl PyLiveView {
             && !(s.is_finite() && s > 0.0 && s <= 1000.0)
         {
             return Err(PyValueError::new_err(format!(
-                "render speed: must be a finite number > 0 and at most 1000 (simulated seconds                  per wall second; None: unpaced), got {s}"
+                "render speed: must be a finite number > 0 and at most 1000 (simulated seconds per wall second; None: unpaced), got {s}"
             )));
         }
         let w = tracksim::live::Watch::start(
