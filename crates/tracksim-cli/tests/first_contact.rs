@@ -165,11 +165,15 @@ fn sigterm_writes_what_was_simulated() {
     }
     // compare: the method running is written as interrupted, the next one does not run.
     let out = d.join("compare").display().to_string();
+    // 600 s on flat ground has no early end: okada2020 is still running at the signal on any
+    // machine (a fast one finished the stairs within the wait and made this test flaky).
     let args = [
         "compare",
-        "packbot_stairs",
+        "packbot_flat",
         "--methods",
         "okada2020,plates",
+        "--duration",
+        "600",
         "--out",
         &out,
     ];
@@ -189,9 +193,9 @@ fn sigterm_writes_what_was_simulated() {
         "sweep",
         "random/packbot_step_random",
         "--runs",
-        "40",
+        "400",
         "--duration",
-        "2",
+        "20",
         "--quiet",
         "--out",
         &out,
@@ -199,7 +203,7 @@ fn sigterm_writes_what_was_simulated() {
     assert_eq!(sigterm(d, &args, wait), Some(130), "sweep");
     let manifest = std::fs::read_to_string(d.join("sweep/manifest.jsonl")).unwrap();
     let folders = std::fs::read_dir(d.join("sweep/runs")).unwrap().count();
-    assert!(manifest.lines().count() < 40, "the sweep was not stopped");
+    assert!(manifest.lines().count() < 400, "the sweep was not stopped");
     assert_eq!(
         manifest.lines().count(),
         folders,
