@@ -96,6 +96,17 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
         if s.drawbar_n.is_some() {
             h.push("drawbar_n".into());
         }
+        if !s.soil.is_empty() {
+            for n in &result.track_names {
+                h.extend([
+                    format!("sinkage_{n}_m"),
+                    format!("max_sinkage_{n}_m"),
+                    format!("soil_normal_{n}_n"),
+                    format!("soil_thrust_{n}_n"),
+                    format!("compaction_{n}_n"),
+                ]);
+            }
+        }
     }
     h
 }
@@ -136,6 +147,12 @@ fn track_cells(s: &Sample) -> String {
     }
     if let Some(p) = s.drawbar_n {
         line.push_str(&format!(",{p:.6}"));
+    }
+    for g in &s.soil {
+        line.push_str(&format!(
+            ",{:.6},{:.6},{:.6},{:.6},{:.6}",
+            g.sinkage_m, g.max_sinkage_m, g.normal_n, g.thrust_n, g.compaction_n
+        ));
     }
     line
 }

@@ -77,6 +77,10 @@ pub struct GroundSpec {
     /// Height of the surface, m.
     #[serde(default)]
     pub z_m: f64,
+    /// Deformable soil (`[terrain.ground.soil]`): the ground sinks, shears and keeps ruts
+    /// (docs/SOIL.md). Absent: rigid.
+    #[serde(default)]
+    pub soil: Option<SoilSpec>,
 }
 
 /// A box obstacle.
@@ -96,6 +100,9 @@ pub struct BoxSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
+    #[serde(default)]
+    pub soil: Option<SoilSpec>,
 }
 
 /// A straight staircase of `count` equal steps, built from boxes (exact edges). In its own
@@ -165,6 +172,9 @@ pub struct InclineSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
+    #[serde(default)]
+    pub soil: Option<SoilSpec>,
 }
 fn default_incline_thickness() -> f64 {
     0.05
@@ -473,4 +483,56 @@ pub struct GapSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+}
+
+/// Deformable soil (issue 30): Bekker's pressure-sinkage law, the Mohr-Coulomb shear strength
+/// built up by Janosi and Hanamoto's shear-displacement law, elastic unloading, and ruts kept
+/// in a bounded grid. `preset` names a published parameter set (docs/SOIL.md lists them with
+/// their sources); every other key overrides one value of it. Without a preset every Bekker
+/// and Mohr-Coulomb key must be given.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SoilSpec {
+    /// A published parameter set: "dry_sand", "lete_sand", "clayey_soil", "lunar_regolith",
+    /// "snow".
+    #[serde(default)]
+    pub preset: Option<String>,
+    /// Bekker's sinkage exponent `n` (dimensionless).
+    #[serde(default)]
+    pub n: Option<f64>,
+    /// Bekker's cohesive modulus `k_c`, N/m^(n+1).
+    #[serde(default)]
+    pub k_c: Option<f64>,
+    /// Bekker's frictional modulus `k_phi`, N/m^(n+2).
+    #[serde(default)]
+    pub k_phi: Option<f64>,
+    /// Cohesion `c`, Pa.
+    #[serde(default)]
+    pub cohesion_pa: Option<f64>,
+    /// Angle of internal friction `phi`, degrees.
+    #[serde(default)]
+    pub friction_angle_deg: Option<f64>,
+    /// Janosi-Hanamoto shear deformation modulus `K`, m.
+    #[serde(default)]
+    pub shear_modulus_m: Option<f64>,
+    /// Elastic unloading and reloading stiffness `K_e`, Pa/m (SCM's elastic stiffness).
+    #[serde(default)]
+    pub elastic_stiffness_pa_per_m: Option<f64>,
+    /// Damping of the soil's normal response `R`, Pa s/m (SCM's damping).
+    #[serde(default)]
+    pub damping_pa_s_per_m: Option<f64>,
+    /// Bulk density, kg/m^3 (the passive earth pressure on grouser faces).
+    #[serde(default)]
+    pub density_kg_per_m3: Option<f64>,
+    /// Friction angle between a smooth surface (a belt without grousers, a hull) and the soil,
+    /// degrees (default two thirds of `friction_angle_deg`).
+    #[serde(default)]
+    pub interface_friction_angle_deg: Option<f64>,
+    /// Side of a cell of the rut grid, m (default 0.01; a whole number of cells per metre).
+    #[serde(default)]
+    pub cell_m: Option<f64>,
+    /// Most tiles of 64 x 64 cells the rut grid keeps; the least recently touched is forgotten
+    /// first (default 512).
+    #[serde(default)]
+    pub max_tiles: Option<u32>,
 }

@@ -20,6 +20,8 @@ pub struct BoxModel {
     pub pitch: f64,
     /// Friction coefficient.
     pub friction: f64,
+    /// Index of its soil in [`TerrainModel::soils`] (None: rigid).
+    pub soil: Option<usize>,
 }
 
 impl BoxModel {
@@ -52,11 +54,16 @@ pub(super) fn compile(c: &mut Checker, k: &str, b: &BoxSpec, t: &mut TerrainMode
     }
     c.finite(&format!("{k}.yaw_deg"), &[b.yaw_deg, b.pitch_deg]);
     c.non_negative(&format!("{k}.friction"), b.friction, "");
+    let soil = b
+        .soil
+        .as_ref()
+        .and_then(|s| t.add_soil(c, &format!("{k}.soil"), s));
     t.boxes.push(BoxModel {
         centre: v3(b.centre_m),
         half: v3(b.size_m) * 0.5,
         yaw: b.yaw_deg.to_radians(),
         pitch: b.pitch_deg.to_radians(),
         friction: b.friction,
+        soil,
     });
 }

@@ -33,6 +33,7 @@ impl Frame {
             yaw: self.yaw,
             pitch: 0.0,
             friction,
+            soil: None,
         }
     }
     /// A sloped plate whose top surface starts at `low` (middle of its lower edge, local) and
@@ -58,6 +59,7 @@ impl Frame {
             yaw: self.yaw + dir_yaw,
             pitch: -angle,
             friction,
+            soil: None,
         }
     }
 }

@@ -16,9 +16,13 @@ pub(super) fn compile(c: &mut Checker, k: &str, s: &InclineSpec, t: &mut Terrain
     c.positive(&format!("{k}.width_m"), s.width_m, "m");
     c.positive(&format!("{k}.thickness_m"), s.thickness_m, "m");
     c.non_negative(&format!("{k}.friction"), s.friction, "");
+    let soil = s
+        .soil
+        .as_ref()
+        .and_then(|soil| t.add_soil(c, &format!("{k}.soil"), soil));
     if c.issues.len() == n {
         let fr = Frame::new(s.x_m, s.y_m, s.z_m, s.yaw_deg);
-        t.boxes.push(fr.plate(
+        let mut plate = fr.plate(
             DVec3::ZERO,
             0.0,
             s.angle_deg.to_radians(),
@@ -26,6 +30,8 @@ pub(super) fn compile(c: &mut Checker, k: &str, s: &InclineSpec, t: &mut Terrain
             s.width_m,
             s.thickness_m,
             s.friction,
-        ));
+        );
+        plate.soil = soil;
+        t.boxes.push(plate);
     }
 }

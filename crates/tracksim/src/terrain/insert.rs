@@ -59,6 +59,7 @@ impl TerrainModel {
             }
             .friction(mu as f32)
             .collision_groups(groups);
+            let c = with_soil(c, self.ground_soil);
             let parent = match ground_tile {
                 None => fixed,
                 Some((x, y)) => {
@@ -73,7 +74,8 @@ impl TerrainModel {
                 .colliders
                 .insert_with_parent(c, parent, &mut world.bodies);
         }
-        let mut add = |c: ColliderBuilder, friction: f64| {
+        let mut add = |c: ColliderBuilder, friction: f64, soil: Option<usize>| {
+            let c = with_soil(c, soil);
             let c = c.friction(friction as f32).collision_groups(groups);
             world
                 .colliders
@@ -84,6 +86,7 @@ impl TerrainModel {
                 ColliderBuilder::cuboid(b.half.x as f32, b.half.y as f32, b.half.z as f32)
                     .position(Pose::from_parts(f(b.centre - origin), q(b.rotation()))),
                 b.friction,
+                b.soil,
             );
         }
         for cy in &self.cylinders {
@@ -93,6 +96,7 @@ impl TerrainModel {
                     Pose::from_parts(f(cy.centre - origin), q(DQuat::from_rotation_z(cy.yaw))),
                 ),
                 cy.friction,
+                None,
             );
         }
         for h in &self.heightfields {
@@ -111,6 +115,7 @@ impl TerrainModel {
                 )
                 .position(Pose::from_parts(f(h.centre - origin), q(h.pose()))),
                 h.friction,
+                None,
             );
         }
         for m in &self.meshes {
@@ -121,7 +126,7 @@ impl TerrainModel {
                 m.triangles.clone(),
                 TriMeshFlags::FIX_INTERNAL_EDGES | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
             ) {
-                add(b, m.friction);
+                add(b, m.friction, None);
             }
         }
         tile
@@ -138,6 +143,16 @@ impl TerrainModel {
             let to = Vector::new(x.round() as f32, y.round() as f32, c.z);
             world.bodies[tile].set_translation(to, false);
         }
+    }
+}
+
+/// A soil surface carries its tag ([`super::soil_tag`]) and turns the contact hook on.
+fn with_soil(c: ColliderBuilder, soil: Option<usize>) -> ColliderBuilder {
+    match soil {
+        Some(i) => c
+            .user_data(super::soil_tag(i))
+            .active_hooks(ActiveHooks::MODIFY_SOLVER_CONTACTS),
+        None => c,
     }
 }
 

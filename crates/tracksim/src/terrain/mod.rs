@@ -39,6 +39,7 @@ mod query;
 mod ramps;
 mod rng;
 mod rough;
+pub mod soil;
 mod staircase;
 mod stepfield;
 
@@ -46,6 +47,7 @@ pub use boxes::{BoxModel, CylinderModel};
 pub use heightfield::HeightFieldModel;
 pub use insert::{GROUND_RECENTRE_M, GROUND_TILE_HALF_M};
 pub use mesh::MeshModel;
+pub use soil::{SoilModel, soil_tag, tagged_soil};
 
 use crate::check::Checker;
 use crate::error::SpecIssue;
@@ -65,6 +67,20 @@ pub struct TerrainModel {
     pub heightfields: Vec<HeightFieldModel>,
     /// Triangle meshes (from STL / OBJ files).
     pub meshes: Vec<MeshModel>,
+    /// Deformable soils, referred to by index from the ground ([`Self::ground_soil`]) and
+    /// boxes ([`BoxModel::soil`]).
+    pub soils: Vec<SoilModel>,
+    /// The soil of `[terrain.ground]`, if it has one.
+    pub ground_soil: Option<usize>,
+}
+
+impl TerrainModel {
+    /// Compiles a `soil` table at key `k` and keeps it; its index.
+    fn add_soil(&mut self, c: &mut Checker, k: &str, s: &crate::spec::SoilSpec) -> Option<usize> {
+        let m = soil::compile(c, k, s)?;
+        self.soils.push(m);
+        Some(self.soils.len() - 1)
+    }
 }
 
 /// Compiles `[terrain]`; problems are appended to `issues` with their key paths. Files named
@@ -78,6 +94,9 @@ pub fn compile_terrain(
     let mut terrain = TerrainModel::default();
     if let Some(g) = &spec.ground {
         terrain.ground = Some(ground::compile(&mut c, g));
+        if let Some(s) = &g.soil {
+            terrain.ground_soil = terrain.add_soil(&mut c, "terrain.ground.soil", s);
+        }
     }
     for (i, s) in spec.boxes.iter().enumerate() {
         boxes::compile(&mut c, &format!("terrain.boxes[{i}]"), s, &mut terrain);

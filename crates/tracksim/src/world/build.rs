@@ -64,7 +64,17 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
         drawbar: None,
         conveyors,
+        soil: None,
     };
+    sim.soil = super::soil::build_soil(
+        &sim.world,
+        &sc.terrain.soils,
+        &sc.vehicle.tracks,
+        &sim.tracks,
+        &sim.vehicle_bodies(),
+        method,
+        sc.solver.dt,
+    );
     sim.conserve_mass(&sc)?;
     place(&mut sim);
     sim.odometry = start_odometry(&sim);

@@ -4,6 +4,8 @@
 //! forwarding of contacts of colliders a track tagged for itself to that track.
 
 use super::compliance::{SolverSpring, apply_compliance};
+use super::soil::modify_soil_contacts;
+use crate::terrain::tagged_soil;
 use crate::tracks::{SLOP_TAG, Track, TrackContact, tagged_compliance, tagged_track};
 use rapier3d::prelude::*;
 
@@ -18,6 +20,10 @@ pub(crate) struct ContactHooks<'a> {
     pub springs: &'a [SolverSpring],
     /// Time step, s.
     pub dt: f32,
+    /// Deformable soil, if the terrain has some.
+    pub soil: Option<&'a super::soil::SoilState>,
+    /// The floating origin (world position of the Rapier origin), m.
+    pub origin: glam::DVec3,
 }
 
 /// Applies the slop to every solver contact of the pair.
@@ -37,6 +43,10 @@ impl PhysicsHooks for ContactHooks<'_> {
             ctx.colliders[ctx.collider1].user_data,
             ctx.colliders[ctx.collider2].user_data,
         );
+        if let (Some(state), Some(i)) = (self.soil, tagged_soil(u1).or(tagged_soil(u2))) {
+            modify_soil_contacts(ctx, state, i, self.origin);
+            return;
+        }
         let spring = tagged_compliance(u1)
             .or(tagged_compliance(u2))
             .and_then(|i| self.springs.get(i));

@@ -15,7 +15,10 @@
 //!   their parents), and the report of every part's mass;
 //! - [`origin`]: the floating origin that keeps the f32 world near the vehicle;
 //! - [`odometry`]: what the robot's encoders report (skid-steer dead reckoning);
-//! - [`track_loads`]: the terrain's force on each track (contacts, normal load, traction).
+//! - [`track_loads`]: the terrain's force on each track (contacts, normal load, traction);
+//! - [`soil`]: deformable soil in the contact hook (Bekker, Mohr-Coulomb, Janosi), its
+//!   after-step memory and the per-track sinkage and thrust; [`rut_grid`]: the bounded grid of
+//!   ruts and shear displacement.
 
 #![warn(clippy::too_many_lines)]
 
@@ -27,13 +30,17 @@ mod drawbar;
 pub mod mass;
 pub mod odometry;
 pub mod origin;
+pub mod rut_grid;
 pub mod sample;
+pub mod soil;
 pub mod step;
 pub mod track_loads;
 
 pub use mass::{MassReport, PartMass};
 pub use odometry::Odometry;
+pub use rut_grid::RutGridStats;
 pub use sample::{DriveSample, PoseRpy, Sample};
+pub use soil::{RutCell, TrackSoil};
 pub use track_loads::{TrackLoad, TrackOwners};
 
 use crate::model::Method;
@@ -99,6 +106,8 @@ pub struct Simulation {
     drawbar: Option<drawbar::DrawbarState>,
     /// Conveyors and loose boxes.
     conveyors: conveyor::Conveyors,
+    /// Deformable soil, when the terrain has some.
+    soil: Option<soil::SoilState>,
 }
 
 impl Simulation {

@@ -86,6 +86,9 @@ pub struct Sample {
     pub conveyor_position: Vec<f64>,
     /// Pose of every loose box, world frame (`[[terrain.loose_boxes]]`; for the replay).
     pub loose_poses: Vec<PoseRpy>,
+    /// Each track's sinkage, soil thrust and compaction over the last step (empty when the
+    /// terrain has no soil).
+    pub soil: Vec<super::TrackSoil>,
 }
 
 /// What a track's drive motor does (`[tracks.motor]`).
@@ -314,6 +317,7 @@ impl Simulation {
             drive: self.drive(),
             conveyor_position: self.conveyor_belts().iter().map(|b| b.0).collect(),
             loose_poses: self.loose_box_poses(),
+            soil: self.track_soil(),
         }
     }
 

@@ -25,6 +25,8 @@ impl Simulation {
             tracks: &self.tracks,
             springs: &self.springs,
             dt: self.dt as f32,
+            soil: self.soil.as_ref(),
+            origin: self.origin,
         };
         // After an origin shift no pair may keep contacts frozen at the old place. Held at
         // rest on motors neither: their held belt position moves by the solver's residual, the
@@ -40,6 +42,7 @@ impl Simulation {
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
+        self.soil_after_step();
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
         }

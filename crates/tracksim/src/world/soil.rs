@@ -1,0 +1,588 @@
+//! Deformable soil at run time (issue 30; docs/SOIL.md, docs/DESIGN.md "Soil"). Rapier still
+//! resolves every contact; the soil decides how the ground pushes back, in the contact hook,
+//! per contact manifold of a vehicle part with a soil surface:
+//!
+//! - **Normal**: the part owns a patch of ground (a grouser: one pitch of the track's
+//!   footprint, `pitch x width`, centred on it; any other part: its bounding box seen from
+//!   above). The patch's pressure is the manifold's normal force (last step's impulses,
+//!   low-pass filtered with the soil's damping, as the contact compliance does) over its area;
+//!   Bekker's law with the cells' plastic memory gives the sinkage (`SoilModel::loaded_sinkage`)
+//!   and the solver is told the part may sink that deep (`dist += sinkage`): it pushes back
+//!   only what is deeper. A grouser's tip sinks its height further: grousers are fully
+//!   embedded and the soil between them moves with the belt (Wong's track model), so the belt
+//!   surface of a track with grousers does not touch the soil (its contacts are dropped).
+//! - **Tangential**: the manifold's friction coefficient is the patch's shear limit over its
+//!   normal force. A grouser patch shears at the tip plane, `A (c + p tan phi)`, unless the
+//!   soil ploughs past the grouser first: the smooth belt's `A p tan delta` plus the Rankine
+//!   passive resistance of the grouser's face with the track's pressure as surcharge (the
+//!   smaller governs). Other parts shear at the interface, `A p tan delta`. Either is
+//!   mobilised by Janosi-Hanamoto with the mean shear displacement of the patch's cells.
+//! - **After the step**: each loaded cell keeps its largest sinkage (the rut) and accumulates
+//!   the slip of the part over it (its shear displacement), which restarts once a cell has been
+//!   unloaded for [`SHEAR_RESET_S`]. A cell entering a patch fresh is compacted at once; the
+//!   work (`integral p dz` over its area) is Bekker's compaction resistance, given back as an
+//!   impulse on the chassis against its horizontal motion (at most half its momentum).
+
+use super::Simulation;
+use super::rut_grid::{RutGrid, RutGridStats};
+use crate::model::{Method, TrackModel};
+use crate::terrain::SoilModel;
+use crate::tracks::Track;
+use glam::{DVec2, DVec3};
+use rapier3d::prelude::*;
+use std::collections::HashMap;
+use std::sync::Mutex;
+
+/// A cell unloaded this long forgets its shear displacement, s.
+pub const SHEAR_RESET_S: f64 = 0.1;
+/// Largest friction coefficient a soil contact gets (a light load on cohesive soil), -.
+const MU_CAP: f32 = 5.0;
+/// Below this chassis speed no compaction impulse is applied, m/s.
+const COMPACTION_MIN_SPEED_MPS: f64 = 1e-3;
+
+/// How a vehicle collider loads the soil.
+#[derive(Clone, Copy, Debug)]
+struct Part {
+    /// The track it belongs to, if any.
+    track: Option<usize>,
+    /// A grouser: half the pitch (along its x) and half the track width (its y), m; otherwise
+    /// the patch is its bounding box.
+    grouser: Option<(f64, f64)>,
+    /// Grouser height, m (0 for other parts).
+    height: f64,
+    /// The belt surface of a track with grousers: its soil contacts are dropped.
+    drop: bool,
+}
+
+/// What shares one pressure: a track, or a body that is not part of a track.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Footprint {
+    Track(usize),
+    Body(RigidBodyHandle),
+}
+
+impl Part {
+    fn footprint(&self, body: RigidBodyHandle) -> Footprint {
+        match self.track {
+            Some(t) => Footprint::Track(t),
+            None => Footprint::Body(body),
+        }
+    }
+}
+
+/// A patch of ground a part loads, in Rapier coordinates.
+#[derive(Clone, Copy, Debug)]
+struct Patch {
+    centre: DVec2,
+    /// Unit vector of the patch's length.
+    along: DVec2,
+    half_len: f64,
+    half_width: f64,
+}
+
+impl Patch {
+    fn area(&self) -> f64 {
+        4.0 * self.half_len * self.half_width
+    }
+    /// Bekker's `b`: the smaller side, m.
+    fn b(&self) -> f64 {
+        2.0 * self.half_len.min(self.half_width)
+    }
+    /// Calls `f` with the world indices of every cell whose centre lies in the patch (the cell
+    /// under the centre when none does).
+    fn cells(&self, per_m: i64, origin_cells: (i64, i64), mut f: impl FnMut(i64, i64)) {
+        let pm = per_m as f64;
+        let across = DVec2::new(-self.along.y, self.along.x);
+        let ex = self.along.x.abs() * self.half_len + across.x.abs() * self.half_width;
+        let ey = self.along.y.abs() * self.half_len + across.y.abs() * self.half_width;
+        let (x0, x1) = (
+            ((self.centre.x - ex) * pm).floor() as i64,
+            ((self.centre.x + ex) * pm).floor() as i64,
+        );
+        let (y0, y1) = (
+            ((self.centre.y - ey) * pm).floor() as i64,
+            ((self.centre.y + ey) * pm).floor() as i64,
+        );
+        let mut any = false;
+        for iy in y0..=y1 {
+            for ix in x0..=x1 {
+                let c = DVec2::new((ix as f64 + 0.5) / pm, (iy as f64 + 0.5) / pm) - self.centre;
+                if c.dot(self.along).abs() <= self.half_len
+                    && c.dot(across).abs() <= self.half_width
+                {
+                    any = true;
+                    f(ix + origin_cells.0, iy + origin_cells.1);
+                }
+            }
+        }
+        if !any {
+            f(
+                (self.centre.x * pm).floor() as i64 + origin_cells.0,
+                (self.centre.y * pm).floor() as i64 + origin_cells.1,
+            );
+        }
+    }
+}
+
+/// A manifold's load on the soil this step, for the after-step update.
+#[derive(Clone, Copy, Debug)]
+struct Load {
+    soil: usize,
+    track: Option<usize>,
+    footprint: Footprint,
+    patch: Patch,
+    /// The sinkage the solver was told (belt level, without the grouser height), m.
+    z: f64,
+    /// Bekker's b, m.
+    b: f64,
+    /// The filtered normal force, N.
+    force: f64,
+    body: RigidBodyHandle,
+    part: ColliderHandle,
+    ground: ColliderHandle,
+    /// Soil surface normal (Rapier frame, pointing out of the soil).
+    normal: Vector,
+}
+
+/// What one track does in the soil over the last step.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct TrackSoil {
+    /// Mean sinkage of the track's loaded patches weighted by their load (belt level below the
+    /// undisturbed surface), m; 0 off soil.
+    pub sinkage_m: f64,
+    /// Largest sinkage of a loaded patch, m.
+    pub max_sinkage_m: f64,
+    /// The soil's normal load on the track, N.
+    pub normal_n: f64,
+    /// The soil's shear force on the track along the chassis's forward axis, N (its thrust).
+    pub thrust_n: f64,
+    /// Compaction resistance given back this step, N (work of compacting fresh soil over the
+    /// distance driven).
+    pub compaction_n: f64,
+}
+
+/// The soil state of a simulation.
+pub(crate) struct SoilState {
+    soils: Vec<SoilModel>,
+    grid: RutGrid,
+    parts: HashMap<ColliderHandle, Part>,
+    pending: Mutex<Vec<Load>>,
+    /// Each loaded footprint's soil force, low-pass filtered, N, and the area of its
+    /// patches, m^2, from the last step. A track is one footprint: its belt does not stretch
+    /// (the paper's non-deformable track), so its patches share one pressure, Wong's uniform
+    /// pressure (the solver's split of a rigid link's load among its contacts is arbitrary).
+    /// Any other part is its own footprint.
+    bodies: HashMap<Footprint, (f64, f64)>,
+    tracks: Vec<TrackSoil>,
+    /// Steps a cell keeps its shear displacement unloaded.
+    reset_steps: u32,
+}
+
+impl std::fmt::Debug for SoilState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SoilState")
+            .field("soils", &self.soils.len())
+            .field("grid", &self.grid.stats())
+            .finish()
+    }
+}
+
+/// Builds the soil state when the terrain has soil: every vehicle collider is given its part.
+pub(crate) fn build_soil(
+    world: &PhysicsWorld,
+    soils: &[SoilModel],
+    models: &[TrackModel],
+    tracks: &[Box<dyn Track>],
+    vehicle_bodies: &[RigidBodyHandle],
+    method: Method,
+    dt: f64,
+) -> Option<SoilState> {
+    if soils.is_empty() {
+        return None;
+    }
+    let mut parts = HashMap::new();
+    for &b in vehicle_bodies {
+        for &h in world.bodies[b].colliders() {
+            parts.insert(
+                h,
+                Part {
+                    track: None,
+                    grouser: None,
+                    height: 0.0,
+                    drop: false,
+                },
+            );
+        }
+    }
+    // Only the okada2020 links carry one collider per grouser on the footprint frame.
+    let per_grouser = matches!(method, Method::Okada2020);
+    for (i, (model, track)) in models.iter().zip(tracks).enumerate() {
+        let grousers = track.grouser_colliders();
+        let g = model.grousers.as_ref();
+        for b in track.bodies() {
+            for &h in world.bodies[b].colliders() {
+                let is_grouser = grousers.contains(&h);
+                let part = Part {
+                    track: Some(i),
+                    grouser: match (is_grouser && per_grouser, g) {
+                        (true, Some(g)) => {
+                            Some((0.5 * g.layout.pitch(&model.path), 0.5 * model.width))
+                        }
+                        _ => None,
+                    },
+                    height: if is_grouser {
+                        g.map_or(0.0, |g| g.height)
+                    } else {
+                        0.0
+                    },
+                    drop: !is_grouser && g.is_some() && !grousers.is_empty(),
+                };
+                parts.insert(h, part);
+            }
+        }
+    }
+    Some(SoilState {
+        grid: RutGrid::new(soils.iter().map(|s| s.max_tiles).collect()),
+        soils: soils.to_vec(),
+        parts,
+        pending: Mutex::new(Vec::new()),
+        bodies: HashMap::new(),
+        tracks: vec![TrackSoil::default(); models.len()],
+        reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
+    })
+}
+
+/// The floating origin in whole cells of `soil`.
+fn origin_cells(soil: &SoilModel, origin: DVec3) -> (i64, i64) {
+    let per_m = soil.cells_per_m();
+    (
+        origin.x.round() as i64 * per_m,
+        origin.y.round() as i64 * per_m,
+    )
+}
+
+/// The patch part `p` of collider `c` loads.
+fn patch_of(p: &Part, c: &Collider) -> Patch {
+    let pos = c.position();
+    let t = pos.translation;
+    let centre = DVec2::new(t.x as f64, t.y as f64);
+    match p.grouser {
+        Some((half_len, half_width)) => {
+            let x = pos.rotation * Vector::X;
+            let along = DVec2::new(x.x as f64, x.y as f64)
+                .try_normalize()
+                .unwrap_or(DVec2::X);
+            Patch {
+                centre,
+                along,
+                half_len,
+                half_width,
+            }
+        }
+        None => {
+            let a = c.compute_aabb();
+            let (lo, hi) = (a.mins, a.maxs);
+            Patch {
+                centre: DVec2::new(0.5 * (lo.x + hi.x) as f64, 0.5 * (lo.y + hi.y) as f64),
+                along: DVec2::X,
+                half_len: (0.5 * (hi.x - lo.x) as f64).max(1e-3),
+                half_width: (0.5 * (hi.y - lo.y) as f64).max(1e-3),
+            }
+        }
+    }
+}
+
+/// The contact hook's work on a manifold between a vehicle part and soil `soil` (see the
+/// module docs). `sign` is +1 when the part is the manifold's collider 1.
+pub(crate) fn modify_soil_contacts(
+    ctx: &mut ContactModificationContext,
+    state: &SoilState,
+    soil_index: usize,
+    origin: DVec3,
+) {
+    let (part_h, ground_h, sign) = if crate::terrain::tagged_soil(
+        ctx.colliders[ctx.collider1].user_data,
+    ) == Some(soil_index)
+    {
+        (ctx.collider2, ctx.collider1, -1.0f32)
+    } else {
+        (ctx.collider1, ctx.collider2, 1.0f32)
+    };
+    let Some(part) = state.parts.get(&part_h).copied() else {
+        return; // not the vehicle's (a loose box): rigid contact
+    };
+    let Some(soil) = state.soils.get(soil_index) else {
+        return;
+    };
+    let collider = &ctx.colliders[part_h];
+    let Some(body) = collider.parent() else {
+        return;
+    };
+    let patch = patch_of(&part, collider);
+    let Some(m) = ctx.rigid_mut() else {
+        return;
+    };
+    if part.drop {
+        m.solver_contacts.clear();
+        return;
+    }
+    // The patch's memory: mean largest sinkage and mean mobilised shear of its cells.
+    let oc = origin_cells(soil, origin);
+    let (mut n, mut z_hist, mut mob) = (0usize, 0.0f64, 0.0f64);
+    let mut cells = state.grid.reader(soil_index);
+    patch.cells(soil.cells_per_m(), oc, |ix, iy| {
+        n += 1;
+        if let Some(c) = cells.cell(ix, iy) {
+            z_hist += c.z_max as f64;
+            mob += soil.mobilised(c.j as f64);
+        }
+    });
+    let n = n.max(1) as f64;
+    let (z_hist, mob) = (z_hist / n, mob / n);
+    // The body's pressure over the last step (filtered in the after-step update).
+    // Bekker's b: the track's width for a grouser's patch (the footprint's smaller side).
+    let area = patch.area();
+    let b = match part.grouser {
+        Some((_, half_width)) => 2.0 * half_width,
+        None => patch.b(),
+    };
+    let (force_body, area_body) = state
+        .bodies
+        .get(&part.footprint(body))
+        .copied()
+        .unwrap_or((0.0, area));
+    let p = force_body / area_body.max(1e-9);
+    let force = p * area;
+    let z = soil.loaded_sinkage(p, b, z_hist);
+    let allow = (z + part.height) as f32;
+    for c in m.solver_contacts.iter_mut() {
+        c.dist += allow;
+    }
+    // Shear limit of the patch, N.
+    let limit = if part.height > 0.0 {
+        let tip = area * soil.shear_strength(p);
+        let plough = force * soil.interface_phi.tan()
+            + soil.passive_force(part.height, 2.0 * patch.half_width, p);
+        tip.min(plough)
+    } else {
+        force * soil.interface_phi.tan()
+    } * mob;
+    *m.friction = if force > 1e-3 {
+        ((limit / force) as f32).min(MU_CAP)
+    } else {
+        (soil.phi.tan() * mob) as f32
+    };
+    let normal = *m.normal * sign;
+    if let Ok(mut pending) = state.pending.lock() {
+        pending.push(Load {
+            soil: soil_index,
+            track: part.track,
+            footprint: part.footprint(body),
+            patch,
+            z,
+            b,
+            force,
+            body,
+            part: part_h,
+            ground: ground_h,
+            normal: -normal,
+        });
+    }
+}
+
+impl SoilState {
+    /// The figures of the last step, per track.
+    pub(crate) fn track_soil(&self) -> &[TrackSoil] {
+        &self.tracks
+    }
+
+    /// The rut grid.
+    pub(crate) fn grid(&self) -> &RutGrid {
+        &self.grid
+    }
+
+    /// The soils.
+    pub(crate) fn soils(&self) -> &[SoilModel] {
+        &self.soils
+    }
+}
+
+impl Simulation {
+    /// The soil's work after a step (see the module docs): ruts, shear displacement, the
+    /// per-track figures and the compaction impulse. `step` is the number of the step just
+    /// taken (from 1).
+    pub(crate) fn soil_after_step(&mut self) {
+        let Some(state) = self.soil.as_mut() else {
+            return;
+        };
+        let loads = match state.pending.get_mut() {
+            Ok(p) => std::mem::take(p),
+            Err(_) => return,
+        };
+        let step = self.steps.min(u32::MAX as u64 - 1) as u32 + 1;
+        let (dt, time) = (self.dt, self.time as f32);
+        let origin = self.origin;
+        let chassis = &self.world.bodies[self.body];
+        let forward = chassis.rotation() * Vector::X;
+        let mut figures = vec![TrackSoil::default(); state.tracks.len()];
+        let mut weighted = vec![0.0f64; state.tracks.len()];
+        let mut work = 0.0f64;
+        let substeps = self.world.integration_parameters.num_solver_iterations as f32;
+        // Each body's raw soil force this step and its patches' area.
+        let mut raw: HashMap<Footprint, (f64, f64, usize, f64)> = HashMap::new();
+        for l in &loads {
+            let soil = &state.soils[l.soil];
+            // The part's slip over the ground at the patch centre, after the solve.
+            let body = &self.world.bodies[l.body];
+            let c = self.world.colliders[l.part].position().translation;
+            let v = body.velocity_at_point(c);
+            let slip = (v - l.normal * v.dot(l.normal)).length() as f64;
+            let mut normal = 0.0f64;
+            let mut thrust = 0.0f64;
+            if let Some(pair) = self.world.narrow_phase.contact_pair(l.part, l.ground) {
+                let s = if pair.collider1 == l.part {
+                    1.0f32
+                } else {
+                    -1.0
+                };
+                for m in pair.solver_manifolds() {
+                    normal += m.points.iter().map(|p| p.data.impulse as f64).sum::<f64>() / dt;
+                    if let Some(pt) = m.points.first() {
+                        let tan = pt.data.warmstart_tangent_world * substeps * s;
+                        thrust += tan.dot(forward) as f64 / dt;
+                    }
+                }
+            }
+            let e = raw.entry(l.footprint).or_insert((0.0, 0.0, l.soil, l.b));
+            e.0 += normal;
+            e.1 += l.patch.area();
+            let loaded = l.force > 0.0 || normal > 0.0;
+            let oc = origin_cells(soil, origin);
+            let cell_area = soil.cell * soil.cell;
+            let reset = state.reset_steps;
+            let mut grid = state.grid.writer(l.soil, step);
+            let mut fresh_work = 0.0;
+            let z = l.z as f32;
+            l.patch.cells(soil.cells_per_m(), oc, |ix, iy| {
+                if !loaded {
+                    return;
+                }
+                let cell = grid.cell(ix, iy);
+                if cell.last == 0 || cell.last + reset < step {
+                    cell.j = 0.0;
+                    if z > cell.z_max {
+                        fresh_work += cell_area * soil.compaction_work(cell.z_max as f64, l.z, l.b);
+                    }
+                }
+                if cell.last == 0 {
+                    cell.t_first = time;
+                }
+                cell.z_max = cell.z_max.max(z);
+                cell.j += (slip * dt) as f32;
+                cell.last = step;
+            });
+            work += fresh_work;
+            let Some(t) = l.track else { continue };
+            let f = &mut figures[t];
+            f.normal_n += l.force;
+            weighted[t] += l.force * l.z;
+            if loaded {
+                f.max_sinkage_m = f.max_sinkage_m.max(l.z);
+            }
+            f.thrust_n += thrust;
+        }
+        // Each body's force, low-pass filtered with the soil's damping over its local
+        // stiffness (a Kelvin-Voigt element, as the contact compliance).
+        let mut bodies = HashMap::with_capacity(raw.len());
+        for (h, (force_now, area, soil_i, b)) in raw {
+            let soil = &state.soils[soil_i];
+            let previous = state.bodies.get(&h).map_or(0.0, |v| v.0);
+            let p = previous / area;
+            let z = soil.sinkage(p, b);
+            let k_local = if z > 1e-6 {
+                soil.n * p / z
+            } else {
+                soil.elastic_stiffness
+            };
+            let tau = soil.damping / k_local.max(1.0);
+            let gain = if tau > dt { dt / tau } else { 1.0 };
+            bodies.insert(h, (previous + gain * (force_now - previous), area));
+        }
+        state.bodies = bodies;
+        for (f, w) in figures.iter_mut().zip(&weighted) {
+            if f.normal_n > 0.0 {
+                f.sinkage_m = w / f.normal_n;
+            }
+        }
+        // Compaction: the work of pressing fresh soil, taken from the chassis's motion.
+        let b = &mut self.world.bodies[self.body];
+        let vh = Vector::new(b.linvel().x, b.linvel().y, 0.0);
+        let speed = vh.length() as f64;
+        if work > 0.0 && speed > COMPACTION_MIN_SPEED_MPS {
+            let momentum = b.mass() as f64 * speed;
+            let j = (work / speed).min(0.5 * momentum);
+            b.apply_impulse(-vh / speed as f32 * j as f32, true);
+            let force = j / dt;
+            let total: f64 = figures.iter().map(|f| f.normal_n).sum();
+            for f in &mut figures {
+                if total > 0.0 {
+                    f.compaction_n = force * f.normal_n / total;
+                }
+            }
+        }
+        state.tracks = figures;
+    }
+
+    /// The soil's figures for every track over the last step (empty without soil).
+    pub fn track_soil(&self) -> Vec<TrackSoil> {
+        self.soil
+            .as_ref()
+            .map(|s| s.track_soil().to_vec())
+            .unwrap_or_default()
+    }
+
+    /// What the rut grid holds (None without soil).
+    pub fn rut_grid_stats(&self) -> Option<RutGridStats> {
+        self.soil.as_ref().map(|s| s.grid().stats())
+    }
+
+    /// Every loaded soil cell: world centre (x, y) m, rut depth after elastic rebound m, and
+    /// the time it was first loaded s; sorted by soil, then y, then x.
+    pub fn ruts(&self) -> Vec<RutCell> {
+        let Some(s) = self.soil.as_ref() else {
+            return Vec::new();
+        };
+        s.grid()
+            .loaded_cells()
+            .into_iter()
+            .map(|(soil, ix, iy, c)| {
+                let m = &s.soils()[soil];
+                RutCell {
+                    soil,
+                    x_m: (ix as f64 + 0.5) * m.cell,
+                    y_m: (iy as f64 + 0.5) * m.cell,
+                    cell_m: m.cell,
+                    depth_m: c.z_max as f64,
+                    t_s: c.t_first as f64,
+                }
+            })
+            .collect()
+    }
+}
+
+/// A loaded soil cell, in world coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct RutCell {
+    /// Index of the soil.
+    pub soil: usize,
+    /// Cell centre x, m.
+    pub x_m: f64,
+    /// Cell centre y, m.
+    pub y_m: f64,
+    /// Cell side, m.
+    pub cell_m: f64,
+    /// Largest sinkage the cell was pressed to, m.
+    pub depth_m: f64,
+    /// Time the cell was first loaded, s.
+    pub t_s: f64,
+}
