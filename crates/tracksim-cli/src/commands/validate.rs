@@ -20,6 +20,9 @@ pub struct ValidateArgs {
     /// rigid terrain, no slop", MPa (track rubber, Shore 60-80A: about 3.5-9 MPa).
     #[arg(long, default_value_t = tracksim::validate::TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6)]
     pub rubber_modulus_mpa: f64,
+    /// Run only one group of cases: table_iv, slope, turning, figures or soil.
+    #[arg(long)]
+    pub only: Option<String>,
 }
 
 /// `tracksim validate`.
@@ -34,8 +37,21 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
             ),
         ));
     }
+    let only = match a.only.as_deref() {
+        None => None,
+        Some(name) => Some(tracksim::validate::Group::from_name(name).ok_or_else(|| {
+            bad_arg(
+                "--only",
+                format!(
+                    "unknown group \"{name}\": use one of {}",
+                    tracksim::validate::Group::NAMES.join(", ")
+                ),
+            )
+        })?),
+    };
     let opts = tracksim::validate::ValidationOptions {
         rubber_youngs_modulus_pa: mpa * 1e6,
+        only,
         stop: Some(&super::STOP),
         ..Default::default()
     };

@@ -104,6 +104,8 @@ pub fn csv_header(result: &RunResult) -> Vec<String> {
                     format!("soil_normal_{n}_n"),
                     format!("soil_thrust_{n}_n"),
                     format!("compaction_{n}_n"),
+                    format!("soil_contact_area_{n}_m2"),
+                    format!("soil_contact_length_{n}_m"),
                 ]);
             }
         }
@@ -150,8 +152,14 @@ fn track_cells(s: &Sample) -> String {
     }
     for g in &s.soil {
         line.push_str(&format!(
-            ",{:.6},{:.6},{:.6},{:.6},{:.6}",
-            g.sinkage_m, g.max_sinkage_m, g.normal_n, g.thrust_n, g.compaction_n
+            ",{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6}",
+            g.sinkage_m,
+            g.max_sinkage_m,
+            g.normal_n,
+            g.thrust_n,
+            g.compaction_n,
+            g.contact_area_m2,
+            g.contact_length_m
         ));
     }
     line

@@ -226,6 +226,16 @@ pub(super) fn compile(c: &mut Checker, k: &str, s: &SoilSpec) -> Option<SoilMode
     })
 }
 
+/// The preset `name` with the default elastic stiffness, damping, interface angle and grid
+/// (None for an unknown name).
+pub fn preset(name: &str) -> Option<SoilModel> {
+    let spec = SoilSpec {
+        preset: Some(name.into()),
+        ..Default::default()
+    };
+    compile(&mut Checker::default(), "soil", &spec)
+}
+
 impl SoilModel {
     /// Cells per metre of the rut grid.
     pub fn cells_per_m(&self) -> i64 {

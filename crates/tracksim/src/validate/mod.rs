@@ -23,6 +23,7 @@ mod figures;
 mod report;
 mod rubber;
 mod slope;
+mod soil;
 mod table_iv;
 mod turning;
 
@@ -105,6 +106,40 @@ pub struct ValidationOptions {
     /// When set (by a Ctrl-C or SIGTERM handler), the runs stop at their next step and the
     /// runs not started are skipped; the report is marked interrupted.
     pub stop: Option<&'static std::sync::atomic::AtomicBool>,
+    /// Only this group of cases (None: every group).
+    pub only: Option<Group>,
+}
+
+/// A group of validation cases (`tracksim validate --only GROUP`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Group {
+    /// The paper's Table IV (Quince steps).
+    TableIv,
+    /// The slope limit on a rigid plate.
+    Slope,
+    /// Skid steering.
+    Turning,
+    /// The paper's Figs. 2 and 3.
+    Figures,
+    /// Deformable soil against terramechanics.
+    Soil,
+}
+
+impl Group {
+    /// The names `--only` accepts.
+    pub const NAMES: [&'static str; 5] = ["table_iv", "slope", "turning", "figures", "soil"];
+
+    /// The group named `name`.
+    pub fn from_name(name: &str) -> Option<Group> {
+        Some(match name {
+            "table_iv" => Group::TableIv,
+            "slope" => Group::Slope,
+            "turning" => Group::Turning,
+            "figures" => Group::Figures,
+            "soil" => Group::Soil,
+            _ => return None,
+        })
+    }
 }
 
 impl Default for ValidationOptions {
@@ -115,6 +150,7 @@ impl Default for ValidationOptions {
             compliant_grousers: true,
             rubber_youngs_modulus_pa: TRACK_RUBBER_YOUNGS_MODULUS_PA,
             stop: None,
+            only: None,
         }
     }
 }
@@ -141,22 +177,50 @@ pub fn run_validation_with(
     let quince = load_vehicle(&root.join("vehicles/quince.toml"))?;
     let packbot = load_vehicle(&root.join("vehicles/packbot510.toml"))?;
 
+    // The soil group runs only when asked for (`--only soil`): two of its cases do not pass
+    // yet (issue 30 is open; docs/SOIL.md).
+    let on = |g: Group| match opts.only {
+        Some(o) => o == g,
+        None => g != Group::Soil,
+    };
     let mut jobs = Jobs::default();
-    table_iv::add_jobs(&mut jobs, &quince, method, opts, root)?;
-    slope::add_jobs(&mut jobs, &packbot, method, root)?;
-    turning::add_jobs(&mut jobs, &packbot, method, root)?;
-    figures::add_jobs(&mut jobs, method, root)?;
+    if on(Group::TableIv) {
+        table_iv::add_jobs(&mut jobs, &quince, method, opts, root)?;
+    }
+    if on(Group::Slope) {
+        slope::add_jobs(&mut jobs, &packbot, method, root)?;
+    }
+    if on(Group::Turning) {
+        turning::add_jobs(&mut jobs, &packbot, method, root)?;
+    }
+    if on(Group::Figures) {
+        figures::add_jobs(&mut jobs, method, root)?;
+    }
+    if on(Group::Soil) {
+        soil::add_jobs(&mut jobs, &packbot, root)?;
+    }
 
     let mut runs = jobs.run(opts.stop, &mut progress);
 
     let mut report = ValidationReport::new(method);
-    table_iv::assemble(&mut report, &jobs, &mut runs, method, opts);
-    if opts.compliant_grousers {
-        report.rubber = Some(rubber::note(&quince, opts.rubber_youngs_modulus_pa));
+    if on(Group::TableIv) {
+        table_iv::assemble(&mut report, &jobs, &mut runs, method, opts);
+        if opts.compliant_grousers {
+            report.rubber = Some(rubber::note(&quince, opts.rubber_youngs_modulus_pa));
+        }
     }
-    slope::assemble(&mut report, &mut runs);
-    turning::assemble(&mut report, &mut runs, &packbot, method);
-    figures::assemble(&mut report, &jobs, &mut runs, method);
+    if on(Group::Slope) {
+        slope::assemble(&mut report, &mut runs);
+    }
+    if on(Group::Turning) {
+        turning::assemble(&mut report, &mut runs, &packbot, method);
+    }
+    if on(Group::Figures) {
+        figures::assemble(&mut report, &jobs, &mut runs, method);
+    }
+    if on(Group::Soil) {
+        soil::assemble(&mut report, &mut runs, &packbot);
+    }
     report.wall_time_s = wall.elapsed().as_secs_f64();
     report.interrupted = opts.stop.is_some_and(|s| s.load(Ordering::SeqCst));
     Ok(report)

@@ -50,6 +50,8 @@ struct Part {
     grouser: Option<(f64, f64)>,
     /// Grouser height, m (0 for other parts).
     height: f64,
+    /// Grouser thickness along the track, m (its tip bears the load until it is embedded).
+    thickness: f64,
     /// The belt surface of a track with grousers: its soil contacts are dropped.
     drop: bool,
 }
@@ -135,6 +137,8 @@ struct Load {
     z: f64,
     /// Bekker's b, m.
     b: f64,
+    /// The patch's shear limit, mobilised, N.
+    limit: f64,
     /// The filtered normal force, N.
     force: f64,
     body: RigidBodyHandle,
@@ -159,6 +163,10 @@ pub struct TrackSoil {
     /// Compaction resistance given back this step, N (work of compacting fresh soil over the
     /// distance driven).
     pub compaction_n: f64,
+    /// Area of the loaded patches, m^2 (the contact area `A` of Wong's thrust).
+    pub contact_area_m2: f64,
+    /// Length of ground the loaded patches span along the chassis's x, m (Wong's `l`).
+    pub contact_length_m: f64,
 }
 
 /// The soil state of a simulation.
@@ -174,6 +182,9 @@ pub(crate) struct SoilState {
     /// Any other part is its own footprint.
     bodies: HashMap<Footprint, (f64, f64)>,
     tracks: Vec<TrackSoil>,
+    /// Each track's friction coefficient for the next step: its patches' mobilised limits over
+    /// its load (None off soil).
+    track_mu: Vec<Option<f32>>,
     /// Steps a cell keeps its shear displacement unloaded.
     reset_steps: u32,
 }
@@ -209,6 +220,7 @@ pub(crate) fn build_soil(
                     track: None,
                     grouser: None,
                     height: 0.0,
+                    thickness: 0.0,
                     drop: false,
                 },
             );
@@ -235,6 +247,7 @@ pub(crate) fn build_soil(
                     } else {
                         0.0
                     },
+                    thickness: g.map_or(0.0, grouser_thickness),
                     drop: !is_grouser && g.is_some() && !grousers.is_empty(),
                 };
                 parts.insert(h, part);
@@ -248,8 +261,23 @@ pub(crate) fn build_soil(
         pending: Mutex::new(Vec::new()),
         bodies: HashMap::new(),
         tracks: vec![TrackSoil::default(); models.len()],
+        track_mu: vec![None; models.len()],
         reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
     })
+}
+
+/// Thickness along the track of a track's first grouser shape, m.
+fn grouser_thickness(g: &crate::model::GrouserModel) -> f64 {
+    match g.shapes.first() {
+        Some(crate::model::GrouserShape::Box { half, .. }) => 2.0 * half.x,
+        Some(crate::model::GrouserShape::Convex(pts)) => {
+            let (lo, hi) = pts
+                .iter()
+                .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.x), b.max(p.x)));
+            (hi - lo).max(0.0)
+        }
+        None => 0.0,
+    }
 }
 
 /// The floating origin in whole cells of `soil`.
@@ -353,8 +381,23 @@ pub(crate) fn modify_soil_contacts(
         .unwrap_or((0.0, area));
     let p = force_body / area_body.max(1e-9);
     let force = p * area;
-    let z = soil.loaded_sinkage(p, b, z_hist);
-    let allow = (z + part.height) as f32;
+    // Grousers: until their tips have sunk their height the tips alone bear the load (Bekker
+    // at the tip pressure, b = the tip's thickness) and the belt stays above the surface; once
+    // embedded (or in a rut already) the soil between them moves with the belt and the belt
+    // level sinks by Bekker at the footprint's pressure.
+    let tips = part.height > 0.0 && part.thickness > 0.0 && z_hist <= 0.0;
+    let z_tip = if tips {
+        let fraction = (part.thickness / (2.0 * patch.half_len)).min(1.0);
+        soil.sinkage(p / fraction, part.thickness)
+    } else {
+        f64::INFINITY
+    };
+    let (z, engaged) = if z_tip < part.height {
+        (0.0, z_tip)
+    } else {
+        (soil.loaded_sinkage(p, b, z_hist), part.height)
+    };
+    let allow = (z + engaged) as f32;
     for c in m.solver_contacts.iter_mut() {
         c.dist += allow;
     }
@@ -362,15 +405,19 @@ pub(crate) fn modify_soil_contacts(
     let limit = if part.height > 0.0 {
         let tip = area * soil.shear_strength(p);
         let plough = force * soil.interface_phi.tan()
-            + soil.passive_force(part.height, 2.0 * patch.half_width, p);
+            + soil.passive_force(engaged, 2.0 * patch.half_width, p);
         tip.min(plough)
     } else {
         force * soil.interface_phi.tan()
     } * mob;
-    *m.friction = if force > 1e-3 {
-        ((limit / force) as f32).min(MU_CAP)
-    } else {
-        (soil.phi.tan() * mob) as f32
+    // A track's manifolds share the track's coefficient of the last step (its patches' limits
+    // over its load): the solver's split of the load among them (e.g. onto the rear under a
+    // drawbar pull) does not change the track's thrust, as under Wong's uniform pressure.
+    let shared = part.track.and_then(|t| state.track_mu.get(t).copied().flatten());
+    *m.friction = match shared {
+        Some(mu) => mu,
+        None if force > 1e-3 => ((limit / force) as f32).min(MU_CAP),
+        None => (soil.phi.tan() * mob) as f32,
     };
     let normal = *m.normal * sign;
     if let Ok(mut pending) = state.pending.lock() {
@@ -378,6 +425,7 @@ pub(crate) fn modify_soil_contacts(
             soil: soil_index,
             track: part.track,
             footprint: part.footprint(body),
+            limit,
             patch,
             z,
             b,
@@ -412,9 +460,23 @@ impl Simulation {
     /// per-track figures and the compaction impulse. `step` is the number of the step just
     /// taken (from 1).
     pub(crate) fn soil_after_step(&mut self) {
-        let Some(state) = self.soil.as_mut() else {
+        let Some(mut state) = self.soil.take() else {
             return;
         };
+        self.soil_update(&mut state);
+        self.soil = Some(state);
+    }
+
+    /// The body track `t` runs on.
+    fn track_parent(&self, t: usize) -> RigidBodyHandle {
+        match self.scenario.vehicle.tracks[t].parent {
+            crate::model::Parent::Body => self.body,
+            crate::model::Parent::Flipper(i) => self.flippers[i].body,
+        }
+    }
+
+    /// [`Self::soil_after_step`] with the state taken out.
+    fn soil_update(&mut self, state: &mut SoilState) {
         let loads = match state.pending.get_mut() {
             Ok(p) => std::mem::take(p),
             Err(_) => return,
@@ -426,16 +488,30 @@ impl Simulation {
         let forward = chassis.rotation() * Vector::X;
         let mut figures = vec![TrackSoil::default(); state.tracks.len()];
         let mut weighted = vec![0.0f64; state.tracks.len()];
+        let mut span = vec![(f64::MAX, f64::MIN, 0.0f64); state.tracks.len()];
+        let mut limits = vec![(0.0f64, 0.0f64); state.tracks.len()];
         let mut work = 0.0f64;
         let substeps = self.world.integration_parameters.num_solver_iterations as f32;
         // Each body's raw soil force this step and its patches' area.
         let mut raw: HashMap<Footprint, (f64, f64, usize, f64)> = HashMap::new();
         for l in &loads {
             let soil = &state.soils[l.soil];
-            // The part's slip over the ground at the patch centre, after the solve.
-            let body = &self.world.bodies[l.body];
+            // The slip over the ground at the patch centre, after the solve: for a track, the
+            // belt surface's (its parent's motion plus the belt running backwards along the
+            // parent's x at the measured belt speed), as Janosi's shear displacement of a
+            // track counts it (the grousers' own path on the pulleys would add the kinematics
+            // of entering and leaving the soil); for another part, its own.
             let c = self.world.colliders[l.part].position().translation;
-            let v = body.velocity_at_point(c);
+            let v = match l.track {
+                Some(t) => {
+                    let parent = &self.world.bodies[self.track_parent(t)];
+                    parent.velocity_at_point(c)
+                        - parent.rotation()
+                            * Vector::X
+                            * self.tracks[t].measured_belt_speed() as f32
+                }
+                None => self.world.bodies[l.body].velocity_at_point(c),
+            };
             let slip = (v - l.normal * v.dot(l.normal)).length() as f64;
             let mut normal = 0.0f64;
             let mut thrust = 0.0f64;
@@ -484,10 +560,16 @@ impl Simulation {
             work += fresh_work;
             let Some(t) = l.track else { continue };
             let f = &mut figures[t];
+            limits[t].0 += l.limit;
+            limits[t].1 += l.force;
             f.normal_n += l.force;
             weighted[t] += l.force * l.z;
             if loaded {
                 f.max_sinkage_m = f.max_sinkage_m.max(l.z);
+                f.contact_area_m2 += l.patch.area();
+                let x = c.dot(forward) as f64;
+                let sp = &mut span[t];
+                *sp = (sp.0.min(x), sp.1.max(x), sp.2.max(2.0 * l.patch.half_len));
             }
             f.thrust_n += thrust;
         }
@@ -509,9 +591,12 @@ impl Simulation {
             bodies.insert(h, (previous + gain * (force_now - previous), area));
         }
         state.bodies = bodies;
-        for (f, w) in figures.iter_mut().zip(&weighted) {
+        for ((f, w), sp) in figures.iter_mut().zip(&weighted).zip(&span) {
             if f.normal_n > 0.0 {
                 f.sinkage_m = w / f.normal_n;
+            }
+            if sp.1 >= sp.0 {
+                f.contact_length_m = sp.1 - sp.0 + sp.2;
             }
         }
         // Compaction: the work of pressing fresh soil, taken from the chassis's motion.
@@ -531,6 +616,10 @@ impl Simulation {
             }
         }
         state.tracks = figures;
+        state.track_mu = limits
+            .iter()
+            .map(|&(lim, force)| (force > 1e-3).then(|| ((lim / force) as f32).min(MU_CAP)))
+            .collect();
     }
 
     /// The soil's figures for every track over the last step (empty without soil).

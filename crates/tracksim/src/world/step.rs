@@ -36,8 +36,10 @@ impl Simulation {
         // (0.23 mm/s of creep with fresh contacts), so it stays on.
         let held_on_motors = held && self.has_motors;
         let recycling = self.world.integration_parameters.contact_recycling;
+        // Soil contacts change every step (the allowance follows the load and the ruts): a
+        // recycled contact would skip the hook.
         self.world.integration_parameters.contact_recycling =
-            recycling && !shifted && !held_on_motors;
+            recycling && !shifted && !held_on_motors && self.soil.is_none();
         self.world.step_with_events(&hooks, &());
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
