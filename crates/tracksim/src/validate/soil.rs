@@ -84,7 +84,11 @@ pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> 
     };
     let drive = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n";
     for preset in STATIC_PRESETS {
-        add(jobs, format!("soil/static/{preset}"), text(preset, "okada2020", 3.0, ""))?;
+        add(
+            jobs,
+            format!("soil/static/{preset}"),
+            text(preset, "okada2020", 3.0, ""),
+        )?;
     }
     let sand = soil("dry_sand");
     let f_max = NOMINAL_AREA_M2 * sand.cohesion + weight(packbot) * sand.phi.tan();
@@ -92,18 +96,36 @@ pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> 
         let pull = (frac * f_max).round();
         let body = format!("[drawbar]\npull_n = {pull}\nstart_s = 0.5\nramp_s = 1.5\n{drive}");
         let d = SETTLE_S + MEASURE_S;
-        add(jobs, format!("soil/drawbar/{pull:.0}N"), text("dry_sand", "okada2020", d, &body))?;
+        add(
+            jobs,
+            format!("soil/drawbar/{pull:.0}N"),
+            text("dry_sand", "okada2020", d, &body),
+        )?;
     }
     let smooth_pull = smooth_pull(packbot, &sand);
     let body = format!("[drawbar]\npull_n = {smooth_pull}\nstart_s = 0.5\nramp_s = 1.5\n{drive}");
-    for (name, method) in [("soil/smooth_belt", "okada2020_no_grousers"), ("soil/grousers", "okada2020")] {
-        add(jobs, name.into(), text("dry_sand", method, SETTLE_S + MEASURE_S, &body))?;
+    for (name, method) in [
+        ("soil/smooth_belt", "okada2020_no_grousers"),
+        ("soil/grousers", "okada2020"),
+    ] {
+        add(
+            jobs,
+            name.into(),
+            text("dry_sand", method, SETTLE_S + MEASURE_S, &body),
+        )?;
     }
     for deg in SLOPES_DEG {
-        jobs.add(format!("soil/slope/{deg:.0}deg"), slope_scenario(packbot, deg, root)?)?;
+        jobs.add(
+            format!("soil/slope/{deg:.0}deg"),
+            slope_scenario(packbot, deg, root)?,
+        )?;
     }
     let body = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n[[commands]]\nt_s = 4.0\nbelt_speed_mps = -0.3\n";
-    add(jobs, "soil/multipass".into(), text("snow", "okada2020", 8.0, body))?;
+    add(
+        jobs,
+        "soil/multipass".into(),
+        text("snow", "okada2020", 8.0, body),
+    )?;
     Ok(())
 }
 
@@ -247,7 +269,10 @@ fn static_case(runs: &mut Runs) -> Case {
     }
     c.outcome = "standing 3 s".into();
     c.measured = measured.join("; ");
-    c.expected = format!("within {:.0} % of Bekker's sinkage", SINKAGE_TOLERANCE * 100.0);
+    c.expected = format!(
+        "within {:.0} % of Bekker's sinkage",
+        SINKAGE_TOLERANCE * 100.0
+    );
     c.passed = ok;
     c.note = "PackBot stands on flat soil with the belts held; the tracks' mean sinkage (belt level, load-weighted over the loaded patches) over the last second against Bekker's z = (p / (k_c / b + k_phi))^(1/n), p = W / A with the soil's normal load W and the loaded patches' area A the run measured, b = 0.075 m (the track width). The tolerance covers the load the pulleys' grousers carry at other depths than the bottom run's (the sinkage is averaged over all loaded patches).".into();
     c
@@ -256,7 +281,12 @@ fn static_case(runs: &mut Runs) -> Case {
 /// Wong's thrust minus compaction resistance for a window, N.
 fn wong(s: &SoilModel, w: &Window) -> f64 {
     let tracks = 2.0;
-    let per_track = s.wong_thrust(w.area / tracks, w.normal / tracks, w.length, w.slip.max(1e-6));
+    let per_track = s.wong_thrust(
+        w.area / tracks,
+        w.normal / tracks,
+        w.length,
+        w.slip.max(1e-6),
+    );
     tracks * (per_track - s.compaction_resistance(0.075, w.sinkage))
 }
 
@@ -295,9 +325,18 @@ fn drawbar_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
     }
     c.outcome = format!("{} constant pulls", names.len());
     c.measured = measured.join("; ");
-    c.expected = format!("pull within {:.0} % of Wong's thrust minus compaction resistance at the measured slip", PULL_TOLERANCE * 100.0);
+    c.expected = format!(
+        "pull within {:.0} % of Wong's thrust minus compaction resistance at the measured slip",
+        PULL_TOLERANCE * 100.0
+    );
     c.passed = ok;
-    c.note = format!("Dry sand (Wong: c = {:.2} kPa, phi = {:.0} deg, K = {} m). PackBot drives at 0.3 m/s against a constant horizontal pull; over {SETTLE_S}-{} s the mean pull and slip give one point of the curve, compared with F = (A c + W tan phi)(1 - K/(s l)(1 - exp(-s l / K))) - b k z^(n+1)/(n+1) per track at the measured slip s, contact area A, load W, contact length l and sinkage z. Tolerance: the simulation accumulates the shear displacement per patch of ground (j = s x / (1 - s)) where Wong counts it per track element (j = s x), the patches are one grouser pitch (39 mm, against K = 25 mm) and the pulleys' grousers enter the soil over a few centimetres.", sand.cohesion / 1e3, sand.phi.to_degrees(), sand.shear_k, SETTLE_S + MEASURE_S);
+    c.note = format!(
+        "Dry sand (Wong: c = {:.2} kPa, phi = {:.0} deg, K = {} m). PackBot drives at 0.3 m/s against a constant horizontal pull; over {SETTLE_S}-{} s the mean pull and slip give one point of the curve, compared with F = (A c + W tan phi)(1 - K/(s l)(1 - exp(-s l / K))) - b k z^(n+1)/(n+1) per track at the measured slip s, contact area A, load W, contact length l and sinkage z. Tolerance: the simulation accumulates the shear displacement per patch of ground (j = s x / (1 - s)) where Wong counts it per track element (j = s x), the patches are one grouser pitch (39 mm, against K = 25 mm) and the pulleys' grousers enter the soil over a few centimetres.",
+        sand.cohesion / 1e3,
+        sand.phi.to_degrees(),
+        sand.shear_k,
+        SETTLE_S + MEASURE_S
+    );
     c
 }
 
@@ -318,19 +357,27 @@ fn grouser_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
             );
             let limit = ws.normal * sand.interface_phi.tan();
             let (vs, vg) = (progress(&s), progress(&g));
-            c.passed = vs < 0.05 && vg > 0.2 && wg.slip < 0.3 && (ws.thrust - limit).abs() <= 0.15 * limit;
+            c.passed =
+                vs < 0.05 && vg > 0.2 && wg.slip < 0.3 && (ws.thrust - limit).abs() <= 0.15 * limit;
             c.measured = format!(
                 "pull {pull:.0} N: without grousers {vs:+.3} m/s forwards (thrust {:.1} N, limit W tan delta {limit:.1} N); with grousers {vg:+.3} m/s at slip {:.3}",
                 ws.thrust, wg.slip
             );
         }
         (a, b) => {
-            c.measured = format!("{:?} / {:?}", a.err().map(|e| e.to_string()), b.err().map(|e| e.to_string()));
+            c.measured = format!(
+                "{:?} / {:?}",
+                a.err().map(|e| e.to_string()),
+                b.err().map(|e| e.to_string())
+            );
         }
     }
     c.outcome = "two runs".into();
     c.expected = "without grousers the belt shears at the interface and cannot pull (its thrust is W tan delta within 15 %); with grousers it drives on (slip < 0.3)".into();
-    c.note = format!("Dry sand; pull 1.5 W tan delta, delta = 2/3 phi = {:.1} deg. Without grousers (`okada2020_no_grousers`) the belt slides on the sand at the interface friction angle and has no cohesion (Wong's smooth track); with grousers the soil between them moves with the belt and shears at the grousers' tips with c and phi.", sand.interface_phi.to_degrees());
+    c.note = format!(
+        "Dry sand; pull 1.5 W tan delta, delta = 2/3 phi = {:.1} deg. Without grousers (`okada2020_no_grousers`) the belt slides on the sand at the interface friction angle and has no cohesion (Wong's smooth track); with grousers the soil between them moves with the belt and shears at the grousers' tips with c and phi.",
+        sand.interface_phi.to_degrees()
+    );
     c
 }
 
@@ -342,7 +389,10 @@ fn progress(r: &RunResult) -> f64 {
 }
 
 fn slope_case(runs: &mut Runs) -> Case {
-    let names: Vec<String> = SLOPES_DEG.iter().map(|d| format!("soil/slope/{d:.0}deg")).collect();
+    let names: Vec<String> = SLOPES_DEG
+        .iter()
+        .map(|d| format!("soil/slope/{d:.0}deg"))
+        .collect();
     let mut c = case("Slope limit on lunar regolith", names.clone());
     let regolith = soil("lunar_regolith");
     let mut climbed = Vec::new();
@@ -382,7 +432,9 @@ fn slope_case(runs: &mut Runs) -> Case {
     c.passed = highest.is_finite() && (highest - limit).abs() <= SLOPE_TOLERANCE_DEG;
     c.outcome = format!("climbed {} of {}", climbed.len(), SLOPES_DEG.len());
     c.measured = format!("steepest climbed {highest:.0} deg ({})", words.join(", "));
-    c.expected = format!("within {SLOPE_TOLERANCE_DEG:.0} deg of the Mohr-Coulomb limit {limit:.1} deg (A = {area:.3} m^2), where Coulomb friction 0.6 would stop at 31 deg");
+    c.expected = format!(
+        "within {SLOPE_TOLERANCE_DEG:.0} deg of the Mohr-Coulomb limit {limit:.1} deg (A = {area:.3} m^2), where Coulomb friction 0.6 would stop at 31 deg"
+    );
     c.note = "Lunar regolith (c = 0.17 kPa, phi = 35 deg) on a plate at each slope, PackBot driving uphill at 0.3 m/s; climbed: at least 0.05 m/s up the slope over 3-6 s. The limit solves W sin(theta) = A c + W cos(theta) tan(phi) with the contact area A the runs measured (full mobilisation at large slip; compaction resistance neglected). The slopes are 3-4 deg apart, hence the tolerance.".into();
     c
 }
@@ -395,7 +447,8 @@ fn multipass_case(runs: &mut Runs) -> Case {
             let second = window(&r, 6.0, 7.0);
             let snow = soil("snow");
             let elastic = second.normal / second.area.max(1e-9) / snow.elastic_stiffness;
-            c.passed = second.sinkage <= first.sinkage * 1.1 + elastic && second.sinkage >= 0.5 * first.sinkage;
+            c.passed = second.sinkage <= first.sinkage * 1.1 + elastic
+                && second.sinkage >= 0.5 * first.sinkage;
             c.measured = format!(
                 "first pass {:.2} mm, second pass over the rut {:.2} mm",
                 first.sinkage * 1e3,
@@ -405,7 +458,9 @@ fn multipass_case(runs: &mut Runs) -> Case {
         Err(e) => c.measured = e.to_string(),
     }
     c.outcome = "forwards 4 s, back 4 s".into();
-    c.expected = "the second pass sinks no deeper than the first (within 10 %, plus the elastic p / K_e)".into();
+    c.expected =
+        "the second pass sinks no deeper than the first (within 10 %, plus the elastic p / K_e)"
+            .into();
     c.note = "Snow (Chrono SCM's soft soil, k_phi = 0.2 MPa/m^1.1). PackBot drives 1.2 m forwards and reverses over its own ruts; load-weighted mean sinkage over t = 2-3 s (first pass) and 6-7 s (second pass). Bekker's law with plastic memory: under the load that made the rut the soil answers elastically (K_e), so the second pass adds only p / K_e.".into();
     c
 }

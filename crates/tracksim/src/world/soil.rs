@@ -413,7 +413,9 @@ pub(crate) fn modify_soil_contacts(
     // A track's manifolds share the track's coefficient of the last step (its patches' limits
     // over its load): the solver's split of the load among them (e.g. onto the rear under a
     // drawbar pull) does not change the track's thrust, as under Wong's uniform pressure.
-    let shared = part.track.and_then(|t| state.track_mu.get(t).copied().flatten());
+    let shared = part
+        .track
+        .and_then(|t| state.track_mu.get(t).copied().flatten());
     *m.friction = match shared {
         Some(mu) => mu,
         None if force > 1e-3 => ((limit / force) as f32).min(MU_CAP),
