@@ -11,6 +11,8 @@
 //!   no-slip value 2v/B; driving straight: longitudinal slip 1 - v_body / v_belt.
 //! - **Paper Figs. 2 and 3**: the named cases `fig2_bump` and `fig3_wall`
 //!   ([`crate::cases`]), when their files are present.
+//! - **Soil** (issue 30, `soil.rs`): sinkage (Bekker), drawbar pull against slip (Wong),
+//!   grousers against a smooth belt, the slope limit on lunar regolith, multi-pass sinkage.
 //!
 //! Every run is an ordinary scenario run ([`crate::run_scenario`]) under a unique case name
 //! (`table_iv/00deg_120mm/grousers_slop10`, `slope/31deg`, `turning/spin`, `fig2/okada2020`,
@@ -177,12 +179,7 @@ pub fn run_validation_with(
     let quince = load_vehicle(&root.join("vehicles/quince.toml"))?;
     let packbot = load_vehicle(&root.join("vehicles/packbot510.toml"))?;
 
-    // The soil group runs only when asked for (`--only soil`): two of its cases do not pass
-    // yet (issue 30 is open; docs/SOIL.md).
-    let on = |g: Group| match opts.only {
-        Some(o) => o == g,
-        None => g != Group::Soil,
-    };
+    let on = |g: Group| opts.only.is_none_or(|o| o == g);
     let mut jobs = Jobs::default();
     if on(Group::TableIv) {
         table_iv::add_jobs(&mut jobs, &quince, method, opts, root)?;

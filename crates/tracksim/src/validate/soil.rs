@@ -27,23 +27,29 @@ use std::path::Path;
 /// Soils of the static sinkage case: those on which PackBot's grousers embed (their tips sink
 /// their 8 mm height under the robot's weight).
 const STATIC_PRESETS: [&str; 3] = ["dry_sand", "lunar_regolith", "snow"];
+/// Speed of the sinkage case, m/s: slow, so fresh soil is loaded as the track rolls onto it.
+const SINKAGE_SPEED_MPS: f64 = 0.1;
+/// The sinkage case's window, s: from when the tracks have left the landing rut (0.69 m long
+/// tracks at 0.1 m/s) to the end.
+const SINKAGE_WINDOW_S: (f64, f64) = (8.0, 10.0);
 /// Drawbar pulls of the pull-slip case, as fractions of the dry sand's Mohr-Coulomb limit.
-const PULL_FRACTIONS: [f64; 7] = [0.5, 0.65, 0.8, 0.9, 0.95, 1.02, 1.05];
+const PULL_FRACTIONS: [f64; 6] = [0.5, 0.65, 0.8, 0.88, 0.93, 0.96];
 /// Settling before the measurement windows, s.
 const SETTLE_S: f64 = 3.0;
 /// Measurement window, s.
 const MEASURE_S: f64 = 3.0;
 /// Slopes tried on lunar regolith, degrees.
-const SLOPES_DEG: [f64; 6] = [30.0, 34.0, 38.0, 41.0, 44.0, 48.0];
+const SLOPES_DEG: [f64; 7] = [32.0, 36.0, 38.0, 40.0, 42.0, 44.0, 46.0];
 /// Allowed relative error of the static sinkage.
 const SINKAGE_TOLERANCE: f64 = 0.15;
 /// Allowed relative error of the drawbar pull against Wong's closed form.
-const PULL_TOLERANCE: f64 = 0.25;
+const PULL_TOLERANCE: f64 = 0.15;
 /// Allowed distance of the steepest slope climbed from the closed form, degrees.
 const SLOPE_TOLERANCE_DEG: f64 = 4.0;
-/// Load on the hitch's nominal Mohr-Coulomb limit: PackBot's 0.69 m x 0.075 m tracks (the
-/// sweep measures about this area) and its weight.
-const NOMINAL_AREA_M2: f64 = 2.0 * 0.69 * 0.075;
+/// The contact area of the pulls' nominal Mohr-Coulomb limit, m^2: two tracks 0.075 m wide
+/// loading 0.59 m of ground (the 0.51 m between the axles and the pulleys' grousers within
+/// the sinkage, as the runs measure).
+const NOMINAL_AREA_M2: f64 = 2.0 * 0.59 * 0.075;
 
 /// The PackBot scenario text on soil `preset`, with `extra` appended.
 fn text(preset: &str, method: &str, duration: f64, body: &str) -> String {
@@ -83,11 +89,12 @@ pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> 
         jobs.add(name, compile(&t, packbot.clone(), root)?)
     };
     let drive = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n";
+    let slow = format!("[[commands]]\nt_s = 0.0\nbelt_speed_mps = {SINKAGE_SPEED_MPS}\n");
     for preset in STATIC_PRESETS {
         add(
             jobs,
             format!("soil/static/{preset}"),
-            text(preset, "okada2020", 3.0, ""),
+            text(preset, "okada2020", SINKAGE_WINDOW_S.1, &slow),
         )?;
     }
     let sand = soil("dry_sand");
@@ -120,11 +127,11 @@ pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> 
             slope_scenario(packbot, deg, root)?,
         )?;
     }
-    let body = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n[[commands]]\nt_s = 4.0\nbelt_speed_mps = -0.3\n";
+    let body = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n[[commands]]\nt_s = 6.0\nbelt_speed_mps = -0.3\n";
     add(
         jobs,
         "soil/multipass".into(),
-        text("snow", "okada2020", 8.0, body),
+        text("snow", "okada2020", 9.0, body),
     )?;
     Ok(())
 }
@@ -240,13 +247,13 @@ fn static_case(runs: &mut Runs) -> Case {
         .iter()
         .map(|p| format!("soil/static/{p}"))
         .collect();
-    let mut c = case("Static sinkage (Bekker)", names.clone());
+    let mut c = case("Sinkage under the track's weight (Bekker)", names.clone());
     let mut ok = true;
     let mut measured = Vec::new();
     for (name, preset) in names.iter().zip(STATIC_PRESETS) {
         match runs.take(name).result {
             Ok(r) => {
-                let w = window(&r, 2.0, 3.0);
+                let w = window(&r, SINKAGE_WINDOW_S.0, SINKAGE_WINDOW_S.1);
                 let s = soil(preset);
                 let b = 0.075;
                 let z = s.sinkage(w.normal / w.area.max(1e-9), b);
@@ -267,14 +274,17 @@ fn static_case(runs: &mut Runs) -> Case {
             }
         }
     }
-    c.outcome = "standing 3 s".into();
+    c.outcome = format!("driving at {SINKAGE_SPEED_MPS} m/s onto fresh soil");
     c.measured = measured.join("; ");
     c.expected = format!(
         "within {:.0} % of Bekker's sinkage",
         SINKAGE_TOLERANCE * 100.0
     );
     c.passed = ok;
-    c.note = "PackBot stands on flat soil with the belts held; the tracks' mean sinkage (belt level, load-weighted over the loaded patches) over the last second against Bekker's z = (p / (k_c / b + k_phi))^(1/n), p = W / A with the soil's normal load W and the loaded patches' area A the run measured, b = 0.075 m (the track width). The tolerance covers the load the pulleys' grousers carry at other depths than the bottom run's (the sinkage is averaged over all loaded patches).".into();
+    c.note = format!(
+        "PackBot drives slowly ({SINKAGE_SPEED_MPS} m/s) so that the soil under the tracks is loaded gradually, as the track rolls onto it: the tracks' mean sinkage (belt level, load-weighted over the loaded patches) over {}-{} s, after the tracks have left the rut of the landing (standing still keeps the plastic sinkage of the landing's peak load, as real soil does), against Bekker's z = (p / (k_c / b + k_phi))^(1/n), p = W / A with the soil's normal load W and the loaded patches' area A the run measured, b = 0.075 m (the track width). The soils are those on which PackBot's grousers embed. Tolerance: the pressure fluctuates by a few per cent as the grousers roll on and off the pulleys, and a ratchet keeps the largest.",
+        SINKAGE_WINDOW_S.0, SINKAGE_WINDOW_S.1
+    );
     c
 }
 
@@ -299,6 +309,7 @@ fn drawbar_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
         .collect();
     let mut c = case("Drawbar pull against slip (Wong)", names.clone());
     let mut ok = true;
+    let mut asserted = 0;
     let mut measured = Vec::new();
     for name in &names {
         match runs.take(name).result {
@@ -307,7 +318,10 @@ fn drawbar_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
                 let f = wong(&sand, &w);
                 let err = (w.pull - f) / f;
                 let in_range = (0.05..=0.8).contains(&w.slip);
-                ok &= err.abs() <= PULL_TOLERANCE;
+                if in_range {
+                    asserted += 1;
+                    ok &= err.abs() <= PULL_TOLERANCE;
+                }
                 measured.push(format!(
                     "pull {:.0} N at slip {:.3}{}: Wong {:.0} N ({:+.0} %)",
                     w.pull,
@@ -323,10 +337,14 @@ fn drawbar_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
             }
         }
     }
-    c.outcome = format!("{} constant pulls", names.len());
+    c.outcome = format!(
+        "{} constant pulls, {asserted} at slips 0.05-0.8",
+        names.len()
+    );
     c.measured = measured.join("; ");
+    ok &= asserted >= 4;
     c.expected = format!(
-        "pull within {:.0} % of Wong's thrust minus compaction resistance at the measured slip",
+        "at least 4 points at slips 0.05-0.8, each pull within {:.0} % of Wong's thrust minus compaction resistance at the measured slip",
         PULL_TOLERANCE * 100.0
     );
     c.passed = ok;
@@ -406,10 +424,10 @@ fn slope_case(runs: &mut Runs) -> Case {
                 let p2 = super::pose_at(&r, SETTLE_S + MEASURE_S);
                 let along = ((p2.x - p1.x) * th.cos() + (p2.z - p1.z) * th.sin()) / MEASURE_S;
                 let w = window(&r, SETTLE_S, SETTLE_S + MEASURE_S);
-                if w.area > 0.0 {
+                let up = along >= 0.05;
+                if up && w.area > 0.0 {
                     area_load.push(w.area);
                 }
-                let up = along >= 0.05;
                 if up {
                     climbed.push(deg);
                 }
@@ -435,7 +453,7 @@ fn slope_case(runs: &mut Runs) -> Case {
     c.expected = format!(
         "within {SLOPE_TOLERANCE_DEG:.0} deg of the Mohr-Coulomb limit {limit:.1} deg (A = {area:.3} m^2), where Coulomb friction 0.6 would stop at 31 deg"
     );
-    c.note = "Lunar regolith (c = 0.17 kPa, phi = 35 deg) on a plate at each slope, PackBot driving uphill at 0.3 m/s; climbed: at least 0.05 m/s up the slope over 3-6 s. The limit solves W sin(theta) = A c + W cos(theta) tan(phi) with the contact area A the runs measured (full mobilisation at large slip; compaction resistance neglected). The slopes are 3-4 deg apart, hence the tolerance.".into();
+    c.note = "Lunar regolith (c = 0.17 kPa, phi = 35 deg) on a plate at each slope, PackBot driving uphill at 0.3 m/s; climbed: at least 0.05 m/s up the slope over 3-6 s. The limit solves W sin(theta) = A c + W cos(theta) tan(phi) with the contact area A the climbing runs measured (full mobilisation; the simulation climbs at finite slip, where Janosi's law mobilises less, and its tracks sink more at the rear, hence a limit a few degrees lower is expected).".into();
     c
 }
 
@@ -443,8 +461,8 @@ fn multipass_case(runs: &mut Runs) -> Case {
     let mut c = case("Multi-pass sinkage (snow)", vec!["soil/multipass".into()]);
     match runs.take("soil/multipass").result {
         Ok(r) => {
-            let first = window(&r, 2.0, 3.0);
-            let second = window(&r, 6.0, 7.0);
+            let first = window(&r, 4.0, 5.0);
+            let second = window(&r, 7.5, 8.5);
             let snow = soil("snow");
             let elastic = second.normal / second.area.max(1e-9) / snow.elastic_stiffness;
             c.passed = second.sinkage <= first.sinkage * 1.1 + elastic
@@ -457,10 +475,10 @@ fn multipass_case(runs: &mut Runs) -> Case {
         }
         Err(e) => c.measured = e.to_string(),
     }
-    c.outcome = "forwards 4 s, back 4 s".into();
+    c.outcome = "forwards 6 s, back 3 s".into();
     c.expected =
         "the second pass sinks no deeper than the first (within 10 %, plus the elastic p / K_e)"
             .into();
-    c.note = "Snow (Chrono SCM's soft soil, k_phi = 0.2 MPa/m^1.1). PackBot drives 1.2 m forwards and reverses over its own ruts; load-weighted mean sinkage over t = 2-3 s (first pass) and 6-7 s (second pass). Bekker's law with plastic memory: under the load that made the rut the soil answers elastically (K_e), so the second pass adds only p / K_e.".into();
+    c.note = "Snow (Chrono SCM's soft soil, k_phi = 0.2 MPa/m^1.1). PackBot drives 1.8 m forwards and reverses over its own ruts; load-weighted mean sinkage over t = 4-5 s (first pass, on fresh snow, clear of the landing's rut) and 7.5-8.5 s (second pass, over the ruts of the first at steady state). Bekker's law with plastic memory: under the load that made the rut the soil answers elastically (K_e), so the second pass adds only p / K_e.".into();
     c
 }

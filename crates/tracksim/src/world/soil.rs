@@ -135,6 +135,10 @@ struct Load {
     patch: Patch,
     /// The sinkage the solver was told (belt level, without the grouser height), m.
     z: f64,
+    /// Bekker's sinkage at the patch's pressure on virgin soil (0 while the grousers' tips
+    /// bear), m: what a cell loaded now is pressed to at least. (The patch's `z` follows the
+    /// mean memory of its cells; a fresh cell does not inherit its neighbours' depth.)
+    z_virgin: f64,
     /// Bekker's b, m.
     b: f64,
     /// The patch's shear limit, mobilised, N.
@@ -354,6 +358,11 @@ pub(crate) fn modify_soil_contacts(
         m.solver_contacts.clear();
         return;
     }
+    // A manifold of shapes that only come near (within the prediction distance, or whose
+    // bounding boxes overlap on a tilted plate) loads no ground.
+    if m.solver_contacts.iter().all(|c| c.dist > 0.0) {
+        return;
+    }
     // The patch's memory: mean largest sinkage and mean mobilised shear of its cells.
     let oc = origin_cells(soil, origin);
     let (mut n, mut z_hist, mut mob) = (0usize, 0.0f64, 0.0f64);
@@ -430,6 +439,11 @@ pub(crate) fn modify_soil_contacts(
             limit,
             patch,
             z,
+            z_virgin: if engaged < part.height {
+                0.0
+            } else {
+                soil.sinkage(p, b)
+            },
             b,
             force,
             body,
@@ -540,7 +554,7 @@ impl Simulation {
             let reset = state.reset_steps;
             let mut grid = state.grid.writer(l.soil, step);
             let mut fresh_work = 0.0;
-            let z = l.z as f32;
+            let z = l.z_virgin as f32;
             l.patch.cells(soil.cells_per_m(), oc, |ix, iy| {
                 if !loaded {
                     return;
@@ -549,7 +563,8 @@ impl Simulation {
                 if cell.last == 0 || cell.last + reset < step {
                     cell.j = 0.0;
                     if z > cell.z_max {
-                        fresh_work += cell_area * soil.compaction_work(cell.z_max as f64, l.z, l.b);
+                        fresh_work +=
+                            cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
                     }
                 }
                 if cell.last == 0 {
