@@ -98,6 +98,29 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
 pub(super) struct Feeds {
     sensors: SensorFeed,
     pub(super) hud: HudFeed,
+    /// Sequence number of the next rut cell to send ([`crate::world::Simulation::ruts_since`]).
+    rut_seq: u64,
+}
+
+/// Most rut cells one state carries (the rest follow in the next states).
+const MAX_RUTS_PER_STATE: usize = 4096;
+
+impl Feeds {
+    /// The soil cells deepened since the last state, as `[x, y, surface_z, depth, cell]`
+    /// rows (m; at most [`MAX_RUTS_PER_STATE`]).
+    fn new_ruts(&mut self, runner: &Runner) -> Vec<[f64; 5]> {
+        let (cells, next) = runner.sim().ruts_since(self.rut_seq);
+        let take = cells.len().min(MAX_RUTS_PER_STATE);
+        self.rut_seq = if take < cells.len() {
+            next - (cells.len() - take) as u64
+        } else {
+            next
+        };
+        cells[..take]
+            .iter()
+            .map(|c| [c.x_m, c.y_m, c.surface_z_m, c.depth_m, c.cell_m])
+            .collect()
+    }
 }
 
 /// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
@@ -142,6 +165,7 @@ pub(super) fn state_json(
             "flipper_angle_deg": control.flipper_angle_deg,
         },
         "sensors": feeds.sensors.new_readings(runner),
+        "ruts": feeds.new_ruts(runner),
         "session_ended": ended.is_some(),
         "course": runner.course().map(|mut c| {
             // Only the latest events: the whole list grows with the session (summary.json

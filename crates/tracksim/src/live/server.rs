@@ -289,7 +289,7 @@ pub type ViewFile = (String, &'static str, Vec<u8>);
 /// its `scene.json` at `/scene.json` (`prefix` `/run`) or `<prefix>/scene.json`.
 fn run_files(dir: &std::path::Path, prefix: &str, sensors: bool) -> Result<Vec<ViewFile>> {
     let required = ["scene.json", "trajectory.csv", "belts.csv"];
-    let optional = ["summary.json", "controls.csv"];
+    let optional = ["summary.json", "controls.csv", "ruts.csv"];
     let mut files = Vec::new();
     for name in required.iter().chain(optional.iter()) {
         let p = dir.join(name);

@@ -650,6 +650,7 @@ mod tests {
                 tracks: vec![],
                 odometry: Default::default(),
                 drawbar: None,
+                soil: None,
                 turns: Vec::new(),
                 sensors: Vec::new(),
                 trainee: None,
@@ -661,6 +662,7 @@ mod tests {
             flipper_names: vec![],
             outcome: Outcome::Completed,
             sensors: Vec::new(),
+            ruts: Vec::new(),
         }
     }
 

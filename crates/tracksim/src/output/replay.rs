@@ -399,6 +399,10 @@ pub struct Scene {
     pub course: Option<SceneCourse>,
     /// The scenario's tip-over limit on |roll| and |pitch| (`outcome.max_tilt_deg`), degrees.
     pub max_tilt_deg: f64,
+    /// The terrain has deformable soil: a live view receives new ruts in its state (`ruts`).
+    pub soil: bool,
+    /// The file of the ruts at the end of a run (`ruts.csv`), `null` without.
+    pub ruts_csv: Option<String>,
 }
 
 fn arr(v: DVec3) -> [f64; 3] {
@@ -617,6 +621,8 @@ impl Scene {
             sensors: sensors(&sc.vehicle),
             course: sc.course.as_ref().map(SceneCourse::new),
             max_tilt_deg: sc.outcome.max_tilt.to_degrees(),
+            soil: !sc.terrain.soils.is_empty(),
+            ruts_csv: None,
         }
     }
 
@@ -659,7 +665,22 @@ pub fn belts_csv(result: &RunResult) -> String {
     text
 }
 
-/// Writes `scene.json` and `belts.csv` into `dir` (created if needed); returns their paths.
+/// The text of `ruts.csv`: every loaded soil cell at the end of a run, one row each: its centre
+/// (`x_m`, `y_m`), the undisturbed surface's height there (`surface_z_m`), the rut's depth below
+/// it (`depth_m`), the cell's side (`cell_m`), the time it was first loaded (`t_s`, for a
+/// replay) and the soil's index.
+pub fn ruts_csv(ruts: &[crate::world::RutCell]) -> String {
+    let mut text = String::from("x_m,y_m,surface_z_m,depth_m,cell_m,t_s,soil\n");
+    for r in ruts {
+        text.push_str(&format!(
+            "{:.4},{:.4},{:.5},{:.5},{},{:.3},{}\n",
+            r.x_m, r.y_m, r.surface_z_m, r.depth_m, r.cell_m, r.t_s, r.soil
+        ));
+    }
+    text
+}
+
+/// Writes `scene.json`, `belts.csv` and (on soil) `ruts.csv` into `dir` (created if needed); returns their paths.
 pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec<PathBuf>> {
     let io = |path: &Path| {
         let path = path.to_path_buf();
@@ -667,8 +688,17 @@ pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let scene = dir.join("scene.json");
-    crate::files::write_atomic(&scene, Scene::new(sc).to_json().as_bytes())?;
+    let mut s = Scene::new(sc);
+    let mut written = Vec::new();
+    if !result.ruts.is_empty() {
+        let ruts = dir.join("ruts.csv");
+        crate::files::write_atomic(&ruts, ruts_csv(&result.ruts).as_bytes())?;
+        s.ruts_csv = Some("ruts.csv".into());
+        written.push(ruts);
+    }
+    crate::files::write_atomic(&scene, s.to_json().as_bytes())?;
     let belts = dir.join("belts.csv");
     crate::files::write_atomic(&belts, belts_csv(result).as_bytes())?;
-    Ok(vec![scene, belts])
+    written.splice(0..0, [scene, belts]);
+    Ok(written)
 }

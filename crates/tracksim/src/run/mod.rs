@@ -12,6 +12,7 @@
 //! - [`summary`]: the numbers of `summary.json`;
 //! - [`track_summary`]: per-track figures and the odometry error in it;
 //! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
+//! - [`soil_summary`]: sinkage, soil thrust and the rut grid's memory of a run on soil;
 //! - [`turn_summary`]: commanded against achieved turns.
 
 pub mod course;
@@ -21,6 +22,7 @@ pub mod expect;
 pub mod outcome;
 pub mod runner;
 pub mod scripted;
+pub mod soil_summary;
 pub mod summary;
 pub mod timeline;
 pub mod track_summary;
@@ -34,6 +36,7 @@ pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner};
 pub use scripted::Scripted;
+pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
 pub use timeline::Timeline;
 pub use track_summary::{
@@ -60,6 +63,8 @@ pub struct RunResult {
     pub outcome: Outcome,
     /// Every sensor's readings (`[[sensors]]` of the vehicle; empty when not recorded).
     pub sensors: Vec<crate::sensors::SensorStream>,
+    /// The soil's ruts at the end (empty without soil; `ruts.csv`).
+    pub ruts: Vec<crate::world::RutCell>,
 }
 
 /// Options of a run.

@@ -356,6 +356,7 @@ impl Runner {
             summary,
             outcome,
             sensors,
+            ruts: self.sim.ruts(),
         }
     }
 }

@@ -69,6 +69,9 @@ pub struct Summary {
     /// The steady drawbar pull and slip (`[drawbar]` runs only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub drawbar: Option<super::DrawbarSummary>,
+    /// Sinkage, soil thrust and the rut grid's memory (runs on soil only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub soil: Option<super::SoilSummary>,
     /// Every stretch of constant belt commands that asks for a turn, commanded against
     /// achieved (left out when there is none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -296,6 +299,7 @@ impl Summary {
             tracks: super::track_summaries(sim.track_names(), samples),
             odometry: super::odometry_summary(samples),
             drawbar: super::drawbar_summary(sc, samples),
+            soil: super::soil_summary(sim, samples),
             turns: super::turn_summaries(&sc.vehicle, samples),
             randomized: sc.randomized.clone(),
             sensors: Vec::new(),

@@ -191,7 +191,15 @@ pub(crate) struct SoilState {
     track_mu: Vec<Option<f32>>,
     /// Steps a cell keeps its shear displacement unloaded.
     reset_steps: u32,
+    /// The cells deepened lately, with a sequence number (at most [`RECENT_CELLS`]), for the
+    /// live view.
+    recent: std::collections::VecDeque<(u64, usize, i64, i64)>,
+    /// Sequence number of the next deepened cell.
+    seq: u64,
 }
+
+/// Deepened cells the live feed can catch up on.
+const RECENT_CELLS: usize = 65_536;
 
 impl std::fmt::Debug for SoilState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -267,6 +275,8 @@ pub(crate) fn build_soil(
         tracks: vec![TrackSoil::default(); models.len()],
         track_mu: vec![None; models.len()],
         reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
+        recent: std::collections::VecDeque::new(),
+        seq: 0,
     })
 }
 
@@ -554,21 +564,31 @@ impl Simulation {
             let reset = state.reset_steps;
             let mut grid = state.grid.writer(l.soil, step);
             let mut fresh_work = 0.0;
+            let (recent, seq) = (&mut state.recent, &mut state.seq);
             let z = l.z_virgin as f32;
             l.patch.cells(soil.cells_per_m(), oc, |ix, iy| {
                 if !loaded {
                     return;
                 }
                 let cell = grid.cell(ix, iy);
-                if cell.last == 0 || cell.last + reset < step {
+                let first = cell.last == 0;
+                if first || cell.last + reset < step {
                     cell.j = 0.0;
                     if z > cell.z_max {
                         fresh_work +=
                             cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
                     }
                 }
-                if cell.last == 0 {
+                if first {
                     cell.t_first = time;
+                }
+                // For the live view: a new rut, or one deepened by half a millimetre.
+                if (first && z > 0.0) || z > cell.z_max + 5e-4 {
+                    if recent.len() == RECENT_CELLS {
+                        recent.pop_front();
+                    }
+                    recent.push_back((*seq, l.soil, ix, iy));
+                    *seq += 1;
                 }
                 cell.z_max = cell.z_max.max(z);
                 cell.j += (slip * dt) as f32;
@@ -596,7 +616,9 @@ impl Simulation {
         for (h, (force_now, area, soil_i, b)) in raw {
             let soil = &state.soils[soil_i];
             let previous = state.bodies.get(&h).map_or(0.0, |v| v.0);
-            let p = previous / area;
+            // The stiffness at the larger of the two loads on Bekker's curve: a first contact
+            // (nothing filtered yet) is not taken as stiff as the elastic line.
+            let p = previous.max(force_now) / area;
             let z = soil.sinkage(p, b);
             let k_local = if z > 1e-6 {
                 soil.n * p / z
@@ -652,8 +674,7 @@ impl Simulation {
         self.soil.as_ref().map(|s| s.grid().stats())
     }
 
-    /// Every loaded soil cell: world centre (x, y) m, rut depth after elastic rebound m, and
-    /// the time it was first loaded s; sorted by soil, then y, then x.
+    /// Every loaded soil cell (see [`RutCell`]); sorted by soil, then tile, then y, then x.
     pub fn ruts(&self) -> Vec<RutCell> {
         let Some(s) = self.soil.as_ref() else {
             return Vec::new();
@@ -661,18 +682,47 @@ impl Simulation {
         s.grid()
             .loaded_cells()
             .into_iter()
-            .map(|(soil, ix, iy, c)| {
-                let m = &s.soils()[soil];
-                RutCell {
-                    soil,
-                    x_m: (ix as f64 + 0.5) * m.cell,
-                    y_m: (iy as f64 + 0.5) * m.cell,
-                    cell_m: m.cell,
-                    depth_m: c.z_max as f64,
-                    t_s: c.t_first as f64,
-                }
-            })
+            .map(|(soil, ix, iy, c)| self.rut_cell(s, soil, ix, iy, c))
             .collect()
+    }
+
+    /// The cells deepened after sequence number `seq` (those still held: the newest
+    /// 65,536), and the sequence number to ask from next time; for a live view.
+    pub fn ruts_since(&self, seq: u64) -> (Vec<RutCell>, u64) {
+        let Some(s) = self.soil.as_ref() else {
+            return (Vec::new(), seq);
+        };
+        let cells = s
+            .recent
+            .iter()
+            .filter(|r| r.0 >= seq)
+            .filter_map(|&(_, soil, ix, iy)| {
+                let c = s.grid().reader(soil).cell(ix, iy).copied()?;
+                Some(self.rut_cell(s, soil, ix, iy, c))
+            })
+            .collect();
+        (cells, s.seq)
+    }
+
+    fn rut_cell(
+        &self,
+        s: &SoilState,
+        soil: usize,
+        ix: i64,
+        iy: i64,
+        c: super::rut_grid::Cell,
+    ) -> RutCell {
+        let m = &s.soils()[soil];
+        let (x, y) = ((ix as f64 + 0.5) * m.cell, (iy as f64 + 0.5) * m.cell);
+        RutCell {
+            soil,
+            x_m: x,
+            y_m: y,
+            surface_z_m: self.scenario.terrain.height_at(x, y).unwrap_or(0.0),
+            cell_m: m.cell,
+            depth_m: c.z_max as f64,
+            t_s: c.t_first as f64,
+        }
     }
 }
 
@@ -685,9 +735,12 @@ pub struct RutCell {
     pub x_m: f64,
     /// Cell centre y, m.
     pub y_m: f64,
+    /// Height of the undisturbed surface there, m (the terrain's top).
+    pub surface_z_m: f64,
     /// Cell side, m.
     pub cell_m: f64,
-    /// Largest sinkage the cell was pressed to, m.
+    /// Largest sinkage the cell was pressed to (the rut's depth; the elastic rebound,
+    /// `p / K_e`, is below a tenth of a millimetre for the presets), m.
     pub depth_m: f64,
     /// Time the cell was first loaded, s.
     pub t_s: f64,
