@@ -808,3 +808,58 @@ test('a course session: the live score from the server, a reload reconnects and 
   assert.match(row, /Test Trainee/);
   assert.match(row, /stairs to the landing/);
 });
+
+test('soil (issue 30): a drive on dry sand draws its ruts live, and its replay reveals them with the clock', async () => {
+  const sandOut = path.join(tmp, 'sand');
+  const drive = start(['drive', 'soil/packbot_dry_sand', '--port', '0', '--out', sandOut]);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    const page = await ctx.newPage();
+    const errors = [];
+    page.on('pageerror', (e) => errors.push(String(e)));
+    await page.goto(url);
+    await page.waitForFunction(() => window.tracksim?.state && window.tracksim.frames > 10, null, { timeout: 60000 });
+    assert.deepEqual(errors, []);
+    // Landing on the sand already presses ruts under both tracks.
+    await page.waitForFunction(() => window.tracksim.ruts.count > 50, null, { timeout: 30000 });
+    const n0 = await page.evaluate(() => window.tracksim.ruts.count);
+    const x0 = await page.evaluate(() => window.tracksim.state.pose[0]);
+    await page.keyboard.down('ArrowUp');
+    await page.waitForFunction((x) => window.tracksim.state.pose[0] > x + 0.3, x0, { timeout: 60000 });
+    await page.keyboard.up('ArrowUp');
+    // 0.3 m more of two 75 mm tracks on a 1 cm grid: about 450 new cells.
+    const n1 = await page.evaluate(() => window.tracksim.ruts.count);
+    assert.ok(n1 > n0 + 200, `ruts drawn live: ${n0} -> ${n1}`);
+    const deepest = await page.evaluate(() => window.tracksim.ruts.deepest);
+    assert.ok(deepest > 0.001 && deepest < 0.02, `deepest rut ${deepest} m`);
+    await page.screenshot({ path: path.join(artifacts, 'soil-drive.png') });
+    await page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+  const cells = fs.readFileSync(path.join(sandOut, 'ruts.csv'), 'utf8').trim().split('\n').length - 1;
+  assert.ok(cells > 300, `ruts.csv has ${cells} cells`);
+  const view = start(['view', sandOut, '--port', '0']);
+  const viewUrl = await view.url;
+  const ctx2 = await browser();
+  try {
+    const page = await openReplay(ctx2, viewUrl);
+    // Early in the replay only the landing's ruts; at the end every cell of ruts.csv.
+    await page.click('#play');
+    await page.$eval('#scrub', (e) => { e.value = '0'; e.dispatchEvent(new Event('input')); });
+    await page.waitForFunction(() => window.tracksim.frames > 0 && window.tracksim.replayTime < 0.05);
+    await page.waitForTimeout(200);
+    const early = await page.evaluate(() => window.tracksim.ruts.count);
+    await page.$eval('#scrub', (e) => { e.value = '1'; e.dispatchEvent(new Event('input')); });
+    await page.waitForFunction((n) => window.tracksim.ruts.count === n, cells, { timeout: 10000 });
+    assert.ok(early < cells, `replay at t=0 shows ${early} of ${cells} cells`);
+    await page.screenshot({ path: path.join(artifacts, 'soil-view.png') });
+  } finally {
+    await ctx2.close();
+    view.child.kill();
+  }
+});

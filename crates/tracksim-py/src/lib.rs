@@ -8,7 +8,7 @@
 
 #![warn(clippy::too_many_lines)]
 
-use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -365,7 +365,8 @@ impl PySimulation {
 
     /// The state as numpy arrays: t_s, pose ([x, y, z] m, [roll, pitch, yaw] rad in
     /// `rpy_rad`), linvel_mps and angvel_rad_s (world frame), belt_speed_mps, belt_phase_m,
-    /// flipper_angle_rad, contacts, penetration_m.
+    /// flipper_angle_rad, contacts, penetration_m; on soil also per track sinkage_m,
+    /// soil_normal_n and soil_thrust_n.
     fn observe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = self.sim.sample();
         let d = PyDict::new(py);
@@ -383,7 +384,31 @@ impl PySimulation {
         d.set_item("flipper_angle_rad", PyArray1::from_vec(py, s.flipper_angle))?;
         d.set_item("contacts", s.contacts)?;
         d.set_item("penetration_m", s.penetration)?;
+        if !s.soil.is_empty() {
+            // Deformable soil (issue 30), per track: sinkage m, soil normal load N, thrust N.
+            let col = |f: fn(&tracksim::world::TrackSoil) -> f64| {
+                s.soil.iter().map(f).collect::<Vec<f64>>()
+            };
+            d.set_item("sinkage_m", PyArray1::from_vec(py, col(|g| g.sinkage_m)))?;
+            d.set_item("soil_normal_n", PyArray1::from_vec(py, col(|g| g.normal_n)))?;
+            d.set_item("soil_thrust_n", PyArray1::from_vec(py, col(|g| g.thrust_n)))?;
+        }
         Ok(d)
+    }
+
+    /// The soil's ruts now (empty without soil): one row per loaded cell, `[x m, y m,
+    /// surface_z m, depth m, cell m, first loaded s]`, as numpy array of shape (n, 6).
+    fn ruts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let rows: Vec<Vec<f64>> = self
+            .sim
+            .ruts()
+            .iter()
+            .map(|c| vec![c.x_m, c.y_m, c.surface_z_m, c.depth_m, c.cell_m, c.t_s])
+            .collect();
+        if rows.is_empty() {
+            return Ok(PyArray2::zeros(py, [0, 6], false));
+        }
+        PyArray2::from_vec2(py, &rows).map_err(|e| PyValueError::new_err(e.to_string()))
     }
 
     /// The scenario's outcome now: `None` while undecided, else (`"success"` or `"failure"`,

@@ -5,6 +5,7 @@ import { OrbitControls } from '/vendor/OrbitControls.js';
 import { createHud, tiltDeg } from '/hud.js';
 import { createMinimap, gateEnds, itemYaw } from '/minimap.js';
 import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs } from '/review.js';
+import { createRuts, parseRuts } from '/ruts.js';
 
 const $ = (id) => document.getElementById(id);
 const deg = (r) => (r * 180) / Math.PI;
@@ -81,6 +82,9 @@ for (const c of t.cylinders) {
   world.add(m);
 }
 for (const mesh of t.meshes) world.add(new THREE.Mesh(meshGeometry(mesh), terrainMat));
+// Ruts in deformable soil (ruts.js): filled from `ruts.csv` in a replay, from the states live.
+const ruts = createRuts(THREE, world);
+api.ruts = ruts;
 if (scene.success_x_m !== null) {
   const line = new THREE.Mesh(new THREE.BoxGeometry(0.02, 4, 0.002), new THREE.MeshBasicMaterial({ color: 0x22aa22 }));
   line.position.set(scene.success_x_m, 0, (t.ground_z_m ?? 0) + 0.002);
@@ -719,6 +723,7 @@ function connect() {
       if (m.token) try { sessionStorage.setItem(TOKEN_KEY, m.token); } catch (_) { /* no storage */ }
     } else if (m.type === 'state') {
       api.state = m; api.states++; liveSensors(m.sensors);
+      if (Array.isArray(m.ruts)) ruts.add(m.ruts.map((r) => [...r, m.t]));
       if (m.session_ended) ended = true;
     } else if (m.type === 'error') api.errors.push(m.message);
   };
@@ -816,6 +821,10 @@ if (!live) {
   const summary = summaryResp.ok ? await summaryResp.json() : null;
   const controlsResp = await fetch(`${base}/controls.csv`);
   const controls = controlsResp.ok ? parseCsv(await controlsResp.text()) : null;
+  if (scene.ruts_csv) {
+    const rutsResp = await fetch(`${base}/ruts.csv`);
+    if (rutsResp.ok) ruts.add(parseRuts(await rutsResp.text()));
+  }
   const c = (n) => traj.col(n);
   replay = {
     traj, belts, summary, controls,
@@ -938,6 +947,7 @@ function replayFrame() {
   lastWall = now;
   if (playTime > replay.end) playTime = 0; // loop
   api.replayTime = playTime;
+  ruts.showUntil(playTime);
   const r = lerpRow(replay.traj.rows, playTime);
   // Yaw is interpolated the short way round.
   const rows = replay.traj.rows;

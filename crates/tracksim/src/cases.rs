@@ -55,6 +55,11 @@ pub const CASES: &[Case] = &[
         about: "paper Fig. 3: a low-friction wall nothing should climb",
     },
     Case {
+        name: "packbot_dry_sand",
+        file: "scenarios/soil/packbot_dry_sand.toml",
+        about: "the Table II drive on dry sand: deformable soil, ruts (issue 30)",
+    },
+    Case {
         name: "quince_step_240",
         file: "scenarios/quince_step_240.toml",
         about: "paper Fig. 7: Quince, front flippers at 45 deg, a 0.24 m step",
@@ -67,6 +72,7 @@ pub const BENCH: &[(&str, &str)] = &[
     ("packbot_open_top", "packbot_open_top"),
     ("quince", "quince_flat"),
     ("rough", "packbot_rough"),
+    ("sand", "packbot_dry_sand"),
 ];
 
 /// The case called `name`.

@@ -22,7 +22,7 @@ pub struct BenchArgs {
     /// Methods, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<String>,
-    /// Cases, comma-separated: packbot, packbot_open_top, quince, rough (default: all).
+    /// Cases, comma-separated: packbot, packbot_open_top, quince, rough, sand (default: all).
     #[arg(long, value_delimiter = ',')]
     pub cases: Vec<String>,
     /// Batch mode: run many independent PackBot simulations on this many threads and

@@ -1,5 +1,5 @@
 //! The page's files, embedded in the binary (nothing is read from disk or fetched at run time):
-//! the page itself (`app.js` with its modules `hud.js`, `minimap.js`, `review.js`) and the
+//! the page itself (`app.js` with its modules `hud.js`, `minimap.js`, `review.js`, `ruts.js`) and the
 //! pinned three.js module build with its OrbitControls, vendored from the npm registry by
 //! `scripts/update-three.sh` (version in [`THREE_VERSION`]).
 
@@ -35,6 +35,11 @@ pub const ASSETS: &[Asset] = &[
         path: "/hud.js",
         content_type: JS,
         bytes: include_bytes!("../../assets/hud.js"),
+    },
+    Asset {
+        path: "/ruts.js",
+        content_type: JS,
+        bytes: include_bytes!("../../assets/ruts.js"),
     },
     Asset {
         path: "/minimap.js",

@@ -122,6 +122,8 @@ pub struct SegmentLinks {
     links: Vec<Link>,
     /// Grouser pitch L / N, m (None without grousers).
     pitch: Option<f64>,
+    /// One collider per grouser, posed on its footprint frame (not compounds, not line tips).
+    per_grouser: bool,
     /// The grouser shapes in turn.
     shapes: Vec<SharedShape>,
     /// Unwrapped belt position, m.
@@ -313,6 +315,7 @@ impl SegmentLinks {
             parent: ctx.parent,
             links,
             pitch: t.grousers.as_ref().map(|g| g.layout.pitch(path)),
+            per_grouser: how == GrouserColliders::Separate,
             shapes,
             position: 0.0,
             speed_cmd: 0.0,
@@ -700,6 +703,10 @@ impl Track for SegmentLinks {
 
     fn bodies(&self) -> Vec<RigidBodyHandle> {
         self.links.iter().map(|l| l.body).collect()
+    }
+
+    fn grousers_on_footprints(&self) -> bool {
+        self.per_grouser
     }
 
     fn grouser_colliders(&self) -> Vec<ColliderHandle> {

@@ -73,6 +73,12 @@ pub trait Track: Send + Sync + std::fmt::Debug {
     fn grouser_colliders(&self) -> Vec<ColliderHandle> {
         Vec::new()
     }
+    /// Whether each of [`Track::grouser_colliders`] is one grouser posed on its footprint frame
+    /// (x along the track, y across, z out): the soil gives such a collider a patch of one
+    /// pitch (`world::soil`). Default: no (the soil then uses a collider's bounding box).
+    fn grousers_on_footprints(&self) -> bool {
+        false
+    }
     /// The largest joint error seen since the start or the last [`Track::reset_link_error`].
     fn link_error(&self) -> LinkError {
         LinkError::default()

@@ -72,7 +72,6 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         &sc.vehicle.tracks,
         &sim.tracks,
         &sim.vehicle_bodies(),
-        method,
         sc.solver.dt,
     );
     sim.conserve_mass(&sc)?;

@@ -25,7 +25,7 @@
 
 use super::Simulation;
 use super::rut_grid::{RutGrid, RutGridStats};
-use crate::model::{Method, TrackModel};
+use crate::model::TrackModel;
 use crate::terrain::SoilModel;
 use crate::tracks::Track;
 use glam::{DVec2, DVec3};
@@ -217,7 +217,6 @@ pub(crate) fn build_soil(
     models: &[TrackModel],
     tracks: &[Box<dyn Track>],
     vehicle_bodies: &[RigidBodyHandle],
-    method: Method,
     dt: f64,
 ) -> Option<SoilState> {
     if soils.is_empty() {
@@ -238,9 +237,8 @@ pub(crate) fn build_soil(
             );
         }
     }
-    // Only the okada2020 links carry one collider per grouser on the footprint frame.
-    let per_grouser = matches!(method, Method::Okada2020);
     for (i, (model, track)) in models.iter().zip(tracks).enumerate() {
+        let per_grouser = track.grousers_on_footprints();
         let grousers = track.grouser_colliders();
         let g = model.grousers.as_ref();
         for b in track.bodies() {

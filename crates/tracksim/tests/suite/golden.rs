@@ -37,7 +37,8 @@ fn bundled_trajectories_are_unchanged() {
     // The top folder's files by file name, the task suite's as `tasks/NAME.toml`.
     let files = common::bundled_scenarios()
         .into_iter()
-        .chain(common::task_scenarios());
+        .chain(common::task_scenarios())
+        .chain(common::soil_scenarios());
     let mut got = BTreeMap::new();
     for f in files {
         let name = f

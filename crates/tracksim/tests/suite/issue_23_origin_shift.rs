@@ -66,6 +66,7 @@ fn slope(angle_deg: f64, x0: f64, t: f64) -> ScenarioSpec {
         yaw_deg: 0.0,
         pitch_deg: -angle_deg,
         friction: 0.6,
+        soil: None,
     }];
     s.vehicle.pitch_deg = -angle_deg;
     s.vehicle.x_m = x0;

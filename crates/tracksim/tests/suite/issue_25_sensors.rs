@@ -278,6 +278,7 @@ fn lidar_reads_the_distance_to_walls_wherever_the_robot_is() {
                 yaw_deg: 0.0,
                 pitch_deg: 0.0,
                 friction: 0.6,
+                soil: None,
             },
             BoxSpec {
                 centre_m: [-1.55, 0.0, 0.5],
@@ -285,6 +286,7 @@ fn lidar_reads_the_distance_to_walls_wherever_the_robot_is() {
                 yaw_deg: 0.0,
                 pitch_deg: 0.0,
                 friction: 0.6,
+                soil: None,
             },
         ]
     };
@@ -384,6 +386,7 @@ max_range_m = 5.0
         yaw_deg: 0.0,
         pitch_deg: 0.0,
         friction: 0.6,
+        soil: None,
     };
     let (mut sim, mut set) = flat_with(cam, vec![wall], 0.0);
     settle(&mut sim, &mut set, 1.0);

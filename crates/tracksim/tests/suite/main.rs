@@ -39,6 +39,7 @@ mod issue_26_urdf;
 mod issue_27_mcap;
 mod issue_28_course;
 mod issue_29_env;
+mod issue_30_soil;
 mod layers;
 mod live;
 mod methods;

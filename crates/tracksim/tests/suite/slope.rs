@@ -22,6 +22,7 @@ fn speed_along_slope(deg: f64) -> f64 {
                 yaw_deg: 0.0,
                 pitch_deg: -deg,
                 friction: 0.6,
+                soil: None,
             });
             s.vehicle.pitch_deg = -deg;
             s.outcome.fail_off_terrain = false;

@@ -92,6 +92,8 @@ fn validation_cases() {
     }
     assert!(r.cases.iter().any(|c| c.group == "slope"));
     assert_eq!(r.cases.iter().filter(|c| c.group == "turning").count(), 2);
+    // Deformable soil (issue 30): sinkage, drawbar pull-slip, grousers, slope, multi-pass.
+    assert_eq!(r.cases.iter().filter(|c| c.group == "soil").count(), 5);
     let highest = r
         .slope_runs
         .iter()

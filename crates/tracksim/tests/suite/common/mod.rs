@@ -44,6 +44,7 @@ pub fn step_box(edge_x: f64, depth: f64, h: f64) -> tracksim::spec::BoxSpec {
         yaw_deg: 0.0,
         pitch_deg: 0.0,
         friction: 0.6,
+        soil: None,
     }
 }
 
@@ -74,7 +75,18 @@ pub fn bundled_scenarios() -> Vec<PathBuf> {
 /// The task suite's scenario files (`scenarios/tasks/`, docs/TASKS.md), sorted.
 #[allow(dead_code)]
 pub fn task_scenarios() -> Vec<PathBuf> {
-    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios").join("tasks"))
+    scenarios_in("tasks")
+}
+
+/// The deformable-soil scenario files (`scenarios/soil/`, docs/SOIL.md), sorted.
+#[allow(dead_code)]
+pub fn soil_scenarios() -> Vec<PathBuf> {
+    scenarios_in("soil")
+}
+
+/// The scenario files of `scenarios/<dir>/`, sorted.
+fn scenarios_in(dir: &str) -> Vec<PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(root().join("scenarios").join(dir))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
@@ -83,11 +95,11 @@ pub fn task_scenarios() -> Vec<PathBuf> {
     files
 }
 
-/// Every bundled scenario file: `scenarios/` and its `classic/`, `random/` and `tasks/`
-/// folders.
+/// Every bundled scenario file: `scenarios/` and its `classic/`, `random/`, `tasks/` and
+/// `soil/` folders.
 pub fn all_bundled_scenarios() -> Vec<PathBuf> {
     let mut files = bundled_scenarios();
-    for dir in ["classic", "random", "tasks"] {
+    for dir in ["classic", "random", "tasks", "soil"] {
         let mut more: Vec<_> = std::fs::read_dir(root().join("scenarios").join(dir))
             .unwrap()
             .map(|e| e.unwrap().path())
