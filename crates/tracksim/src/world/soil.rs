@@ -462,7 +462,82 @@ pub(crate) fn modify_soil_contacts(
     }
 }
 
+/// When a load presses its cells: the step's number (from 1), the time s, the step s, and the
+/// floating origin.
+#[derive(Clone, Copy)]
+struct Pressing {
+    step: u32,
+    time: f32,
+    dt: f64,
+    origin: DVec3,
+}
+
 impl SoilState {
+    /// Presses load `l`'s cells (its part slipping at `slip` m/s over them): each keeps its
+    /// largest sinkage and adds the slip to its shear displacement (restarting once unloaded
+    /// for [`SHEAR_RESET_S`]); returns the work of compacting the fresh cells, J.
+    fn press(&mut self, l: &Load, slip: f64, at: Pressing) -> f64 {
+        let soil = &self.soils[l.soil];
+        let oc = origin_cells(soil, at.origin);
+        let cell_area = soil.cell * soil.cell;
+        let reset = self.reset_steps;
+        let step = at.step;
+        let mut grid = self.grid.writer(l.soil, step);
+        let mut fresh_work = 0.0;
+        let (recent, seq) = (&mut self.recent, &mut self.seq);
+        let z = l.z_virgin as f32;
+        l.patch.cells(soil.cells_per_m(), oc, |ix, iy| {
+            let cell = grid.cell(ix, iy);
+            let first = cell.last == 0;
+            if first || cell.last + reset < step {
+                cell.j = 0.0;
+                if z > cell.z_max {
+                    fresh_work +=
+                        cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
+                }
+            }
+            if first {
+                cell.t_first = at.time;
+            }
+            // For the live view: a new rut, or one deepened by half a millimetre.
+            if (first && z > 0.0) || z > cell.z_max + 5e-4 {
+                if recent.len() == RECENT_CELLS {
+                    recent.pop_front();
+                }
+                recent.push_back((*seq, l.soil, ix, iy));
+                *seq += 1;
+            }
+            cell.z_max = cell.z_max.max(z);
+            cell.j += (slip * at.dt) as f32;
+            cell.last = step;
+        });
+        fresh_work
+    }
+
+    /// Each footprint's force, low-pass filtered with the soil's damping over its local
+    /// stiffness (a Kelvin-Voigt element, as the contact compliance), from this step's raw
+    /// forces `raw` (force N, area m^2, soil, Bekker's b m). `dt` in s.
+    fn filter_footprints(&mut self, raw: HashMap<Footprint, (f64, f64, usize, f64)>, dt: f64) {
+        let mut bodies = HashMap::with_capacity(raw.len());
+        for (h, (force_now, area, soil_i, b)) in raw {
+            let soil = &self.soils[soil_i];
+            let previous = self.bodies.get(&h).map_or(0.0, |v| v.0);
+            // The stiffness at the larger of the two loads on Bekker's curve: a first contact
+            // (nothing filtered yet) is not taken as stiff as the elastic line.
+            let p = previous.max(force_now) / area;
+            let z = soil.sinkage(p, b);
+            let k_local = if z > 1e-6 {
+                soil.n * p / z
+            } else {
+                soil.elastic_stiffness
+            };
+            let tau = soil.damping / k_local.max(1.0);
+            let gain = if tau > dt { dt / tau } else { 1.0 };
+            bodies.insert(h, (previous + gain * (force_now - previous), area));
+        }
+        self.bodies = bodies;
+    }
+
     /// The figures of the last step, per track.
     pub(crate) fn track_soil(&self) -> &[TrackSoil] {
         &self.tracks
@@ -499,6 +574,46 @@ impl Simulation {
         }
     }
 
+    /// The slip over the ground at load `l`'s patch centre `c`, after the solve, m/s: for a
+    /// track, the belt surface's (its parent's motion plus the belt running backwards along the
+    /// parent's x at the measured belt speed), as Janosi's shear displacement of a track counts
+    /// it (the grousers' own path on the pulleys would add the kinematics of entering and
+    /// leaving the soil); for another part, its own. Without the normal component.
+    fn load_slip(&self, l: &Load, c: Vector) -> f64 {
+        let v = match l.track {
+            Some(t) => {
+                let parent = &self.world.bodies[self.track_parent(t)];
+                parent.velocity_at_point(c)
+                    - parent.rotation() * Vector::X * self.tracks[t].measured_belt_speed() as f32
+            }
+            None => self.world.bodies[l.body].velocity_at_point(c),
+        };
+        (v - l.normal * v.dot(l.normal)).length() as f64
+    }
+
+    /// The soil's normal force on load `l`'s part over the last step, N, and its shear force
+    /// along `forward`, N (the solver's impulses; friction as `track_loads` counts it).
+    fn load_forces(&self, l: &Load, forward: Vector) -> (f64, f64) {
+        let dt = self.dt;
+        let substeps = self.world.integration_parameters.num_solver_iterations as f32;
+        let (mut normal, mut thrust) = (0.0, 0.0);
+        if let Some(pair) = self.world.narrow_phase.contact_pair(l.part, l.ground) {
+            let s = if pair.collider1 == l.part {
+                1.0f32
+            } else {
+                -1.0
+            };
+            for m in pair.solver_manifolds() {
+                normal += m.points.iter().map(|p| p.data.impulse as f64).sum::<f64>() / dt;
+                if let Some(pt) = m.points.first() {
+                    let tan = pt.data.warmstart_tangent_world * substeps * s;
+                    thrust += tan.dot(forward) as f64 / dt;
+                }
+            }
+        }
+        (normal, thrust)
+    }
+
     /// [`Self::soil_after_step`] with the state taken out.
     fn soil_update(&mut self, state: &mut SoilState) {
         let loads = match state.pending.get_mut() {
@@ -506,93 +621,32 @@ impl Simulation {
             Err(_) => return,
         };
         let step = self.steps.min(u32::MAX as u64 - 1) as u32 + 1;
-        let (dt, time) = (self.dt, self.time as f32);
-        let origin = self.origin;
-        let chassis = &self.world.bodies[self.body];
-        let forward = chassis.rotation() * Vector::X;
-        let mut figures = vec![TrackSoil::default(); state.tracks.len()];
-        let mut weighted = vec![0.0f64; state.tracks.len()];
-        let mut span = vec![(f64::MAX, f64::MIN, 0.0f64); state.tracks.len()];
-        let mut limits = vec![(0.0f64, 0.0f64); state.tracks.len()];
+        let forward = self.world.bodies[self.body].rotation() * Vector::X;
+        let n = state.tracks.len();
+        let mut figures = vec![TrackSoil::default(); n];
+        let mut weighted = vec![0.0f64; n];
+        let mut span = vec![(f64::MAX, f64::MIN, 0.0f64); n];
+        let mut limits = vec![(0.0f64, 0.0f64); n];
         let mut work = 0.0f64;
-        let substeps = self.world.integration_parameters.num_solver_iterations as f32;
-        // Each body's raw soil force this step and its patches' area.
+        // Each footprint's raw soil force this step, its patches' area, soil and Bekker's b.
         let mut raw: HashMap<Footprint, (f64, f64, usize, f64)> = HashMap::new();
         for l in &loads {
-            let soil = &state.soils[l.soil];
-            // The slip over the ground at the patch centre, after the solve: for a track, the
-            // belt surface's (its parent's motion plus the belt running backwards along the
-            // parent's x at the measured belt speed), as Janosi's shear displacement of a
-            // track counts it (the grousers' own path on the pulleys would add the kinematics
-            // of entering and leaving the soil); for another part, its own.
             let c = self.world.colliders[l.part].position().translation;
-            let v = match l.track {
-                Some(t) => {
-                    let parent = &self.world.bodies[self.track_parent(t)];
-                    parent.velocity_at_point(c)
-                        - parent.rotation()
-                            * Vector::X
-                            * self.tracks[t].measured_belt_speed() as f32
-                }
-                None => self.world.bodies[l.body].velocity_at_point(c),
-            };
-            let slip = (v - l.normal * v.dot(l.normal)).length() as f64;
-            let mut normal = 0.0f64;
-            let mut thrust = 0.0f64;
-            if let Some(pair) = self.world.narrow_phase.contact_pair(l.part, l.ground) {
-                let s = if pair.collider1 == l.part {
-                    1.0f32
-                } else {
-                    -1.0
-                };
-                for m in pair.solver_manifolds() {
-                    normal += m.points.iter().map(|p| p.data.impulse as f64).sum::<f64>() / dt;
-                    if let Some(pt) = m.points.first() {
-                        let tan = pt.data.warmstart_tangent_world * substeps * s;
-                        thrust += tan.dot(forward) as f64 / dt;
-                    }
-                }
-            }
+            let slip = self.load_slip(l, c);
+            let (normal, thrust) = self.load_forces(l, forward);
             let e = raw.entry(l.footprint).or_insert((0.0, 0.0, l.soil, l.b));
             e.0 += normal;
             e.1 += l.patch.area();
             let loaded = l.force > 0.0 || normal > 0.0;
-            let oc = origin_cells(soil, origin);
-            let cell_area = soil.cell * soil.cell;
-            let reset = state.reset_steps;
-            let mut grid = state.grid.writer(l.soil, step);
-            let mut fresh_work = 0.0;
-            let (recent, seq) = (&mut state.recent, &mut state.seq);
-            let z = l.z_virgin as f32;
-            l.patch.cells(soil.cells_per_m(), oc, |ix, iy| {
-                if !loaded {
-                    return;
-                }
-                let cell = grid.cell(ix, iy);
-                let first = cell.last == 0;
-                if first || cell.last + reset < step {
-                    cell.j = 0.0;
-                    if z > cell.z_max {
-                        fresh_work +=
-                            cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
-                    }
-                }
-                if first {
-                    cell.t_first = time;
-                }
-                // For the live view: a new rut, or one deepened by half a millimetre.
-                if (first && z > 0.0) || z > cell.z_max + 5e-4 {
-                    if recent.len() == RECENT_CELLS {
-                        recent.pop_front();
-                    }
-                    recent.push_back((*seq, l.soil, ix, iy));
-                    *seq += 1;
-                }
-                cell.z_max = cell.z_max.max(z);
-                cell.j += (slip * dt) as f32;
-                cell.last = step;
-            });
-            work += fresh_work;
+            if loaded {
+                let at = Pressing {
+                    step,
+                    time: self.time as f32,
+                    dt: self.dt,
+                    origin: self.origin,
+                };
+                work += state.press(l, slip, at);
+            }
             let Some(t) = l.track else { continue };
             let f = &mut figures[t];
             limits[t].0 += l.limit;
@@ -608,26 +662,7 @@ impl Simulation {
             }
             f.thrust_n += thrust;
         }
-        // Each body's force, low-pass filtered with the soil's damping over its local
-        // stiffness (a Kelvin-Voigt element, as the contact compliance).
-        let mut bodies = HashMap::with_capacity(raw.len());
-        for (h, (force_now, area, soil_i, b)) in raw {
-            let soil = &state.soils[soil_i];
-            let previous = state.bodies.get(&h).map_or(0.0, |v| v.0);
-            // The stiffness at the larger of the two loads on Bekker's curve: a first contact
-            // (nothing filtered yet) is not taken as stiff as the elastic line.
-            let p = previous.max(force_now) / area;
-            let z = soil.sinkage(p, b);
-            let k_local = if z > 1e-6 {
-                soil.n * p / z
-            } else {
-                soil.elastic_stiffness
-            };
-            let tau = soil.damping / k_local.max(1.0);
-            let gain = if tau > dt { dt / tau } else { 1.0 };
-            bodies.insert(h, (previous + gain * (force_now - previous), area));
-        }
-        state.bodies = bodies;
+        state.filter_footprints(raw, self.dt);
         for ((f, w), sp) in figures.iter_mut().zip(&weighted).zip(&span) {
             if f.normal_n > 0.0 {
                 f.sinkage_m = w / f.normal_n;
@@ -636,27 +671,34 @@ impl Simulation {
                 f.contact_length_m = sp.1 - sp.0 + sp.2;
             }
         }
-        // Compaction: the work of pressing fresh soil, taken from the chassis's motion.
-        let b = &mut self.world.bodies[self.body];
-        let vh = Vector::new(b.linvel().x, b.linvel().y, 0.0);
-        let speed = vh.length() as f64;
-        if work > 0.0 && speed > COMPACTION_MIN_SPEED_MPS {
-            let momentum = b.mass() as f64 * speed;
-            let j = (work / speed).min(0.5 * momentum);
-            b.apply_impulse(-vh / speed as f32 * j as f32, true);
-            let force = j / dt;
-            let total: f64 = figures.iter().map(|f| f.normal_n).sum();
-            for f in &mut figures {
-                if total > 0.0 {
-                    f.compaction_n = force * f.normal_n / total;
-                }
-            }
-        }
+        self.give_back_compaction(work, &mut figures);
         state.tracks = figures;
         state.track_mu = limits
             .iter()
             .map(|&(lim, force)| (force > 1e-3).then(|| ((lim / force) as f32).min(MU_CAP)))
             .collect();
+    }
+
+    /// Compaction: the work `work` J of pressing fresh soil this step, taken from the
+    /// chassis's horizontal motion as an impulse (at most half its momentum); its force is
+    /// shared among the tracks by their load in `figures`.
+    fn give_back_compaction(&mut self, work: f64, figures: &mut [TrackSoil]) {
+        let b = &mut self.world.bodies[self.body];
+        let vh = Vector::new(b.linvel().x, b.linvel().y, 0.0);
+        let speed = vh.length() as f64;
+        if work <= 0.0 || speed <= COMPACTION_MIN_SPEED_MPS {
+            return;
+        }
+        let momentum = b.mass() as f64 * speed;
+        let j = (work / speed).min(0.5 * momentum);
+        b.apply_impulse(-vh / speed as f32 * j as f32, true);
+        let force = j / self.dt;
+        let total: f64 = figures.iter().map(|f| f.normal_n).sum();
+        for f in figures.iter_mut() {
+            if total > 0.0 {
+                f.compaction_n = force * f.normal_n / total;
+            }
+        }
     }
 
     /// The soil's figures for every track over the last step (empty without soil).
