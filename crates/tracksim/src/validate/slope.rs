@@ -155,8 +155,15 @@ fn slope_scenario(
     method: TrackMethod,
     root: &Path,
 ) -> Result<Scenario> {
+    let d = SLOPE_SETTLE_S + SLOPE_MEASURE_S;
+    compile(&plate_text(deg, method, d, ""), packbot.clone(), root)
+}
+
+/// The scenario text of [`slope_scenario`] for `duration` s, with `plate` (e.g. a
+/// `[terrain.boxes.soil]` table) after the plate's keys.
+pub(super) fn plate_text(deg: f64, method: TrackMethod, duration: f64, plate: &str) -> String {
     let th = deg.to_radians();
-    let text = format!(
+    format!(
         r#"
 description = "PackBot 510 on a {deg:.0} deg slope, friction 0.6"
 [vehicle]
@@ -167,8 +174,9 @@ centre_m = [{cx}, 0.0, {cz}]
 size_m = [20.0, 4.0, 1.0]
 pitch_deg = {p}
 friction = 0.6
+{plate}
 [simulation]
-duration_s = {d}
+duration_s = {duration}
 method = "{m}"
 [outcome]
 fail_off_terrain = false
@@ -179,8 +187,6 @@ belt_speed_mps = {PACKBOT_SPEED_MPS}
         p = -deg,
         cx = 0.5 * th.sin(),
         cz = -0.5 * th.cos(),
-        d = SLOPE_SETTLE_S + SLOPE_MEASURE_S,
         m = method.name(),
-    );
-    compile(&text, packbot.clone(), root)
+    )
 }

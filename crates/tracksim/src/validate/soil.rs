@@ -141,34 +141,15 @@ fn smooth_pull(packbot: &VehicleModel, sand: &SoilModel) -> f64 {
     (1.5 * weight(packbot) * sand.interface_phi.tan()).round()
 }
 
-/// PackBot on a plate of lunar regolith inclined at `deg` (surface through the origin).
+/// PackBot on a plate of lunar regolith inclined at `deg` (surface through the origin), the
+/// rigid slope case's plate with a soil.
 fn slope_scenario(packbot: &VehicleModel, deg: f64, root: &Path) -> Result<Scenario> {
-    let th = deg.to_radians();
-    let t = format!(
-        r#"
-description = "PackBot 510 on a {deg:.0} deg slope of lunar regolith"
-[vehicle]
-file = "../vehicles/packbot510.toml"
-pitch_deg = {p}
-[[terrain.boxes]]
-centre_m = [{cx}, 0.0, {cz}]
-size_m = [20.0, 4.0, 1.0]
-pitch_deg = {p}
-[terrain.boxes.soil]
-preset = "lunar_regolith"
-[simulation]
-duration_s = {d}
-[outcome]
-fail_off_terrain = false
-max_tilt_deg = 89.0
-[[commands]]
-t_s = 0.0
-belt_speed_mps = 0.3
-"#,
-        p = -deg,
-        cx = 0.5 * th.sin(),
-        cz = -0.5 * th.cos(),
-        d = SETTLE_S + MEASURE_S,
+    let soil = "[terrain.boxes.soil]\npreset = \"lunar_regolith\"";
+    let t = super::slope::plate_text(
+        deg,
+        crate::model::Method::Okada2020,
+        SETTLE_S + MEASURE_S,
+        soil,
     );
     compile(&t, packbot.clone(), root)
 }
