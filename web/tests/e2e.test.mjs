@@ -520,7 +520,7 @@ test('drive with a gamepad (stub): dead-man, sticks and D-pad flippers; views, m
     // The minimap: drawn, the robot's red arrow on it, n hides and shows it.
     await frames(page, 1);
     const map = await pixels(page, 'minimap', { hexes: ['#ff3030'] });
-    // Not blank (a blank canvas reads std 0; drawn ones read 5-8, once 4.99 in CI) and the arrow
+    // Not blank (a uniform canvas reads std 0; drawn ones read 5-8, once 4.99 in CI) and the arrow
     // is on it.
     assert.ok(map.std > 3 && map.counts[0] > 10, `minimap: std ${map.std}, robot pixels ${map.counts[0]}`);
     assert.ok((await page.evaluate(() => window.tracksim.minimap.draws)) > 10);
