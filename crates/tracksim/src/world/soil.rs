@@ -630,7 +630,13 @@ impl Simulation {
         let mut work = 0.0f64;
         // Each footprint's raw soil force this step, its patches' area, soil and Bekker's b.
         let mut raw: HashMap<Footprint, (f64, f64, usize, f64)> = HashMap::new();
+        // A part with several manifolds against one surface (a compound shape) loads its patch
+        // once.
+        let mut seen = std::collections::HashSet::with_capacity(loads.len());
         for l in &loads {
+            if !seen.insert(l.part) {
+                continue;
+            }
             let c = self.world.colliders[l.part].position().translation;
             let slip = self.load_slip(l, c);
             let (normal, thrust) = self.load_forces(l, forward);
