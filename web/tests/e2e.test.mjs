@@ -817,12 +817,7 @@ test('soil (issue 30): a drive on dry sand draws its ruts live, and its replay r
   const url = await drive.url;
   const ctx = await browser();
   try {
-    const page = await ctx.newPage();
-    const errors = [];
-    page.on('pageerror', (e) => errors.push(String(e)));
-    await page.goto(url);
-    await page.waitForFunction(() => window.tracksim?.state && window.tracksim.frames > 10, null, { timeout: 60000 });
-    assert.deepEqual(errors, []);
+    const { page } = await openDrive(ctx, url);
     // Landing on the sand already presses ruts under both tracks.
     await page.waitForFunction(() => window.tracksim.ruts.count > 50, null, { timeout: 30000 });
     const n0 = await page.evaluate(() => window.tracksim.ruts.count);
