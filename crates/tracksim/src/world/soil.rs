@@ -37,6 +37,9 @@ use std::sync::Mutex;
 pub const SHEAR_RESET_S: f64 = 0.1;
 /// Largest friction coefficient a soil contact gets (a light load on cohesive soil), -.
 const MU_CAP: f32 = 5.0;
+/// Cells whose centre lies within this of a patch's edge are outside it, m: far above the f32
+/// rounding of a position near the floating origin (0.1 um), far below a cell.
+const EDGE_MARGIN_M: f64 = 1e-6;
 /// Below this chassis speed no compaction impulse is applied, m/s.
 const COMPACTION_MIN_SPEED_MPS: f64 = 1e-3;
 
@@ -109,8 +112,12 @@ impl Patch {
         for iy in y0..=y1 {
             for ix in x0..=x1 {
                 let c = DVec2::new((ix as f64 + 0.5) / pm, (iy as f64 + 0.5) / pm) - self.centre;
-                if c.dot(self.along).abs() <= self.half_len
-                    && c.dot(across).abs() <= self.half_width
+                // A cell centre on the patch's edge (a 75 mm track is 7.5 cells of 1 cm) is
+                // left out on both sides alike: without the margin, f32 rounding of the track's
+                // position (y = +-0.1625 m) took the edge cell on the left and not on the right,
+                // and turns on sand did not mirror.
+                if c.dot(self.along).abs() <= self.half_len - EDGE_MARGIN_M
+                    && c.dot(across).abs() <= self.half_width - EDGE_MARGIN_M
                 {
                     any = true;
                     f(ix + origin_cells.0, iy + origin_cells.1);
