@@ -109,14 +109,9 @@ impl Feeds {
     /// The soil cells deepened since the last state, as `[x, y, surface_z, depth, cell]`
     /// rows (m; at most [`MAX_RUTS_PER_STATE`]).
     fn new_ruts(&mut self, runner: &Runner) -> Vec<[f64; 5]> {
-        let (cells, next) = runner.sim().ruts_since(self.rut_seq);
-        let take = cells.len().min(MAX_RUTS_PER_STATE);
-        self.rut_seq = if take < cells.len() {
-            next - (cells.len() - take) as u64
-        } else {
-            next
-        };
-        cells[..take]
+        let (cells, next) = runner.sim().ruts_since(self.rut_seq, MAX_RUTS_PER_STATE);
+        self.rut_seq = next;
+        cells
             .iter()
             .map(|c| [c.x_m, c.y_m, c.surface_z_m, c.depth_m, c.cell_m])
             .collect()

@@ -198,11 +198,26 @@ pub(crate) struct SoilState {
     track_mu: Vec<Option<f32>>,
     /// Steps a cell keeps its shear displacement unloaded.
     reset_steps: u32,
+    /// Buffers the after-step update reuses (no allocation per step once warmed up).
+    buffers: Buffers,
     /// The cells deepened lately, with a sequence number (at most [`RECENT_CELLS`]), for the
     /// live view.
     recent: std::collections::VecDeque<(u64, usize, i64, i64)>,
     /// Sequence number of the next deepened cell.
     seq: u64,
+}
+
+/// A footprint's raw soil force this step, N, its patches' area, m^2, its soil and Bekker's
+/// `b`, m.
+type RawLoad = (f64, f64, usize, f64);
+
+/// The after-step update's buffers, kept between steps.
+#[derive(Default)]
+struct Buffers {
+    loads: Vec<Load>,
+    raw: HashMap<Footprint, RawLoad>,
+    seen: std::collections::HashSet<ColliderHandle>,
+    bodies: HashMap<Footprint, (f64, f64)>,
 }
 
 /// Deepened cells the live feed can catch up on.
@@ -282,6 +297,7 @@ pub(crate) fn build_soil(
         reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
         recent: std::collections::VecDeque::new(),
         seq: 0,
+        buffers: Buffers::default(),
     })
 }
 
@@ -524,9 +540,10 @@ impl SoilState {
     /// Each footprint's force, low-pass filtered with the soil's damping over its local
     /// stiffness (a Kelvin-Voigt element, as the contact compliance), from this step's raw
     /// forces `raw` (force N, area m^2, soil, Bekker's b m). `dt` in s.
-    fn filter_footprints(&mut self, raw: HashMap<Footprint, (f64, f64, usize, f64)>, dt: f64) {
-        let mut bodies = HashMap::with_capacity(raw.len());
-        for (h, (force_now, area, soil_i, b)) in raw {
+    fn filter_footprints(&mut self, raw: &HashMap<Footprint, RawLoad>, dt: f64) {
+        let mut bodies = std::mem::take(&mut self.buffers.bodies);
+        bodies.clear();
+        for (&h, &(force_now, area, soil_i, b)) in raw {
             let soil = &self.soils[soil_i];
             let previous = self.bodies.get(&h).map_or(0.0, |v| v.0);
             // The stiffness at the larger of the two loads on Bekker's curve: a first contact
@@ -542,7 +559,7 @@ impl SoilState {
             let gain = if tau > dt { dt / tau } else { 1.0 };
             bodies.insert(h, (previous + gain * (force_now - previous), area));
         }
-        self.bodies = bodies;
+        self.buffers.bodies = std::mem::replace(&mut self.bodies, bodies);
     }
 
     /// The figures of the last step, per track.
@@ -623,10 +640,12 @@ impl Simulation {
 
     /// [`Self::soil_after_step`] with the state taken out.
     fn soil_update(&mut self, state: &mut SoilState) {
-        let loads = match state.pending.get_mut() {
-            Ok(p) => std::mem::take(p),
+        // The step's loads; the hook's next ones go into last step's (emptied) buffer.
+        let mut loads = std::mem::take(&mut state.buffers.loads);
+        match state.pending.get_mut() {
+            Ok(p) => std::mem::swap(p, &mut loads),
             Err(_) => return,
-        };
+        }
         let step = self.steps.min(u32::MAX as u64 - 1) as u32 + 1;
         let forward = self.world.bodies[self.body].rotation() * Vector::X;
         let n = state.tracks.len();
@@ -636,10 +655,12 @@ impl Simulation {
         let mut limits = vec![(0.0f64, 0.0f64); n];
         let mut work = 0.0f64;
         // Each footprint's raw soil force this step, its patches' area, soil and Bekker's b.
-        let mut raw: HashMap<Footprint, (f64, f64, usize, f64)> = HashMap::new();
+        let mut raw = std::mem::take(&mut state.buffers.raw);
+        raw.clear();
         // A part with several manifolds against one surface (a compound shape) loads its patch
         // once.
-        let mut seen = std::collections::HashSet::with_capacity(loads.len());
+        let mut seen = std::mem::take(&mut state.buffers.seen);
+        seen.clear();
         for l in &loads {
             if !seen.insert(l.part) {
                 continue;
@@ -675,7 +696,11 @@ impl Simulation {
             }
             f.thrust_n += thrust;
         }
-        state.filter_footprints(raw, self.dt);
+        state.filter_footprints(&raw, self.dt);
+        loads.clear();
+        state.buffers.loads = loads;
+        state.buffers.raw = raw;
+        state.buffers.seen = seen;
         for ((f, w), sp) in figures.iter_mut().zip(&weighted).zip(&span) {
             if f.normal_n > 0.0 {
                 f.sinkage_m = w / f.normal_n;
@@ -739,22 +764,27 @@ impl Simulation {
             .collect()
     }
 
-    /// The cells deepened after sequence number `seq` (those still held: the newest
-    /// 65,536), and the sequence number to ask from next time; for a live view.
-    pub fn ruts_since(&self, seq: u64) -> (Vec<RutCell>, u64) {
+    /// At most `max` of the cells deepened from sequence number `seq` on (those still held:
+    /// the newest 65,536), and the sequence number to ask from next time; for a live view.
+    pub fn ruts_since(&self, seq: u64, max: usize) -> (Vec<RutCell>, u64) {
         let Some(s) = self.soil.as_ref() else {
             return (Vec::new(), seq);
         };
-        let cells = s
-            .recent
-            .iter()
-            .filter(|r| r.0 >= seq)
-            .filter_map(|&(_, soil, ix, iy)| {
+        // Sequence numbers increase along the queue.
+        let start = s.recent.partition_point(|r| r.0 < seq);
+        let taken: Vec<_> = s.recent.iter().skip(start).take(max).copied().collect();
+        let next = match s.recent.get(start + taken.len()) {
+            Some(r) => r.0,
+            None => s.seq,
+        };
+        let cells = taken
+            .into_iter()
+            .filter_map(|(_, soil, ix, iy)| {
                 let c = s.grid().reader(soil).cell(ix, iy).copied()?;
                 Some(self.rut_cell(s, soil, ix, iy, c))
             })
             .collect();
-        (cells, s.seq)
+        (cells, next)
     }
 
     fn rut_cell(
