@@ -4,7 +4,8 @@ use super::{Failure, bad_arg, data_root, parse_method};
 use std::path::PathBuf;
 
 /// Reproduce the paper's Table IV (Quince steps) and run the physics checks (slope limit,
-/// skid-steer turning, Fig. 2 and Fig. 3); exits 1 if a case fails.
+/// skid-steer turning, Fig. 2 and Fig. 3, deformable soil against terramechanics); exits 1 if a
+/// case fails.
 #[derive(clap::Args)]
 pub struct ValidateArgs {
     /// Print the report as JSON.
