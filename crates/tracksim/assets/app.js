@@ -85,6 +85,7 @@ for (const mesh of t.meshes) world.add(new THREE.Mesh(meshGeometry(mesh), terrai
 // Ruts in deformable soil (ruts.js): filled from `ruts.csv` in a replay, from the states live.
 const ruts = createRuts(THREE, world);
 api.ruts = ruts;
+const rutLog = { epoch: null, next: 0 };
 if (scene.success_x_m !== null) {
   const line = new THREE.Mesh(new THREE.BoxGeometry(0.02, 4, 0.002), new THREE.MeshBasicMaterial({ color: 0x22aa22 }));
   line.position.set(scene.success_x_m, 0, (t.ground_z_m ?? 0) + 0.002);
@@ -723,8 +724,16 @@ function connect() {
       if (m.token) try { sessionStorage.setItem(TOKEN_KEY, m.token); } catch (_) { /* no storage */ }
     } else if (m.type === 'state') {
       api.state = m; api.states++; liveSensors(m.sensors);
-      if (Array.isArray(m.ruts)) ruts.add(m.ruts.map((r) => [...r, m.t]));
       if (m.session_ended) ended = true;
+    } else if (m.type === 'ruts') {
+      // The session's rut log (live/hub.rs): cells numbered from m.first; a reconnection
+      // sends the log again from its start, a new epoch means the ruts before are gone.
+      if (m.epoch !== rutLog.epoch) { ruts.clear(); rutLog.epoch = m.epoch; rutLog.next = 0; }
+      const skip = Math.max(0, rutLog.next - m.first);
+      if (skip < m.cells.length) {
+        ruts.add(m.cells.slice(skip).map((r) => [...r, api.state?.t ?? 0]));
+        rutLog.next = m.first + m.cells.length;
+      }
     } else if (m.type === 'error') api.errors.push(m.message);
   };
   ws.onclose = () => {

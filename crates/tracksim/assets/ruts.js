@@ -2,7 +2,8 @@
 // above the undisturbed surface, darker the deeper the rut (the terrain is opaque, so a rut is
 // drawn as a mark on the surface, coloured by its depth). A replay reads `ruts.csv` (the cells
 // at the end, each with the time it was first loaded) and shows the cells made so far; a live
-// view adds the cells each state brings (`state.ruts`: [x, y, surface_z, depth, cell] rows).
+// view adds the cells of the server's `ruts` messages (live/hub.rs: [x, y, surface_z, depth,
+// cell] rows; a cell that deepens comes again and is drawn again on top).
 
 const LIFT_M = 0.0015; // above the surface, so the tile is not hidden in it
 const THICK_M = 0.001;
@@ -57,6 +58,10 @@ export function createRuts(THREE, world) {
     mesh.instanceMatrix.needsUpdate = true;
     if (mesh.instanceColor) mesh.instanceColor.needsUpdate = true;
     api.count = n;
+  };
+  api.clear = () => {
+    n = 0; times = []; api.count = 0; api.deepest = 0;
+    if (mesh) mesh.count = 0;
   };
   api.showUntil = (t) => {
     if (!mesh) return;

@@ -99,22 +99,24 @@ pub(super) struct Feeds {
     sensors: SensorFeed,
     pub(super) hud: HudFeed,
     /// Sequence number of the next rut cell to send ([`crate::world::Simulation::ruts_since`]).
-    rut_seq: u64,
+    pub(super) rut_seq: u64,
 }
 
-/// Most rut cells one state carries (the rest follow in the next states).
+/// Most rut cells handed to the hub's log per state (the rest follow with the next states).
 const MAX_RUTS_PER_STATE: usize = 4096;
 
 impl Feeds {
-    /// The soil cells deepened since the last state, as `[x, y, surface_z, depth, cell]`
-    /// rows (m; at most [`MAX_RUTS_PER_STATE`]).
-    fn new_ruts(&mut self, runner: &Runner) -> Vec<[f64; 5]> {
+    /// Hands the soil cells deepened since the last call to the hub's rut log, as
+    /// `[x, y, surface_z, depth, cell]` rows (m; at most [`MAX_RUTS_PER_STATE`] per call, the
+    /// rest next time).
+    fn push_ruts(&mut self, runner: &Runner, hub: &Hub) {
         let (cells, next) = runner.sim().ruts_since(self.rut_seq, MAX_RUTS_PER_STATE);
         self.rut_seq = next;
-        cells
+        let rows: Vec<[f64; 5]> = cells
             .iter()
             .map(|c| [c.x_m, c.y_m, c.surface_z_m, c.depth_m, c.cell_m])
-            .collect()
+            .collect();
+        hub.append_ruts(&rows);
     }
 }
 
@@ -140,6 +142,7 @@ pub(super) fn state_json(
     let nf = sim.flipper_names().len();
     let outcome = ended.or(runner.decided());
     let driver = hub.driver_status();
+    feeds.push_ruts(runner, hub);
     let mut state = serde_json::json!({
         "type": "state",
         "t": sim.time(),
@@ -160,7 +163,6 @@ pub(super) fn state_json(
             "flipper_angle_deg": control.flipper_angle_deg,
         },
         "sensors": feeds.sensors.new_readings(runner),
-        "ruts": feeds.new_ruts(runner),
         "session_ended": ended.is_some(),
         "course": runner.course().map(|mut c| {
             // Only the latest events: the whole list grows with the session (summary.json
@@ -227,6 +229,8 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
             controls = vec![current.clone()];
             commands.clear();
             feeds.hud.reset();
+            feeds.rut_seq = 0;
+            hub.clear_ruts();
         }
         // Without a driver (its page dropped, or none yet) the robot stops, as a dead-man
         // would; the flippers hold their targets.

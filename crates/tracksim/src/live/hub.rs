@@ -9,7 +9,12 @@
 //! Protocol (JSON text frames). Server to client:
 //! `{"type":"hello","role":"driver"|"watcher","token":T|null,"grace_s":G}` on connecting and
 //! again whenever the role changes (a watcher promoted to driver), then
-//! `{"type":"state", ...}` (see `drive::state_json`). A driver keeps its token `T` and
+//! `{"type":"state", ...}` (see `drive::state_json`), and on soil
+//! `{"type":"ruts","epoch":E,"first":S,"cells":[[x,y,surface_z,depth,cell],...]}` (m): the
+//! rut cells made since the connection's last such message, numbered from `S` (a cell that
+//! deepens comes again), from a log every connection reads in full (unlike the states, none is
+//! dropped; the newest [`MAX_RUT_LOG`] are kept); a new `E` (the session was reset, a new
+//! episode began) means the ruts before are gone. A driver keeps its token `T` and
 //! presents it when it reconnects (`/ws?token=T`) to take the seat back within the grace
 //! period `G`, s ([`super::seat`]). Client to server (driver only; a watcher's messages are
 //! answered with an error and ignored):
@@ -28,6 +33,19 @@ use std::net::TcpStream;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use tungstenite::Message;
+
+/// Rut cells the hub keeps for connections that have not read them yet (the newest).
+pub const MAX_RUT_LOG: usize = 1 << 20;
+/// Rut cells one message carries at most.
+const RUT_MESSAGE_CELLS: usize = 4096;
+
+/// The session's rut cells, `[x, y, surface_z, depth, cell]` m, numbered from `first`.
+#[derive(Default)]
+struct RutLog {
+    epoch: u64,
+    first: u64,
+    cells: std::collections::VecDeque<[f64; 5]>,
+}
 
 /// How long a connection waits for a client message before it sends the newest state.
 const POLL: std::time::Duration = std::time::Duration::from_millis(4);
@@ -79,6 +97,8 @@ pub struct Hub {
     /// The scene the page loads (`/scene.json`), when it changes during the session (a new
     /// episode of a randomised scenario); `None`: the server's.
     scene: Mutex<Option<Arc<String>>>,
+    /// Soil ruts made during the session ([`Hub::append_ruts`]).
+    ruts: Mutex<RutLog>,
 }
 
 impl Hub {
@@ -100,6 +120,7 @@ impl Hub {
             watchers: AtomicU64::default(),
             watch_only: false,
             scene: Mutex::default(),
+            ruts: Mutex::default(),
         })
     }
 
@@ -137,6 +158,54 @@ impl Hub {
     /// is connected to take the seat.
     pub fn abandoned(&self) -> bool {
         self.connections() == 0 && self.seat.lock().expect("hub lock").abandoned()
+    }
+
+    /// Appends rut cells (`[x, y, surface_z, depth, cell]`, m) for every connection to send.
+    pub fn append_ruts(&self, cells: &[[f64; 5]]) {
+        if cells.is_empty() {
+            return;
+        }
+        let mut log = self.ruts.lock().expect("hub lock");
+        log.cells.extend(cells.iter().copied());
+        let over = log.cells.len().saturating_sub(MAX_RUT_LOG);
+        log.cells.drain(..over);
+        log.first += over as u64;
+    }
+
+    /// Forgets the ruts (a reset session, a new episode): pages clear theirs.
+    pub fn clear_ruts(&self) {
+        let mut log = self.ruts.lock().expect("hub lock");
+        let epoch = log.epoch + 1;
+        *log = RutLog {
+            epoch,
+            ..RutLog::default()
+        };
+    }
+
+    /// The `ruts` message for a connection that has sent the cells before `next` of epoch
+    /// `epoch`, and what it will have sent then (None: nothing new).
+    fn ruts_message(&self, epoch: u64, next: u64) -> Option<(String, u64, u64)> {
+        let log = self.ruts.lock().expect("hub lock");
+        let from = if log.epoch == epoch {
+            next.max(log.first)
+        } else {
+            log.first
+        };
+        let end = log.first + log.cells.len() as u64;
+        if from >= end {
+            return None;
+        }
+        let skip = (from - log.first) as usize;
+        let cells: Vec<[f64; 5]> = log
+            .cells
+            .iter()
+            .skip(skip)
+            .take(RUT_MESSAGE_CELLS)
+            .copied()
+            .collect();
+        let n = cells.len() as u64;
+        let msg = serde_json::json!({ "type": "ruts", "epoch": log.epoch, "first": from, "cells": cells });
+        Some((msg.to_string(), log.epoch, from + n))
     }
 
     /// Publishes a new state (replacing any the connections have not sent yet).
@@ -269,6 +338,8 @@ fn socket_loop(
     ws.send(Message::text(hello(token.as_deref(), grace)))
         .map_err(other)?;
     let mut sent = 0u64;
+    // (epoch, next cell) of the ruts sent on this connection.
+    let mut ruts_sent = (u64::MAX, 0u64);
     loop {
         if token.is_none() && !hub.watch_only {
             // A watcher takes a free seat; a reconnected driver whose old connection was
@@ -308,5 +379,44 @@ fn socket_loop(
             sent = g;
             ws.send(Message::text(s.as_str())).map_err(other)?;
         }
+        if let Some((msg, epoch, next)) = hub.ruts_message(ruts_sent.0, ruts_sent.1) {
+            ruts_sent = (epoch, next);
+            ws.send(Message::text(msg)).map_err(other)?;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A page that connects late gets every rut made before; one that has them gets only the
+    /// new ones; after a reset (a new epoch) it gets the new log from its start.
+    #[test]
+    fn the_rut_log_reaches_every_connection_whole() {
+        let hub = Hub::new();
+        let cell = |i: usize| [i as f64, 0.0, 0.0, 0.002, 0.01];
+        let cells: Vec<_> = (0..5000).map(cell).collect();
+        hub.append_ruts(&cells);
+        // A new connection (no epoch yet): the log in messages of RUT_MESSAGE_CELLS.
+        let (m1, e, next) = hub.ruts_message(u64::MAX, 0).unwrap();
+        assert_eq!(next, RUT_MESSAGE_CELLS as u64);
+        let v: serde_json::Value = serde_json::from_str(&m1).unwrap();
+        assert_eq!(v["first"], 0);
+        assert_eq!(v["cells"].as_array().unwrap().len(), RUT_MESSAGE_CELLS);
+        let (_, _, next) = hub.ruts_message(e, next).unwrap();
+        assert_eq!(next, 5000);
+        assert!(hub.ruts_message(e, next).is_none(), "nothing new");
+        hub.append_ruts(&[cell(5000)]);
+        let (m, _, next) = hub.ruts_message(e, next).unwrap();
+        assert_eq!((next, m.contains("\"first\":5000")), (5001, true));
+        hub.clear_ruts();
+        assert!(
+            hub.ruts_message(e, next).is_none(),
+            "a cleared log sends nothing"
+        );
+        hub.append_ruts(&[cell(7)]);
+        let (m, e2, next) = hub.ruts_message(e, next).unwrap();
+        assert!(e2 != e && next == 1 && m.contains("\"first\":0"), "{m}");
     }
 }

@@ -73,6 +73,8 @@ impl Watch {
             self.scene = scene;
         }
         self.since = None;
+        self.feeds.rut_seq = 0;
+        self.hub.clear_ruts();
         self.feeds.hud.reset();
     }
 

@@ -220,6 +220,8 @@ struct Buffers {
     bodies: HashMap<Footprint, (f64, f64)>,
 }
 
+/// A cell is reported to the live view again each time its rut reaches a multiple of this, m.
+const RUT_REPORT_STEP_M: f32 = 5e-4;
 /// Deepened cells the live feed can catch up on.
 const RECENT_CELLS: usize = 65_536;
 
@@ -522,8 +524,10 @@ impl SoilState {
             if first {
                 cell.t_first = at.time;
             }
-            // For the live view: a new rut, or one deepened by half a millimetre.
-            if (first && z > 0.0) || z > cell.z_max + 5e-4 {
+            // For the live view: a cell whose rut reaches a new half millimetre (a gradual
+            // deepening crosses the levels too; a threshold on each step's increment missed it).
+            let level = |d: f32| (d / RUT_REPORT_STEP_M).floor();
+            if z > cell.z_max && (cell.z_max <= 0.0 || level(z) > level(cell.z_max)) {
                 if recent.len() == RECENT_CELLS {
                     recent.pop_front();
                 }
