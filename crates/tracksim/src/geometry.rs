@@ -640,8 +640,9 @@ impl TrackPath {
     /// Builds the belt that wraps the given pulleys on their outside, in the plane y = `plane_y`
     /// of the track frame. Pulleys may be listed in either sense around the loop; the loop is
     /// always traversed so that a positive belt speed moves the lower run backwards (-x), i.e.
-    /// drives the vehicle forwards, turning about +y. Segment 0 is the straight leaving pulley 0
-    /// (after re-ordering into that sense), followed by the arc on the next pulley, and so on.
+    /// drives the vehicle forwards, turning about +y. Segment 0 is the straight leaving the
+    /// rearmost pulley (smallest x, then smallest z), followed by the arc on the next pulley in
+    /// that sense, and so on: rotating or reversing the list gives the same path.
     pub fn from_pulleys(pulleys: &[Pulley], plane_y: f64) -> Result<Self, Vec<PathError>> {
         let n = pulleys.len();
         if n < 2 {
@@ -690,6 +691,16 @@ impl TrackPath {
         if area2 > 0.0 {
             order.reverse();
         }
+        // Start at the rearmost pulley (smallest x, then smallest z), whatever the list's first
+        // entry: the loop, its segments' order and the grousers' places (grouser 0 at the loop
+        // start) then depend on the pulleys only, never on the order they are listed in.
+        let first = (0..n)
+            .min_by(|&a, &b| {
+                let (pa, pb) = (pulleys[order[a]], pulleys[order[b]]);
+                pa.x.total_cmp(&pb.x).then(pa.z.total_cmp(&pb.z))
+            })
+            .unwrap_or(0);
+        order.rotate_left(first);
         // Outer tangent between consecutive pulleys: normal n with n.(c2 - c1) = r1 - r2.
         let mut normals = Vec::with_capacity(n);
         let mut errors = Vec::new();

@@ -333,7 +333,8 @@ pub enum SegmentSpec {
 pub struct GrouserSpec {
     /// Number of grousers on the loop.
     pub count: usize,
-    /// Arc length from the loop start to grouser 0's footprint, m.
+    /// Arc length from the loop start to grouser 0's footprint, m (a pulley loop starts where
+    /// the belt leaves the rearmost pulley: smallest x, then smallest z).
     #[serde(default)]
     pub offset_m: f64,
     /// Shapes, used in turn around the belt (grouser k gets shape k mod len).

@@ -19,12 +19,14 @@
 //! `mesh.rs`, `stepfield.rs`, `ramps.rs`, `hurdle.rs`, `gap.rs`). File formats are read by the
 //! pure parsers of `parse/`; `insert.rs` puts the model into Rapier and `query.rs` answers
 //! extent and height questions. Shared helpers: `frame.rs` (local frames on the floor),
-//! `checks.rs` (input checks and size limits), `rng.rs` (the seeded generator).
+//! `checks.rs` (input checks and size limits), `rng.rs` (the seeded generator),
+//! `canonical.rs` (the one order of the pieces, whatever the file's order).
 //!
 //! Layering: this module depends on [`crate::spec`], the input checker and [`crate::error`],
 //! never on the vehicle model, the simulation or the runner.
 
 mod boxes;
+mod canonical;
 mod checks;
 mod frame;
 mod gap;
@@ -136,6 +138,7 @@ pub fn compile_terrain(
     for (i, s) in spec.gaps.iter().enumerate() {
         gap::compile(&mut c, &format!("terrain.gaps[{i}]"), s, &mut terrain);
     }
+    terrain.canonicalize();
     checks::check_not_empty(&mut c, &terrain);
     checks::check_total(&mut c, &terrain);
     issues.extend(c.issues);

@@ -40,6 +40,7 @@ mod issue_27_mcap;
 mod issue_28_course;
 mod issue_29_env;
 mod issue_30_soil;
+mod issue_38_order;
 mod layers;
 mod live;
 mod methods;
