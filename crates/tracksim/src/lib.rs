@@ -38,6 +38,7 @@ pub mod bundled;
 pub mod cases;
 pub(crate) mod check;
 pub mod compare;
+pub mod ensemble;
 pub mod env;
 pub mod error;
 pub mod files;

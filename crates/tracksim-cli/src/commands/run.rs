@@ -46,6 +46,27 @@ pub struct RunArgs {
     /// The trainee (operator) of the run, recorded in summary.json (`tracksim sessions`).
     #[arg(long)]
     pub trainee: Option<String>,
+    /// Run an ensemble of N members instead of one run: member 0 as written, the others with
+    /// seeded perturbations of the start (x, y, yaw) and of the solver's order, on every core
+    /// (docs/ENSEMBLE.md). Writes --out/member-NNN/ and ensemble.json / ensemble.csv, prints
+    /// the verdict ("S 16/16", "marginal 9/16") and checks the file's [expect] ensemble bounds.
+    #[arg(long, value_name = "N")]
+    pub ensemble: Option<usize>,
+    /// Seed of the ensemble's perturbations.
+    #[arg(long, default_value_t = 0, requires = "ensemble")]
+    pub ensemble_seed: u64,
+    /// Half-width of the ensemble's start offset in x and in y, mm.
+    #[arg(long, default_value_t = 1.0, requires = "ensemble")]
+    pub ensemble_start_mm: f64,
+    /// Half-width of the ensemble's start yaw offset, degrees.
+    #[arg(long, default_value_t = 0.05, requires = "ensemble")]
+    pub ensemble_yaw_deg: f64,
+    /// Keep the solver's order in every member (perturb only the start).
+    #[arg(long, requires = "ensemble")]
+    pub ensemble_keep_order: bool,
+    /// Threads of the ensemble (default: every core).
+    #[arg(long, requires = "ensemble")]
+    pub jobs: Option<usize>,
 }
 
 fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
@@ -66,6 +87,9 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
     let sc = tracksim::load_scenario_with(&file, &o)?;
+    if let Some(n) = a.ensemble {
+        return run_ensemble(&a, &sc, n);
+    }
     let trainee = super::trainee(a.trainee.as_deref())?;
     let bar = progress_bar(!a.quiet && !a.json && std::io::stderr().is_terminal());
     on_stop(|| {});
@@ -113,6 +137,82 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         return Err(Failure::Interrupted);
     }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
+        return Err(Failure::Outcome);
+    }
+    Ok(())
+}
+
+/// `tracksim run --ensemble N`.
+fn run_ensemble(a: &RunArgs, sc: &tracksim::Scenario, n: usize) -> Result<(), Failure> {
+    use tracksim::ensemble::{EnsembleOptions, Perturbations, check_ensemble, run_ensemble};
+    if a.realtime || a.mcap || a.trainee.is_some() {
+        return Err(Failure::Sim(tracksim::Error::Build(
+            "--ensemble runs its members as fast as possible without recordings: leave out \
+             --realtime and --mcap (and --trainee)"
+                .into(),
+        )));
+    }
+    let opts = EnsembleOptions {
+        members: n,
+        seed: a.ensemble_seed,
+        perturbations: Perturbations {
+            start_m: a.ensemble_start_mm * 1e-3,
+            yaw_deg: a.ensemble_yaw_deg,
+            solver_order: !a.ensemble_keep_order,
+        },
+        jobs: a.jobs.unwrap_or(0),
+        out: Some(a.out.clone()),
+        replay: true,
+        stop: Some(&super::STOP),
+    };
+    on_stop(|| {});
+    let show = !a.quiet && !a.json && std::io::stderr().is_terminal();
+    let report = run_ensemble(sc, &opts, |done, total| {
+        if show {
+            eprint!("\r{done}/{total} members");
+        }
+    })?;
+    if show {
+        eprintln!();
+    }
+    let misses = sc
+        .expect
+        .ensemble
+        .as_ref()
+        .map(|e| check_ensemble(e, &report))
+        .unwrap_or_default();
+    if a.json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&report).expect("report serialises")
+        );
+    } else if !a.quiet {
+        out!("{}", report.text());
+        if let Some(e) = &sc.expect.ensemble {
+            if misses.is_empty() {
+                out!(
+                    "[expect] ensemble bounds met ({} members asked by the file, {n} run)",
+                    e.members
+                );
+            } else {
+                out!(
+                    "[expect] ensemble bounds missed:\n  {}",
+                    misses.join("\n  ")
+                );
+            }
+        }
+        out!(
+            "wrote {} (member-NNN/, ensemble.json, ensemble.csv)",
+            a.out.display()
+        );
+    }
+    if report.members.len() < n {
+        return Err(Failure::Interrupted);
+    }
+    if a.strict
+        && (!misses.is_empty()
+            || report.count("success") < report.members.len() && sc.expect.ensemble.is_none())
+    {
         return Err(Failure::Outcome);
     }
     Ok(())

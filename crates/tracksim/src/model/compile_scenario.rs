@@ -284,6 +284,9 @@ fn check_start_height(c: &mut Checker, v: &VehicleRefSpec, terrain: &crate::terr
     }
 }
 
+/// Most inert colliders `simulation.order_salt` may ask for.
+pub const MAX_ORDER_SALT: usize = 1024;
+
 /// Simulation-settings stage: checks `[simulation]` and compiles the solver settings.
 fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
     use crate::check::MIN_DT_S;
@@ -332,6 +335,15 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
             ),
         );
     }
+    if s.order_salt > MAX_ORDER_SALT {
+        c.push(
+            "simulation.order_salt",
+            format!(
+                "must be between 0 and {MAX_ORDER_SALT} (inert colliders that change the solver's order; 0 = none), got {}",
+                s.order_salt
+            ),
+        );
+    }
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -349,6 +361,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         held_friction_in_bias_pass: s.held_friction_in_bias_pass,
         contact_recycling: s.contact_recycling,
         floating_origin: s.floating_origin,
+        order_salt: s.order_salt,
     }
 }
 

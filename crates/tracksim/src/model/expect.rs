@@ -40,6 +40,23 @@ pub struct Expectation {
     pub course_faults: Option<Range>,
     /// The course's score time (time plus penalties), s.
     pub course_score: Option<Range>,
+    /// Bounds on an ensemble of perturbed runs (`ensemble_members`, `success_fraction`,
+    /// `outcome_time_spread_s`); None: none given.
+    pub ensemble: Option<EnsembleExpectation>,
+}
+
+/// Members of an ensemble when `[expect]` gives ensemble bounds without `ensemble_members`.
+pub const DEFAULT_ENSEMBLE_MEMBERS: usize = 16;
+
+/// What an ensemble of the scenario must show (issue 38; docs/ENSEMBLE.md).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnsembleExpectation {
+    /// Members (2 or more).
+    pub members: usize,
+    /// Success fraction.
+    pub success_fraction: Option<Range>,
+    /// Spread (latest - earliest) of the success times, s.
+    pub outcome_time_spread: Option<Range>,
 }
 
 impl Expectation {
@@ -48,6 +65,9 @@ impl Expectation {
         *self == Expectation::default()
     }
 }
+
+/// Most members `expect.ensemble_members` may ask for (each is a whole run).
+const MAX_EXPECT_MEMBERS: usize = 256;
 
 /// Checks `[expect]` (outcome names, finite ranges with min <= max) and compiles it.
 pub(crate) fn compile_expect(c: &mut Checker, e: &ExpectSpec) -> Expectation {
@@ -73,7 +93,18 @@ pub(crate) fn compile_expect(c: &mut Checker, e: &ExpectSpec) -> Expectation {
         }
         Some([r[0] * scale, r[1] * scale])
     };
-    Expectation {
+    let success_fraction = range("success_fraction", e.success_fraction, 1.0);
+    let outcome_time_spread = range("outcome_time_spread_s", e.outcome_time_spread_s, 1.0);
+    let ensemble = (e.ensemble_members.is_some()
+        || success_fraction.is_some()
+        || outcome_time_spread.is_some())
+    .then(|| EnsembleExpectation {
+        members: e.ensemble_members.unwrap_or(DEFAULT_ENSEMBLE_MEMBERS),
+        success_fraction,
+        outcome_time_spread,
+    });
+    let expectation = Expectation {
+        ensemble,
         outcome: e.outcome.clone(),
         reason_contains: e.reason_contains.clone(),
         outcome_time: range("outcome_time_s", e.outcome_time_s, 1.0),
@@ -89,5 +120,22 @@ pub(crate) fn compile_expect(c: &mut Checker, e: &ExpectSpec) -> Expectation {
         course_repetitions: range("course_repetitions", e.course_repetitions, 1.0),
         course_faults: range("course_faults", e.course_faults, 1.0),
         course_score: range("course_score_s", e.course_score_s, 1.0),
+    };
+    if let Some([lo, hi]) = success_fraction
+        && !((0.0..=1.0).contains(&lo) && (0.0..=1.0).contains(&hi))
+    {
+        c.push(
+            "expect.success_fraction",
+            format!("must lie within [0, 1], got [{lo}, {hi}]"),
+        );
     }
+    if let Some(n) = e.ensemble_members
+        && !(2..=MAX_EXPECT_MEMBERS).contains(&n)
+    {
+        c.push(
+            "expect.ensemble_members",
+            format!("must be from 2 to {MAX_EXPECT_MEMBERS}, got {n}"),
+        );
+    }
+    expectation
 }

@@ -68,7 +68,7 @@ pub use course::{
 };
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
-pub use expect::{Expectation, Range};
+pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Range};
 pub use load::*;
 pub use method::Method;
 pub(crate) use motor::compile_motor;

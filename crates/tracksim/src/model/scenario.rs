@@ -30,6 +30,9 @@ pub struct SolverSettings {
     pub contact_recycling: bool,
     /// The floating origin (`simulation.floating_origin`).
     pub floating_origin: bool,
+    /// Inert colliders inserted before the terrain (`simulation.order_salt`): the solver's
+    /// order changes, nothing physical does.
+    pub order_salt: usize,
 }
 
 impl Default for SolverSettings {
@@ -45,6 +48,7 @@ impl Default for SolverSettings {
             held_friction_in_bias_pass: true,
             contact_recycling: true,
             floating_origin: true,
+            order_salt: 0,
         }
     }
 }

@@ -642,6 +642,7 @@ mod tests {
                     held_friction_in_bias_pass: true,
                     contact_recycling: true,
                     floating_origin: true,
+                    order_salt: 0,
                 },
                 seed: 0,
                 max_link_error_m: 1e-4,

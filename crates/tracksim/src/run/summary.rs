@@ -177,6 +177,8 @@ pub struct SolverSummary {
     pub contact_recycling: bool,
     /// `simulation.floating_origin`.
     pub floating_origin: bool,
+    /// `simulation.order_salt` (0 unless an ensemble member's).
+    pub order_salt: usize,
 }
 
 impl SolverSummary {
@@ -193,6 +195,7 @@ impl SolverSummary {
             held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
             contact_recycling: sc.solver.contact_recycling,
             floating_origin: sc.solver.floating_origin,
+            order_salt: sc.solver.order_salt,
         }
     }
 }

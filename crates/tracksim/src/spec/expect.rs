@@ -54,4 +54,14 @@ pub struct ExpectSpec {
     /// Range of the course's score time (time plus penalties), `[min, max]` s.
     #[serde(default)]
     pub course_score_s: Option<[f64; 2]>,
+    /// Members of the ensemble the ensemble bounds below are checked on (default 16; run by
+    /// `tracksim run --ensemble`, the bundled-scenario test and `check_ensemble`; docs/ENSEMBLE.md).
+    #[serde(default)]
+    pub ensemble_members: Option<usize>,
+    /// Range of the ensemble's success fraction, `[min, max]` (e.g. `[0.9, 1]`).
+    #[serde(default)]
+    pub success_fraction: Option<[f64; 2]>,
+    /// Range of the spread (latest - earliest) of the ensemble's success times, `[min, max]` s.
+    #[serde(default)]
+    pub outcome_time_spread_s: Option<[f64; 2]>,
 }

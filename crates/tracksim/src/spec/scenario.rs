@@ -222,6 +222,12 @@ pub struct SimulationSpec {
     /// `world/origin.rs`). Off only to compare: far from the origin f32 rounding biases speeds.
     #[serde(default = "default_true")]
     pub floating_origin: bool,
+    /// Inert colliders inserted before the terrain (default 0): they touch nothing, but shift
+    /// Rapier's handles and broad-phase tree and so the order its solver visits contacts. Only
+    /// the ensemble's perturbation of the solver order (docs/ENSEMBLE.md) sets it; a member's
+    /// run is reproduced with its value.
+    #[serde(default)]
+    pub order_salt: usize,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -254,6 +260,7 @@ impl Default for SimulationSpec {
             held_friction_in_bias_pass: true,
             contact_recycling: true,
             floating_origin: true,
+            order_salt: 0,
             method: default_method(),
             seed: 0,
         }

@@ -20,6 +20,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     let mut world = new_world(&sc.solver);
     crate::tracks::configure_world(method, &mut world.integration_parameters);
     let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
+    insert_order_salt(&mut world, sc.solver.order_salt);
     let ground_tile = sc.terrain.insert_into(
         &mut world,
         world_groups(),
@@ -79,6 +80,28 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     sim.odometry = start_odometry(&sim);
     sim.drawbar = sim.start_drawbar();
     Ok(sim)
+}
+
+/// `simulation.order_salt`: `n` inert colliders on a fixed body of their own, inserted before
+/// everything else. They collide with nothing (empty collision groups, and 1 km below the
+/// world origin), so nothing physical changes; Rapier's handles and broad-phase tree do, and
+/// with them the order its solver visits the contacts: the ensemble's perturbation of the
+/// solver order (docs/ENSEMBLE.md).
+fn insert_order_salt(world: &mut PhysicsWorld, n: usize) {
+    if n == 0 {
+        return;
+    }
+    let body = world
+        .bodies
+        .insert(RigidBodyBuilder::fixed().translation(Vector::new(0.0, 0.0, -1000.0)));
+    for i in 0..n {
+        let c = ColliderBuilder::ball(0.01)
+            .translation(Vector::new(0.1 * i as f32, 0.0, 0.0))
+            .collision_groups(InteractionGroups::none());
+        world
+            .colliders
+            .insert_with_parent(c, body, &mut world.bodies);
+    }
 }
 
 /// Refuses what the scenario's method cannot model ([`crate::model::method_problems`]: checked

@@ -1,0 +1,156 @@
+//! Ensemble verdicts (issue 38): a scenario run as N members, each with a small seeded
+//! perturbation of what should not matter ([`Perturbations`]: start position and yaw, the
+//! solver's order), on all cores; the outcome fraction, the spread of the outcome time and of
+//! the final pose ([`EnsembleReport`]), each member's run folder, and the `[expect]` ensemble
+//! bounds checked ([`check_ensemble`]).
+//!
+//! - `perturb.rs`: the perturbation model and the members;
+//! - `report.rs`: the report, its verdict ("S 16/16", "marginal 9/16") and its files.
+
+mod perturb;
+mod report;
+
+pub use perturb::{MAX_MEMBERS, Member, Perturbations};
+pub use report::{EnsembleReport, MemberResult, check_ensemble};
+
+use crate::error::{Error, Result};
+use crate::model::Scenario;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// How an ensemble is run.
+#[derive(Clone, Debug)]
+pub struct EnsembleOptions {
+    /// Number of members (member 0 is the scenario as written).
+    pub members: usize,
+    /// Seed of the perturbations.
+    pub seed: u64,
+    /// Their sizes.
+    pub perturbations: Perturbations,
+    /// Threads (at most the members; 0: every core).
+    pub jobs: usize,
+    /// Folder to write each member's run into (`member-NNN/`) and the ensemble's files; None:
+    /// nothing written.
+    pub out: Option<PathBuf>,
+    /// Also write each member's replay data (`scene.json`, `belts.csv`) for `tracksim view`.
+    pub replay: bool,
+    /// Set from outside (Ctrl-C) to start no further member.
+    pub stop: Option<&'static AtomicBool>,
+}
+
+impl EnsembleOptions {
+    /// `members` members with the default perturbations, seed 0, every core, nothing written.
+    pub fn new(members: usize) -> Self {
+        EnsembleOptions {
+            members,
+            seed: 0,
+            perturbations: Perturbations::default(),
+            jobs: 0,
+            out: None,
+            replay: false,
+            stop: None,
+        }
+    }
+}
+
+/// The folder of member `k` inside an ensemble's output folder.
+pub fn member_dir_name(k: usize) -> String {
+    format!("member-{k:03}")
+}
+
+/// Runs the ensemble of `sc`: every member to its end on `opts.jobs` threads, each written
+/// into its folder when `opts.out` is set, then `ensemble.json` and `ensemble.csv` there.
+/// A member that blows up counts as `unstable`; any other error stops the ensemble.
+/// `progress(done, total)` is called after each member.
+pub fn run_ensemble(
+    sc: &Scenario,
+    opts: &EnsembleOptions,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Result<EnsembleReport> {
+    opts.perturbations.check(opts.members)?;
+    let n = opts.members;
+    let members: Vec<Member> = (0..n)
+        .map(|k| opts.perturbations.member(opts.seed, k))
+        .collect();
+    let jobs = if opts.jobs == 0 {
+        std::thread::available_parallelism().map_or(1, |p| p.get())
+    } else {
+        opts.jobs
+    }
+    .clamp(1, n);
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<MemberResult>>> = Mutex::new(vec![None; n]);
+    let first_error: Mutex<Option<Error>> = Mutex::new(None);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs {
+            scope.spawn(|| {
+                loop {
+                    let failed = first_error.lock().map_or(true, |e| e.is_some());
+                    if failed || opts.stop.is_some_and(|s| s.load(Ordering::SeqCst)) {
+                        return;
+                    }
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(m) = members.get(k) else { return };
+                    match run_member(sc, m, opts.out.as_deref(), opts.replay) {
+                        Ok(r) => {
+                            if let Ok(mut v) = results.lock() {
+                                v[k] = Some(r);
+                            }
+                            progress(done.fetch_add(1, Ordering::SeqCst) + 1, n);
+                        }
+                        Err(e) => {
+                            if let Ok(mut slot) = first_error.lock() {
+                                slot.get_or_insert(e);
+                            }
+                            return;
+                        }
+                    }
+                }
+            });
+        }
+    });
+    if let Some(e) = first_error.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    let results: Vec<MemberResult> = results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect();
+    let report = EnsembleReport {
+        scenario: sc.source.as_ref().map(|p| p.display().to_string()),
+        method: sc.method.name(),
+        seed: opts.seed,
+        perturbations: opts.perturbations,
+        requested: n,
+        members: results,
+    };
+    if let Some(out) = &opts.out {
+        report.write(out)?;
+    }
+    Ok(report)
+}
+
+/// Runs one member to its end (and writes its folder).
+fn run_member(sc: &Scenario, m: &Member, out: Option<&Path>, replay: bool) -> Result<MemberResult> {
+    let msc = m.apply(sc);
+    let dir = out.map(|o| o.join(member_dir_name(m.index)));
+    match crate::run::run_scenario(&msc, |_, _| {}) {
+        Ok(result) => {
+            if let Some(dir) = &dir {
+                let which = crate::output::Outputs {
+                    replay,
+                    plots: false,
+                    mcap: false,
+                };
+                crate::output::write_outputs(&msc, &result, dir, which)?;
+            }
+            Ok(MemberResult::of_run(*m, sc, &result, dir))
+        }
+        Err(e @ Error::Unstable { .. }) => Ok(MemberResult::unstable(*m, sc, &e, dir)),
+        Err(e) => Err(e),
+    }
+}

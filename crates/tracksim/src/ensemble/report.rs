@@ -1,0 +1,356 @@
+//! What an ensemble shows ([`EnsembleReport`]): each member's outcome and final pose, the
+//! outcome fraction and verdict, the spread of outcome times and final poses, in words
+//! ([`EnsembleReport::text`]) and as `ensemble.json` / `ensemble.csv`; and the scenario's
+//! `[expect]` ensemble bounds checked against it ([`check_ensemble`]).
+
+use super::Member;
+use crate::error::{Error, Result};
+use crate::model::{EnsembleExpectation, Scenario};
+use crate::run::RunResult;
+use crate::world::PoseRpy;
+use std::path::{Path, PathBuf};
+
+/// One member's result.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct MemberResult {
+    /// Its perturbation.
+    pub member: Member,
+    /// The file keys that reproduce it with `tracksim run` (key, value).
+    pub keys: Vec<(String, f64)>,
+    /// "success", "failure", "completed", "interrupted" or "unstable".
+    pub outcome: String,
+    /// Why.
+    pub reason: String,
+    /// When the outcome was decided (the end of the run if never), s.
+    pub outcome_time_s: f64,
+    /// The body's final pose, m and rad.
+    pub final_pose: PoseRpy,
+    /// Progress along the start heading, m.
+    pub progress_m: f64,
+    /// Its run folder, if written.
+    pub dir: Option<PathBuf>,
+}
+
+impl MemberResult {
+    /// The result of a member that ran to its end.
+    pub(super) fn of_run(m: Member, sc: &Scenario, r: &RunResult, dir: Option<PathBuf>) -> Self {
+        let s = &r.summary;
+        MemberResult {
+            member: m,
+            keys: m.keys(sc),
+            outcome: s.outcome.clone(),
+            reason: s.outcome_reason.clone(),
+            outcome_time_s: s.outcome_time_s,
+            final_pose: s.final_pose,
+            progress_m: s.progress_m,
+            dir,
+        }
+    }
+
+    /// A member that blew up (`Error::Unstable`).
+    pub(super) fn unstable(m: Member, sc: &Scenario, e: &Error, dir: Option<PathBuf>) -> Self {
+        let t = match e {
+            Error::Unstable { time_s, .. } => *time_s,
+            _ => f64::NAN,
+        };
+        MemberResult {
+            member: m,
+            keys: m.keys(sc),
+            outcome: "unstable".into(),
+            reason: e.to_string(),
+            outcome_time_s: t,
+            final_pose: PoseRpy::default(),
+            progress_m: f64::NAN,
+            dir,
+        }
+    }
+}
+
+/// Smallest, median and largest of some values (None: no value).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Spread {
+    /// Smallest.
+    pub min: f64,
+    /// Median (mean of the middle two for an even count).
+    pub median: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+impl Spread {
+    /// The spread of `values` (None if empty).
+    pub fn of(values: &[f64]) -> Option<Spread> {
+        let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+        if v.is_empty() {
+            return None;
+        }
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        let median = if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        };
+        Some(Spread {
+            min: v[0],
+            median,
+            max: v[n - 1],
+        })
+    }
+
+    /// max - min.
+    pub fn width(&self) -> f64 {
+        self.max - self.min
+    }
+}
+
+/// An ensemble's results.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct EnsembleReport {
+    /// The scenario file, if any.
+    pub scenario: Option<String>,
+    /// Track method.
+    pub method: String,
+    /// Seed of the perturbations.
+    pub seed: u64,
+    /// Their sizes.
+    pub perturbations: super::Perturbations,
+    /// Members asked for.
+    pub requested: usize,
+    /// Members that ran, in index order (fewer than asked if stopped).
+    pub members: Vec<MemberResult>,
+}
+
+impl EnsembleReport {
+    /// Members whose outcome is `name`.
+    pub fn count(&self, name: &str) -> usize {
+        self.members.iter().filter(|m| m.outcome == name).count()
+    }
+
+    /// Successes over the members that ran (0 if none ran).
+    pub fn success_fraction(&self) -> f64 {
+        if self.members.is_empty() {
+            0.0
+        } else {
+            self.count("success") as f64 / self.members.len() as f64
+        }
+    }
+
+    /// The verdict: `S 16/16` (every member succeeded), `F 16/16` (every member failed),
+    /// `C 16/16` (every member completed without a success condition), otherwise
+    /// `marginal 9/16` (successes over members); `interrupted 5/16` if not every member ran.
+    pub fn verdict(&self) -> String {
+        let n = self.members.len();
+        if n < self.requested {
+            return format!("interrupted {n}/{}", self.requested);
+        }
+        for (name, letter) in [("success", "S"), ("failure", "F"), ("completed", "C")] {
+            if self.count(name) == n {
+                return format!("{letter} {n}/{n}");
+            }
+        }
+        format!("marginal {}/{n}", self.count("success"))
+    }
+
+    /// Outcome times of the members that succeeded, s.
+    pub fn success_times(&self) -> Option<Spread> {
+        let t: Vec<f64> = self
+            .members
+            .iter()
+            .filter(|m| m.outcome == "success")
+            .map(|m| m.outcome_time_s)
+            .collect();
+        Spread::of(&t)
+    }
+
+    /// Spread of one final-pose coordinate over the members that did not blow up.
+    pub fn final_spread(&self, pick: impl Fn(&PoseRpy) -> f64) -> Option<Spread> {
+        let v: Vec<f64> = self
+            .members
+            .iter()
+            .filter(|m| m.outcome != "unstable")
+            .map(|m| pick(&m.final_pose))
+            .collect();
+        Spread::of(&v)
+    }
+
+    /// The report in words: verdict, counts, outcome times, final pose spread, perturbations.
+    pub fn text(&self) -> String {
+        let p = &self.perturbations;
+        let mut s = format!(
+            "ensemble of {} members ({}): {}\n",
+            self.requested,
+            self.method,
+            self.verdict()
+        );
+        let counts: Vec<String> = ["success", "failure", "completed", "unstable", "interrupted"]
+            .iter()
+            .filter(|n| self.count(n) > 0)
+            .map(|n| format!("{} {n}", self.count(n)))
+            .collect();
+        s += &format!(
+            "  outcomes: {} (success fraction {:.3})\n",
+            counts.join(", "),
+            self.success_fraction()
+        );
+        if let Some(t) = self.success_times() {
+            s += &format!(
+                "  success time: median {:.2} s, {:.2}-{:.2} s (spread {:.2} s)\n",
+                t.median,
+                t.min,
+                t.max,
+                t.width()
+            );
+        }
+        let coords: [(&str, fn(&PoseRpy) -> f64, f64, &str); 4] = [
+            ("x", |p| p.x, 1.0, "m"),
+            ("y", |p| p.y, 1.0, "m"),
+            ("z", |p| p.z, 1.0, "m"),
+            ("yaw", |p| p.yaw, 1f64.to_degrees(), "deg"),
+        ];
+        let parts: Vec<String> = coords
+            .iter()
+            .filter_map(|(name, pick, scale, unit)| {
+                self.final_spread(pick)
+                    .map(|sp| format!("{name} {:.3}..{:.3} {unit}", sp.min * scale, sp.max * scale))
+            })
+            .collect();
+        if !parts.is_empty() {
+            s += &format!("  final pose: {}\n", parts.join(", "));
+        }
+        s += &format!(
+            "  perturbations (seed {}): start +-{} mm in x and y, yaw +-{} deg, solver order {}; member 0 as written\n",
+            self.seed,
+            p.start_m * 1e3,
+            p.yaw_deg,
+            if p.solver_order { "varied" } else { "kept" }
+        );
+        for m in &self.members {
+            if m.outcome != "success" && self.count("success") * 2 >= self.members.len() {
+                s += &format!(
+                    "  member {}: {} ({})\n",
+                    m.member.index, m.outcome, m.reason
+                );
+            }
+        }
+        s
+    }
+
+    /// Writes `ensemble.json` (the report, each member with its keys) and `ensemble.csv`
+    /// (one row per member) into `out`.
+    pub fn write(&self, out: &Path) -> Result<()> {
+        let io = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| Error::Io { path, source }
+        };
+        std::fs::create_dir_all(out).map_err(io(out))?;
+        #[derive(serde::Serialize)]
+        struct Json<'a> {
+            verdict: String,
+            success_fraction: f64,
+            success_time_s: Option<Spread>,
+            #[serde(flatten)]
+            report: &'a EnsembleReport,
+        }
+        let json = serde_json::to_string_pretty(&Json {
+            verdict: self.verdict(),
+            success_fraction: self.success_fraction(),
+            success_time_s: self.success_times(),
+            report: self,
+        })
+        .map_err(|e| Error::Build(format!("ensemble.json: {e}")))?;
+        let path = out.join("ensemble.json");
+        crate::files::write_atomic(&path, json.as_bytes())?;
+        let mut w = csv::Writer::from_writer(Vec::new());
+        let csv_err = |e: csv::Error| Error::Build(format!("ensemble.csv: {e}"));
+        w.write_record([
+            "member",
+            "dx_m",
+            "dy_m",
+            "dyaw_deg",
+            "order_salt",
+            "outcome",
+            "outcome_time_s",
+            "final_x_m",
+            "final_y_m",
+            "final_z_m",
+            "final_yaw_rad",
+            "progress_m",
+            "reason",
+        ])
+        .map_err(csv_err)?;
+        for m in &self.members {
+            let p = &m.final_pose;
+            w.write_record([
+                m.member.index.to_string(),
+                m.member.dx_m.to_string(),
+                m.member.dy_m.to_string(),
+                m.member.dyaw_deg.to_string(),
+                m.member.order_salt.to_string(),
+                m.outcome.clone(),
+                m.outcome_time_s.to_string(),
+                p.x.to_string(),
+                p.y.to_string(),
+                p.z.to_string(),
+                p.yaw.to_string(),
+                m.progress_m.to_string(),
+                m.reason.clone(),
+            ])
+            .map_err(csv_err)?;
+        }
+        let bytes = w
+            .into_inner()
+            .map_err(|e| Error::Build(format!("ensemble.csv: {e}")))?;
+        crate::files::write_atomic(&out.join("ensemble.csv"), &bytes)
+    }
+}
+
+/// Every way the ensemble misses the scenario's `[expect]` ensemble bounds, one line each
+/// (empty: met).
+pub fn check_ensemble(e: &EnsembleExpectation, r: &EnsembleReport) -> Vec<String> {
+    let mut misses = Vec::new();
+    if r.members.len() < r.requested {
+        misses.push(format!(
+            "only {} of {} members ran",
+            r.members.len(),
+            r.requested
+        ));
+    }
+    if let Some([lo, hi]) = e.success_fraction {
+        let f = r.success_fraction();
+        if !(lo..=hi).contains(&f) {
+            misses.push(format!(
+                "success fraction {f:.3} ({}) outside [{lo}, {hi}]",
+                r.verdict()
+            ));
+        }
+    }
+    if let Some([lo, hi]) = e.outcome_time_spread {
+        match r.success_times() {
+            Some(t) if !(lo..=hi).contains(&t.width()) => misses.push(format!(
+                "success times spread {:.3} s ({:.2}-{:.2} s) outside [{lo}, {hi}] s",
+                t.width(),
+                t.min,
+                t.max
+            )),
+            Some(_) => {}
+            None => {
+                misses.push("a spread of success times was expected but no member succeeded".into())
+            }
+        }
+    }
+    misses
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spread_and_median() {
+        let s = Spread::of(&[3.0, 1.0, 2.0, f64::NAN]).unwrap();
+        assert_eq!((s.min, s.median, s.max), (1.0, 2.0, 3.0));
+        assert_eq!(Spread::of(&[1.0, 2.0]).unwrap().median, 1.5);
+        assert!(Spread::of(&[]).is_none());
+    }
+}
