@@ -40,7 +40,7 @@ impl Default for SolverSettings {
         SolverSettings {
             dt: 0.001,
             iterations: 4,
-            stabilization_iterations: 1,
+            stabilization_iterations: 2,
             contact_clustering: false,
             min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,

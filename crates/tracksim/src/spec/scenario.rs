@@ -185,9 +185,11 @@ pub struct SimulationSpec {
     #[serde(default = "default_iterations")]
     pub solver_iterations: usize,
     /// Position-correction (stabilization) passes per solver iteration (Rapier's
-    /// `num_internal_stabilization_iterations`, default 1): the pass that pushes penetrations
+    /// `num_internal_stabilization_iterations`, default 2): the pass that pushes penetrations
     /// and joint errors out. Quince's Table IV climbs need 2 at 4 solver iterations, or 8
-    /// solver iterations (BENCHMARKS.md, issue 16.6).
+    /// solver iterations (BENCHMARKS.md, issue 16.6). With 1 a rigid vehicle's contacts can
+    /// fall into a rocking at half the step rate whose phase depends on the start position
+    /// (issue 38: yaw rates of a turn 0.430-0.445 rad/s by start x; 2: 0.430-0.432).
     #[serde(default = "default_stabilization")]
     pub stabilization_iterations: usize,
     /// Rapier contact clustering (merges coplanar contacts of compound shapes).
@@ -268,7 +270,7 @@ impl Default for SimulationSpec {
 }
 
 fn default_stabilization() -> usize {
-    1
+    2
 }
 
 /// `model::MIN_LINK_MASS_KG` (this layer imports nothing; the model's doc says why 0.1 kg).

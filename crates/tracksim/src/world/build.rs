@@ -66,7 +66,10 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         drawbar: None,
         conveyors,
         soil: None,
+        load_window: Default::default(),
     };
+    sim.load_window =
+        super::track_loads::LoadWindow::new(sim.track_owners(), sc.output_interval, sc.solver.dt);
     sim.soil = super::soil::build_soil(
         &sim.world,
         &sc.terrain.soils,

@@ -108,6 +108,8 @@ pub struct Simulation {
     conveyors: conveyor::Conveyors,
     /// Deformable soil, when the terrain has some.
     soil: Option<soil::SoilState>,
+    /// The per-step track loads of the last output interval (`track_loads`).
+    load_window: track_loads::LoadWindow,
 }
 
 impl Simulation {

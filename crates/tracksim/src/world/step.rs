@@ -44,6 +44,7 @@ impl Simulation {
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
+        self.record_track_loads();
         self.soil_after_step();
         for t in &mut self.tracks {
             t.after_step(&mut self.world, self.dt);
