@@ -32,15 +32,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     while sim.time() < t1 {
         sim.step()?;
         let w = &sim.world;
-        let pz: f64 = vehicle.iter().map(|h| { let b = &w.bodies[*h]; (b.mass() * b.linvel().z) as f64 }).sum();
-        if sim.time() < t0 { pz_prev = Some(pz); continue; }
+        let pz: f64 = vehicle
+            .iter()
+            .map(|h| {
+                let b = &w.bodies[*h];
+                (b.mass() * b.linvel().z) as f64
+            })
+            .sum();
+        if sim.time() < t0 {
+            pz_prev = Some(pz);
+            continue;
+        }
         net_z += (pz - pz_prev.unwrap()) / dt as f64;
         pz_prev = Some(pz);
         steps += 1;
         if std::env::var("TRACE").is_ok() {
             let l = sim.track_loads_last_step();
             let b = &sim.world.bodies[body];
-            println!("step {} L {:.2} R {:.2} wx {:+.5} wz {:+.5} vz {:+.6} fL {:.2} fR {:.2}", sim.steps(), l[0].normal_n, l[1].normal_n, b.angvel().x, b.angvel().z, b.linvel().z, l[0].friction_traction_n, l[1].friction_traction_n);
+            println!(
+                "step {} L {:.2} R {:.2} wx {:+.5} wz {:+.5} vz {:+.6} fL {:.2} fR {:.2}",
+                sim.steps(),
+                l[0].normal_n,
+                l[1].normal_n,
+                b.angvel().x,
+                b.angvel().z,
+                b.linvel().z,
+                l[0].friction_traction_n,
+                l[1].friction_traction_n
+            );
         }
         let cb = &w.bodies[body];
         let com = cb.center_of_mass();
@@ -55,7 +74,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 _ => continue,
             };
             for m in p.solver_manifolds() {
-                if m.data.solver_contacts.is_empty() { continue; }
+                if m.data.solver_contacts.is_empty() {
+                    continue;
+                }
                 acc[track][4] += 1.0;
                 for sc in &m.data.solver_contacts {
                     let id = (sc.contact_id[0] & !NEW_CONTACT_BIT) as usize;
@@ -78,12 +99,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let f = a[0] / s;
         println!(
             "track {i}: N {:.2} N, centre of load y {:+.4} m x {:+.4} m, moment_x {:+.3} N m, contacts {:.1}, manifolds {:.1}",
-            f, a[1] / a[0], a[2] / a[0], a[1] / s, a[3] / s, a[4] / s
+            f,
+            a[1] / a[0],
+            a[2] / a[0],
+            a[1] / s,
+            a[3] / s,
+            a[4] / s
         );
-        tot[0] += f; tot[1] += a[1] / s; tot[2] += a[2] / s;
+        tot[0] += f;
+        tot[1] += a[1] / s;
+        tot[2] += a[2] / s;
     }
-    println!("sum N {:.2} (m g {:.2}, d(pz)/dt {:+.3}) ; roll moment of loads about COM {:+.3} N m ; pitch moment {:+.3}", tot[0], mass * 9.81, net_z / s, tot[1], tot[2]);
+    println!(
+        "sum N {:.2} (m g {:.2}, d(pz)/dt {:+.3}) ; roll moment of loads about COM {:+.3} N m ; pitch moment {:+.3}",
+        tot[0],
+        mass * 9.81,
+        net_z / s,
+        tot[1],
+        tot[2]
+    );
     let b = &sim.world.bodies[body];
-    println!("chassis z {:.5} roll-rate {:+.5}", b.translation().z, b.angvel().x);
+    println!(
+        "chassis z {:.5} roll-rate {:+.5}",
+        b.translation().z,
+        b.angvel().x
+    );
     Ok(())
 }

@@ -44,7 +44,7 @@ impl Default for SolverSettings {
             contact_clustering: false,
             min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,
-            contact_slop: 0.0,
+            contact_slop: crate::spec::DEFAULT_CONTACT_SLOP_M,
             held_friction_in_bias_pass: true,
             contact_recycling: true,
             floating_origin: true,

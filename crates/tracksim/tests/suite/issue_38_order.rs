@@ -240,3 +240,91 @@ fn permuted_bundled_scenarios_run_byte_identical_to_their_end() {
         failures.join("\n")
     );
 }
+
+/// Every bundled scenario whose `[expect]` states ensemble bounds (the step and the stairs)
+/// run as that ensemble (`tracksim run --ensemble`): its members agree as the file says.
+#[test]
+fn bundled_ensembles_meet_their_bounds() {
+    let mut checked = Vec::new();
+    let mut failed = Vec::new();
+    for f in common::all_bundled_scenarios() {
+        let sc = tracksim::load_scenario(&f).unwrap();
+        let Some(e) = sc.expect.ensemble.clone() else {
+            continue;
+        };
+        let mut opts = tracksim::ensemble::EnsembleOptions::new(e.members);
+        opts.seed = 38;
+        let r = tracksim::ensemble::run_ensemble(&sc, &opts, |_, _| {}).unwrap();
+        let misses = tracksim::ensemble::check_ensemble(&e, &r);
+        let line = format!("{}: {}", f.display(), r.text());
+        println!("{line}");
+        if !misses.is_empty() {
+            failed.push(format!("{line}    {}", misses.join("\n    ")));
+        }
+        checked.push(f.file_name().unwrap().to_string_lossy().to_string());
+    }
+    for must in ["packbot_step.toml", "packbot_stairs.toml"] {
+        assert!(
+            checked.iter().any(|c| c == must),
+            "{must} states no ensemble bounds; checked {checked:?}"
+        );
+    }
+    assert!(failed.is_empty(), "\n{}", failed.join("\n"));
+}
+
+/// The perturbation of the solver's order changes nothing physical but the order: a member
+/// with inert colliders runs a different trajectory (else it would perturb nothing), and the
+/// same member twice runs the same one (members are reproducible).
+#[test]
+fn order_salt_reorders_the_solver_and_members_are_reproducible() {
+    let path = root().join("scenarios/packbot_step.toml");
+    let mut sc = tracksim::load_scenario(&path).unwrap();
+    sc.duration = 2.0;
+    let hash = |sc: &tracksim::Scenario| {
+        let r = tracksim::run_scenario(sc, |_, _| {}).unwrap();
+        format!(
+            "{:x}",
+            Sha256::digest(tracksim::output::trajectory_csv(&r).as_bytes())
+        )
+    };
+    let base = hash(&sc);
+    let mut salted = sc.clone();
+    salted.solver.order_salt = 3;
+    let a = hash(&salted);
+    assert_ne!(base, a, "inert colliders left the solver's order unchanged");
+    assert_eq!(a, hash(&salted));
+    // A member is reproduced by its keys written into the file.
+    let p = tracksim::ensemble::Perturbations::default();
+    let m = p.member(38, 5);
+    let msc = m.apply(&sc);
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    let mut doc: Table = toml::from_str(&text).unwrap();
+    for (k, v) in m.keys(&sc) {
+        let (table, key) = k.split_once('.').unwrap();
+        let t = doc
+            .entry(table)
+            .or_insert(Value::Table(Table::new()))
+            .as_table_mut()
+            .unwrap();
+        t.insert(
+            key.into(),
+            if key == "order_salt" {
+                Value::Integer(v as i64)
+            } else {
+                Value::Float(v)
+            },
+        );
+    }
+    doc["simulation"]["duration_s"] = Value::Float(2.0);
+    // The copy lives in a temporary folder: its vehicle file by absolute path.
+    let vehicle = root()
+        .join("scenarios")
+        .join(doc["vehicle"]["file"].as_str().unwrap());
+    doc["vehicle"]["file"] = Value::String(vehicle.to_string_lossy().to_string());
+    text = toml::to_string(&doc).unwrap();
+    let copy = std::env::temp_dir().join(format!("tracksim_member_{}.toml", std::process::id()));
+    std::fs::write(&copy, text).unwrap();
+    let from_file = tracksim::load_scenario(&copy);
+    let _ = std::fs::remove_file(&copy);
+    assert_eq!(hash(&from_file.unwrap()), hash(&msc));
+}
