@@ -522,12 +522,20 @@ impl SegmentLinks {
                 1.0 / n
             };
             let mut force = total * share;
+            if *load <= 0.0 {
+                force += world.bodies[l.body].mass() as f64 * 9.81;
+            }
             // Loaded links run at the command, or held, back to the held belt position
-            // ([`Self::hold_target`]); unloaded ones follow the belt.
-            let target = if *load > 0.0 {
+            // ([`Self::hold_target`]); unloaded ones follow the belt. A belt with no link on
+            // the ground has nothing to follow but its speed controller: every link then runs
+            // at the command (within the motor's force). Following its own measured speed
+            // there left it without a set-point, and the solver's small per-step velocity
+            // deficit accumulated: a raised flipper's belt slowed by 0.3-0.6 m/s per second
+            // until a grouser touched again, by how much depending on where the grousers lie
+            // on the loop, i.e. on the pulley order (issue 38).
+            let target = if *load > 0.0 || sum <= 0.0 {
                 self.hold_target()
             } else {
-                force += world.bodies[l.body].mass() as f64 * 9.81;
                 belt
             };
             let cap = match l.kind {

@@ -42,6 +42,7 @@ mod issue_29_env;
 mod issue_30_soil;
 mod issue_38_loads;
 mod issue_38_order;
+mod issue_38_pulley_order;
 mod issue_38_soil;
 mod layers;
 mod live;
