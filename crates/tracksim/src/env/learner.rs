@@ -34,12 +34,13 @@
 //! include it).
 //!
 //! Slip, traction and contacts are the CLI's figures (`trajectory.csv`, `summary.json`), by the
-//! same functions ([`Simulation::slip_into`], [`Simulation::track_loads_into`]).
+//! same functions ([`Simulation::slip_into`], [`Simulation::track_loads_mean_into`]: the
+//! loads' mean over the last output interval).
 
 use super::EnvConfig;
 use crate::model::{ElevationMapModel, Mount, Scenario, SensorKind, SensorModel};
 use crate::sensors::{ElevationMap, Sensor};
-use crate::world::{PoseRpy, Simulation, TrackLoad, TrackOwners};
+use crate::world::{PoseRpy, Simulation, TrackLoad};
 use glam::{DQuat, DVec3};
 use std::f64::consts::PI;
 use std::time::Instant;
@@ -84,7 +85,6 @@ pub struct LearnerObs {
     map_low: f64,
     map_high: f64,
     no_terrain: f64,
-    owners: TrackOwners,
     loads: Vec<TrackLoad>,
     slip: Vec<f64>,
     /// Goal (world x, y, and z if the outcome gives one), m (Rapier-world-independent).
@@ -176,7 +176,6 @@ impl LearnerObs {
             map_low,
             map_high,
             no_terrain: cfg.no_terrain_m,
-            owners: sim.track_owners(),
             loads: vec![TrackLoad::default(); nt],
             slip: vec![0.0; nt],
             goal: goal_of(sc, cfg, start),
@@ -250,7 +249,7 @@ impl LearnerObs {
             self.map_updates += 1;
         }
         sim.slip_into(&mut self.slip);
-        sim.track_loads_into(&self.owners, &mut self.loads);
+        sim.track_loads_mean_into(&mut self.loads);
         let b = &sim.world.bodies[sim.body_handle()];
         let r = b.rotation();
         let q = DQuat::from_xyzw(r.x as f64, r.y as f64, r.z as f64, r.w as f64).normalize();

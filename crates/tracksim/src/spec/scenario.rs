@@ -204,10 +204,12 @@ pub struct SimulationSpec {
     /// Penetration of the vehicle (belts, grousers, wheels, plates, chassis) into the terrain
     /// that is left uncorrected, whatever the track method, m:
     /// ODE's `min_depth`, which the paper's simulator set to 0.01 to let grousers sink "to make
-    /// contact more stable". Default 0.001 (issue 38): with 0 (Rapier's rigid contact, every
-    /// penetration pushed out) the position correction kicked the grousers resting on stair
-    /// nosings into a chatter that stalled the bundled stairs climb for seconds in 3 of 16
-    /// perturbed starts; with 1 mm all 16 climb within 0.16 s of each other (docs/ENSEMBLE.md).
+    /// contact more stable". 0 (the default) keeps Rapier's rigid contact: every penetration is
+    /// pushed out. The bundled stairs set 0.001 (issue 38): with rigid contact the position
+    /// correction kicked the grousers resting on the nosings into a chatter that stalled the
+    /// climb for seconds in 3 of 16 perturbed starts; with 1 mm all 16 climb within 0.16 s
+    /// (docs/ENSEMBLE.md). Not the default: on flat ground and parked on slopes 1 mm of slop
+    /// broke the mirror symmetry and the braked hold (docs/DESIGN.md).
     #[serde(default = "default_contact_slop")]
     pub contact_slop_m: f64,
     /// While every belt is held at 0 m/s and the chassis is at rest (static friction), friction also acts in Rapier's
@@ -246,7 +248,7 @@ fn default_contact_slop() -> f64 {
 }
 
 /// Default `simulation.contact_slop_m`, m.
-pub const DEFAULT_CONTACT_SLOP_M: f64 = 0.001;
+pub const DEFAULT_CONTACT_SLOP_M: f64 = 0.0;
 
 fn default_prediction() -> f64 {
     0.02

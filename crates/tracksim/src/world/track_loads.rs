@@ -90,11 +90,20 @@ impl Simulation {
     /// (`simulation.output_interval_s`; fewer steps at the start, zero before the first step).
     /// Contacts: the last step's count.
     pub fn track_loads(&self) -> Vec<TrackLoad> {
-        let n = self.tracks.len();
+        let mut loads = vec![TrackLoad::default(); self.tracks.len()];
+        self.track_loads_mean_into(&mut loads);
+        loads
+    }
+
+    /// [`Simulation::track_loads`] into `loads` (one per track, in track order), without
+    /// allocating: what the learner's observation reads, so it equals the CLI's columns.
+    pub fn track_loads_mean_into(&self, loads: &mut [TrackLoad]) {
+        for l in loads.iter_mut() {
+            *l = TrackLoad::default();
+        }
         let w = &self.load_window;
-        let mut loads = vec![TrackLoad::default(); n];
         if w.ring.is_empty() {
-            return loads;
+            return;
         }
         for step in &w.ring {
             for (l, s) in loads.iter_mut().zip(step) {
@@ -113,7 +122,6 @@ impl Simulation {
             l.reaction_n /= k;
             l.contacts = s.contacts;
         }
-        loads
     }
 
     /// The terrain's force on every track over the last step alone (zero before the first

@@ -135,7 +135,14 @@ fn climbing_on_motors_takes_at_least_m_g_dh() {
     let mgdh = r.summary.mass.total_simulated_kg * 9.81 * dz;
     println!("climb: m g dh {mgdh:.2} J, motor work {mech:.2} J, electrical {elec:.2} J");
     assert!(dz > 0.7, "{dz}");
-    assert!(mech >= mgdh, "motor work {mech} J < m g dh {mgdh} J");
+    // Within 1 %: Rapier's position correction lifts the robot out of the slope without a
+    // force that does work on the belts. With the second pass (issue 38) that is 0.3 % of
+    // m g dh here (89.00 J of motor work for 89.28 J; 2.2 mm of the 0.7 m climb); with one
+    // pass the motors did more than m g dh.
+    assert!(
+        mech >= 0.99 * mgdh,
+        "motor work {mech} J < 0.99 m g dh {mgdh} J"
+    );
     assert!(elec >= mech, "electrical {elec} J < mechanical {mech} J");
 }
 

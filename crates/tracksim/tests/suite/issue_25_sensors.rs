@@ -488,7 +488,8 @@ fn sensors_do_not_change_the_trajectory_and_read_at_their_rates() {
             assert_eq!(r.sensors.len(), 6);
             // The run stops at its success; readings at every 1 / rate up to then.
             let end = r.summary.sim_time_s;
-            assert!(end > 12.0, "{end}");
+            // (9.35 s since the stairs' 1 mm slop, issue 38: no stalls on the nosings.)
+            assert!(end > 8.0, "{end}");
             for s in &r.sensors {
                 let n = (end * s.rate_hz + 1e-9).floor() as usize + 1;
                 assert_eq!(s.times.len(), n, "{}", s.name);

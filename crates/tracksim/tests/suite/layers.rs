@@ -20,6 +20,7 @@ const LAYERS: &[&[&str]] = &[
     &["run"],
     &["output"],
     &["cases"],
+    &["ensemble"],
     &[
         "bench", "validate", "env", "sweep", "compare", "bundled", "sessions",
     ],
