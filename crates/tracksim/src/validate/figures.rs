@@ -16,6 +16,13 @@ const BUMP: &str = "fig2_bump";
 const WALL: &str = "fig3_wall";
 /// The reference method of Fig. 2.
 const WHEELS: TrackMethod = TrackMethod::Wheels(4);
+/// Members of the 4-wheel reference's ensemble (issue 38): with 2 position-correction passes
+/// the 4 wheels climb the bump from some starts and stall from others (2 of 8 climbed at seed 0,
+/// 6 of 8 at seed 2: a margin), so the reference is judged by its ensemble: it must fail from
+/// at least one start, where the track climbs from every one (`tests/suite/methods.rs`).
+const WHEELS_MEMBERS: usize = 8;
+/// Seed of the reference's perturbations.
+const WHEELS_SEED: u64 = 2;
 
 /// Case names of the Fig. 2 runs: the method under test, then the 4-wheel reference (named
 /// `fig2/wheels4_reference` when the method under test is itself `wheels4`).
@@ -48,6 +55,13 @@ pub(super) fn add_jobs(jobs: &mut Jobs, method: TrackMethod, root: &Path) -> Res
         w.method = WHEELS;
         let (tested, reference) = bump_names(method);
         jobs.add(tested, sc)?;
+        let p = crate::ensemble::Perturbations::default();
+        for k in 1..WHEELS_MEMBERS {
+            jobs.add(
+                format!("{reference}/member-{k}"),
+                p.member(WHEELS_SEED, k).apply(&w),
+            )?;
+        }
         jobs.add(reference, w)?;
     }
     if present(root, WALL) {
@@ -68,11 +82,33 @@ pub(super) fn assemble(
     let (tested, reference) = bump_names(method);
     if let Some(sc) = jobs.scenario(&tested) {
         let mut plot_runs = Vec::new();
+        // The reference's perturbed members: how many climbed.
+        let members: Vec<bool> = (1..WHEELS_MEMBERS)
+            .filter_map(|k| {
+                runs.take(&format!("{reference}/member-{k}"))
+                    .result
+                    .ok()
+                    .map(|r| matches!(r.outcome, Outcome::Success(_)))
+            })
+            .collect();
         for (run, label, expect_success) in [
             (&tested, method.name(), true),
             (&reference, WHEELS.name(), false),
         ] {
-            let (case, r) = bump_case(run, runs.take(run), &label, expect_success);
+            let (mut case, r) = bump_case(run, runs.take(run), &label, expect_success);
+            if !expect_success && !members.is_empty() {
+                let nominal = matches!(r.as_ref().map(|r| &r.outcome), Some(Outcome::Success(_)));
+                let climbed = members.iter().filter(|&&s| s).count() + usize::from(nominal);
+                let n = members.len() + 1;
+                case.measured = format!(
+                    "{} ({climbed} of {n} perturbed members climbed)",
+                    case.measured
+                );
+                case.expected = format!(
+                    "failure from some of {n} perturbed starts (the track climbs from every one); the paper's single run fails"
+                );
+                case.passed = r.is_some() && climbed < n;
+            }
             report.cases.push(case);
             plot_runs.extend(r.map(|r| (format!("{label}: {}", r.outcome.name()), r)));
         }

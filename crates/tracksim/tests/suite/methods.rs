@@ -37,21 +37,25 @@ fn every_method_drives_at_belt_speed_on_flat_ground() {
     }
 }
 
-fn outcome(file: &str, m: TrackMethod) -> Outcome {
-    tracksim::run_scenario(&scenario(file, m), |_, _| {})
-        .unwrap()
-        .outcome
-}
-
+/// The paper's Fig. 2, as ensemble verdicts (issue 38): over 8 perturbed starts the track
+/// climbs the bump every time; the 4-wheel model stalls astride it from some starts. With 2
+/// position-correction passes the 4 wheels climb in 2 of 8 at seed 0 (member 0 among them) and
+/// 6 of 8 at seed 2: a margin, not the paper's clean failure (VALIDATION.md).
 #[test]
 fn fig2_bump_is_climbed_by_the_track_not_by_4_wheels() {
     let f = "scenarios/bump_wheels_vs_track.toml";
-    let track = outcome(f, TrackMethod::Okada2020);
-    assert!(matches!(track, Outcome::Success(_)), "track: {track:?}");
-    let wheels = outcome(f, TrackMethod::Wheels(4));
+    let ens = |m: TrackMethod| {
+        let mut opts = tracksim::ensemble::EnsembleOptions::new(8);
+        opts.jobs = 2;
+        tracksim::ensemble::run_ensemble(&scenario(f, m), &opts, |_, _| {}).unwrap()
+    };
+    let track = ens(TrackMethod::Okada2020);
+    assert_eq!(track.verdict(), "S 8/8", "track: {}", track.text());
+    let wheels = ens(TrackMethod::Wheels(4));
     assert!(
-        matches!(wheels, Outcome::Failure(_)),
-        "4 wheels: {wheels:?}"
+        wheels.success_fraction() < 1.0,
+        "4 wheels: {}",
+        wheels.text()
     );
 }
 
