@@ -104,6 +104,9 @@ impl Spread {
     }
 }
 
+/// A final-pose coordinate in the report: name, how to read it, scale to the unit, unit.
+type Coordinate = (&'static str, fn(&PoseRpy) -> f64, f64, &'static str);
+
 /// An ensemble's results.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct EnsembleReport {
@@ -202,7 +205,7 @@ impl EnsembleReport {
                 t.width()
             );
         }
-        let coords: [(&str, fn(&PoseRpy) -> f64, f64, &str); 4] = [
+        let coords: [Coordinate; 4] = [
             ("x", |p| p.x, 1.0, "m"),
             ("y", |p| p.y, 1.0, "m"),
             ("z", |p| p.z, 1.0, "m"),
