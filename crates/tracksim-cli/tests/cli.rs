@@ -729,3 +729,84 @@ fn sessions_tabulates_runs_with_their_trainee() {
     let r = run(&["run", s, "--out", o, "--trainee", ""]);
     assert_eq!(r.code, 2, "{}", r.stderr);
 }
+
+/// Issue 38: `run --ensemble N` writes every member's folder and the ensemble's files and
+/// prints the verdict; `--strict` exits 1 when the file's `[expect]` ensemble bounds are
+/// missed; a bad size names its flag; `compare --ensemble` prints a verdict per method.
+#[test]
+fn run_and_compare_ensembles() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ens");
+    let step = root().join("scenarios/packbot_step.toml");
+    let o = run(&[
+        "run",
+        step.to_str().unwrap(),
+        "--ensemble",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}{}", o.stdout, o.stderr);
+    assert!(o.stdout.contains("S 3/3"), "{}", o.stdout);
+    assert!(
+        o.stdout.contains("[expect] ensemble bounds met"),
+        "{}",
+        o.stdout
+    );
+    for f in ["ensemble.json", "ensemble.csv", "member-002/trajectory.csv"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("ensemble.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+    // A scenario whose bounds cannot hold: 0.3 s is too short to climb, the file wants all 3.
+    let short = scenario(
+        dir.path(),
+        "short.toml",
+        &format!(
+            "{FLAT}[outcome]\nsuccess_x_m = 5.0\n[expect]\nensemble_members = 3\nsuccess_fraction = [1.0, 1.0]\n"
+        ),
+    );
+    let o = run(&[
+        "run",
+        short.to_str().unwrap(),
+        "--ensemble",
+        "3",
+        "--strict",
+        "--out",
+        dir.path().join("short").to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 1, "{}{}", o.stdout, o.stderr);
+    assert!(
+        o.stdout.contains("F 3/3") && o.stdout.contains("missed"),
+        "{}",
+        o.stdout
+    );
+    let o = run(&[
+        "run",
+        step.to_str().unwrap(),
+        "--ensemble",
+        "4",
+        "--ensemble-start-mm",
+        "500",
+    ]);
+    assert_ne!(o.code, 0);
+    assert!(o.stderr.contains("--ensemble-start-mm"), "{}", o.stderr);
+    let o = run(&[
+        "compare",
+        step.to_str().unwrap(),
+        "--methods",
+        "okada2020,constraint_to_ground",
+        "--duration",
+        "1",
+        "--ensemble",
+        "2",
+        "--out",
+        dir.path().join("cmp").to_str().unwrap(),
+    ]);
+    assert_eq!(o.code, 0, "{}{}", o.stdout, o.stderr);
+    assert!(
+        o.stdout.contains("| okada2020 | F 2/2 |") && o.stdout.contains("| constraint_to_ground |"),
+        "{}",
+        o.stdout
+    );
+}

@@ -212,3 +212,76 @@ impl CompareReport {
             .expect("rows serialise")
     }
 }
+
+/// One method's ensemble in `compare --ensemble` (its verdict, or why it could not run).
+#[derive(Debug)]
+pub struct EnsembleRow {
+    /// Track method.
+    pub method: String,
+    /// The ensemble, or the method's problem with the scenario.
+    pub report: Result<crate::ensemble::EnsembleReport>,
+}
+
+/// Runs `file` as an ensemble of `members` with each of `methods` (perturbations and seed as
+/// `tracksim run --ensemble`, docs/ENSEMBLE.md), each written into `out/ensemble-<method>/`.
+/// Stops starting methods once `stop` is set.
+pub fn run_compare_ensembles(
+    file: &Path,
+    methods: &[Method],
+    duration_s: Option<f64>,
+    members: usize,
+    out: &Path,
+    stop: Option<&'static std::sync::atomic::AtomicBool>,
+) -> Result<Vec<EnsembleRow>> {
+    crate::ensemble::Perturbations::default().check(members)?;
+    let mut rows = Vec::new();
+    for &m in methods {
+        if stop.is_some_and(|s| s.load(std::sync::atomic::Ordering::SeqCst)) {
+            break;
+        }
+        let o = Overrides {
+            method: Some(m),
+            duration_s,
+            ..Overrides::default()
+        };
+        let report = load_scenario_with(file, &o).and_then(|sc| {
+            let mut opts = crate::ensemble::EnsembleOptions::new(members);
+            opts.out = Some(out.join(format!("ensemble-{}", m.name())));
+            opts.stop = stop;
+            crate::ensemble::run_ensemble(&sc, &opts, |_, _| {})
+        });
+        rows.push(EnsembleRow {
+            method: m.name(),
+            report,
+        });
+    }
+    Ok(rows)
+}
+
+/// The ensembles of [`run_compare_ensembles`] as a Markdown table: verdict, success fraction,
+/// success times (median, range).
+pub fn ensemble_table(rows: &[EnsembleRow]) -> String {
+    let mut s = String::from(
+        "| method | verdict | success fraction | success time median (range), s |\n|---|---|---|---|\n",
+    );
+    for r in rows {
+        match &r.report {
+            Ok(e) => {
+                let t = e.success_times().map_or("-".into(), |t| {
+                    format!("{:.2} ({:.2}-{:.2})", t.median, t.min, t.max)
+                });
+                s += &format!(
+                    "| {} | {} | {:.3} | {t} |\n",
+                    r.method,
+                    e.verdict(),
+                    e.success_fraction()
+                );
+            }
+            Err(err) => {
+                let msg = err.to_string().replace('\n', " ");
+                s += &format!("| {} | error | - | {msg} |\n", r.method);
+            }
+        }
+    }
+    s
+}

@@ -20,6 +20,11 @@ pub struct CompareArgs {
     /// Print the table as JSON.
     #[arg(long)]
     pub json: bool,
+    /// Also run each method as an ensemble of N perturbed members (as `run --ensemble`,
+    /// docs/ENSEMBLE.md) into --out/ensemble-METHOD/, and print each method's verdict
+    /// ("S 16/16", "marginal 9/16").
+    #[arg(long, value_name = "N")]
+    pub ensemble: Option<usize>,
 }
 
 /// `tracksim compare`; exits 3 when no method produced a run and the last was unstable.
@@ -40,6 +45,16 @@ pub fn compare(a: CompareArgs) -> Result<(), Failure> {
         for p in &report.written {
             out!("wrote {}", p.display());
         }
+    }
+    if let Some(n) = a.ensemble
+        && !report.interrupted
+    {
+        let rows =
+            tracksim::compare::run_compare_ensembles(&file, &methods, a.duration, n, &a.out, stop)?;
+        out!(
+            "ensembles of {n} members:\n{}",
+            tracksim::compare::ensemble_table(&rows).trim_end()
+        );
     }
     if report.interrupted {
         eprintln!("interrupted: wrote what ran into {}", a.out.display());
