@@ -34,6 +34,21 @@ def sweep(scenario, out: PathLike, runs: int = 10, seed: Optional[int] = None,
     return [json.loads(s) for s in lines]
 
 
+def ensemble(scenario, members: int = 16, out: Optional[PathLike] = None, seed: int = 0,
+             start_mm: float = 1.0, yaw_deg: float = 0.05, keep_order: bool = False,
+             jobs: int = 0) -> dict:
+    """Runs the scenario (at its file's seed) as an ensemble of ``members`` perturbed runs, as
+    ``tracksim run --ensemble`` (docs/ENSEMBLE.md): member 0 as written, the others with the
+    start moved up to ``start_mm`` in x and y, turned up to ``yaw_deg`` and the solver's order
+    changed. Returns the report: ``verdict`` ("S 16/16", "marginal 9/16"),
+    ``success_fraction``, ``success_time_s`` (min, median, max) and ``members`` (each with its
+    perturbation, outcome, final pose and the file keys that reproduce it)."""
+    text = _tracksim.ensemble(as_scenario(scenario), int(members),
+                              None if out is None else os.fspath(out), int(seed),
+                              float(start_mm), float(yaw_deg), bool(keep_order), int(jobs))
+    return json.loads(text)
+
+
 def merge(dirs: Iterable[PathLike], out: PathLike) -> int:
     """Merges sweep folders into ``out`` (runs and ``manifest.jsonl``); returns the run count."""
     return _tracksim.merge([os.fspath(d) for d in dirs], os.fspath(out))

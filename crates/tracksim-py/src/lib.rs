@@ -1000,6 +1000,46 @@ fn sweep(
         .collect())
 }
 
+/// Runs `scenario` (at its file's seed) as an ensemble of `members` perturbed runs (see
+/// `tracksim run --ensemble`, docs/ENSEMBLE.md) on `jobs` threads (0: every core), GIL
+/// released; each member written into `out` if given. Returns the report as JSON (verdict,
+/// success fraction, success times, every member with its perturbation and outcome).
+#[pyfunction]
+#[pyo3(signature = (scenario, members=16, out=None, seed=0, start_mm=1.0, yaw_deg=0.05, keep_order=false, jobs=0))]
+#[allow(clippy::too_many_arguments)]
+fn ensemble(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    members: usize,
+    out: Option<PathBuf>,
+    seed: u64,
+    start_mm: f64,
+    yaw_deg: f64,
+    keep_order: bool,
+    jobs: usize,
+) -> PyResult<String> {
+    use tracksim::ensemble::{EnsembleOptions, Perturbations, run_ensemble};
+    let t = template_of(scenario)?;
+    let sc = t.file_scenario().map_err(py_err)?;
+    let mut opts = EnsembleOptions::new(members);
+    opts.seed = seed;
+    opts.jobs = jobs;
+    opts.out = out;
+    opts.replay = true;
+    opts.perturbations = Perturbations {
+        start_m: start_mm * 1e-3,
+        yaw_deg,
+        solver_order: !keep_order,
+    };
+    let report = py
+        .detach(|| run_ensemble(&sc, &opts, |_, _| {}))
+        .map_err(|e| match e {
+            tracksim::Error::Invalid { .. } => PyValueError::new_err(e.to_string()),
+            e => py_err(e),
+        })?;
+    report.to_json().map_err(py_err)
+}
+
 /// Merges sweep folders (shards) into the sweep folder `out` (see `tracksim merge`); returns
 /// the number of runs.
 #[pyfunction]
@@ -1018,6 +1058,7 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyVecEnvCore>()?;
     m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     bundled::register(m)?;
     m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;

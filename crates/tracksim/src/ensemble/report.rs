@@ -239,14 +239,9 @@ impl EnsembleReport {
         s
     }
 
-    /// Writes `ensemble.json` (the report, each member with its keys) and `ensemble.csv`
-    /// (one row per member) into `out`.
-    pub fn write(&self, out: &Path) -> Result<()> {
-        let io = |path: &Path| {
-            let path = path.to_path_buf();
-            move |source| Error::Io { path, source }
-        };
-        std::fs::create_dir_all(out).map_err(io(out))?;
+    /// The report as JSON (`ensemble.json`): verdict, success fraction, success times, the
+    /// perturbations and every member with its keys.
+    pub fn to_json(&self) -> Result<String> {
         #[derive(serde::Serialize)]
         struct Json<'a> {
             verdict: String,
@@ -255,13 +250,24 @@ impl EnsembleReport {
             #[serde(flatten)]
             report: &'a EnsembleReport,
         }
-        let json = serde_json::to_string_pretty(&Json {
+        serde_json::to_string_pretty(&Json {
             verdict: self.verdict(),
             success_fraction: self.success_fraction(),
             success_time_s: self.success_times(),
             report: self,
         })
-        .map_err(|e| Error::Build(format!("ensemble.json: {e}")))?;
+        .map_err(|e| Error::Build(format!("ensemble.json: {e}")))
+    }
+
+    /// Writes `ensemble.json` (the report, each member with its keys) and `ensemble.csv`
+    /// (one row per member) into `out`.
+    pub fn write(&self, out: &Path) -> Result<()> {
+        let io = |path: &Path| {
+            let path = path.to_path_buf();
+            move |source| Error::Io { path, source }
+        };
+        std::fs::create_dir_all(out).map_err(io(out))?;
+        let json = self.to_json()?;
         let path = out.join("ensemble.json");
         crate::files::write_atomic(&path, json.as_bytes())?;
         let mut w = csv::Writer::from_writer(Vec::new());
