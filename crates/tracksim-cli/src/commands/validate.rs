@@ -24,6 +24,11 @@ pub struct ValidateArgs {
     /// Run only one group of cases: table_iv, slope, turning, figures or soil.
     #[arg(long)]
     pub only: Option<String>,
+    /// Also run each Table IV row (with grousers) as an ensemble of N members (member 0 the
+    /// asserted run, the others perturbed as `run --ensemble`; docs/ENSEMBLE.md): each row
+    /// reports "S 8/8" or "marginal 5/8".
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(2..=64))]
+    pub ensemble: Option<u64>,
 }
 
 /// `tracksim validate`.
@@ -53,6 +58,7 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
     let opts = tracksim::validate::ValidationOptions {
         rubber_youngs_modulus_pa: mpa * 1e6,
         only,
+        ensemble: a.ensemble.unwrap_or(0) as usize,
         stop: Some(&super::STOP),
         ..Default::default()
     };

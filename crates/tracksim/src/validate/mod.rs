@@ -110,6 +110,10 @@ pub struct ValidationOptions {
     pub stop: Option<&'static std::sync::atomic::AtomicBool>,
     /// Only this group of cases (None: every group).
     pub only: Option<Group>,
+    /// Members of an ensemble per Table IV row with grousers (0: none; docs/ENSEMBLE.md):
+    /// member 0 is the asserted run, the others perturbed as `tracksim run --ensemble`; the
+    /// row reports "S 8/8" or "marginal 5/8" (reported, the nominal run stays the asserted one).
+    pub ensemble: usize,
 }
 
 /// A group of validation cases (`tracksim validate --only GROUP`).
@@ -153,6 +157,7 @@ impl Default for ValidationOptions {
             rubber_youngs_modulus_pa: TRACK_RUBBER_YOUNGS_MODULUS_PA,
             stop: None,
             only: None,
+            ensemble: 0,
         }
     }
 }

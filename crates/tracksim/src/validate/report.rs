@@ -29,6 +29,9 @@ pub struct StepCase {
     /// This simulator, with grousers (the method under test), contact slop
     /// [`TABLE_IV_CONTACT_SLOP_M`] as in the paper's simulator: "S" or "F" (or "error").
     pub with_grousers: StepRun,
+    /// With `--ensemble N`: the verdict of the row's ensemble with grousers ("S 8/8",
+    /// "marginal 5/8"; reported, not asserted).
+    pub ensemble: Option<String>,
     /// This simulator without grousers, same contact slop (reported, not asserted); `None` if
     /// not run.
     pub without_grousers: Option<StepRun>,
@@ -278,7 +281,10 @@ impl ValidationReport {
                 c.reality,
                 c.paper,
                 c.with_grousers.result,
-                run_words(&c.with_grousers),
+                match &c.ensemble {
+                    Some(e) => format!("{}; ensemble {e}", run_words(&c.with_grousers)),
+                    None => run_words(&c.with_grousers),
+                },
                 optional(&c.without_grousers),
                 optional(&c.with_grousers_rigid),
                 optional(&c.compliant_grousers),

@@ -113,6 +113,15 @@ pub(super) fn add_jobs(
                 method,
                 root,
             )?;
+            if column == Column::Grousers {
+                let p = crate::ensemble::Perturbations::default();
+                for k in 1..opts.ensemble {
+                    jobs.add(
+                        format!("{}/member-{k}", case_name(a, h, column)),
+                        p.member(0, k).apply(&sc),
+                    )?;
+                }
+            }
             jobs.add(case_name(a, h, column), sc)?;
         }
     }
@@ -158,6 +167,25 @@ fn assemble_row(
         .compliant_grousers
         .then(|| take(Column::Compliant))
         .unzip();
+    // The row's ensemble: member 0 is the asserted run, then the perturbed members.
+    let ensemble = (opts.ensemble >= 2).then(|| {
+        let mut results = vec![with_grousers.result.clone()];
+        for k in 1..opts.ensemble {
+            let name = format!("{}/member-{k}", case_name(a, h, Column::Grousers));
+            let ran = runs.take(&name);
+            results.push(judge(&name, &ran, h / 1000.0).result);
+        }
+        let n = results.len();
+        let s = results.iter().filter(|r| *r == "S").count();
+        let f = results.iter().filter(|r| *r == "F").count();
+        if s == n {
+            format!("S {n}/{n}")
+        } else if f == n {
+            format!("F {n}/{n}")
+        } else {
+            format!("marginal {s}/{n}")
+        }
+    });
 
     let mut plot_runs = Vec::new();
     if let Ok(r) = rg {
@@ -208,6 +236,7 @@ fn assemble_row(
         reality: reality.into(),
         paper: reality.into(),
         passed: with_grousers.result == reality,
+        ensemble,
         with_grousers,
         without_grousers,
         with_grousers_rigid,
