@@ -182,10 +182,7 @@ fn run_ensemble(a: &RunArgs, sc: &tracksim::Scenario, n: usize) -> Result<(), Fa
         .map(|e| check_ensemble(e, &report))
         .unwrap_or_default();
     if a.json {
-        out!(
-            "{}",
-            serde_json::to_string_pretty(&report).expect("report serialises")
-        );
+        out!("{}", report.to_json()?);
     } else if !a.quiet {
         out!("{}", report.text());
         if let Some(e) = &sc.expect.ensemble {
