@@ -1033,10 +1033,7 @@ fn ensemble(
     };
     let report = py
         .detach(|| run_ensemble(&sc, &opts, |_, _| {}))
-        .map_err(|e| match e {
-            tracksim::Error::Invalid { .. } => PyValueError::new_err(e.to_string()),
-            e => py_err(e),
-        })?;
+        .map_err(py_err)?;
     report.to_json().map_err(py_err)
 }
 

@@ -93,8 +93,10 @@ pub fn run_ensemble(
                     }
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let Some(m) = members.get(k) else { return };
-                    match run_member(sc, m, opts.out.as_deref(), opts.replay) {
-                        Ok(r) => {
+                    match run_member(sc, m, opts.out.as_deref(), opts.replay, opts.stop) {
+                        // Stopped from outside mid-run: not a member.
+                        Ok(None) => return,
+                        Ok(Some(r)) => {
                             if let Ok(mut v) = results.lock() {
                                 v[k] = Some(r);
                             }
@@ -134,11 +136,22 @@ pub fn run_ensemble(
     Ok(report)
 }
 
-/// Runs one member to its end (and writes its folder).
-fn run_member(sc: &Scenario, m: &Member, out: Option<&Path>, replay: bool) -> Result<MemberResult> {
+/// Runs one member to its end (and writes its folder); None if `stop` ended it first.
+fn run_member(
+    sc: &Scenario,
+    m: &Member,
+    out: Option<&Path>,
+    replay: bool,
+    stop: Option<&'static AtomicBool>,
+) -> Result<Option<MemberResult>> {
     let msc = m.apply(sc);
     let dir = out.map(|o| o.join(member_dir_name(m.index)));
-    match crate::run::run_scenario(&msc, |_, _| {}) {
+    let opts = crate::run::RunOptions {
+        realtime: false,
+        stop,
+    };
+    match crate::run::run_scenario_with(&msc, opts, |_, _| {}) {
+        Ok(result) if matches!(result.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
         Ok(result) => {
             if let Some(dir) = &dir {
                 let which = crate::output::Outputs {
@@ -148,9 +161,9 @@ fn run_member(sc: &Scenario, m: &Member, out: Option<&Path>, replay: bool) -> Re
                 };
                 crate::output::write_outputs(&msc, &result, dir, which)?;
             }
-            Ok(MemberResult::of_run(*m, sc, &result, dir))
+            Ok(Some(MemberResult::of_run(*m, sc, &result, dir)))
         }
-        Err(e @ Error::Unstable { .. }) => Ok(MemberResult::unstable(*m, sc, &e, dir)),
+        Err(e @ Error::Unstable { .. }) => Ok(Some(MemberResult::unstable(*m, sc, &e, dir))),
         Err(e) => Err(e),
     }
 }

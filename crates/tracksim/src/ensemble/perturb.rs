@@ -80,8 +80,8 @@ impl Perturbations {
         if issues.is_empty() {
             Ok(())
         } else {
-            Err(Error::Invalid {
-                path: Default::default(),
+            Err(Error::Settings {
+                what: "ensemble settings".into(),
                 issues,
             })
         }

@@ -112,9 +112,16 @@ pub fn expect_verdict(sc: &crate::model::Scenario, r: &RunResult) -> Option<Stri
         return Some("not checked: the run was interrupted".into());
     }
     let misses = check_expectations(&sc.expect, r);
-    Some(if misses.is_empty() {
-        "met (the file's [expect] table)".into()
+    let mut words = if misses.is_empty() {
+        "met (the file's [expect] table)".to_string()
     } else {
         format!("MISSED: {}", misses.join("; "))
-    })
+    };
+    if let Some(e) = &sc.expect.ensemble {
+        words += &format!(
+            "; its ensemble bounds need `--ensemble {}` (docs/ENSEMBLE.md)",
+            e.members
+        );
+    }
+    Some(words)
 }
