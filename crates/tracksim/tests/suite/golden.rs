@@ -27,7 +27,9 @@ fn hash_run(file: &std::path::Path, method: &str) -> String {
     sc.method = tracksim::Method::from_name(method).expect("a method name");
     let text = match tracksim::run_scenario(&sc, |_, _| {}) {
         Ok(r) => tracksim::output::trajectory_csv(&r),
-        Err(e) => format!("error: {e}"),
+        // The message names the file by its path: keep only the part inside the checkout, so
+        // the hash does not depend on where the repository was cloned.
+        Err(e) => format!("error: {e}").replace(&format!("{}/", root().display()), ""),
     };
     format!("{:x}", Sha256::digest(text.as_bytes()))
 }
