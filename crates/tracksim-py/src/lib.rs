@@ -471,8 +471,8 @@ fn info_dict<'py>(
     d.set_item("progress_delta_m", i.progress_delta_m)?;
     d.set_item("progress_m", i.progress_m)?;
     d.set_item("effort", i.effort)?;
-    d.set_item("outcome", &i.outcome)?;
-    d.set_item("reason", &i.reason)?;
+    d.set_item("outcome", i.outcome.name())?;
+    d.set_item("reason", i.outcome.reason())?;
     d.set_item("t_s", env.simulation().time())?;
     d.set_item("seed", env.simulation().seed())?;
     d.set_item("randomized", env.randomized().clone())?;
@@ -777,14 +777,14 @@ impl PyVecEnvCore {
             "outcome",
             steps
                 .iter()
-                .map(|s| s.info.outcome.clone())
+                .map(|s| s.info.outcome.name().to_string())
                 .collect::<Vec<_>>(),
         )?;
         d.set_item(
             "reason",
             steps
                 .iter()
-                .map(|s| s.info.reason.clone())
+                .map(|s| s.info.outcome.reason())
                 .collect::<Vec<_>>(),
         )?;
         Ok((PyArray1::from_vec(py, o).reshape([n, self.obs_dim])?, d))

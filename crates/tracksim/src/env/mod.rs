@@ -24,7 +24,7 @@ pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
 
 use crate::error::Result;
 use crate::model::{Controls, Scenario, ScenarioTemplate};
-use crate::run::{End, Outcome, Runner};
+use crate::run::{End, Outcome, Runner, time_reached};
 use crate::world::{PoseRpy, Simulation};
 use glam::{DQuat, DVec3, EulerRot};
 use std::collections::BTreeMap;
@@ -44,10 +44,50 @@ pub struct StepInfo {
     pub terminated: bool,
     /// The scenario's duration ran out undecided.
     pub truncated: bool,
-    /// "success", "failure", "completed", "timeout", "unstable", or "" while running.
-    pub outcome: String,
+    /// How the episode stands after the period.
+    pub outcome: EpisodeOutcome,
+}
+
+/// How an episode stands after a control period.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum EpisodeOutcome {
+    /// Still running.
+    #[default]
+    Running,
+    /// The scenario's outcome was decided (success, failure, tip-over): terminated.
+    Decided(Outcome),
+    /// The scenario's duration ran out undecided: truncated. The outcome at the end: a
+    /// timeout failure if it had a success condition, else completed.
+    TimeUp(Outcome),
+    /// The simulation went unstable (the error's message): terminated.
+    Unstable(String),
+    /// The episode had already ended before this step (call reset).
+    AlreadyEnded,
+}
+
+impl EpisodeOutcome {
+    /// "success", "failure", "completed", "timeout" (time up with a success condition),
+    /// "unstable", "ended" (already ended), or "" while running.
+    pub fn name(&self) -> &'static str {
+        match self {
+            EpisodeOutcome::Running => "",
+            EpisodeOutcome::Decided(o) => o.name(),
+            EpisodeOutcome::TimeUp(Outcome::Failure(_)) => "timeout",
+            EpisodeOutcome::TimeUp(o) => o.name(),
+            EpisodeOutcome::Unstable(_) => "unstable",
+            EpisodeOutcome::AlreadyEnded => "ended",
+        }
+    }
+
     /// Why, in words ("" while running).
-    pub reason: String,
+    pub fn reason(&self) -> String {
+        match self {
+            EpisodeOutcome::Running => String::new(),
+            EpisodeOutcome::Decided(o) | EpisodeOutcome::TimeUp(o) => o.reason(),
+            EpisodeOutcome::Unstable(e) => e.clone(),
+            EpisodeOutcome::AlreadyEnded => "the episode had already ended; call reset".into(),
+        }
+    }
 }
 
 /// One simulation of a scenario template driven one control period per action.
@@ -425,8 +465,7 @@ impl Env {
         };
         if self.done {
             info.terminated = true;
-            info.outcome = "ended".into();
-            info.reason = "the episode had already ended; call reset".into();
+            info.outcome = EpisodeOutcome::AlreadyEnded;
             return info;
         }
         let mut controls = std::mem::take(&mut self.controls);
@@ -457,8 +496,7 @@ impl Env {
             if let Err(e) = self.runner.step() {
                 self.done = true;
                 info.terminated = true;
-                info.outcome = "unstable".into();
-                info.reason = e.to_string();
+                info.outcome = EpisodeOutcome::Unstable(e.to_string());
                 return info;
             }
         }
@@ -474,23 +512,16 @@ impl Env {
         // Decided at every output interval of the period and at its end (the runner's check).
         self.runner.decide();
         let (t, dt) = (self.runner.time(), self.runner.sim().dt());
-        let end = match self.runner.decided() {
-            Some((o, _)) => Some((o.clone(), true)),
-            None if t >= self.scenario.duration - 0.5 * dt => {
-                Some((self.runner.outcome(&End::Reached).0, false))
+        info.outcome = match self.runner.decided() {
+            Some((o, _)) => EpisodeOutcome::Decided(o.clone()),
+            None if time_reached(t, self.scenario.duration, dt) => {
+                EpisodeOutcome::TimeUp(self.runner.outcome(&End::Reached).0)
             }
-            None => None,
+            None => EpisodeOutcome::Running,
         };
-        if let Some((o, decided)) = end {
-            self.done = true;
-            info.terminated = decided;
-            info.truncated = !decided;
-            info.outcome = match (&o, decided) {
-                (Outcome::Failure(_), false) => "timeout".into(),
-                _ => o.name().into(),
-            };
-            info.reason = o.reason();
-        }
+        info.terminated = matches!(info.outcome, EpisodeOutcome::Decided(_));
+        info.truncated = matches!(info.outcome, EpisodeOutcome::TimeUp(_));
+        self.done = info.terminated || info.truncated;
         info
     }
 }

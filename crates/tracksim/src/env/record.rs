@@ -21,7 +21,7 @@
 
 use crate::error::Result;
 use crate::model::Scenario;
-use crate::run::{End, Runner};
+use crate::run::{CommandLog, End, LogHeader, Runner};
 use crate::spec::{CommandSpec, PerTrack};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -34,7 +34,7 @@ pub(super) struct EpisodeRecord {
     /// The episode's index among the environment's recorded episodes.
     pub episode: u64,
     /// The control changes, in time order.
-    pub commands: Vec<CommandSpec>,
+    pub log: CommandLog,
 }
 
 /// The drive part of a recorded command.
@@ -51,7 +51,7 @@ impl EpisodeRecord {
         EpisodeRecord {
             dir,
             episode,
-            commands: Vec::new(),
+            log: CommandLog::new(),
         }
     }
 
@@ -84,16 +84,7 @@ impl EpisodeRecord {
                 c.belt_speed_mps = Some(PerTrack::ByName(by));
             }
         }
-        if let Some(last) = self.commands.last() {
-            let same = last.forward_mps == c.forward_mps
-                && last.yaw_rate_rad_s == c.yaw_rate_rad_s
-                && last.flipper_angle_deg == c.flipper_angle_deg
-                && belts_of(last) == belts_of(&c);
-            if same {
-                return;
-            }
-        }
-        self.commands.push(c);
+        self.log.push(c);
     }
 
     /// The episode's folder.
@@ -128,55 +119,28 @@ impl EpisodeRecord {
         };
         crate::output::write_outputs(sc, &result, &dir, which)?;
         let duration = result.samples.last().map_or(0.0, |s| s.t);
-        let text = self.commands_toml(sc, file, &dir.join("commands.toml"), seed, duration);
-        crate::files::write_atomic(&dir.join("commands.toml"), text.as_bytes())?;
-        Ok(Some(dir))
-    }
-
-    /// `commands.toml`: the controls as `[[commands]]`, with the command that replays them.
-    fn commands_toml(
-        &self,
-        sc: &Scenario,
-        file: &Path,
-        commands_file: &Path,
-        seed: u64,
-        duration: f64,
-    ) -> String {
-        #[derive(serde::Serialize)]
-        struct File<'a> {
-            commands: &'a [CommandSpec],
-        }
-        let body = toml::to_string(&File {
-            commands: &self.commands,
-        })
-        .expect("commands serialise");
-        let drawn = if sc.randomized.is_empty() {
-            String::new()
+        let what = format!("The controls of a learning environment's episode (seed {seed})");
+        let notes = if sc.randomized.is_empty() {
+            Vec::new()
         } else {
-            format!(
-                "# The episode's [randomize] values (seed {seed}): {}; the replay runs the \
-                 file's\n# simulation.seed, the same scenario only if that is {seed}.\n",
-                sc.randomized
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {v}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
+            vec![
+                format!(
+                    "The episode's [randomize] values (seed {seed}): {}; the replay runs the \
+                     file's",
+                    sc.randomized
+                        .iter()
+                        .map(|(k, v)| format!("{k} = {v}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+                format!("simulation.seed, the same scenario only if that is {seed}."),
+            ]
         };
-        format!(
-            "# The controls of a learning environment's episode (seed {seed}), applied at these\n\
-             # simulated times. This run reproduces the episode's trajectory.csv:\n\
-             #   tracksim run {} --commands {} --duration {duration}\n{drawn}{body}",
-            file.display(),
-            commands_file.display(),
-        )
-    }
-}
-
-/// The belt speeds of a command, for comparing two.
-fn belts_of(c: &CommandSpec) -> Option<&BTreeMap<String, f64>> {
-    match &c.belt_speed_mps {
-        Some(PerTrack::ByName(m)) => Some(m),
-        _ => None,
+        let header = LogHeader {
+            what: &what,
+            notes: &notes,
+        };
+        self.log.write(header, file, &dir, duration)?;
+        Ok(Some(dir))
     }
 }

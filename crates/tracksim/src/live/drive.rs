@@ -12,8 +12,10 @@ use super::hub::{DriveControl, Hub};
 use super::hud_feed::HudFeed;
 use super::sensor_feed::SensorFeed;
 use crate::error::Result;
-use crate::model::{Controls, Scenario};
-use crate::run::{End, Outcome, RunResult, Runner};
+use crate::model::Scenario;
+use crate::run::{
+    CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, Runner, SessionLimits,
+};
 use crate::spec::CommandSpec;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -53,8 +55,9 @@ impl Default for DriveOptions {
 pub struct Session {
     /// The run (since the last reset), as `tracksim run` returns it.
     pub result: RunResult,
-    /// Each control change with the simulated time it was applied at, s.
-    pub commands: Vec<(f64, DriveControl)>,
+    /// Each control change, as a scenario's `[[commands]]` entry at the simulated time it
+    /// was applied.
+    pub log: CommandLog,
     /// The controls in force at each sample of `result.samples`.
     pub controls: Vec<DriveControl>,
     /// Flipper names, by index.
@@ -63,16 +66,22 @@ pub struct Session {
     pub flipper_initial_deg: Vec<f64>,
 }
 
-/// The controls of a page's control: the same conversion as a scenario's command
-/// (`model::compile_scenario`: skid-steer twist, degrees to radians).
-fn to_controls(sc: &Scenario, c: &DriveControl) -> Controls {
-    let mut controls = Controls::twist(&sc.vehicle, c.forward_mps, c.yaw_rate_rad_s);
-    for (slot, a) in controls.flipper_angle.iter_mut().zip(&c.flipper_angle_deg) {
-        if let Some(a) = a {
-            *slot = Some(a.to_radians());
-        }
+/// A page's control as a scenario's command entry at `t` s (skid-steer twist, flipper
+/// targets in degrees by name): applied and recorded as such.
+fn to_command(sc: &Scenario, t: f64, c: &DriveControl) -> CommandSpec {
+    CommandSpec {
+        t_s: t,
+        forward_mps: Some(c.forward_mps),
+        yaw_rate_rad_s: Some(c.yaw_rate_rad_s),
+        flipper_angle_deg: sc
+            .vehicle
+            .flippers
+            .iter()
+            .zip(&c.flipper_angle_deg)
+            .filter_map(|(f, a)| a.map(|a| (f.name.clone(), a)))
+            .collect(),
+        ..CommandSpec::default()
     }
-    controls
 }
 
 /// Mean forward speed of the body over the last 0.1 s of samples (along its heading), m/s.
@@ -183,96 +192,123 @@ pub(super) fn state_json(
     state.to_string()
 }
 
+/// The page as a session's control source: its controls, reset and stop, and the states it
+/// is sent.
+struct PageSource<'a> {
+    hub: &'a Hub,
+    speed: f64,
+    idle: DriveControl,
+    current: DriveControl,
+    /// The controls in force at each sample.
+    controls: Vec<DriveControl>,
+    last_publish: Option<Instant>,
+    feeds: Feeds,
+}
+
+impl ControlSource for PageSource<'_> {
+    fn end(&mut self, _runner: &Runner) -> Option<End> {
+        if self.hub.stop_requested() {
+            Some(End::ByOperator)
+        } else if self.hub.abandoned() {
+            Some(End::Abandoned(self.hub.grace_s()))
+        } else {
+            None
+        }
+    }
+
+    fn reset(&mut self) -> bool {
+        if !self.hub.take_reset() {
+            return false;
+        }
+        self.current = self.idle.clone();
+        self.controls = vec![self.current.clone()];
+        self.feeds.hud.reset();
+        self.feeds.rut_seq = 0;
+        self.hub.clear_ruts();
+        true
+    }
+
+    fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
+        // Without a driver (its page dropped, or none yet) the robot stops, as a dead-man
+        // would; the flippers hold their targets.
+        let wanted = if self.hub.driver_status().connected {
+            self.hub.take_control()
+        } else {
+            Some(DriveControl {
+                forward_mps: 0.0,
+                yaw_rate_rad_s: 0.0,
+                ..self.current.clone()
+            })
+        };
+        let c = wanted.filter(|c| *c != self.current)?;
+        self.current = c;
+        Some(to_command(runner.scenario(), runner.time(), &self.current))
+    }
+
+    fn after_step(&mut self, runner: &Runner) {
+        if self
+            .last_publish
+            .is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S)
+        {
+            self.last_publish = Some(Instant::now());
+            self.hub.publish(state_json(
+                runner,
+                &self.current,
+                (self.speed, self.hub),
+                None,
+                &mut self.feeds,
+            ));
+        }
+    }
+
+    fn after_sample(&mut self, _runner: &Runner) {
+        self.controls.push(self.current.clone());
+    }
+}
+
 /// Runs a session until the hub is asked to stop (or `opts.max_time`): a [`Runner`] paced to
 /// the wall clock at `opts.speed`, without the file's commands, controls from the hub applied
-/// at sample boundaries, the state published at most every [`PUBLISH_INTERVAL_S`]. Never waits
-/// for a client. A session the operator ends has the outcome "ended_by_operator" (with the
-/// scenario's outcome if it was decided); one that reaches `opts.max_time` the scenario's.
+/// at sample boundaries (the session loop, [`crate::run::session`]), the state published at
+/// most every [`PUBLISH_INTERVAL_S`]. Never waits for a client. A session the operator ends
+/// has the outcome "ended_by_operator" (with the scenario's outcome if it was decided); one
+/// that reaches `opts.max_time` the scenario's.
 pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Session> {
     let idle = DriveControl {
         flipper_angle_deg: vec![None; sc.vehicle.flippers.len()],
         ..DriveControl::default()
     };
-    let mut current = idle.clone();
     while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
         std::thread::sleep(Duration::from_millis(10));
     }
-    let mut runner = Runner::new(sc)?
+    let runner = Runner::new(sc)?
         .without_commands()
         .unbounded()
         .paced(opts.speed);
-    let dt = sc.solver.dt;
-    let mut controls = vec![current.clone()];
-    let mut commands = Vec::new();
-    let mut last_publish: Option<Instant> = None;
-    let mut feeds = Feeds::default();
-    let end = loop {
-        // A sample boundary: stop, reset and control changes happen only here.
-        if opts
-            .interrupt
-            .is_some_and(|i| i.load(std::sync::atomic::Ordering::SeqCst))
-        {
-            break End::Interrupted;
-        }
-        if hub.stop_requested() {
-            break End::ByOperator;
-        }
-        if opts.max_time.is_some_and(|m| runner.time() >= m - 0.5 * dt) {
-            break End::Reached;
-        }
-        if hub.abandoned() {
-            break End::Abandoned(hub.grace_s());
-        }
-        if hub.take_reset() {
-            runner.reset(None)?;
-            current = idle.clone();
-            controls = vec![current.clone()];
-            commands.clear();
-            feeds.hud.reset();
-            feeds.rut_seq = 0;
-            hub.clear_ruts();
-        }
-        // Without a driver (its page dropped, or none yet) the robot stops, as a dead-man
-        // would; the flippers hold their targets.
-        let wanted = if hub.driver_status().connected {
-            hub.take_control()
-        } else {
-            Some(DriveControl {
-                forward_mps: 0.0,
-                yaw_rate_rad_s: 0.0,
-                ..current.clone()
-            })
-        };
-        if let Some(c) = wanted
-            && c != current
-        {
-            runner.apply(&to_controls(sc, &c));
-            commands.push((runner.time(), c.clone()));
-            current = c;
-        }
-        loop {
-            runner.step()?;
-            if last_publish.is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S) {
-                last_publish = Some(Instant::now());
-                hub.publish(state_json(
-                    &runner,
-                    &current,
-                    (opts.speed, hub),
-                    None,
-                    &mut feeds,
-                ));
-            }
-            if runner.at_sample() {
-                break;
-            }
-        }
-        controls.push(current.clone());
+    let mut page = PageSource {
+        hub,
+        speed: opts.speed,
+        current: idle.clone(),
+        controls: vec![idle.clone()],
+        idle,
+        last_publish: None,
+        feeds: Feeds::default(),
     };
-    let result = runner_result(runner, end, (opts.speed, hub), &current, &mut feeds);
+    let limits = SessionLimits {
+        max_time: opts.max_time,
+        interrupt: opts.interrupt,
+    };
+    let run = crate::run::run_session(runner, &mut page, limits)?;
+    let result = runner_result(
+        run.runner,
+        run.end,
+        (opts.speed, hub),
+        &page.current,
+        &mut page.feeds,
+    );
     Ok(Session {
         result,
-        commands,
-        controls,
+        log: run.log,
+        controls: page.controls,
         flipper_names: sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect(),
         flipper_initial_deg: sc
             .vehicle
@@ -308,39 +344,9 @@ impl Session {
         self.result.samples.last().map_or(0.0, |s| s.t)
     }
 
-    /// `commands.toml` (to be written at `commands_file`): the control changes as a
-    /// scenario's `[[commands]]`.
-    pub fn commands_toml(&self, scenario_file: &Path, commands_file: &Path) -> String {
-        #[derive(serde::Serialize)]
-        struct File {
-            commands: Vec<CommandSpec>,
-        }
-        let commands = self
-            .commands
-            .iter()
-            .map(|(t, c)| CommandSpec {
-                t_s: *t,
-                forward_mps: Some(c.forward_mps),
-                yaw_rate_rad_s: Some(c.yaw_rate_rad_s),
-                flipper_angle_deg: self
-                    .flipper_names
-                    .iter()
-                    .zip(&c.flipper_angle_deg)
-                    .filter_map(|(n, a)| a.map(|a| (n.clone(), a)))
-                    .collect(),
-                ..CommandSpec::default()
-            })
-            .collect();
-        let body = toml::to_string(&File { commands }).expect("commands serialise");
-        format!(
-            "# The operator's controls of a `tracksim drive` session, applied at these simulated\n\
-             # times. This run reproduces the session's trajectory.csv:\n\
-             #   tracksim run {} --commands {} --duration {}\n{body}",
-            scenario_file.display(),
-            commands_file.display(),
-            self.duration()
-        )
-    }
+    /// What `commands.toml` says the controls were.
+    pub const COMMANDS_HEADER: &'static str =
+        "The operator's controls of a `tracksim drive` session";
 
     /// `controls.csv`: the controls in force at each sample (`t_s`, m/s, rad/s, flipper
     /// targets in degrees).
@@ -382,17 +388,17 @@ impl Session {
             mcap: false,
         };
         let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
-        for (name, text) in [
-            (
-                "commands.toml",
-                self.commands_toml(scenario_file, &dir.join("commands.toml")),
-            ),
-            ("controls.csv", self.controls_csv()),
-        ] {
-            let p = dir.join(name);
-            crate::files::write_atomic(&p, text.as_bytes())?;
-            written.push(p);
-        }
+        let header = LogHeader {
+            what: Self::COMMANDS_HEADER,
+            notes: &[],
+        };
+        written.push(
+            self.log
+                .write(header, scenario_file, dir, self.duration())?,
+        );
+        let p = dir.join("controls.csv");
+        crate::files::write_atomic(&p, self.controls_csv().as_bytes())?;
+        written.push(p);
         Ok(written)
     }
 }

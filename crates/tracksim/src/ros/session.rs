@@ -17,12 +17,12 @@ use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
 use crate::output::mcap::{encoder_model, encoder_odometry, track_states, true_odometry};
-use crate::run::{End, RunResult, Runner};
+use crate::run::{CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits};
 use crate::spec::{CommandSpec, PerTrack};
 use crate::world::Sample;
 use ros2_client::log::LogLevel;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 /// Options of a session.
 #[derive(Clone, Debug, Default)]
@@ -48,9 +48,9 @@ pub struct RosOptions {
 pub struct RosSession {
     /// The run, as `tracksim run` returns it.
     pub result: RunResult,
-    /// Each change of the controls: simulated time s, belt speeds m/s by track, flipper
-    /// targets rad by flipper (`None`: not commanded).
-    pub commands: Vec<(f64, Vec<f64>, Vec<Option<f64>>)>,
+    /// Each change of the controls, as a scenario's `[[commands]]` entry at the simulated
+    /// time it was applied (belt speeds by track name, flipper targets in degrees).
+    pub log: CommandLog,
     /// Commands taken in.
     pub received: u64,
     /// Problems found in received messages (each dropped or clamped, see
@@ -58,8 +58,6 @@ pub struct RosSession {
     pub problems: u64,
     /// Times the watchdog stopped the robot.
     pub watchdog_stops: u64,
-    track_names: Vec<String>,
-    flipper_names: Vec<String>,
 }
 
 /// Reports a warning on `/rosout` and through `warn` (standard error for the CLI).
@@ -154,52 +152,99 @@ fn dds_error(e: String) -> Error {
     }
 }
 
-/// What the session counts and records besides the run.
+/// What the session counts besides the run.
 #[derive(Default)]
-struct Record {
-    commands: Vec<(f64, Vec<f64>, Vec<Option<f64>>)>,
+struct Counts {
     received: u64,
     problems: u64,
     watchdog_stops: u64,
 }
 
-/// A sample boundary's command handling at simulated time `t` s: receive, sanitise, take in,
-/// watchdog; the controls to apply if they changed (recorded).
-fn take_commands(
-    sc: &Scenario,
-    subs: &Subscriptions,
-    state: &mut CommandState,
-    rep: &mut Reporter,
-    rec: &mut Record,
-    t: f64,
-) -> Option<crate::model::Controls> {
-    let mut problems = Vec::new();
-    for c in receive(subs, &sc.vehicle, &mut problems) {
-        state.take(&sc.vehicle, &c, t);
-        rec.received += 1;
+/// ROS 2 topics as a session's control source: commands received, sanitised and taken in at
+/// every sample boundary, the watchdog applied; the sensors published after every step and
+/// the state at every sample.
+struct TopicSource<'a, 'w> {
+    sc: &'a Scenario,
+    subs: Subscriptions,
+    state: CommandState,
+    rep: Reporter<'w>,
+    counts: Counts,
+    publisher: SamplePublisher,
+    sensors: SensorPublishers,
+}
+
+impl TopicSource<'_, '_> {
+    /// The controls in force as a command entry at `t` s: every belt speed by track name,
+    /// the commanded flipper targets in degrees.
+    fn command(&self, t: f64) -> CommandSpec {
+        let v = &self.sc.vehicle;
+        CommandSpec {
+            t_s: t,
+            belt_speed_mps: Some(PerTrack::ByName(
+                v.tracks
+                    .iter()
+                    .map(|tr| tr.name.clone())
+                    .zip(self.state.belt_speeds())
+                    .collect(),
+            )),
+            flipper_angle_deg: v
+                .flippers
+                .iter()
+                .zip(self.state.flipper_targets())
+                .filter_map(|(f, a)| a.map(|a| (f.name.clone(), a.to_degrees())))
+                .collect(),
+            ..CommandSpec::default()
+        }
     }
-    rec.problems += problems.len() as u64;
-    rep.problems(t, &problems);
-    let stopped = state.watchdog(t);
-    if !stopped.is_empty() {
-        rec.watchdog_stops += 1;
-        let names: Vec<&str> = stopped
-            .iter()
-            .map(|&i| sc.vehicle.tracks[i].name.as_str())
-            .collect();
-        rep.say(
-            LogLevel::Info,
-            t,
-            &format!(
-                "watchdog: no speed command for {WATCHDOG_TIMEOUT_S} s; stopping track(s) {}",
-                names.join(", ")
-            ),
-        );
+}
+
+impl ControlSource for TopicSource<'_, '_> {
+    fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
+        let (sc, t) = (self.sc, runner.time());
+        let mut problems = Vec::new();
+        for c in receive(&self.subs, &sc.vehicle, &mut problems) {
+            self.state.take(&sc.vehicle, &c, t);
+            self.counts.received += 1;
+        }
+        self.counts.problems += problems.len() as u64;
+        self.rep.problems(t, &problems);
+        let stopped = self.state.watchdog(t);
+        if !stopped.is_empty() {
+            self.counts.watchdog_stops += 1;
+            let names: Vec<&str> = stopped
+                .iter()
+                .map(|&i| sc.vehicle.tracks[i].name.as_str())
+                .collect();
+            self.rep.say(
+                LogLevel::Info,
+                t,
+                &format!(
+                    "watchdog: no speed command for {WATCHDOG_TIMEOUT_S} s; stopping track(s) {}",
+                    names.join(", ")
+                ),
+            );
+        }
+        self.state.changed_controls(&sc.vehicle)?;
+        Some(self.command(t))
     }
-    let c = state.changed_controls(&sc.vehicle)?;
-    rec.commands
-        .push((t, state.belt_speeds(), state.flipper_targets().to_vec()));
-    Some(c)
+
+    fn after_step(&mut self, runner: &Runner) {
+        let now = runner.time();
+        let rep = &mut self.rep;
+        self.sensors
+            .publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, now, e));
+    }
+
+    fn after_sample(&mut self, runner: &Runner) {
+        let samples = runner.samples();
+        if let Some(s) = samples.last() {
+            self.publisher.publish(
+                self.sc,
+                s,
+                samples.len().checked_sub(2).map(|k| &samples[k]),
+            );
+        }
+    }
 }
 
 /// Runs a session of `sc` as the ROS 2 node `/tracksim` until `opts.max_time` or the
@@ -215,7 +260,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         pubs,
         encoders: encoder_model(sc),
         joint_names: messages::joint_names(sc),
-        track_names: track_names.clone(),
+        track_names,
         map_tf: opts.map_tf,
     };
     let mut sensors = SensorPublishers::new(&mut node, sc).map_err(dds_error)?;
@@ -236,41 +281,26 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         publisher.publish(sc, s, None);
     }
     sensors.publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, 0.0, e));
-    let mut state = CommandState::new(&sc.vehicle);
-    let mut rec = Record::default();
-    let dt = sc.solver.dt;
-    let end = loop {
-        if opts.interrupt.is_some_and(|i| i.load(Ordering::SeqCst)) {
-            break End::Interrupted;
-        }
-        if opts.max_time.is_some_and(|m| runner.time() >= m - 0.5 * dt) {
-            break End::Reached;
-        }
-        let t = runner.time();
-        if let Some(c) = take_commands(sc, &subs, &mut state, &mut rep, &mut rec, t) {
-            runner.apply(&c);
-        }
-        loop {
-            runner.step()?;
-            let now = runner.time();
-            sensors.publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, now, e));
-            if runner.at_sample() {
-                break;
-            }
-        }
-        let samples = runner.samples();
-        if let Some(s) = samples.last() {
-            publisher.publish(sc, s, samples.len().checked_sub(2).map(|k| &samples[k]));
-        }
+    let mut topics = TopicSource {
+        sc,
+        subs,
+        state: CommandState::new(&sc.vehicle),
+        rep,
+        counts: Counts::default(),
+        publisher,
+        sensors,
     };
+    let limits = SessionLimits {
+        max_time: opts.max_time,
+        interrupt: opts.interrupt,
+    };
+    let run = crate::run::run_session(runner, &mut topics, limits)?;
     Ok(RosSession {
-        result: runner.finish(end),
-        commands: rec.commands,
-        received: rec.received,
-        problems: rec.problems,
-        watchdog_stops: rec.watchdog_stops,
-        track_names,
-        flipper_names,
+        result: run.runner.finish(run.end),
+        log: run.log,
+        received: topics.counts.received,
+        problems: topics.counts.problems,
+        watchdog_stops: topics.counts.watchdog_stops,
     })
 }
 
@@ -280,44 +310,8 @@ impl RosSession {
         self.result.samples.last().map_or(0.0, |s| s.t)
     }
 
-    /// `commands.toml`: the control changes as a scenario's `[[commands]]` (belt speeds by
-    /// track name, flipper targets in degrees).
-    pub fn commands_toml(&self, scenario_file: &Path, commands_file: &Path) -> String {
-        #[derive(serde::Serialize)]
-        struct File {
-            commands: Vec<CommandSpec>,
-        }
-        let commands = self
-            .commands
-            .iter()
-            .map(|(t, belts, flippers)| CommandSpec {
-                t_s: *t,
-                belt_speed_mps: Some(PerTrack::ByName(
-                    self.track_names
-                        .iter()
-                        .cloned()
-                        .zip(belts.clone())
-                        .collect(),
-                )),
-                flipper_angle_deg: self
-                    .flipper_names
-                    .iter()
-                    .zip(flippers)
-                    .filter_map(|(n, a)| a.map(|a| (n.clone(), a.to_degrees())))
-                    .collect(),
-                ..CommandSpec::default()
-            })
-            .collect();
-        let body = toml::to_string(&File { commands }).expect("commands serialise");
-        format!(
-            "# The commands a `tracksim ros` session received, as applied at these simulated\n\
-             # times. This run reproduces the session's trajectory.csv:\n\
-             #   tracksim run {} --commands {} --duration {}\n{body}",
-            scenario_file.display(),
-            commands_file.display(),
-            self.duration()
-        )
-    }
+    /// What `commands.toml` says the controls were.
+    pub const COMMANDS_HEADER: &'static str = "The commands a `tracksim ros` session received";
 
     /// Writes everything `tracksim run` writes (plots unless `plots` is false, `run.mcap` if
     /// `mcap`) and `commands.toml` into `dir`; returns the paths.
@@ -335,10 +329,14 @@ impl RosSession {
             mcap,
         };
         let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
-        let p = dir.join("commands.toml");
-        let text = self.commands_toml(scenario_file, &p);
-        crate::files::write_atomic(&p, text.as_bytes())?;
-        written.push(p);
+        let header = LogHeader {
+            what: Self::COMMANDS_HEADER,
+            notes: &[],
+        };
+        written.push(
+            self.log
+                .write(header, scenario_file, dir, self.duration())?,
+        );
         Ok(written)
     }
 }

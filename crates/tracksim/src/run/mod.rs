@@ -5,6 +5,10 @@
 //! - [`runner`]: the one run loop ([`Runner`]) that every way of running steps;
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
+//! - [`session`]: the session loop of a runner whose controls come from outside (a page, ROS
+//!   topics), with one end rule;
+//! - [`command_log`]: the controls a session or an episode gave ([`CommandLog`]) and the one
+//!   writer of `commands.toml`;
 //! - [`outcome`]: success and failure conditions;
 //! - [`course`]: a `[course]` scored at every sample ([`CourseTracker`], [`CourseScore`]);
 //! - [`expect`]: a run checked against its scenario's `[expect]` table;
@@ -15,6 +19,7 @@
 //! - [`soil_summary`]: sinkage, soil thrust and the rut grid's memory of a run on soil;
 //! - [`turn_summary`]: commanded against achieved turns.
 
+pub mod command_log;
 pub mod course;
 pub mod drawbar_summary;
 pub mod events;
@@ -22,12 +27,14 @@ pub mod expect;
 pub mod outcome;
 pub mod runner;
 pub mod scripted;
+pub mod session;
 pub mod soil_summary;
 pub mod summary;
 pub mod timeline;
 pub mod track_summary;
 pub mod turn_summary;
 
+pub use command_log::{CommandLog, LogHeader};
 pub use course::{
     CourseEvent, CourseScore, CourseTracker, FaultCounts, MAX_COURSE_EVENTS, ScoreSummary,
 };
@@ -36,6 +43,7 @@ pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner};
 pub use scripted::Scripted;
+pub use session::{ControlSource, SessionLimits, SessionRun, run_session, time_reached};
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
 pub use timeline::Timeline;

@@ -303,7 +303,7 @@ fn default_iterations() -> usize {
 }
 
 /// Per-track values: one number for every track, or a table by track name.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(
     untagged,
     expecting = "a number (the same for every track) or a table of track name = number"
@@ -316,7 +316,7 @@ pub enum PerTrack {
 }
 
 /// A drive command that starts at `t_s` and holds until the next one.
-#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct CommandSpec {
     /// Start time, s.

@@ -123,7 +123,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
     assert!(drift.abs() < 0.02, "moved {drift} m in 0.5 s after stop");
     ws.send(Message::text(r#"{"type":"stop"}"#)).unwrap();
     let s = session.join().unwrap().unwrap();
-    assert_eq!(s.commands.len(), 2, "forward then stop: {:?}", s.commands);
+    assert_eq!(s.log.len(), 2, "forward then stop: {:?}", s.log);
     assert_eq!(s.controls.len(), s.result.samples.len());
 
     // The session is a run: written like one, and replayed by its commands.toml.
@@ -209,9 +209,9 @@ fn reset_restarts_the_session() {
     let s = session.join().unwrap().unwrap();
     assert!(s.result.samples[0].t == 0.0);
     assert!(
-        s.commands.is_empty(),
+        s.log.is_empty(),
         "the reset cleared the commands: {:?}",
-        s.commands
+        s.log
     );
 }
 
@@ -592,8 +592,13 @@ fn a_dropped_driver_reconnects_within_the_grace() {
         s.result.outcome.reason()
     );
     // Commands: forward, the dead-man stop, forward again, the final dead-man stop.
-    let forward: Vec<f64> = s.commands.iter().map(|(_, c)| c.forward_mps).collect();
-    assert_eq!(forward, vec![0.3, 0.0, 0.3, 0.0], "{:?}", s.commands);
+    let forward: Vec<f64> = s
+        .log
+        .commands()
+        .iter()
+        .filter_map(|c| c.forward_mps)
+        .collect();
+    assert_eq!(forward, vec![0.3, 0.0, 0.3, 0.0], "{:?}", s.log);
     // The session replays as a run.
     let dir = tempfile_dir("reconnect");
     s.write(&sc, &file, &dir, false).unwrap();

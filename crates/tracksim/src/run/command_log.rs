@@ -1,0 +1,187 @@
+//! The controls a session gave, as a scenario's `[[commands]]` ([`CommandLog`]): one log and
+//! one writer of `commands.toml` for every front end that takes controls from outside (a
+//! `drive` page, ROS 2 topics, a learning environment's actions).
+//!
+//! Each entry is a [`CommandSpec`] in the units a scenario's command takes (m/s, rad/s,
+//! degrees), applied at its `t_s` through the same compilation as a file's commands
+//! ([`crate::model::compile_commands`]); `tracksim run FILE --commands DIR/commands.toml
+//! --duration T` therefore replays the session's `trajectory.csv` byte for byte.
+
+use crate::error::Result;
+use crate::spec::CommandSpec;
+use std::path::{Path, PathBuf};
+
+/// The control changes of a session, in time order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CommandLog {
+    commands: Vec<CommandSpec>,
+}
+
+/// The header of a `commands.toml`: what the controls were (`what`, one line, e.g. "The
+/// operator's controls of a `tracksim drive` session") and any further comment lines
+/// (`notes`, each without its `#`).
+#[derive(Clone, Copy, Debug)]
+pub struct LogHeader<'a> {
+    /// What the controls were, one line.
+    pub what: &'a str,
+    /// Further comment lines.
+    pub notes: &'a [String],
+}
+
+impl CommandLog {
+    /// An empty log.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Records `c` unless it says the same as the last entry (apart from its time); returns
+    /// whether it was recorded.
+    pub fn push(&mut self, c: CommandSpec) -> bool {
+        if let Some(last) = self.commands.last()
+            && same_controls(last, &c)
+        {
+            return false;
+        }
+        self.commands.push(c);
+        true
+    }
+
+    /// The entries, in time order.
+    pub fn commands(&self) -> &[CommandSpec] {
+        &self.commands
+    }
+
+    /// Number of entries.
+    pub fn len(&self) -> usize {
+        self.commands.len()
+    }
+
+    /// Whether nothing was recorded.
+    pub fn is_empty(&self) -> bool {
+        self.commands.is_empty()
+    }
+
+    /// Forgets every entry (a session that starts again).
+    pub fn clear(&mut self) {
+        self.commands.clear();
+    }
+
+    /// `commands.toml` (to be written at `commands_file`): the header, the command that replays
+    /// the run of `scenario_file` for `duration_s` s, then the entries as `[[commands]]`.
+    pub fn to_toml(
+        &self,
+        header: LogHeader,
+        scenario_file: &Path,
+        commands_file: &Path,
+        duration_s: f64,
+    ) -> String {
+        #[derive(serde::Serialize)]
+        struct File<'a> {
+            commands: &'a [CommandSpec],
+        }
+        let body = toml::to_string(&File {
+            commands: &self.commands,
+        })
+        .expect("commands serialise");
+        let mut text = format!(
+            "# {}, applied at these simulated times.\n\
+             # This run reproduces its trajectory.csv:\n\
+             #   tracksim run {} --commands {} --duration {duration_s}\n",
+            header.what,
+            scenario_file.display(),
+            commands_file.display(),
+        );
+        for n in header.notes {
+            text.push_str(&format!("# {n}\n"));
+        }
+        text.push_str(&body);
+        text
+    }
+
+    /// Writes `commands.toml` into `dir` (see [`CommandLog::to_toml`]); returns its path.
+    pub fn write(
+        &self,
+        header: LogHeader,
+        scenario_file: &Path,
+        dir: &Path,
+        duration_s: f64,
+    ) -> Result<PathBuf> {
+        let p = dir.join("commands.toml");
+        let text = self.to_toml(header, scenario_file, &p, duration_s);
+        crate::files::write_atomic(&p, text.as_bytes())?;
+        Ok(p)
+    }
+}
+
+/// Whether two entries give the same controls (their times aside).
+fn same_controls(a: &CommandSpec, b: &CommandSpec) -> bool {
+    CommandSpec {
+        t_s: b.t_s,
+        ..a.clone()
+    } == *b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spec::PerTrack;
+
+    fn twist(t: f64, v: f64) -> CommandSpec {
+        CommandSpec {
+            t_s: t,
+            forward_mps: Some(v),
+            yaw_rate_rad_s: Some(0.0),
+            ..CommandSpec::default()
+        }
+    }
+
+    #[test]
+    fn a_repeated_control_is_recorded_once() {
+        let mut log = CommandLog::new();
+        assert!(log.push(twist(0.0, 0.3)));
+        assert!(!log.push(twist(0.5, 0.3)));
+        assert!(log.push(twist(1.0, 0.0)));
+        let belts = CommandSpec {
+            t_s: 1.5,
+            belt_speed_mps: Some(PerTrack::ByName(
+                [("left".to_string(), 0.0), ("right".to_string(), 0.0)].into(),
+            )),
+            ..CommandSpec::default()
+        };
+        assert!(log.push(belts.clone()), "other keys are other controls");
+        assert!(!log.push(CommandSpec { t_s: 2.0, ..belts }));
+        assert_eq!(log.len(), 3);
+        log.clear();
+        assert!(log.is_empty());
+    }
+
+    #[test]
+    fn commands_toml_parses_back_to_the_entries() {
+        let mut log = CommandLog::new();
+        log.push(twist(0.0, 0.3));
+        let mut flip = twist(0.123_456_789_012_345_67, -0.1);
+        flip.flipper_angle_deg.insert("front".into(), 1.0 / 3.0);
+        log.push(flip);
+        let notes = ["a note".to_string()];
+        let text = log.to_toml(
+            LogHeader {
+                what: "Test controls",
+                notes: &notes,
+            },
+            Path::new("s.toml"),
+            Path::new("d/commands.toml"),
+            2.5,
+        );
+        assert!(text.starts_with("# Test controls, applied at these simulated times.\n"));
+        assert!(
+            text.contains("#   tracksim run s.toml --commands d/commands.toml --duration 2.5\n")
+        );
+        assert!(text.contains("# a note\n"));
+        #[derive(serde::Deserialize)]
+        struct File {
+            commands: Vec<CommandSpec>,
+        }
+        let back: File = toml::from_str(&text).unwrap();
+        assert_eq!(back.commands, log.commands(), "times and angles exactly");
+    }
+}
