@@ -284,3 +284,22 @@ pub(crate) fn unknown_name(what: &str, given: &str, known: &[&str]) -> String {
         None => format!("unknown {what} `{given}`; the accepted {what}s are: {list}"),
     }
 }
+
+/// Longest line of a parser message kept whole, characters (a 50 MB line is not echoed).
+pub const MAX_MESSAGE_LINE_CHARS: usize = 200;
+
+/// Cuts every line of a parser message to [`MAX_MESSAGE_LINE_CHARS`] characters.
+pub fn shorten(message: &str) -> String {
+    message
+        .lines()
+        .map(|l| {
+            if l.chars().count() > MAX_MESSAGE_LINE_CHARS {
+                let cut: String = l.chars().take(MAX_MESSAGE_LINE_CHARS).collect();
+                format!("{cut} ... (line cut)")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}

@@ -3,6 +3,7 @@
 
 use super::overrides::OverrideCommands;
 use super::{Overrides, Scenario, ScenarioTemplate, VehicleModel, compile_scenario};
+use crate::check::shorten;
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::{ScenarioSpec, VehicleSpec};
 use std::path::Path;
@@ -90,25 +91,6 @@ pub fn read_scenario_spec(path: &Path) -> Result<ScenarioSpec> {
         });
     }
     parse_toml(path, &text)
-}
-
-/// Longest line of a parser message kept whole, characters (a 50 MB line is not echoed).
-const MAX_MESSAGE_LINE_CHARS: usize = 200;
-
-/// Cuts every line of a parser message to [`MAX_MESSAGE_LINE_CHARS`] characters.
-pub(crate) fn shorten(message: &str) -> String {
-    message
-        .lines()
-        .map(|l| {
-            if l.chars().count() > MAX_MESSAGE_LINE_CHARS {
-                let cut: String = l.chars().take(MAX_MESSAGE_LINE_CHARS).collect();
-                format!("{cut} ... (line cut)")
-            } else {
-                l.to_string()
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n")
 }
 
 /// Loads and compiles a vehicle file.

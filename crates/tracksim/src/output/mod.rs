@@ -7,12 +7,15 @@
 //! - [`report`]: a finished run in words;
 //! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
 //! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time;
-//! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there).
+//! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there);
+//! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
+//!   node publishes;
 
 pub mod mcap;
 pub mod plot;
 pub mod replay;
 pub mod report;
+pub mod ros_messages;
 pub mod ros_sensors;
 pub mod sensors;
 pub mod side_line;

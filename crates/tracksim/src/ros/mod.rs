@@ -7,14 +7,14 @@
 //! - [`sanitize`]: what a message may ask of the physics (non-finite values dropped, limits
 //!   clamped, unknown flipper names dropped) and the rate-limited warnings;
 //! - [`commands`]: the commands in force, turned into controls, and the `cmd_vel` watchdog;
-//! - [`messages`]: the published messages built from a sample;
+//! - the published messages are built from a sample by [`crate::output::ros_messages`], the
+//!   module `run.mcap` records them with;
 //! - [`sensors`]: the vehicle's sensors on their topics, at their rates;
 //! - [`dds`]: the participant, node, publishers, subscriptions and `/rosout`;
 //! - [`session`]: the session loop and its run folder.
 
 pub mod commands;
 pub mod dds;
-pub mod messages;
 pub mod network;
 pub mod sanitize;
 pub mod sensors;

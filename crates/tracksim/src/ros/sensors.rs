@@ -52,7 +52,7 @@ impl SensorPublishers {
         Ok(SensorPublishers {
             sent: vec![f64::NEG_INFINITY; pubs.len()],
             pubs,
-            joint_names: super::messages::joint_names(sc),
+            joint_names: crate::output::ros_messages::joint_names(sc),
         })
     }
 

@@ -9,14 +9,15 @@
 
 use super::commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
 use super::dds::{DdsNode, Publishers, Subscriptions};
-use super::messages;
 use super::network::NetworkRange;
 use super::sanitize::{self, Problem, Warnings};
 use super::sensors::SensorPublishers;
 use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
-use crate::output::mcap::{encoder_model, encoder_odometry, track_states, true_odometry};
+use crate::output::ros_messages::{
+    self as messages, encoder_model, encoder_odometry, track_states, true_odometry,
+};
 use crate::run::{CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits};
 use crate::spec::{CommandSpec, PerTrack};
 use crate::world::Sample;
@@ -135,7 +136,7 @@ impl SamplePublisher {
         self.pubs.clock.publish(messages::clock(s.t));
         self.pubs
             .tf
-            .publish(messages::tf(sc, s, &odom, self.map_tf));
+            .publish(messages::tf_of_sample(sc, s, &odom, self.map_tf));
         self.pubs.odom.publish(odom);
         self.pubs.truth.publish(true_odometry(s));
         self.pubs

@@ -88,7 +88,7 @@ impl UrdfSource {
             fail(format!(
                 "{}: not a valid URDF robot: {}",
                 path.display(),
-                crate::model::load::shorten(&e.to_string())
+                crate::check::shorten(&e.to_string())
             ))
         })?;
         Ok(UrdfSource {
