@@ -19,9 +19,14 @@
 //!   mobilised by Janosi-Hanamoto with the mean shear displacement of the patch's cells.
 //! - **After the step**: each loaded cell keeps its largest sinkage (the rut) and accumulates
 //!   the slip of the part over it (its shear displacement), which restarts once a cell has been
-//!   unloaded for [`SHEAR_RESET_S`]. A cell entering a patch fresh is compacted at once; the
-//!   work (`integral p dz` over its area) is Bekker's compaction resistance, given back as an
-//!   impulse on the chassis against its horizontal motion (at most half its momentum).
+//!   unloaded for [`SHEAR_RESET_S`]. Every deepening of a cell costs Bekker's work
+//!   (`integral p dz` over its area, from its old depth to the new): Bekker's compaction
+//!   resistance, given back as an impulse on the chassis against its horizontal motion (none
+//!   when that would take more than half its momentum: a robot settling, not driving).
+//! - **Reported forces**: the normal load is the solver's normal impulses (exact); the thrust
+//!   is the friction impulses, whose vehicle total is measured by momentum (Rapier's twist
+//!   friction keeps only its last substep's impulse; see
+//!   [`Simulation::soil_contact_impulses`]).
 
 use super::Simulation;
 use super::rut_grid::{RutGrid, RutGridStats};
@@ -205,6 +210,9 @@ pub(crate) struct SoilState {
     recent: std::collections::VecDeque<(u64, usize, i64, i64)>,
     /// Sequence number of the next deepened cell.
     seq: u64,
+    /// The vehicle's linear momentum before the step, N s (Rapier frame): the exact measure of
+    /// the friction impulses (see [`Simulation::soil_contact_impulses`]).
+    momentum_before: Vector,
 }
 
 /// A footprint's raw soil force this step, N, its patches' area, m^2, its soil and Bekker's
@@ -299,6 +307,7 @@ pub(crate) fn build_soil(
         reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
         recent: std::collections::VecDeque::new(),
         seq: 0,
+        momentum_before: Vector::ZERO,
         buffers: Buffers::default(),
     })
 }
@@ -516,10 +525,14 @@ impl SoilState {
             let first = cell.last == 0;
             if first || cell.last + reset < step {
                 cell.j = 0.0;
-                if z > cell.z_max {
-                    fresh_work +=
-                        cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
-                }
+            }
+            // Every deepening of a cell costs Bekker's work from its old depth to the new one
+            // (a cell under a track is pressed a little deeper whenever the track's pressure
+            // peaks): the work given back sums to the work of the ruts left (issue 38.4; only
+            // the first press of a cell was counted, and the ruts held 2x the work given back
+            // at n = 0.5).
+            if z > cell.z_max {
+                fresh_work += cell_area * soil.compaction_work(cell.z_max as f64, l.z_virgin, l.b);
             }
             if first {
                 cell.t_first = at.time;
@@ -619,27 +632,99 @@ impl Simulation {
         (v - l.normal * v.dot(l.normal)).length() as f64
     }
 
-    /// The soil's normal force on load `l`'s part over the last step, N, and its shear force
-    /// along `forward`, N (the solver's impulses; friction as `track_loads` counts it).
-    fn load_forces(&self, l: &Load, forward: Vector) -> (f64, f64) {
-        let dt = self.dt;
+    /// The soil's normal force on load `l`'s part over the last step, N (the solver's total).
+    fn load_normal(&self, l: &Load) -> f64 {
+        self.world
+            .narrow_phase
+            .contact_pair(l.part, l.ground)
+            .map_or(0.0, |pair| {
+                pair.solver_manifolds()
+                    .iter()
+                    .flat_map(|m| m.points.iter())
+                    .map(|p| p.data.impulse as f64)
+                    .sum::<f64>()
+            })
+            / self.dt
+    }
+
+    /// The vehicle's linear momentum, N s (Rapier frame).
+    fn vehicle_momentum(&self) -> Vector {
+        self.vehicle_bodies()
+            .into_iter()
+            .map(|h| {
+                let b = &self.world.bodies[h];
+                b.linvel() * b.mass()
+            })
+            .sum()
+    }
+
+    /// Before a step on soil: keeps the vehicle's momentum for the after-step measure.
+    pub(crate) fn soil_before_step(&mut self) {
+        if self.soil.is_some() {
+            let p = self.vehicle_momentum();
+            if let Some(s) = self.soil.as_mut() {
+                s.momentum_before = p;
+            }
+        }
+    }
+
+    /// The soil's contact impulses on each track over the last step, N s: normal (exact, the
+    /// solver's total) and friction (Rapier frame), the friction measured by momentum.
+    ///
+    /// Rapier's twist friction does not write its total friction impulse back; the last
+    /// substep's (`warmstart_tangent_world`) times the substeps is what it keeps, and on soil,
+    /// where the contacts slide and their coefficient changes every step, that read 2.4x the
+    /// vehicle's change of momentum on snow at steady speed (issue 38.4). The vehicle's
+    /// momentum change over the step less gravity, the user forces (the drawbar) and the exact
+    /// normal impulses is the exact sum of the friction impulses on it; the difference to the
+    /// summed estimates is shared among the contacts by their normal impulse (the split among
+    /// tracks keeps the estimate's).
+    fn soil_contact_impulses(&self, state: &SoilState, n: usize) -> Vec<(f64, Vector)> {
         let substeps = self.world.integration_parameters.num_solver_iterations as f32;
-        let (mut normal, mut thrust) = (0.0, 0.0);
-        if let Some(pair) = self.world.narrow_phase.contact_pair(l.part, l.ground) {
-            let s = if pair.collider1 == l.part {
-                1.0f32
-            } else {
-                -1.0
+        let mut per_track = vec![(0.0f64, Vector::ZERO); n];
+        // Every contact of the vehicle with something else: its normal impulse and estimated
+        // friction impulse.
+        let (mut all_normal, mut all_estimate) = (0.0f64, Vector::ZERO);
+        for pair in self.world.narrow_phase.contact_pairs() {
+            let (p1, p2) = (
+                state.parts.get(&pair.collider1),
+                state.parts.get(&pair.collider2),
+            );
+            let (part, s, other) = match (p1, p2) {
+                (Some(p), None) => (p, 1.0f32, pair.collider2),
+                (None, Some(p)) => (p, -1.0, pair.collider1),
+                _ => continue,
             };
+            let soil = crate::terrain::tagged_soil(self.world.colliders[other].user_data).is_some();
             for m in pair.solver_manifolds() {
-                normal += m.points.iter().map(|p| p.data.impulse as f64).sum::<f64>() / dt;
-                if let Some(pt) = m.points.first() {
-                    let tan = pt.data.warmstart_tangent_world * substeps * s;
-                    thrust += tan.dot(forward) as f64 / dt;
+                let normal: f32 = m.points.iter().map(|p| p.data.impulse).sum();
+                // Impulse on the part: the manifold's normal points from collider 1 to 2.
+                let nv = -m.data.normal * normal * s;
+                let fv = m.points.first().map_or(Vector::ZERO, |p| {
+                    p.data.warmstart_tangent_world * substeps * s
+                });
+                all_normal += normal as f64;
+                all_estimate += nv + fv;
+                if let (true, Some(t)) = (soil, part.track) {
+                    per_track[t].0 += normal as f64;
+                    per_track[t].1 += fv;
                 }
             }
         }
-        (normal, thrust)
+        // The exact sum of the external contact impulses.
+        let dt = self.dt as f32;
+        let mut external = self.vehicle_momentum() - state.momentum_before;
+        for h in self.vehicle_bodies() {
+            let b = &self.world.bodies[h];
+            external -= (self.world.gravity * b.mass() * b.gravity_scale() + b.user_force()) * dt;
+        }
+        let missing = external - all_estimate;
+        if all_normal > 0.0 {
+            for t in per_track.iter_mut() {
+                t.1 += missing * (t.0 / all_normal) as f32;
+            }
+        }
+        per_track
     }
 
     /// [`Self::soil_after_step`] with the state taken out.
@@ -655,6 +740,7 @@ impl Simulation {
         let n = state.tracks.len();
         let mut figures = vec![TrackSoil::default(); n];
         let mut weighted = vec![0.0f64; n];
+        let mut weight = vec![0.0f64; n];
         let mut span = vec![(f64::MAX, f64::MIN, 0.0f64); n];
         let mut limits = vec![(0.0f64, 0.0f64); n];
         let mut work = 0.0f64;
@@ -665,13 +751,14 @@ impl Simulation {
         // once.
         let mut seen = std::mem::take(&mut state.buffers.seen);
         seen.clear();
+        let impulses = self.soil_contact_impulses(state, n);
         for l in &loads {
             if !seen.insert(l.part) {
                 continue;
             }
             let c = self.world.colliders[l.part].position().translation;
             let slip = self.load_slip(l, c);
-            let (normal, thrust) = self.load_forces(l, forward);
+            let normal = self.load_normal(l);
             let e = raw.entry(l.footprint).or_insert((0.0, 0.0, l.soil, l.b));
             e.0 += normal;
             e.1 += l.patch.area();
@@ -689,7 +776,7 @@ impl Simulation {
             let f = &mut figures[t];
             limits[t].0 += l.limit;
             limits[t].1 += l.force;
-            f.normal_n += l.force;
+            weight[t] += l.force;
             weighted[t] += l.force * l.z;
             if loaded {
                 f.max_sinkage_m = f.max_sinkage_m.max(l.z);
@@ -698,16 +785,19 @@ impl Simulation {
                 let sp = &mut span[t];
                 *sp = (sp.0.min(x), sp.1.max(x), sp.2.max(2.0 * l.patch.half_len));
             }
-            f.thrust_n += thrust;
+        }
+        for (f, (normal, friction)) in figures.iter_mut().zip(&impulses) {
+            f.normal_n = normal / self.dt;
+            f.thrust_n = friction.dot(forward) as f64 / self.dt;
         }
         state.filter_footprints(&raw, self.dt);
         loads.clear();
         state.buffers.loads = loads;
         state.buffers.raw = raw;
         state.buffers.seen = seen;
-        for ((f, w), sp) in figures.iter_mut().zip(&weighted).zip(&span) {
-            if f.normal_n > 0.0 {
-                f.sinkage_m = w / f.normal_n;
+        for (((f, w), sp), total) in figures.iter_mut().zip(&weighted).zip(&span).zip(&weight) {
+            if *total > 0.0 {
+                f.sinkage_m = w / total;
             }
             if sp.1 >= sp.0 {
                 f.contact_length_m = sp.1 - sp.0 + sp.2;
@@ -721,8 +811,9 @@ impl Simulation {
             .collect();
     }
 
-    /// Compaction: the work `work` J of pressing fresh soil this step, taken from the
-    /// chassis's horizontal motion as an impulse (at most half its momentum); its force is
+    /// Compaction: the work `work` J of pressing soil deeper this step, taken from the
+    /// chassis's horizontal motion as an impulse (none when that would take more than half its
+    /// momentum: settling, not driving); its force is
     /// shared among the tracks by their load in `figures`.
     fn give_back_compaction(&mut self, work: f64, figures: &mut [TrackSoil]) {
         let b = &mut self.world.bodies[self.body];
@@ -732,7 +823,15 @@ impl Simulation {
             return;
         }
         let momentum = b.mass() as f64 * speed;
-        let j = (work / speed).min(0.5 * momentum);
+        let j = work / speed;
+        // Work that would take more than half the chassis's momentum was not done by its
+        // horizontal motion: the soil settling under a robot at rest (or starting), which its
+        // descent pays (the solver's normal contacts). Since every deepening of a cell counts
+        // (not only the first press), giving it back clamped to half the momentum read as a
+        // 2 N compaction resistance on a parked robot still settling.
+        if j > 0.5 * momentum {
+            return;
+        }
         b.apply_impulse(-vh / speed as f32 * j as f32, true);
         let force = j / self.dt;
         let total: f64 = figures.iter().map(|f| f.normal_n).sum();

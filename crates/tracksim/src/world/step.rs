@@ -18,6 +18,7 @@ impl Simulation {
         self.recentre_ground_tile();
         self.apply_drawbar();
         let held = self.braked_at_rest();
+        self.soil_before_step();
         self.world.integration_parameters.friction_in_bias_pass =
             self.held_friction_in_bias_pass && held;
         let hooks = ContactHooks {

@@ -44,6 +44,7 @@ mod issue_38_loads;
 mod issue_38_order;
 mod issue_38_pulley_order;
 mod issue_38_soil;
+mod issue_38_soil_balance;
 mod issue_39_session;
 mod layers;
 mod live;
