@@ -2,6 +2,7 @@
 //! flipper index.
 
 use super::VehicleModel;
+use super::motor::MotorCommand;
 use crate::error::{Error, Result, SpecIssue};
 
 /// Checks that `values` holds one finite number per name of `names` (`key` names the array in
@@ -54,17 +55,6 @@ pub struct Controls {
     /// A duty or torque command per track index (tracks with a drive motor); replaces the
     /// track's belt speed set-point until a belt speed is given again. May be empty.
     pub motor: Vec<Option<MotorCommand>>,
-}
-
-/// A drive motor command other than a speed set-point.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MotorCommand {
-    /// Duty cycle in [-1, 1]: the DC motor's torque-speed line scaled by it
-    /// (`T = T_stall (d - w / w_0)`), towards the no-load speed times `d`.
-    Duty(f64),
-    /// Motor shaft torque, N m (signed: positive drives forwards), delivered within the
-    /// torque-speed curve and the driver's limit.
-    Torque(f64),
 }
 
 impl Controls {

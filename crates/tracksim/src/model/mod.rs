@@ -72,7 +72,7 @@ pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Ran
 pub use load::*;
 pub use method::Method;
 pub(crate) use motor::compile_motor;
-pub use motor::{DriveMotor, ElectricalState, MotorElectrics};
+pub use motor::{DriveMotor, ElectricalState, MotorCommand, MotorElectrics};
 pub use overrides::{Overrides, load_commands};
 pub use randomize::*;
 pub use scenario::*;

@@ -29,6 +29,17 @@
 use crate::check::Checker;
 use crate::spec::MotorSpec;
 
+/// A drive motor command other than a speed set-point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MotorCommand {
+    /// Duty cycle in [-1, 1]: the DC motor's torque-speed line scaled by it
+    /// (`T = T_stall (d - w / w_0)`), towards the no-load speed times `d`.
+    Duty(f64),
+    /// Motor shaft torque, N m (signed: positive drives forwards), delivered within the
+    /// torque-speed curve and the driver's limit.
+    Torque(f64),
+}
+
 /// The DC motor's electrical constants, derived from its supply voltage, stall and no-load
 /// currents and its torque-speed line.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -165,10 +176,10 @@ impl DriveMotor {
 
     /// The belt speed a duty or torque command drives towards, m/s: the no-load belt speed
     /// times the duty, or in the torque's direction.
-    pub fn command_target(&self, cmd: super::MotorCommand) -> f64 {
+    pub fn command_target(&self, cmd: MotorCommand) -> f64 {
         match cmd {
-            super::MotorCommand::Duty(d) => d * self.no_load_belt_speed(),
-            super::MotorCommand::Torque(t) => t.signum() * self.no_load_belt_speed(),
+            MotorCommand::Duty(d) => d * self.no_load_belt_speed(),
+            MotorCommand::Torque(t) => t.signum() * self.no_load_belt_speed(),
         }
     }
 
@@ -176,16 +187,16 @@ impl DriveMotor {
     /// `d` the line scaled by it, `|T_stall (d - w / w_0)|` (it brakes above `d w_0`); for a
     /// torque `t` its magnitude within the torque-speed curve in its direction; both within the
     /// driver's limit.
-    pub fn commanded_belt_force(&self, cmd: super::MotorCommand, v: f64) -> f64 {
+    pub fn commanded_belt_force(&self, cmd: MotorCommand, v: f64) -> f64 {
         let limit = self.torque_limit.unwrap_or(self.stall_torque);
         let (torque, motoring) = match cmd {
-            super::MotorCommand::Duty(d) => {
+            MotorCommand::Duty(d) => {
                 let w = v * self.gear_ratio / self.sprocket_radius;
                 let t = self.stall_torque * (d - w / self.no_load_speed);
                 // Motoring while the torque pushes the way the belt runs (or starts it).
                 (t.abs(), t * v > 0.0 || (v == 0.0 && t != 0.0))
             }
-            super::MotorCommand::Torque(t) => (
+            MotorCommand::Torque(t) => (
                 t.abs()
                     .min(self.max_motor_torque(v, self.command_target(cmd))),
                 t * v >= 0.0,
