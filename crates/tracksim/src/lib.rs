@@ -57,6 +57,7 @@ pub mod spec;
 pub mod sweep;
 pub mod terrain;
 pub mod tracks;
+pub mod urdf;
 pub mod validate;
 pub mod world;
 

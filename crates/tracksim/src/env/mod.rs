@@ -525,3 +525,38 @@ impl Env {
         info
     }
 }
+
+impl Env {
+    /// The sensor entries of the observation (empty unless `observation = "dict"`), in the
+    /// order of the vehicle's `[[sensors]]`; see [`Env::observe_sensors`].
+    pub fn sensor_obs_spec(&self) -> Vec<SensorObs> {
+        match self.cfg.observation {
+            ObservationMode::Vector | ObservationMode::Learner => Vec::new(),
+            ObservationMode::Dict => sensor_obs::specs(self.runner.sensors()),
+        }
+    }
+
+    /// Number of values of [`Env::observe_sensors`].
+    pub fn sensor_obs_dim(&self) -> usize {
+        self.sensor_obs_spec().iter().map(SensorObs::len).sum()
+    }
+
+    /// The sensors' latest readings as float32 arrays, one after the other in the order of
+    /// [`Env::sensor_obs_spec`] (each row-major), into `out` (length [`Env::sensor_obs_dim`]):
+    /// an IMU as accel (m/s^2), gyro (rad/s), orientation (x, y, z, w); encoders as belt
+    /// positions (m), belt speeds (m/s), flipper angles (rad); a lidar's ranges and a depth
+    /// camera's depths (m) with no return as their `max_range_m` and too close as 0; an
+    /// elevation map's heights relative to the sensor (m) with `no_terrain_m` where there is
+    /// no terrain.
+    pub fn observe_sensors(&self, out: &mut [f32]) {
+        if self.cfg.observation != ObservationMode::Dict {
+            return;
+        }
+        sensor_obs::observe(self.runner.sensors(), &self.cfg, out);
+    }
+
+    /// The vehicle's sensors and their latest readings.
+    pub fn sensors(&self) -> &crate::sensors::SensorSet {
+        self.runner.sensors()
+    }
+}

@@ -10,7 +10,7 @@
 //! - `elevation_map`: `[nx, ny]` heights relative to the sensor (m), a cell without terrain
 //!   (NaN) as the setting `no_terrain_m`.
 
-use super::{Env, EnvConfig};
+use super::EnvConfig;
 use crate::error::{Error, Result};
 use crate::model::SensorKind;
 use crate::sensors::{Channel, Sensor, SensorSet};
@@ -137,44 +137,15 @@ fn fill(s: &dyn Sensor, cfg: &EnvConfig, out: &mut [f32]) {
     }
 }
 
-impl Env {
-    /// The sensor entries of the observation (empty unless `observation = "dict"`), in the
-    /// order of the vehicle's `[[sensors]]`; see [`Env::observe_sensors`].
-    pub fn sensor_obs_spec(&self) -> Vec<SensorObs> {
-        match self.cfg.observation {
-            super::ObservationMode::Vector | super::ObservationMode::Learner => Vec::new(),
-            super::ObservationMode::Dict => specs(self.runner.sensors()),
-        }
-    }
-
-    /// Number of values of [`Env::observe_sensors`].
-    pub fn sensor_obs_dim(&self) -> usize {
-        self.sensor_obs_spec().iter().map(SensorObs::len).sum()
-    }
-
-    /// The sensors' latest readings as float32 arrays, one after the other in the order of
-    /// [`Env::sensor_obs_spec`] (each row-major), into `out` (length [`Env::sensor_obs_dim`]):
-    /// an IMU as accel (m/s^2), gyro (rad/s), orientation (x, y, z, w); encoders as belt
-    /// positions (m), belt speeds (m/s), flipper angles (rad); a lidar's ranges and a depth
-    /// camera's depths (m) with no return as their `max_range_m` and too close as 0; an
-    /// elevation map's heights relative to the sensor (m) with `no_terrain_m` where there is
-    /// no terrain.
-    pub fn observe_sensors(&self, out: &mut [f32]) {
-        if self.cfg.observation != super::ObservationMode::Dict {
-            return;
-        }
-        let set = self.runner.sensors();
-        let mut at = 0;
-        for i in 0..set.len() {
-            let s = set.sensor(i);
-            let n = spec_of(s).len();
-            fill(s, &self.cfg, &mut out[at..at + n]);
-            at += n;
-        }
-    }
-
-    /// The vehicle's sensors and their latest readings.
-    pub fn sensors(&self) -> &SensorSet {
-        self.runner.sensors()
+/// The readings of every sensor of `set`, one after the other in the order of [`specs`] (each
+/// row-major), into `out` (length the sum of their lengths); see
+/// [`super::Env::observe_sensors`].
+pub(super) fn observe(set: &SensorSet, cfg: &EnvConfig, out: &mut [f32]) {
+    let mut at = 0;
+    for i in 0..set.len() {
+        let s = set.sensor(i);
+        let n = spec_of(s).len();
+        fill(s, cfg, &mut out[at..at + n]);
+        at += n;
     }
 }

@@ -18,9 +18,9 @@ mod grouser_layout;
 mod path_error;
 mod pulley_loop;
 mod segment;
-mod track_path;
 #[cfg(test)]
 mod tests;
+mod track_path;
 
 pub use collision_shape::CollisionShape;
 pub use frame::Frame;

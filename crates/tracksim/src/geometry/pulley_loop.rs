@@ -16,7 +16,6 @@ pub struct Pulley {
     pub radius: f64,
 }
 
-
 /// The pulleys of a loop (`order`: clockwise, at least 3) that the belt does not wrap, given
 /// the arc `wraps[k]` on pulley `order[k + 1]` (rad, in [0, 2 pi)): an arc within
 /// [`TANGENT_TOLERANCE_RAD`] of none or of a full turn (the belt runs straight past the pulley,

@@ -5,8 +5,18 @@
 //! neither are those of wheels on continuous joints. Stages, in order: keys that do not go
 //! with `urdf`, the Gazebo plugin's track links, the chassis, the arms, the report.
 
-use super::urdf::{LinkJoint, LinkLine, UrdfRobot};
 use super::{BodyModel, CollisionShape, FlipperModel, Parent, UrdfReport};
+use crate::urdf::{LinkJoint, LinkLine, Owner, UrdfRobot};
+
+/// The model's name for the body an imported link is part of.
+impl From<Owner> for Parent {
+    fn from(o: Owner) -> Parent {
+        match o {
+            Owner::Chassis => Parent::Body,
+            Owner::Arm(i) => Parent::Flipper(i),
+        }
+    }
+}
 use crate::check::Checker;
 use crate::spec::VehicleSpec;
 use glam::{DMat3, DVec3};
@@ -42,7 +52,7 @@ fn track_links(spec: &VehicleSpec) -> BTreeSet<&str> {
 }
 
 /// Why link `l`'s collision shapes are not used (`None`: used).
-fn dropped(l: &super::urdf::ImportedLink, tracks: &BTreeSet<&str>) -> Option<&'static str> {
+fn dropped(l: &crate::urdf::ImportedLink, tracks: &BTreeSet<&str>) -> Option<&'static str> {
     match l.kind {
         LinkJoint::Continuous => Some("a wheel inside a track (continuous joint)"),
         LinkJoint::Root => None,
@@ -54,11 +64,7 @@ fn dropped(l: &super::urdf::ImportedLink, tracks: &BTreeSet<&str>) -> Option<&'s
 }
 
 /// The used collision shapes of `owner` (one shape alone, several as a compound).
-fn owner_shape(
-    robot: &UrdfRobot,
-    owner: Parent,
-    tracks: &BTreeSet<&str>,
-) -> Option<CollisionShape> {
+fn owner_shape(robot: &UrdfRobot, owner: Owner, tracks: &BTreeSet<&str>) -> Option<CollisionShape> {
     let mut shapes: Vec<CollisionShape> = robot
         .links
         .iter()
@@ -89,8 +95,8 @@ pub(super) fn compile_urdf(c: &mut Checker, spec: &VehicleSpec, robot: &UrdfRobo
     }
     let tracks = track_links(spec);
     plugin_links(c, robot, &tracks);
-    let part = robot.mass_part(Parent::Body, &mut c.issues);
-    let shape = owner_shape(robot, Parent::Body, &tracks).unwrap_or_else(|| {
+    let part = robot.mass_part(Owner::Chassis, &mut c.issues);
+    let shape = owner_shape(robot, Owner::Chassis, &tracks).unwrap_or_else(|| {
         c.push(
             "urdf",
             format!(
@@ -168,7 +174,7 @@ fn arms(
             &a.joint,
         );
         let ctl = spec.joints.get(&a.joint).cloned().unwrap_or_default();
-        let part = robot.mass_part(Parent::Flipper(i), &mut c.issues);
+        let part = robot.mass_part(Owner::Arm(i), &mut c.issues);
         let max_torque = ctl.max_torque_nm.unwrap_or(a.effort);
         if ctl.max_torque_nm.is_none() && a.effort <= 0.0 {
             c.push(
@@ -209,7 +215,7 @@ fn arms(
             inertia,
             inertia_products,
             limits: a.limits,
-            shape: owner_shape(robot, Parent::Flipper(i), tracks),
+            shape: owner_shape(robot, Owner::Arm(i), tracks),
             initial_angle: start.to_radians(),
             max_torque,
             stiffness,
@@ -222,9 +228,9 @@ fn arms(
 /// The report of what was imported.
 fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> UrdfReport {
     let tracks = track_links(spec);
-    let body_name = |p: Parent| match p {
-        Parent::Body => "chassis".to_string(),
-        Parent::Flipper(i) => format!("arm {}", robot.arms[i].joint),
+    let body_name = |p: Owner| match p {
+        Owner::Chassis => "chassis".to_string(),
+        Owner::Arm(i) => format!("arm {}", robot.arms[i].joint),
     };
     let links = robot
         .links

@@ -18,8 +18,12 @@
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] (vehicle overrides, terrain, simulation
 //!   settings with the method, commands, outcome);
-//! - `load.rs`: reading files ([`read_toml`], [`load_vehicle`], [`load_scenario`],
-//!   [`load_scenario_with`] with [`Overrides`]);
+//! - `read.rs`: reading files, once each, into their specs ([`read_toml`],
+//!   [`read_scenario_spec`]);
+//! - `compile_file.rs`: a vehicle file compiled ([`load_vehicle`]), a scenario file's spec and
+//!   vehicle compiled into a [`Scenario`];
+//! - `load.rs`: the entry points ([`load_scenario`], [`load_scenario_with`] with [`Overrides`],
+//!   [`load_template`]);
 //! - `overrides.rs`: what a caller changes in a file before it is compiled ([`Overrides`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
 //! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
@@ -27,6 +31,7 @@
 
 #![warn(clippy::too_many_lines)]
 
+mod compile_file;
 mod compile_scenario;
 mod compile_sensor;
 mod compile_track;
@@ -45,13 +50,15 @@ mod motor;
 mod mounts;
 mod overrides;
 mod randomize;
+mod read;
 mod scenario;
 mod sensor;
 mod template;
-pub mod urdf;
 mod vehicle;
 mod wheel;
 
+pub use crate::urdf::{UrdfReport, UrdfRobot};
+pub use compile_file::load_vehicle;
 pub use compile_scenario::*;
 pub use compile_sensor::{MAX_RATE_HZ, MAX_RAYS, MAX_SENSOR_RANGE_M, SENSOR_KINDS};
 pub use compile_track::MAX_GROUSERS;
@@ -69,15 +76,15 @@ pub use course::{
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Range};
-pub use load::*;
+pub use load::{load_scenario, load_scenario_with, load_template};
 pub use method::Method;
 pub(crate) use motor::compile_motor;
 pub use motor::{DriveMotor, ElectricalState, MotorCommand, MotorElectrics};
 pub use overrides::{Overrides, load_commands};
 pub use randomize::*;
+pub use read::{parse_toml, read_scenario_spec, read_toml};
 pub use scenario::*;
 pub use sensor::*;
 pub use template::*;
-pub use urdf::{UrdfReport, UrdfRobot};
 pub use vehicle::*;
 pub use wheel::rolling_radius;

@@ -4,8 +4,8 @@
 //! frame of the compiled vehicle.
 
 use super::Parent;
-use super::urdf::UrdfRobot;
 use crate::check::{Checker, unknown_name};
+use crate::urdf::UrdfRobot;
 use glam::DAffine3;
 
 /// The names tracks (`parent`, `link`) and sensors (`mount`) may use.
@@ -35,7 +35,7 @@ impl Mounts {
             robot
                 .links
                 .iter()
-                .map(|l| (l.name.clone(), l.owner, l.pose)),
+                .map(|l| (l.name.clone(), l.owner.into(), l.pose)),
         );
         Mounts { names, urdf: true }
     }

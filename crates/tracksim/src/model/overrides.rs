@@ -111,7 +111,7 @@ impl Overrides {
         let Some(path) = &self.commands else {
             return Ok(None);
         };
-        let f: CommandsFile = super::read_toml(path)?;
+        let f: CommandsFile = super::read::read_toml(path)?;
         Ok(Some(OverrideCommands {
             path: path.clone(),
             specs: f.commands,

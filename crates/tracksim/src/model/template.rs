@@ -2,9 +2,9 @@
 //! is compiled once; a file with `[randomize]` is sampled and compiled per seed, reading no
 //! file again except the terrain's own data files.
 
-use super::load::scenario_vehicle;
-use super::load::{compile_file, read_scenario};
+use super::compile_file::{compile_file, scenario_vehicle};
 use super::overrides::OverrideCommands;
+use super::read::read_scenario_table;
 use super::{Overrides, Randomizer, Scenario, VehicleModel};
 use crate::error::{Error, Result, SpecIssue};
 use crate::spec::ScenarioSpec;
@@ -212,4 +212,21 @@ impl ScenarioTemplate {
         sc.randomized = sampled;
         Ok(sc)
     }
+}
+
+/// Reads a scenario file into its spec and its table, with `overrides` written into both (the
+/// file read once, [`read_scenario_table`]).
+fn read_scenario(path: &Path, overrides: &Overrides) -> Result<(ScenarioSpec, toml::Table)> {
+    let (spec, mut doc) = read_scenario_table(path)?;
+    if overrides.is_empty() {
+        return Ok((spec, doc));
+    }
+    overrides.apply(&mut doc);
+    let spec = crate::spec::strict::from_value(&toml::Value::Table(doc.clone())).map_err(|e| {
+        crate::error::Error::Parse {
+            path: path.to_path_buf(),
+            message: format!("with the overrides of {}: {e}", overrides.keys().join(", ")),
+        }
+    })?;
+    Ok((spec, doc))
 }

@@ -1,7 +1,7 @@
 //! The manifest of a sweep: one JSON line per run ([`ManifestLine`]), each also kept in its run
 //! folder as `run.json`, and the merge of shards' folders into one manifest.
 
-use super::RunSpec;
+use super::plan::{RunSpec, manifest_name, run_dir_name};
 use crate::error::{Error, Result, SpecIssue};
 use crate::model::Scenario;
 use crate::run::RunResult;
@@ -47,7 +47,7 @@ impl ManifestLine {
         let p = s.final_pose;
         ManifestLine {
             index: r.index,
-            dir: format!("runs/{}", super::run_dir_name(r.index)),
+            dir: format!("runs/{}", run_dir_name(r.index)),
             seed: r.seed,
             params: sc.randomized.clone(),
             outcome: s.outcome.clone(),
@@ -73,7 +73,7 @@ impl ManifestLine {
         };
         ManifestLine {
             index: r.index,
-            dir: format!("runs/{}", super::run_dir_name(r.index)),
+            dir: format!("runs/{}", run_dir_name(r.index)),
             seed: r.seed,
             params: sc.randomized.clone(),
             outcome: "unstable".into(),
@@ -178,6 +178,6 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Vec<ManifestLine>> {
         std::fs::rename(&tmp, &dst).map_err(io(&dst))?;
     }
     let lines: Vec<ManifestLine> = by_index.into_values().map(|(l, _)| l).collect();
-    write_lines(&out.join(super::manifest_name(None)), &lines)?;
+    write_lines(&out.join(manifest_name(None)), &lines)?;
     Ok(lines)
 }

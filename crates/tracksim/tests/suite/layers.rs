@@ -1,18 +1,19 @@
 //! The library's layers import only downward (issue 10): for every top-level module, the
 //! `crate::<module>` paths in its code (comments excluded) name only modules of lower layers.
-//! This is how "no import circles" is checked: a circle needs an upward edge.
+//! A circle between top-level modules needs an upward edge; circles inside a folder are checked
+//! on the file graph (`module_graph.rs`).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 /// Top-level modules from the bottom layer up; modules in one inner list are one layer and must
 /// not import each other.
-const LAYERS: &[&[&str]] = &[
+pub(crate) const LAYERS: &[&[&str]] = &[
     &["error"],
     &["check", "files", "rosmsg"],
     &["spec"],
     &["geometry"],
-    &["terrain"],
+    &["terrain", "urdf"],
     &["model"],
     &["tracks"],
     &["world"],
@@ -57,7 +58,7 @@ const ROOT_ITEMS: &[(&str, &str)] = &[
     ("run_scenario_with", "run"),
 ];
 
-fn rank(module: &str) -> Option<usize> {
+pub(crate) fn rank(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))
 }
 
@@ -137,98 +138,4 @@ fn every_layer_imports_only_lower_layers() {
         upward.is_empty(),
         "imports that go up or sideways: {upward:?}"
     );
-}
-
-/// The sibling files a file of a folder module names through `super::` (or
-/// `crate::<module>::`), `mod.rs` excluded (it declares and re-exports them all).
-fn sibling_imports(dir: &Path, module: &str, file: &Path) -> BTreeSet<String> {
-    let text = std::fs::read_to_string(file).unwrap();
-    let siblings: BTreeSet<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .filter_map(|e| {
-            let p = e.unwrap().path();
-            let stem = p.file_stem()?.to_str()?.to_string();
-            (stem != "mod" && (p.is_dir() || p.extension().is_some_and(|x| x == "rs")))
-                .then_some(stem)
-        })
-        .collect();
-    let me = file.file_stem().unwrap().to_str().unwrap().to_string();
-    let mut found = BTreeSet::new();
-    let in_tests = |code: &str| code.contains("mod tests");
-    let mut tests = false;
-    for line in text.lines() {
-        let code = line.split("//").next().unwrap_or("");
-        tests |= in_tests(code);
-        if tests {
-            // A unit-test module's `super::` is its own file.
-            continue;
-        }
-        for prefix in ["super::".to_string(), format!("crate::{module}::")] {
-            for (i, _) in code.match_indices(&prefix) {
-                let name: String = code[i + prefix.len()..]
-                    .chars()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect();
-                if siblings.contains(&name) && name != me {
-                    found.insert(name);
-                }
-            }
-        }
-    }
-    found
-}
-
-/// Inside every folder module, its files import each other without a circle (issue 24: four
-/// files of `output/` went round through `SideLine`).
-#[test]
-fn no_import_circle_inside_a_folder() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut folders = Vec::new();
-    for e in std::fs::read_dir(&src).unwrap() {
-        let p = e.unwrap().path();
-        if p.is_dir() {
-            folders.push(p);
-        }
-    }
-    let mut circles = Vec::new();
-    for dir in folders {
-        let module = dir.file_name().unwrap().to_str().unwrap().to_string();
-        let mut graph = std::collections::BTreeMap::new();
-        for e in std::fs::read_dir(&dir).unwrap() {
-            let p = e.unwrap().path();
-            if p.extension().is_some_and(|x| x == "rs") && p.file_stem().unwrap() != "mod" {
-                let name = p.file_stem().unwrap().to_str().unwrap().to_string();
-                graph.insert(name, sibling_imports(&dir, &module, &p));
-            }
-        }
-        // Depth-first search for a back edge.
-        fn visit(
-            n: &str,
-            g: &std::collections::BTreeMap<String, BTreeSet<String>>,
-            path: &mut Vec<String>,
-            done: &mut BTreeSet<String>,
-            out: &mut Vec<String>,
-        ) {
-            if let Some(i) = path.iter().position(|p| p == n) {
-                out.push(path[i..].join(" -> ") + " -> " + n);
-                return;
-            }
-            if done.contains(n) {
-                return;
-            }
-            path.push(n.to_string());
-            for m in g.get(n).into_iter().flatten() {
-                visit(m, g, path, done, out);
-            }
-            path.pop();
-            done.insert(n.to_string());
-        }
-        let mut done = BTreeSet::new();
-        for n in graph.keys() {
-            let mut found = Vec::new();
-            visit(n, &graph, &mut Vec::new(), &mut done, &mut found);
-            circles.extend(found.into_iter().map(|c| format!("{module}/: {c}")));
-        }
-    }
-    assert!(circles.is_empty(), "import circles: {circles:#?}");
 }

@@ -49,6 +49,7 @@ mod issue_39_session;
 mod layers;
 mod live;
 mod methods;
+mod module_graph;
 mod packbot_flat;
 mod plates;
 mod randomize;

@@ -3,27 +3,14 @@
 //! parent joints, a loop of joints, links not connected to the root, joints naming links that
 //! do not exist, and joint types tracksim cannot simulate are refused with the element named.
 
+use super::Owner;
+use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
 use super::{ImportedArm, ImportedLink, LinkJoint};
 use crate::error::SpecIssue;
-use crate::model::Parent;
-use glam::{DAffine3, DQuat, DVec3, EulerRot};
+use glam::{DAffine3, DVec3};
 use std::collections::HashMap;
 use urdf_rs::JointType;
-
-/// A URDF `<origin>` as a transform (rpy: roll, pitch, yaw about the fixed x, y, z axes).
-pub(super) fn pose(o: &urdf_rs::Pose) -> DAffine3 {
-    let [r, p, y] = o.rpy.0;
-    DAffine3::from_rotation_translation(
-        DQuat::from_euler(EulerRot::ZYX, y, p, r),
-        DVec3::from_array(o.xyz.0),
-    )
-}
-
-/// True when every number of `o` is finite.
-pub(super) fn finite_pose(o: &urdf_rs::Pose) -> bool {
-    o.xyz.iter().chain(o.rpy.iter()).all(|v| v.is_finite())
-}
 
 /// Checks the names and links of every joint and link; returns the root link's name.
 fn root_link(src: &UrdfSource, issues: &mut Vec<SpecIssue>) -> Option<String> {
@@ -146,7 +133,7 @@ pub(super) fn walk(
         name: root.clone(),
         joint: None,
         kind: LinkJoint::Root,
-        owner: Parent::Body,
+        owner: Owner::Chassis,
         pose: DAffine3::IDENTITY,
         mass: 0.0,
         shapes: Vec::new(),
@@ -178,7 +165,7 @@ pub(super) fn walk(
                 JointType::Fixed => (LinkJoint::Fixed, parent_owner),
                 JointType::Continuous => (LinkJoint::Continuous, parent_owner),
                 JointType::Revolute => {
-                    if let Parent::Flipper(i) = parent_owner {
+                    if let Owner::Arm(i) = parent_owner {
                         issues.push(SpecIssue::new(
                             &at,
                             format!(
@@ -193,7 +180,7 @@ pub(super) fn walk(
                         Some(a) => arms.push(a),
                         None => continue,
                     }
-                    (LinkJoint::Revolute, Parent::Flipper(arms.len() - 1))
+                    (LinkJoint::Revolute, Owner::Arm(arms.len() - 1))
                 }
                 ref other => {
                     issues.push(SpecIssue::new(

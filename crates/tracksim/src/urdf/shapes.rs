@@ -3,10 +3,10 @@
 //! and meshes as their convex hull. Capsules (URDF 1.2) are refused with what to use instead.
 
 use super::ImportedLink;
+use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
-use super::tree::{finite_pose, pose};
 use crate::error::SpecIssue;
-use crate::model::CollisionShape;
+use crate::geometry::CollisionShape;
 use glam::{DAffine3, DMat3, DQuat, DVec3};
 
 fn positive(v: f64) -> bool {

@@ -3,11 +3,11 @@
 //! and merged per body (the chassis with its fixed and continuous links, each arm with its
 //! own) with the parallel-axis theorem.
 
+use super::Owner;
+use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
-use super::tree::{finite_pose, pose};
 use super::{ImportedLink, MassPart};
 use crate::error::SpecIssue;
-use crate::model::Parent;
 use glam::{DMat3, DVec3};
 
 fn tensor(i: &urdf_rs::Inertia) -> DMat3 {
@@ -93,7 +93,7 @@ pub(super) fn link_mass(src: &UrdfSource, l: &mut ImportedLink, issues: &mut Vec
 pub(super) fn merged(
     src: &UrdfSource,
     links: &[ImportedLink],
-    owner: Parent,
+    owner: Owner,
     issues: &mut Vec<SpecIssue>,
 ) -> MassPart {
     let mut parts = Vec::new();

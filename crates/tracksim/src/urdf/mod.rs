@@ -1,0 +1,38 @@
+//! URDF import (`urdf = "robot.urdf"` in a vehicle file): the robot's links and joints become
+//! tracksim's chassis and flipper arms; the tracks stay in the vehicle file and name the link
+//! that carries each. A parser of its own: it imports nothing of `model/`, which compiles what
+//! it reads (`model/compile_urdf.rs`).
+//!
+//! - `source.rs`: reading the file (urdf-rs for the robot, roxmltree for line numbers,
+//!   `<inertial>` presence and the Gazebo extensions), refusing xacro.
+//! - `gazebo.rs`: the `TrackedVehicle` plugin block and `<mu1>` friction.
+//! - `tree.rs`: the joint tree from the root link: fixed and continuous joints merged into
+//!   their parent, revolute joints on the chassis as arms; loops, second parents, unknown
+//!   links and unsupported joint types refused with the element named.
+//! - `inertial.rs`: each link's mass and inertia checked (positive, positive definite,
+//!   triangle inequality) and moved into the chassis frame; parts merged.
+//! - `pose.rs`: a URDF `<origin>` as a transform;
+//! - `shapes.rs`: collision geometry (box, cylinder, sphere, mesh as its convex hull).
+//! - `mesh.rs`: mesh files (STL, OBJ, COLLADA with mesh-loader), bounded.
+//! - `link.rs`: the imported links, arms and mass parts, and the body each link becomes part of;
+//! - `robot.rs`: the robot read, walked and checked ([`UrdfRobot`]);
+//! - `report.rs`: what `tracksim check` prints.
+//!
+//! Frames: every pose here is in the chassis (root link) frame with all arms at angle 0, the
+//! frame tracksim's vehicle model uses.
+
+mod gazebo;
+mod inertial;
+mod link;
+mod mesh;
+mod pose;
+mod report;
+mod robot;
+mod shapes;
+mod source;
+mod tree;
+
+pub use gazebo::TrackedVehiclePlugin;
+pub use link::{ImportedArm, ImportedLink, LinkJoint, MassPart, Owner};
+pub use report::{LinkLine, UrdfReport};
+pub use robot::UrdfRobot;

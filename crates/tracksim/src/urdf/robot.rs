@@ -1,0 +1,92 @@
+//! A URDF robot read, walked and checked ([`UrdfRobot`]).
+
+use super::link::{ImportedArm, ImportedLink, MassPart, Owner};
+use super::source::{self, UrdfSource};
+use super::{TrackedVehiclePlugin, inertial, tree};
+use crate::error::SpecIssue;
+use std::path::Path;
+
+/// A URDF robot, imported and checked.
+#[derive(Clone, Debug)]
+pub struct UrdfRobot {
+    /// The file.
+    pub file: std::path::PathBuf,
+    /// `<robot name>`.
+    pub name: String,
+    /// Every link, the root first, then in joint-tree order.
+    pub links: Vec<ImportedLink>,
+    /// The arms (flippers), in joint-tree order.
+    pub arms: Vec<ImportedArm>,
+    /// The tracked-vehicle plugin block, if any.
+    pub plugin: Option<TrackedVehiclePlugin>,
+    /// Gazebo `<mu1>` of the root link.
+    pub root_friction: Option<f64>,
+    /// Line-numbered names of links and joints, for messages.
+    source: std::sync::Arc<UrdfSource>,
+}
+
+impl UrdfRobot {
+    /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
+    pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        let src = UrdfSource::read(path)?;
+        let mut issues = Vec::new();
+        for (element, text) in &src.gazebo.unreadable {
+            issues.push(SpecIssue::new(
+                source::key(element),
+                format!("`{}` is not a number", crate::check::echoed(text)),
+            ));
+        }
+        let (links, arms) = tree::walk(&src, &mut issues);
+        if let Some(p) = &src.gazebo.plugin {
+            for (tag, l) in p.track_links() {
+                // Against the file's links, not the tree walked: a broken tree is its own
+                // message, not one per plugin link it did not reach.
+                if !src.robot.links.iter().any(|k| k.name == l) {
+                    issues.push(SpecIssue::new(
+                        source::key(&p.at(tag)),
+                        format!(
+                            "names link \"{}\", which the URDF does not have",
+                            crate::check::echoed(l)
+                        ),
+                    ));
+                }
+            }
+        }
+        if !issues.is_empty() {
+            return Err(issues);
+        }
+        let root_friction = links
+            .first()
+            .and_then(|r| src.gazebo.friction.get(&r.name).copied());
+        Ok(UrdfRobot {
+            file: path.to_path_buf(),
+            name: src.robot.name.clone(),
+            links,
+            arms,
+            plugin: src.gazebo.plugin.clone(),
+            root_friction,
+            source: std::sync::Arc::new(src),
+        })
+    }
+
+    /// The link called `name`.
+    pub fn link(&self, name: &str) -> Option<&ImportedLink> {
+        self.links.iter().find(|l| l.name == name)
+    }
+
+    /// `<link name="NAME"> (FILE line N)`, for messages.
+    pub fn describe_link(&self, name: &str) -> String {
+        self.source.link(name)
+    }
+
+    /// `<joint name="NAME"> (FILE line N)`, for messages.
+    pub fn describe_joint(&self, name: &str) -> String {
+        self.source.joint(name)
+    }
+
+    /// The merged mass properties of `owner` (chassis or arm), with the per-link checks'
+    /// problems in `issues`.
+    pub fn mass_part(&self, owner: Owner, issues: &mut Vec<SpecIssue>) -> MassPart {
+        inertial::merged(&self.source, &self.links, owner, issues)
+    }
+}
