@@ -48,7 +48,6 @@ pub fn compile_scenario(
     let method = match Method::parse("simulation.method", &s.method) {
         Ok(m) => {
             c.issues.extend(method_problems(m, &vehicle));
-            c.issues.extend(soil_problems(m, &terrain));
             m
         }
         Err(issue) => {
@@ -140,20 +139,6 @@ pub fn method_problems(method: Method, vehicle: &VehicleModel) -> Vec<SpecIssue>
             )
         })
         .collect()
-}
-
-/// What `method` cannot do on the terrain: drive on deformable soil
-/// ([`Method::drives_on_soil`]), keyed `simulation.method`.
-pub fn soil_problems(method: Method, terrain: &crate::terrain::TerrainModel) -> Vec<SpecIssue> {
-    if method.drives_on_soil() || terrain.soils.is_empty() {
-        return Vec::new();
-    }
-    vec![SpecIssue::new(
-        "simulation.method",
-        format!(
-            "{method} cannot drive on deformable soil (its belt does not move against the chassis, so the soil sees no slip and gives no thrust): run with --method okada2020 (or another method), or make the terrain rigid (remove its `soil` tables)"
-        ),
-    )]
 }
 
 /// Compiles a list of `[[commands]]` (e.g. a `commands.toml` written by `tracksim drive`) for

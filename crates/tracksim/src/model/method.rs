@@ -94,14 +94,6 @@ impl Method {
         }
     }
 
-    /// Whether the method can drive on deformable soil. `constraint_to_ground` cannot: its
-    /// belt never moves against the chassis, so the soil's shear (Janosi) sees no slip
-    /// displacement and gives no thrust (measured: 0.00001 m/s on dry sand where every other
-    /// method drives at 0.21-0.29 m/s for a 0.3 m/s command).
-    pub fn drives_on_soil(&self) -> bool {
-        !matches!(self, Method::ConstraintToGround)
-    }
-
     /// Whether the method models a drive motor (`[tracks.motor]`): only the segment links feel
     /// the load at their joints.
     pub fn models_motors(&self) -> bool {

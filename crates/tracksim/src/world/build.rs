@@ -110,8 +110,7 @@ fn insert_order_salt(world: &mut PhysicsWorld, n: usize) {
 /// Refuses what the scenario's method cannot model ([`crate::model::method_problems`]: checked
 /// when the file is compiled, again here for a scenario whose method was changed after).
 fn check_method(sc: &Scenario) -> Result<()> {
-    let mut issues = crate::model::method_problems(sc.method, &sc.vehicle);
-    issues.extend(crate::model::soil_problems(sc.method, &sc.terrain));
+    let issues = crate::model::method_problems(sc.method, &sc.vehicle);
     if issues.is_empty() {
         Ok(())
     } else {

@@ -1,7 +1,12 @@
-//! The contact hook of the world (Rapier's `PhysicsHooks`): the contact compliance of grousers
-//! and belts (`[tracks.compliance]`, `world/compliance.rs`), the contact slop
-//! (`simulation.contact_slop_m`, ODE's `min_depth`), which applies to every track method, and
-//! forwarding of contacts of colliders a track tagged for itself to that track.
+//! The contact hook of the world (Rapier's `PhysicsHooks`): every contact pair goes through four
+//! stages in order, each acting on the pairs its collider tags name (issue 39; the hook used to
+//! take the first match and return, so a track's own contact code never ran on soil):
+//!
+//! 1. soil (`world/soil.rs`): how deep the part may sink and the soil's shear limit;
+//! 2. the track's own contacts (`Track::modify_contacts`: constraint-to-ground's belt speed);
+//! 3. compliance of grousers and belts (`[tracks.compliance]`, `world/compliance.rs`);
+//! 4. the contact slop (`simulation.contact_slop_m`, ODE's `min_depth`) on every track
+//!    contact, whatever the method.
 
 use super::compliance::{SolverSpring, apply_compliance};
 use super::soil::modify_soil_contacts;
@@ -37,49 +42,80 @@ fn apply_slop(ctx: &mut ContactModificationContext, slop: f32) {
     }
 }
 
-impl PhysicsHooks for ContactHooks<'_> {
-    fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
-        let (u1, u2) = (
-            ctx.colliders[ctx.collider1].user_data,
-            ctx.colliders[ctx.collider2].user_data,
-        );
+/// The track contact of a pair: the track's index and which collider is the track's (`None`:
+/// neither collider carries a track's tag).
+fn track_contact(ctx: &ContactModificationContext, u1: u128, u2: u128) -> Option<(usize, TrackContact)> {
+    match (tagged_track(u1), tagged_track(u2)) {
+        (Some(i), _) => Some((
+            i,
+            TrackContact {
+                collider: ctx.collider1,
+                sign: 1.0,
+            },
+        )),
+        (None, Some(i)) => Some((
+            i,
+            TrackContact {
+                collider: ctx.collider2,
+                sign: -1.0,
+            },
+        )),
+        _ => None,
+    }
+}
+
+impl ContactHooks<'_> {
+    /// Stage 1, soil: a vehicle part on a soil surface may sink as deep as the soil yields
+    /// (`dist` raised) and slides at the soil's shear limit (the friction coefficient), see
+    /// `world/soil.rs`.
+    fn soil_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
         if let (Some(state), Some(i)) = (self.soil, tagged_soil(u1).or(tagged_soil(u2))) {
             modify_soil_contacts(ctx, state, i, self.origin);
-            return;
         }
+    }
+
+    /// Stage 2, the track's own contacts (e.g. constraint-to-ground's belt surface velocity).
+    fn track_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
+        if let Some((index, contact)) = track_contact(ctx, u1, u2)
+            && let Some(track) = self.tracks.get(index)
+        {
+            track.modify_contacts(ctx, contact);
+        }
+    }
+
+    /// Stage 3, compliance: the contact spring of grousers and belts (`[tracks.compliance]`).
+    fn compliance_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
         let spring = tagged_compliance(u1)
             .or(tagged_compliance(u2))
             .and_then(|i| self.springs.get(i));
         if let Some(&s) = spring {
             apply_compliance(ctx, s, self.dt);
-            apply_slop(ctx, self.slop);
-            return;
         }
-        if u1 == SLOP_TAG || u2 == SLOP_TAG {
+    }
+
+    /// Stage 4, slop: to the contacts of a track's colliders (tagged with the track, its
+    /// compliance or the slop), `simulation.contact_slop_m`.
+    fn slop_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
+        let tracked = |u: u128| {
+            u == SLOP_TAG || tagged_track(u).is_some() || tagged_compliance(u).is_some()
+        };
+        if tracked(u1) || tracked(u2) {
             apply_slop(ctx, self.slop);
-            return;
         }
-        let (index, contact) = match (tagged_track(u1), tagged_track(u2)) {
-            (Some(i), _) => (
-                i,
-                TrackContact {
-                    collider: ctx.collider1,
-                    sign: 1.0,
-                },
-            ),
-            (None, Some(i)) => (
-                i,
-                TrackContact {
-                    collider: ctx.collider2,
-                    sign: -1.0,
-                },
-            ),
-            _ => return,
-        };
-        let Some(track) = self.tracks.get(index) else {
-            return;
-        };
-        track.modify_contacts(ctx, contact);
-        apply_slop(ctx, self.slop);
+    }
+}
+
+impl PhysicsHooks for ContactHooks<'_> {
+    /// Every pair goes through the stages in order: soil, the track's own contacts,
+    /// compliance, slop (each acts only on the pairs its tags name).
+    fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
+        let (u1, u2) = (
+            ctx.colliders[ctx.collider1].user_data,
+            ctx.colliders[ctx.collider2].user_data,
+        );
+        self.soil_stage(ctx, u1, u2);
+        self.track_stage(ctx, u1, u2);
+        self.compliance_stage(ctx, u1, u2);
+        self.slop_stage(ctx, u1, u2);
     }
 }
