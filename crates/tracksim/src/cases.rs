@@ -1,6 +1,6 @@
-//! Named cases shared by tests, `tracksim bench`, `tracksim validate` and `tracksim compare`
-//! (Box2D's `shared/benchmarks`): each is a bundled scenario file, by name, so that what a test
-//! runs, what the benchmark times and what a user opens are the same file.
+//! Named cases shared by `tracksim bench` and `tracksim validate` (Fig. 2) (Box2D's
+//! `shared/benchmarks`): each is a bundled scenario file, by name, so that what the benchmark
+//! times, what the validation runs and what a user opens are the same file.
 
 use crate::error::{Error, Result};
 use crate::model::Scenario;

@@ -5,7 +5,7 @@
 //! - [`replay`]: what the 3-D view needs to replay a run (`scene.json`, `belts.csv`);
 //! - [`side_line`]: the side view's polyline;
 //! - [`report`]: a finished run in words;
-//! - [`side_view`]: the terrain as drawn under runs, and the plot files of runs and comparisons;
+//! - [`plot_files`]: the plot files of runs and comparisons, with the terrain drawn under them;
 //! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time;
 //! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there);
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
@@ -13,19 +13,19 @@
 
 pub mod mcap;
 pub mod plot;
+pub mod plot_files;
 pub mod replay;
 pub mod report;
 pub mod ros_messages;
 pub mod ros_sensors;
 pub mod sensors;
 pub mod side_line;
-pub mod side_view;
 pub mod signals;
 pub mod vehicle_outline;
 
+pub use plot_files::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
 pub use replay::{Scene, write_replay};
 pub use report::run_report;
-pub use side_view::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
 
 use crate::error::{Error, Result};
 use crate::run::RunResult;

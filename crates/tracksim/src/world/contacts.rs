@@ -44,7 +44,11 @@ fn apply_slop(ctx: &mut ContactModificationContext, slop: f32) {
 
 /// The track contact of a pair: the track's index and which collider is the track's (`None`:
 /// neither collider carries a track's tag).
-fn track_contact(ctx: &ContactModificationContext, u1: u128, u2: u128) -> Option<(usize, TrackContact)> {
+fn track_contact(
+    ctx: &ContactModificationContext,
+    u1: u128,
+    u2: u128,
+) -> Option<(usize, TrackContact)> {
     match (tagged_track(u1), tagged_track(u2)) {
         (Some(i), _) => Some((
             i,
@@ -96,9 +100,8 @@ impl ContactHooks<'_> {
     /// Stage 4, slop: to the contacts of a track's colliders (tagged with the track, its
     /// compliance or the slop), `simulation.contact_slop_m`.
     fn slop_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
-        let tracked = |u: u128| {
-            u == SLOP_TAG || tagged_track(u).is_some() || tagged_compliance(u).is_some()
-        };
+        let tracked =
+            |u: u128| u == SLOP_TAG || tagged_track(u).is_some() || tagged_compliance(u).is_some();
         if tracked(u1) || tracked(u2) {
             apply_slop(ctx, self.slop);
         }

@@ -115,19 +115,19 @@ pub struct Simulation {
 impl Simulation {
     /// Builds the world for a scenario: terrain, then the vehicle at its start pose, belts at
     /// rest and flippers held at their initial angles.
-    pub fn new(sc: &Scenario) -> crate::Result<Self> {
+    pub fn new(sc: &Scenario) -> crate::error::Result<Self> {
         Self::from_shared(Arc::new(sc.clone()))
     }
 
     /// [`Simulation::new`] for a scenario shared with other simulations.
-    pub fn from_shared(sc: Arc<Scenario>) -> crate::Result<Self> {
+    pub fn from_shared(sc: Arc<Scenario>) -> crate::error::Result<Self> {
         build::build(sc)
     }
 
     /// Rebuilds the world from the compiled scenario (no file is read again), at time 0 with
     /// belts at rest; `seed` replaces the scenario's seed (reported in summaries; random
     /// terrain pieces keep their own `seed` keys).
-    pub fn reset(&mut self, seed: Option<u64>) -> crate::Result<()> {
+    pub fn reset(&mut self, seed: Option<u64>) -> crate::error::Result<()> {
         let mut fresh = build::build(self.scenario.clone())?;
         fresh.seed = seed.unwrap_or(self.seed);
         *self = fresh;

@@ -92,9 +92,9 @@ struct Collector<'a> {
 
 fn is_cfg_test(attrs: &[syn::Attribute]) -> bool {
     use quote::ToTokens;
-    attrs.iter().any(|a| {
-        a.path().is_ident("cfg") && a.meta.to_token_stream().to_string().contains("test")
-    })
+    attrs
+        .iter()
+        .any(|a| a.path().is_ident("cfg") && a.meta.to_token_stream().to_string().contains("test"))
 }
 
 impl Collector<'_> {
