@@ -3,45 +3,50 @@
 //! the caller sets ([`Simulation::apply`]); nothing is applied behind the caller's back (a
 //! scenario file's `[[commands]]` are one source of controls: `crate::run::Timeline`).
 //!
-//! - [`build`]: the build stages of [`Simulation::new`];
-//! - [`compliance`]: grousers and belts as springs and dampers (`[tracks.compliance]`);
-//! - [`contacts`]: the contact hook (contact slop for every method, and forwarding of tagged
+//! The stage modules are private: what they make public is re-exported here, and
+//! [`Simulation`]'s methods are listed in one place in `docs/API.md`.
+//!
+//! - `build`: the build stages of [`Simulation::new`];
+//! - `compliance`: grousers and belts as springs and dampers (`[tracks.compliance]`);
+//! - `contacts`: the contact hook (contact slop for every method, and forwarding of tagged
 //!   contacts to the track that owns them);
 //! - `drawbar`: the drawbar's pull on the chassis (`[drawbar]`);
-//! - [`conveyor`]: conveyors (tracks on the world) and loose boxes, built and stepped;
-//! - [`step`]: the stages of one step;
-//! - [`sample`]: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
-//! - [`mass`]: the vehicle weighs what its file says (floored link masses taken back from
+//! - `conveyor`: conveyors (tracks on the world) and loose boxes, built and stepped;
+//! - `step`: the stages of one step;
+//! - `sample`: what is recorded of the state ([`Sample`], [`PoseRpy`]) and contact queries;
+//! - `mass`: the vehicle weighs what its file says (floored link masses taken back from
 //!   their parents), and the report of every part's mass;
-//! - [`origin`]: the floating origin that keeps the f32 world near the vehicle;
-//! - [`odometry`]: what the robot's encoders report (skid-steer dead reckoning);
-//! - [`track_loads`]: the terrain's force on each track (contacts, normal load, traction);
-//! - [`soil`]: deformable soil in the contact hook (Bekker, Mohr-Coulomb, Janosi), its
-//!   after-step memory and the per-track sinkage and thrust; [`rut_grid`]: the bounded grid of
+//! - `origin`: the floating origin that keeps the f32 world near the vehicle;
+//! - `odometry`: what the robot's encoders report (skid-steer dead reckoning);
+//! - `track_loads`: the terrain's force on each track (contacts, normal load, traction);
+//! - `soil`: deformable soil in the contact hook (Bekker, Mohr-Coulomb, Janosi), its
+//!   after-step memory and the per-track sinkage and thrust; `rut_grid`: the bounded grid of
 //!   ruts and shear displacement.
 
 #![warn(clippy::too_many_lines)]
 
-pub mod build;
-pub mod compliance;
-pub mod contacts;
-pub mod conveyor;
+mod build;
+mod compliance;
+mod contacts;
+mod conveyor;
 mod drawbar;
-pub mod mass;
-pub mod odometry;
-pub mod origin;
-pub mod rut_grid;
-pub mod sample;
-pub mod soil;
-pub mod step;
-pub mod track_loads;
+mod mass;
+mod odometry;
+mod origin;
+mod rut_grid;
+mod sample;
+mod soil;
+mod step;
+mod track_loads;
 
-pub use mass::{MassReport, PartMass};
+pub use mass::{MIN_PARENT_MASS_FRACTION, MassReport, PartMass};
 pub use odometry::Odometry;
+pub use origin::ORIGIN_SHIFT_M;
 pub use rut_grid::RutGridStats;
-pub use sample::{DriveSample, PoseRpy, Sample};
-pub use soil::{RutCell, TrackSoil};
-pub use track_loads::{TrackLoad, TrackOwners};
+pub use sample::{DriveSample, ICR_MIN_RATE_RAD_S, PoseRpy, Sample, slip_ratio};
+pub use soil::{RutCell, SHEAR_RESET_S, TrackSoil};
+pub use step::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
+pub use track_loads::{MAX_LOAD_WINDOW_STEPS, TrackLoad, TrackOwners};
 
 use crate::model::Method;
 use crate::model::{Controls, Scenario};

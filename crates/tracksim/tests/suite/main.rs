@@ -5,6 +5,7 @@
 
 mod common;
 
+mod api_list;
 mod bundled_scenarios;
 mod flippers;
 mod geometry;
