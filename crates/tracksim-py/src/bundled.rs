@@ -26,7 +26,7 @@ fn bundled_names() -> Vec<String> {
 fn bundled_path(py: Python<'_>, name: &str) -> PyResult<String> {
     match py
         .detach(|| bundled::resolve(name))
-        .map_err(crate::py_err)?
+        .map_err(crate::common::py_err)?
     {
         Some(p) => Ok(p.display().to_string()),
         None => {
