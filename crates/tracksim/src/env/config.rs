@@ -1,13 +1,14 @@
 //! [`EnvConfig`]: how an [`Env`](super::Env) turns actions into controls and what it observes,
-//! built from named settings ([`EnvConfig::set`], [`EnvConfig::from_settings`]: what the Python
-//! package's `config` dict holds) and checked ([`EnvConfig::check`], which
+//! built from named settings ([`EnvConfig::from_settings`] through the serde spec [`EnvSpec`]:
+//! what the Python package's `config` dict holds) and checked ([`EnvConfig::check`], which
 //! [`Env::new`](super::Env::new) calls) with every problem named by its key.
 
 use crate::check::{Checker, MAX_SPEED_MPS, unknown_name};
 use crate::error::{Error, Result, SpecIssue};
 
 /// What the actions command besides the flippers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum ActionMode {
     /// Two actions: forward speed and yaw rate (skid steering, [`Controls::twist`]).
     ///
@@ -40,7 +41,8 @@ impl ActionMode {
 }
 
 /// What the flipper actions command.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum FlipperAction {
     /// A target angle: action -1 .. +1 mapped linearly onto `flipper_range_rad`.
     #[default]
@@ -74,7 +76,8 @@ impl FlipperAction {
 }
 
 /// What an [`Env`](super::Env)'s observation is made of.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum ObservationMode {
     /// The state vector alone ([`Env::observe`](super::Env::observe)).
     #[default]
@@ -184,7 +187,7 @@ impl Default for EnvConfig {
     }
 }
 
-/// One setting's value for [`EnvConfig::set`]: a number, a name, a pair of numbers or a pair
+/// One setting's value for [`EnvConfig::from_settings`]: a number, a name, a pair of numbers or a pair
 /// of whole numbers (a pair of whole numbers is also accepted where a pair of numbers is).
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvValue {
@@ -241,7 +244,7 @@ const WHAT: &str = "environment settings";
 pub const MAX_GRID_CELLS: usize = 10_000;
 
 impl EnvConfig {
-    /// The keys [`EnvConfig::set`] accepts, in the order of the fields.
+    /// The keys of the settings ([`EnvSpec`]'s fields), in the order of the fields.
     pub const KEYS: &'static [&'static str] = &[
         "control_period_s",
         "action",
@@ -264,16 +267,18 @@ impl EnvConfig {
     ];
 
     /// The default configuration with `settings` applied in order, then checked: every
-    /// problem (unknown keys, values of the wrong kind, values out of range) in one
-    /// [`Error::Settings`].
+    /// problem (unknown keys with a suggestion, values of the wrong kind, values out of range)
+    /// in one [`Error::Settings`], each named by its key. Each setting is read through
+    /// [`EnvSpec`], the serde spec of the settings (`deny_unknown_fields`, like every file).
     pub fn from_settings<K: AsRef<str>>(
         settings: impl IntoIterator<Item = (K, EnvValue)>,
     ) -> Result<Self> {
         let mut c = EnvConfig::default();
         let mut issues = Vec::new();
         for (k, v) in settings {
-            if let Err(e) = c.set(k.as_ref(), v) {
-                issues.extend(e.issues().iter().cloned());
+            match EnvSpec::of_setting(k.as_ref(), &v) {
+                Ok(spec) => spec.apply_to(&mut c),
+                Err(i) => issues.push(i),
             }
         }
         if issues.is_empty() {
@@ -288,165 +293,6 @@ impl EnvConfig {
             what: WHAT.into(),
             issues,
         })
-    }
-
-    /// Sets `key` to `value` (the field of that name; `action` takes `"twist"` or `"belts"`,
-    /// `observation` `"vector"`, `"dict"` or `"learner"`, `flipper_action` `"position"` or
-    /// `"velocity"`, `grid_shape` and `map_shape` two whole numbers, `goal_xy_m` two numbers).
-    /// An unknown key or a value of the wrong kind is refused with the key named; ranges are
-    /// checked by [`EnvConfig::check`].
-    pub fn set(&mut self, key: &str, value: EnvValue) -> Result<()> {
-        let wrong = |expected: &str| Error::Settings {
-            what: WHAT.into(),
-            issues: vec![SpecIssue::new(
-                key,
-                format!("expected {expected}, got {}", value.what()),
-            )],
-        };
-        let pair = |v: &EnvValue| match *v {
-            EnvValue::Pair(a, b) => Some((a, b)),
-            EnvValue::IntPair(a, b) => Some((a as f64, b as f64)),
-            _ => None,
-        };
-        if matches!(key, "flipper_action" | "record_dir") {
-            return self.set_flipper_or_record(key, value);
-        }
-        match key {
-            "action" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a name: \"twist\" or \"belts\""));
-                };
-                self.action = ActionMode::from_name(s).ok_or_else(|| {
-                    Error::setting(
-                        WHAT,
-                        key,
-                        format!(
-                            "{:?} is not an action mode: use \"twist\" (forward speed, yaw rate) \
-                             or \"belts\" (one speed per track)",
-                            crate::check::echoed(s)
-                        ),
-                    )
-                })?;
-            }
-            "observation" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a name: \"vector\", \"dict\" or \"learner\""));
-                };
-                self.observation = ObservationMode::from_name(s).ok_or_else(|| {
-                    Error::setting(
-                        WHAT,
-                        key,
-                        format!(
-                            "{:?} is not an observation mode: use \"vector\" (the state \
-                             vector), \"dict\" (the state vector and one array per sensor) or \
-                             \"learner\" (elevation map, goal, velocities, orientation, \
-                             flippers, per-track slip, traction and contacts)",
-                            crate::check::echoed(s)
-                        ),
-                    )
-                })?;
-            }
-            "goal_xy_m" => {
-                self.goal_xy_m = Some(pair(&value).ok_or_else(|| wrong("two numbers (x, y), m"))?);
-            }
-            "flipper_range_rad" => {
-                self.flipper_range_rad =
-                    pair(&value).ok_or_else(|| wrong("two numbers (low, high), rad"))?;
-            }
-            "grid_spacing_m" => {
-                self.grid_spacing_m =
-                    pair(&value).ok_or_else(|| wrong("two numbers (along, across), m"))?;
-            }
-            "grid_shape" | "map_shape" => {
-                let EnvValue::IntPair(r, c) = value else {
-                    return Err(wrong("two whole numbers (rows, columns), e.g. (5, 3)"));
-                };
-                let (Ok(r), Ok(c)) = (usize::try_from(r), usize::try_from(c)) else {
-                    return Err(Error::setting(
-                        WHAT,
-                        key,
-                        format!("rows and columns must be 0 or more, got ({r}, {c})"),
-                    ));
-                };
-                if key == "grid_shape" {
-                    self.grid_shape = (r, c);
-                } else {
-                    self.map_shape = (r, c);
-                }
-            }
-            _ => {
-                let field = match key {
-                    "control_period_s" => &mut self.control_period_s,
-                    "max_forward_mps" => &mut self.max_forward_mps,
-                    "max_yaw_rate_rad_s" => &mut self.max_yaw_rate_rad_s,
-                    "max_belt_speed_mps" => &mut self.max_belt_speed_mps,
-                    "grid_ahead_m" => &mut self.grid_ahead_m,
-                    "no_terrain_m" => &mut self.no_terrain_m,
-                    "max_flipper_rate_rad_s" => &mut self.max_flipper_rate_rad_s,
-                    "map_resolution_m" => &mut self.map_resolution_m,
-                    "map_reach_m" => &mut self.map_reach_m,
-                    _ => {
-                        return Err(Error::Settings {
-                            what: WHAT.into(),
-                            issues: vec![SpecIssue::whole(
-                                crate::check::echoed(key),
-                                unknown_name("environment setting", key, Self::KEYS),
-                            )],
-                        });
-                    }
-                };
-                let EnvValue::Number(x) = value else {
-                    return Err(wrong("a number"));
-                };
-                *field = x;
-            }
-        }
-        Ok(())
-    }
-
-    /// [`EnvConfig::set`] of `flipper_action` and `record_dir`.
-    fn set_flipper_or_record(&mut self, key: &str, value: EnvValue) -> Result<()> {
-        let wrong = |expected: &str| Error::Settings {
-            what: WHAT.into(),
-            issues: vec![SpecIssue::new(
-                key,
-                format!("expected {expected}, got {}", value.what()),
-            )],
-        };
-        match key {
-            "flipper_action" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a name: \"position\" or \"velocity\""));
-                };
-                self.flipper_action = FlipperAction::from_name(s).ok_or_else(|| {
-                    Error::setting(
-                        WHAT,
-                        key,
-                        format!(
-                            "{:?} is not a flipper action: use \"position\" (target angles \
-                             over flipper_range_rad) or \"velocity\" (rates up to \
-                             max_flipper_rate_rad_s)",
-                            crate::check::echoed(s)
-                        ),
-                    )
-                })?;
-            }
-            "record_dir" => {
-                let EnvValue::Text(s) = &value else {
-                    return Err(wrong("a folder (a path as a string)"));
-                };
-                if s.is_empty() {
-                    return Err(Error::setting(
-                        WHAT,
-                        key,
-                        "an empty path: give the folder to write the episodes into",
-                    ));
-                }
-                self.record_dir = Some(s.into());
-            }
-            _ => unreachable!("set passes only these keys"),
-        }
-        Ok(())
     }
 
     /// Checks every limit, each problem named by its key: `control_period_s` from 1e-6 to
@@ -523,3 +369,194 @@ impl EnvConfig {
         }
     }
 }
+
+/// The environment settings as a caller writes them: the serde spec of [`EnvConfig`]'s named
+/// settings, unknown keys refused (`deny_unknown_fields`) like every file's spec; each field
+/// given overrides the default.
+#[derive(Clone, Debug, Default, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvSpec {
+    /// [`EnvConfig::control_period_s`], s.
+    pub control_period_s: Option<f64>,
+    /// [`EnvConfig::action`].
+    pub action: Option<ActionMode>,
+    /// [`EnvConfig::max_forward_mps`], m/s.
+    pub max_forward_mps: Option<f64>,
+    /// [`EnvConfig::max_yaw_rate_rad_s`], rad/s.
+    pub max_yaw_rate_rad_s: Option<f64>,
+    /// [`EnvConfig::max_belt_speed_mps`], m/s.
+    pub max_belt_speed_mps: Option<f64>,
+    /// [`EnvConfig::flipper_range_rad`]: two numbers (low, high), rad.
+    pub flipper_range_rad: Option<(f64, f64)>,
+    /// [`EnvConfig::grid_shape`]: two whole numbers (rows, columns).
+    pub grid_shape: Option<(usize, usize)>,
+    /// [`EnvConfig::grid_spacing_m`]: two numbers (along, across), m.
+    pub grid_spacing_m: Option<(f64, f64)>,
+    /// [`EnvConfig::grid_ahead_m`], m.
+    pub grid_ahead_m: Option<f64>,
+    /// [`EnvConfig::no_terrain_m`], m.
+    pub no_terrain_m: Option<f64>,
+    /// [`EnvConfig::observation`].
+    pub observation: Option<ObservationMode>,
+    /// [`EnvConfig::flipper_action`].
+    pub flipper_action: Option<FlipperAction>,
+    /// [`EnvConfig::max_flipper_rate_rad_s`], rad/s.
+    pub max_flipper_rate_rad_s: Option<f64>,
+    /// [`EnvConfig::map_shape`]: two whole numbers (rows, columns).
+    pub map_shape: Option<(usize, usize)>,
+    /// [`EnvConfig::map_resolution_m`], m.
+    pub map_resolution_m: Option<f64>,
+    /// [`EnvConfig::map_reach_m`], m.
+    pub map_reach_m: Option<f64>,
+    /// [`EnvConfig::goal_xy_m`]: two numbers (x, y), m.
+    pub goal_xy_m: Option<(f64, f64)>,
+    /// [`EnvConfig::record_dir`]: a folder.
+    pub record_dir: Option<std::path::PathBuf>,
+}
+
+impl EnvSpec {
+    /// The spec of one setting `key` = `value`, or its problem keyed `key`: an unknown key with
+    /// a suggestion and every key, a value serde cannot read as the field (the message says
+    /// what was expected and what was given), an empty `record_dir`.
+    pub fn of_setting(key: &str, value: &EnvValue) -> std::result::Result<EnvSpec, SpecIssue> {
+        if !EnvConfig::KEYS.contains(&key) {
+            return Err(SpecIssue::whole(
+                crate::check::echoed(key),
+                unknown_name("environment setting", key, EnvConfig::KEYS),
+            ));
+        }
+        let v = match value {
+            EnvValue::Number(x) => toml::Value::Float(*x),
+            EnvValue::Text(s) => toml::Value::String(s.clone()),
+            EnvValue::Pair(a, b) => toml::Value::Array(vec![(*a).into(), (*b).into()]),
+            EnvValue::IntPair(a, b) => toml::Value::Array(vec![(*a).into(), (*b).into()]),
+        };
+        let mut t = toml::Table::new();
+        t.insert(key.to_string(), v);
+        let spec: EnvSpec =
+            serde::Deserialize::deserialize(toml::Value::Table(t)).map_err(|e| {
+                SpecIssue::new(
+                    key,
+                    format!(
+                        "expected {} ({}), got {}",
+                        Self::expected(key),
+                        e.message().trim_end(),
+                        value.what()
+                    ),
+                )
+            })?;
+        if spec
+            .record_dir
+            .as_ref()
+            .is_some_and(|d| d.as_os_str().is_empty())
+        {
+            return Err(SpecIssue::new(
+                key,
+                "an empty path: give the folder to write the episodes into",
+            ));
+        }
+        Ok(spec)
+    }
+
+    /// What a value of setting `key` is, in words (for its messages).
+    fn expected(key: &str) -> &'static str {
+        match key {
+            "action" => "a name: \"twist\" or \"belts\"",
+            "observation" => "a name: \"vector\", \"dict\" or \"learner\"",
+            "flipper_action" => "a name: \"position\" or \"velocity\"",
+            "grid_shape" | "map_shape" => "two whole numbers (rows, columns), e.g. (5, 3)",
+            "flipper_range_rad" => "two numbers (low, high), rad",
+            "grid_spacing_m" => "two numbers (along, across), m",
+            "goal_xy_m" => "two numbers (x, y), m",
+            "record_dir" => "a folder (a path as a string)",
+            _ => "a number",
+        }
+    }
+
+    /// Writes every field given into `c`.
+    pub fn apply_to(self, c: &mut EnvConfig) {
+        let EnvSpec {
+            control_period_s,
+            action,
+            max_forward_mps,
+            max_yaw_rate_rad_s,
+            max_belt_speed_mps,
+            flipper_range_rad,
+            grid_shape,
+            grid_spacing_m,
+            grid_ahead_m,
+            no_terrain_m,
+            observation,
+            flipper_action,
+            max_flipper_rate_rad_s,
+            map_shape,
+            map_resolution_m,
+            map_reach_m,
+            goal_xy_m,
+            record_dir,
+        } = self;
+        let set = |slot: &mut f64, v: Option<f64>| {
+            if let Some(v) = v {
+                *slot = v;
+            }
+        };
+        set(&mut c.control_period_s, control_period_s);
+        set(&mut c.max_forward_mps, max_forward_mps);
+        set(&mut c.max_yaw_rate_rad_s, max_yaw_rate_rad_s);
+        set(&mut c.max_belt_speed_mps, max_belt_speed_mps);
+        set(&mut c.grid_ahead_m, grid_ahead_m);
+        set(&mut c.no_terrain_m, no_terrain_m);
+        set(&mut c.max_flipper_rate_rad_s, max_flipper_rate_rad_s);
+        set(&mut c.map_resolution_m, map_resolution_m);
+        set(&mut c.map_reach_m, map_reach_m);
+        c.action = action.unwrap_or(c.action);
+        c.observation = observation.unwrap_or(c.observation);
+        c.flipper_action = flipper_action.unwrap_or(c.flipper_action);
+        c.flipper_range_rad = flipper_range_rad.unwrap_or(c.flipper_range_rad);
+        c.grid_shape = grid_shape.unwrap_or(c.grid_shape);
+        c.grid_spacing_m = grid_spacing_m.unwrap_or(c.grid_spacing_m);
+        c.map_shape = map_shape.unwrap_or(c.map_shape);
+        if goal_xy_m.is_some() {
+            c.goal_xy_m = goal_xy_m;
+        }
+        if record_dir.is_some() {
+            c.record_dir = record_dir;
+        }
+    }
+}
+
+/// A mode named in the settings, read by its name (the message lists the names).
+macro_rules! from_name_str {
+    ($t:ty, $what:literal, $use:literal) => {
+        impl TryFrom<String> for $t {
+            type Error = String;
+            fn try_from(s: String) -> std::result::Result<Self, String> {
+                <$t>::from_name(&s).ok_or_else(|| {
+                    format!(
+                        concat!("{:?} is not ", $what, ": use ", $use),
+                        crate::check::echoed(&s)
+                    )
+                })
+            }
+        }
+    };
+}
+
+from_name_str!(
+    ActionMode,
+    "an action mode",
+    "\"twist\" (forward speed, yaw rate) or \"belts\" (one speed per track)"
+);
+from_name_str!(
+    ObservationMode,
+    "an observation mode",
+    "\"vector\" (the state vector), \"dict\" (the state vector and one array per sensor) or \
+     \"learner\" (elevation map, goal, velocities, orientation, flippers, per-track slip, \
+     traction and contacts)"
+);
+from_name_str!(
+    FlipperAction,
+    "a flipper action",
+    "\"position\" (target angles over flipper_range_rad) or \"velocity\" (rates up to \
+     max_flipper_rate_rad_s)"
+);

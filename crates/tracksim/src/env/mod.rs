@@ -17,7 +17,9 @@ mod record;
 mod sensor_obs;
 mod vector;
 
-pub use config::{ActionMode, EnvConfig, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode};
+pub use config::{
+    ActionMode, EnvConfig, EnvSpec, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode,
+};
 pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
 pub use sensor_obs::{STATE_KEY, SensorObs};
 pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};

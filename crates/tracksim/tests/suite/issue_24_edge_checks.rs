@@ -115,9 +115,15 @@ fn env_values_of_the_wrong_kind_and_out_of_range_are_refused_with_their_keys() {
         "{shown}"
     );
 
-    let mut c = EnvConfig::default();
-    assert!(c.set("grid_shape", EnvValue::from((-1i64, 3i64))).is_err());
-    c.grid_shape = (1000, 1000);
+    let e = EnvConfig::from_settings([("grid_shape", EnvValue::from((-1i64, 3i64)))]).unwrap_err();
+    assert!(
+        message(&e, "grid_shape").contains("two whole numbers"),
+        "{e}"
+    );
+    let c = EnvConfig {
+        grid_shape: (1000, 1000),
+        ..Default::default()
+    };
     let e = c.check().unwrap_err();
     assert!(
         message(&e, "grid_shape").contains("at most 10000 cells"),

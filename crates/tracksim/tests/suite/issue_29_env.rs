@@ -60,6 +60,11 @@ fn new_settings_are_refused_with_their_keys() {
     }
     let e = EnvConfig::from_settings([("observation", EnvValue::from("image"))]).unwrap_err();
     assert!(e.to_string().contains("\"learner\""), "{e}");
+    assert!(
+        e.to_string()
+            .contains("observation: expected a name: \"vector\", \"dict\" or \"learner\" (\"image\" is not an observation mode"),
+        "{e}"
+    );
 }
 
 #[test]
