@@ -12,7 +12,7 @@
 use super::lidar::write_pose;
 use super::mount::{sensor_frame, v32};
 use super::scene::Reach;
-use super::{Channel, Sensor, StreamFormat};
+use super::sensor::{Channel, Sensor, StreamFormat};
 use crate::model::{ElevationMapModel, SensorModel};
 use crate::world::Simulation;
 use glam::DVec3;

@@ -3,7 +3,7 @@
 //! measured belt speed (m/s); per flipper its joint angle (rad, quantised to
 //! `angle_resolution_deg`).
 
-use super::{Channel, Sensor, StreamFormat};
+use super::sensor::{Channel, Sensor, StreamFormat};
 use crate::model::{EncodersModel, SensorModel};
 use crate::world::Simulation;
 

@@ -10,7 +10,7 @@
 
 use super::mount::sensor_frame;
 use super::noise::Noise;
-use super::{Channel, Sensor, StreamFormat};
+use super::sensor::{Channel, Sensor, StreamFormat};
 use crate::model::{ImuModel, SensorModel};
 use crate::world::Simulation;
 use glam::DVec3;

@@ -11,7 +11,7 @@
 use super::mount::{sensor_frame, v32};
 use super::noise::Noise;
 use super::scene::Reach;
-use super::{Channel, Sensor, StreamFormat};
+use super::sensor::{Channel, Sensor, StreamFormat};
 use crate::model::{LidarModel, SensorModel};
 use crate::world::Simulation;
 use glam::DVec3;
@@ -78,7 +78,11 @@ impl Lidar {
 }
 
 /// The sensor's pose in world coordinates (floating origin added) into the last two channels.
-pub(crate) fn write_pose(channels: &mut [Channel], sim: &Simulation, f: &super::SensorFrame) {
+pub(crate) fn write_pose(
+    channels: &mut [Channel],
+    sim: &Simulation,
+    f: &super::mount::SensorFrame,
+) {
     let n = channels.len();
     let p = f.position + sim.origin();
     channels[n - 2].data.copy_from_slice(&p.to_array());

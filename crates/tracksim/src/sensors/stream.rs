@@ -1,16 +1,7 @@
 //! A sensor's readings over a run ([`SensorStream`]): the times and every channel's values,
 //! appended at each update (scalar sensors in f64 for CSV, arrays in f32 for `.npz`).
 
-use super::{Channel, Sensor};
-
-/// How a sensor's stream is written.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StreamFormat {
-    /// `sensors/NAME.csv`: `t_s` and one column per value (IMU, encoders).
-    Csv,
-    /// `sensors/NAME.npz`: `t_s` (N), each channel (N x its shape, float32) and the axes.
-    Npz,
-}
+use super::sensor::{Channel, Sensor, StreamFormat};
 
 /// The values of one channel over a run.
 #[derive(Clone, Debug, PartialEq)]
