@@ -47,6 +47,16 @@ const MU_CAP: f32 = 5.0;
 const EDGE_MARGIN_M: f64 = 1e-6;
 /// Below this chassis speed no compaction impulse is applied, m/s.
 const COMPACTION_MIN_SPEED_MPS: f64 = 1e-3;
+/// A track whose belt is held and whose parent moves slower than this (horizontally) is
+/// parked: its soil contacts hold on to where it was parked (static friction's anchor), m/s.
+const ANCHOR_SPEED_MPS: f64 = 0.01;
+/// ... and turns slower than this, rad/s.
+const ANCHOR_TURN_RADPS: f64 = 0.05;
+/// Time constant of a parked track's return to its anchor, s.
+const ANCHOR_TIME_S: f32 = 0.2;
+/// Largest speed of that return, m/s (below [`ANCHOR_SPEED_MPS`]: the return never releases
+/// the anchor).
+const ANCHOR_MAX_MPS: f32 = 0.002;
 
 /// How a vehicle collider loads the soil.
 #[derive(Clone, Copy, Debug)]
@@ -213,6 +223,17 @@ pub(crate) struct SoilState {
     /// The vehicle's linear momentum before the step, N s (Rapier frame): the exact measure of
     /// the friction impulses (see [`Simulation::soil_contact_impulses`]).
     momentum_before: Vector,
+    /// Each parked track's anchor: its parent body, the parent's pose when it was parked
+    /// (Rapier frame) and the floating origin then (see [`Simulation::update_anchors`]).
+    anchors: Vec<Option<Anchor>>,
+}
+
+/// Where a parked track's parent stood when it was parked.
+#[derive(Clone, Copy, Debug)]
+struct Anchor {
+    parent: RigidBodyHandle,
+    pose: Pose,
+    origin: DVec3,
 }
 
 /// A footprint's raw soil force this step, N, its patches' area, m^2, its soil and Bekker's
@@ -308,6 +329,7 @@ pub(crate) fn build_soil(
         recent: std::collections::VecDeque::new(),
         seq: 0,
         momentum_before: Vector::ZERO,
+        anchors: vec![None; models.len()],
         buffers: Buffers::default(),
     })
 }
@@ -393,6 +415,12 @@ pub(crate) fn modify_soil_contacts(
         return;
     };
     let patch = patch_of(&part, collider);
+    // A parked track's anchor: the motion that takes its parent back to where it was parked.
+    let back = part
+        .track
+        .and_then(|t| state.anchors.get(t).copied().flatten())
+        .filter(|a| a.origin == origin)
+        .map(|a| a.pose * ctx.bodies[a.parent].position().inverse());
     let Some(m) = ctx.rigid_mut() else {
         return;
     };
@@ -473,6 +501,9 @@ pub(crate) fn modify_soil_contacts(
         None => (soil.phi.tan() * mob) as f32,
     };
     let normal = *m.normal * sign;
+    if let Some(back) = back {
+        hold_parked(m.solver_contacts.iter_mut(), back, normal, sign);
+    }
     if let Ok(mut pending) = state.pending.lock() {
         pending.push(Load {
             soil: soil_index,
@@ -493,6 +524,29 @@ pub(crate) fn modify_soil_contacts(
             ground: ground_h,
             normal: -normal,
         });
+    }
+}
+
+/// A parked track's contacts target the sliding velocity that takes each contact point back to
+/// where the parked parent held it, `-d / ANCHOR_TIME_S` (at most [`ANCHOR_MAX_MPS`]): the anchor
+/// static friction has between steps on rigid ground (recycled contacts keep their points) and
+/// soil contacts, rebuilt every step, do not. Still limited by the friction coefficient: a robot
+/// the soil cannot hold slides, and moving releases the anchor. `back` takes the parent's pose
+/// now to its anchor; `normal` is the soil's normal and `sign` +1 when the part is collider 1.
+fn hold_parked<'a>(
+    contacts: impl Iterator<Item = &'a mut SolverContact>,
+    back: Pose,
+    normal: Vector,
+    sign: f32,
+) {
+    for c in contacts {
+        let p = if sign > 0.0 { c.anchor1 } else { c.anchor2 };
+        let d = p - back * p;
+        let d = d - normal * d.dot(normal);
+        // The velocity of the part relative to the ground that removes the drift; the solver
+        // drives (v1 - v2).t to -tangent_velocity.t.
+        let w = (-d / ANCHOR_TIME_S).clamp_length_max(ANCHOR_MAX_MPS);
+        c.tangent_velocity = -w * sign;
     }
 }
 
@@ -804,11 +858,36 @@ impl Simulation {
             }
         }
         self.give_back_compaction(work, &mut figures);
+        self.update_anchors(state, &figures);
         state.tracks = figures;
         state.track_mu = limits
             .iter()
             .map(|&(lim, force)| (force > 1e-3).then(|| ((lim / force) as f32).min(MU_CAP)))
             .collect();
+    }
+
+    /// Anchors each parked track on soil (its belt held, its parent nearly still, loaded) where
+    /// its parent stands, keeping an anchor while it stays parked; releases the others.
+    fn update_anchors(&self, state: &mut SoilState, figures: &[TrackSoil]) {
+        for (t, f) in figures.iter().enumerate() {
+            let parent = self.track_parent(t);
+            let b = &self.world.bodies[parent];
+            let v = b.linvel();
+            let parked = self.tracks[t].holds_belt()
+                && f.normal_n > 0.0
+                && (v.x.hypot(v.y) as f64) < ANCHOR_SPEED_MPS
+                && (b.angvel().length() as f64) < ANCHOR_TURN_RADPS;
+            let a = &mut state.anchors[t];
+            *a = match *a {
+                Some(a) if parked && a.parent == parent && a.origin == self.origin => Some(a),
+                _ if parked => Some(Anchor {
+                    parent,
+                    pose: *b.position(),
+                    origin: self.origin,
+                }),
+                _ => None,
+            };
+        }
     }
 
     /// Compaction: the work `work` J of pressing soil deeper this step, taken from the
