@@ -47,6 +47,14 @@ const MU_CAP: f32 = 5.0;
 const EDGE_MARGIN_M: f64 = 1e-6;
 /// Below this chassis speed no compaction impulse is applied, m/s.
 const COMPACTION_MIN_SPEED_MPS: f64 = 1e-3;
+/// Time constant of the pressure a rut keeps, s: the footprint's pressure (its force over its
+/// patches' area) low-pass filtered this long sets how deep a cell is pressed for good. A
+/// track's grouser patches in contact alternate between N and N + 1 as grousers pass the
+/// pulleys (one pitch of area: 6 % on PackBot), and the solver's force fluctuates; a cell
+/// keeps its largest sinkage, so a rut that followed each step's pressure kept its peaks
+/// (issue 38.4: sinkage 14 % over Bekker at n = 0.5 = the pressure over N patches, not the
+/// mean).
+const RUT_PRESSURE_TIME_S: f64 = 0.5;
 /// A track whose belt is held and whose parent moves slower than this (horizontally) is
 /// parked: its soil contacts hold on to where it was parked (static friction's anchor), m/s.
 const ANCHOR_SPEED_MPS: f64 = 0.01;
@@ -206,7 +214,7 @@ pub(crate) struct SoilState {
     /// (the paper's non-deformable track), so its patches share one pressure, Wong's uniform
     /// pressure (the solver's split of a rigid link's load among its contacts is arbitrary).
     /// Any other part is its own footprint.
-    bodies: HashMap<Footprint, (f64, f64)>,
+    bodies: HashMap<Footprint, (f64, f64, f64)>,
     tracks: Vec<TrackSoil>,
     /// Each track's friction coefficient for the next step: its patches' mobilised limits over
     /// its load (None off soil).
@@ -246,7 +254,7 @@ struct Buffers {
     loads: Vec<Load>,
     raw: HashMap<Footprint, RawLoad>,
     seen: std::collections::HashSet<ColliderHandle>,
-    bodies: HashMap<Footprint, (f64, f64)>,
+    bodies: HashMap<Footprint, (f64, f64, f64)>,
 }
 
 /// A cell is reported to the live view again each time its rut reaches a multiple of this, m.
@@ -453,11 +461,11 @@ pub(crate) fn modify_soil_contacts(
         Some((_, half_width)) => 2.0 * half_width,
         None => patch.b(),
     };
-    let (force_body, area_body) = state
+    let (force_body, area_body, p_rut) = state
         .bodies
         .get(&part.footprint(body))
         .copied()
-        .unwrap_or((0.0, area));
+        .unwrap_or((0.0, area, 0.0));
     let p = force_body / area_body.max(1e-9);
     let force = p * area;
     // Grousers: until their tips have sunk their height the tips alone bear the load (Bekker
@@ -515,7 +523,7 @@ pub(crate) fn modify_soil_contacts(
             z_virgin: if engaged < part.height {
                 0.0
             } else {
-                soil.sinkage(p, b)
+                soil.sinkage(p_rut, b)
             },
             b,
             force,
@@ -616,7 +624,7 @@ impl SoilState {
         bodies.clear();
         for (&h, &(force_now, area, soil_i, b)) in raw {
             let soil = &self.soils[soil_i];
-            let previous = self.bodies.get(&h).map_or(0.0, |v| v.0);
+            let (previous, previous_rut) = self.bodies.get(&h).map_or((0.0, 0.0), |v| (v.0, v.2));
             // The stiffness at the larger of the two loads on Bekker's curve: a first contact
             // (nothing filtered yet) is not taken as stiff as the elastic line.
             let p = previous.max(force_now) / area;
@@ -628,7 +636,15 @@ impl SoilState {
             };
             let tau = soil.damping / k_local.max(1.0);
             let gain = if tau > dt { dt / tau } else { 1.0 };
-            bodies.insert(h, (previous + gain * (force_now - previous), area));
+            let rut_gain = (dt / RUT_PRESSURE_TIME_S).min(1.0);
+            bodies.insert(
+                h,
+                (
+                    previous + gain * (force_now - previous),
+                    area,
+                    previous_rut + rut_gain * (force_now / area.max(1e-9) - previous_rut),
+                ),
+            );
         }
         self.buffers.bodies = std::mem::replace(&mut self.bodies, bodies);
     }

@@ -48,6 +48,10 @@ struct Window {
     carried: f64,
     /// Mean load-weighted sinkage, m.
     sinkage: f64,
+    /// Mean soil contact area (both tracks), m^2.
+    area: f64,
+    /// The vehicle's weight, N.
+    weight: f64,
 }
 
 /// The soil's contact impulses on the vehicle over the last step, world frame, N s: friction
@@ -155,10 +159,13 @@ fn measure(preset: &str, keys: &str, mass: f64, speed: f64, t0: f64, t1: f64) ->
         w.compaction_impulse += ts.iter().map(|t| t.compaction_n).sum::<f64>() * dt;
         w.carried += ts.iter().map(|t| t.normal_n).sum::<f64>() / weight;
         w.sinkage += ts.iter().map(|t| t.sinkage_m).sum::<f64>() / ts.len() as f64;
+        w.area += ts.iter().map(|t| t.contact_area_m2).sum::<f64>();
         steps += 1;
     }
     w.carried /= steps as f64;
     w.sinkage /= steps as f64;
+    w.area /= steps as f64;
+    w.weight = weight;
     w.momentum_change = momentum(&sim) - p0;
     for c in sim.ruts() {
         let z0 = before.get(&key(&c)).copied().unwrap_or(0.0);
@@ -287,4 +294,54 @@ fn a_robot_parked_on_soil_stays_where_it_was_parked() {
         "parked on rigid ground: drifted {:.2} mm",
         1e3 * rigid
     );
+}
+
+#[test]
+fn sinkage_under_twice_the_weight_follows_bekker_for_n_from_half_to_1_3() {
+    // Bekker: z = (p / k_phi)^(1/n) (k_c = 0), so twice the weight on the same area sinks
+    // 2^(1/n) deeper. PackBot driving slowly (0.1 m/s) onto fresh snow with n and k_phi set
+    // so that it sinks 5-20 mm (the hull never touches), its masses x1 and x2, measured over
+    // 6-9 s. The track's grouser patches in contact alternate between N and N + 1; before the
+    // ruts kept the pressure over N (each step's, 6 % over the mean) and twice the weight sank
+    // 3.5x at n = 0.5. Deeper, the pulleys' grousers add contact area (a real effect Bekker's
+    // 2^(1/n) leaves out), so the ratio is compared with Bekker's at the measured areas,
+    // `(2 A1 / A2)^(1/n)`, and the areas must stay within 8 %.
+    let mut failures = Vec::new();
+    for (n, k_phi) in [(0.5, 2e4), (0.8, 8.6e4), (1.0, 2e5), (1.3, 7.6e5)] {
+        let keys = format!("n = {n}\nk_phi = {k_phi}");
+        let light = measure("snow", &keys, 1.0, 0.1, 6.0, 9.0);
+        let heavy = measure("snow", &keys, 2.0, 0.1, 6.0, 9.0);
+        let ratio = heavy.sinkage / light.sinkage;
+        let areas = heavy.area / light.area;
+        let bekker = (2.0 / areas).powf(1.0 / n);
+        println!(
+            "n {n}: sinkage {:.2} / {:.2} mm = {ratio:.3} (2^(1/n) {:.3}; areas {:.4} / {:.4} m2, \
+             Bekker at them {bekker:.3})",
+            1e3 * heavy.sinkage,
+            1e3 * light.sinkage,
+            2f64.powf(1.0 / n),
+            heavy.area,
+            light.area
+        );
+        if (ratio / bekker - 1.0).abs() >= 0.05 || ratio.is_nan() {
+            failures.push(format!(
+                "n {n}: ratio {ratio:.3} against Bekker's {bekker:.3}"
+            ));
+        }
+        // Each sinkage against Bekker's at its measured mean pressure (snow: k_c = 0).
+        for (w, what) in [(&light, "x1"), (&heavy, "x2")] {
+            let z = (w.weight / w.area / k_phi).powf(1.0 / n);
+            if (w.sinkage / z - 1.0).abs() >= 0.05 || w.sinkage.is_nan() {
+                failures.push(format!(
+                    "n {n} {what}: sinkage {:.2} mm against Bekker's {:.2} mm",
+                    1e3 * w.sinkage,
+                    1e3 * z
+                ));
+            }
+        }
+        if (areas - 1.0).abs() >= 0.08 {
+            failures.push(format!("n {n}: contact area grew {areas:.3}x"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
