@@ -195,7 +195,7 @@ fn the_belts_work_through_the_soil_covers_the_ruts_and_newton_holds() {
         // cells, traction off the solver's contacts: the ruts must not hold more than the belts
         // gave, and what the belts gave beyond the slip is the ruts' work within 5 % (new cells
         // are entered a 1 cm column at a time: the work comes in lumps; measured +3 %, +4 %,
-        // +2 %; before the rut-work fix the ruts held 3 % more than the belts gave on sand and
+        // +3 %; before the rut-work fix the ruts held 3 % more than the belts gave on sand and
         // 6 % more at n = 0.5).
         let slip = w.belt_work - w.vehicle_work;
         if w.rut_work > w.belt_work {
@@ -280,7 +280,7 @@ fn a_robot_parked_on_soil_stays_where_it_was_parked() {
     // Before: soil contacts are rebuilt every step (never recycled), so static friction had no
     // anchor between steps and PackBot crept sideways 0.33 mm/s on snow (6.6 mm in 20 s);
     // on rigid ground, whose recycled contacts keep their points, it stays. A parked track
-    // now holds on to where it was parked (measured 0.2 mm, landing included).
+    // now holds on to where it was parked (measured 0.27 mm, landing included).
     let soil = parked_drift("[terrain.ground.soil]\npreset = \"snow\"", 20.0);
     let rigid = parked_drift("", 20.0);
     println!(
