@@ -18,11 +18,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut soil_keys = String::new();
     let mut mass = 1.0;
     let mut method = "okada2020".to_string();
+    let (mut iters, mut pgs, mut coulomb) = (None::<usize>, None::<usize>, false);
     for a in &args[5..] {
         let (k, v) = a.split_once('=').expect("key=value");
         match k {
             "mass" => mass = v.parse()?,
             "method" => method = v.to_string(),
+            "iters" => iters = Some(v.parse()?),
+            "pgs" => pgs = Some(v.parse()?),
+            "coulomb" => coulomb = v == "1",
             _ => soil_keys += &format!("{k} = {v}\n"),
         }
     }
@@ -68,6 +72,28 @@ belt_speed_mps = {speed}
         }
     }
     let mut sim = tracksim::Scripted::new(&sc)?;
+    if let Some(i) = iters {
+        sim.world.integration_parameters.num_solver_iterations = i;
+    }
+    if let Some(i) = pgs {
+        sim.world.integration_parameters.num_internal_pgs_iterations = i;
+    }
+    if coulomb {
+        sim.world.integration_parameters.friction_model = rapier3d::prelude::FrictionModel::Coulomb;
+    }
+    let substeps = sim.world.integration_parameters.num_solver_iterations as f64;
+    let (mut w_motor, mut i_coulomb) = (0.0f64, 0.0f64);
+    let (mut w_t, mut w_n) = (0.0f64, 0.0f64);
+    let ke = |s: &tracksim::Scripted| -> f64 {
+        s.vehicle_bodies()
+            .iter()
+            .map(|h| {
+                let b = &s.world.bodies[*h];
+                b.kinetic_energy() as f64 + (b.mass() * 9.81 * b.center_of_mass().z) as f64
+            })
+            .sum()
+    };
+    let mut ke0 = 0.0;
     let bodies = sim.vehicle_bodies();
     let m_total: f64 = bodies
         .iter()
@@ -98,6 +124,7 @@ belt_speed_mps = {speed}
             x0 = p.x;
             y0 = p.y;
             ruts_at_t0 = sim.ruts();
+            ke0 = ke(&sim);
         }
         sim.step()?;
         if before < t0 - 0.5 * dt {
@@ -129,6 +156,59 @@ belt_speed_mps = {speed}
             }
         }
         i_exact += -exact;
+        // Motor work: each link joint's motor impulse (last substep x substeps) times its
+        // target velocity.
+        for (_, j) in sim.world.impulse_joints.iter() {
+            if !owners.contains_key(&j.body2()) {
+                continue;
+            }
+            for i in [0usize, 3] {
+                let m = &j.data.motors[i];
+                w_motor += (m.impulse * m.target_vel) as f64 * substeps;
+            }
+        }
+        // Coulomb: the total tangent impulses (deterministic basis from the normal).
+        for pr in sim.world.narrow_phase.contact_pairs() {
+            let (c1, c2) = (
+                &sim.world.colliders[pr.collider1],
+                &sim.world.colliders[pr.collider2],
+            );
+            let veh = |c: &rapier3d::prelude::Collider| {
+                c.parent()
+                    .is_some_and(|b| owners.contains_key(&b) || b == sim.body_handle())
+            };
+            let sgn = if veh(c1) && !veh(c2) {
+                1.0f32
+            } else if veh(c2) && !veh(c1) {
+                -1.0
+            } else {
+                continue;
+            };
+            for m in pr.manifolds().iter() {
+                let d = -m.data.normal;
+                let sign = if d.z >= 0.0 { 1.0f32 } else { -1.0 };
+                let a = -1.0 / (sign + d.z);
+                let b = d.x * d.y * a;
+                let t1 = rapier3d::prelude::Vector::new(b, sign + d.y * d.y * a, -d.y);
+                let t2 = d.cross(t1);
+                let (vc, lp) = if sgn > 0.0 { (c1, true) } else { (c2, false) };
+                let rb = &sim.world.bodies[vc.parent().unwrap()];
+                for pt in &m.points {
+                    let ti = pt.data.tangent_impulse;
+                    let w = t1 * ti.x + t2 * ti.y;
+                    let nimp = -m.data.normal * pt.data.impulse;
+                    i_coulomb += (sgn * (w + nimp)).x as f64;
+                    let wp = if lp {
+                        vc.position() * pt.local_p1
+                    } else {
+                        vc.position() * pt.local_p2
+                    };
+                    let v = rb.velocity_at_point(wp);
+                    w_t += (sgn * w).dot(v) as f64;
+                    w_n += (sgn * nimp).dot(v) as f64;
+                }
+            }
+        }
         if std::env::var("TRACE").is_ok() && sim.steps() % 250 == 0 {
             let nn: f64 = ts.iter().map(|t| t.normal_n).sum();
             let a: f64 = ts.iter().map(|t| t.contact_area_m2).sum();
@@ -197,6 +277,13 @@ belt_speed_mps = {speed}
         }
         w_ruts += c.cell_m * c.cell_m * soil.compaction_work(z0, c.depth_m, width);
     }
+    println!(
+        "motor work (last substep x {substeps}) {w_motor:.3} J; coulomb total contact impulse x {i_coulomb:.3} N s"
+    );
+    println!(
+        "energy: contact friction work on vehicle {w_t:.3} J, normal work {w_n:.3} J, d(KE+PE) {:.3} J",
+        ke(&sim) - ke0
+    );
     println!("traction impulse x distance {:.3} J", i_thrust / t * dist);
     println!("window {t0}-{t1} s, mass {m_total:.2} kg, W {weight:.1} N, distance {dist:.4} m");
     println!(

@@ -47,6 +47,24 @@ const MU_CAP: f32 = 5.0;
 const EDGE_MARGIN_M: f64 = 1e-6;
 /// Below this chassis speed no compaction impulse is applied, m/s.
 const COMPACTION_MIN_SPEED_MPS: f64 = 1e-3;
+/// Time constant of the pressure a rut keeps, s: the footprint's pressure (its force over its
+/// patches' area) low-pass filtered this long sets how deep a cell is pressed for good. A
+/// track's grouser patches in contact alternate between N and N + 1 as grousers pass the
+/// pulleys (one pitch of area: 6 % on PackBot), and the solver's force fluctuates; a cell
+/// keeps its largest sinkage, so a rut that followed each step's pressure kept its peaks
+/// (issue 38.4: sinkage 14 % over Bekker at n = 0.5 = the pressure over N patches, not the
+/// mean).
+const RUT_PRESSURE_TIME_S: f64 = 0.5;
+/// A track whose belt is held and whose parent moves slower than this (horizontally) is
+/// parked: its soil contacts hold on to where it was parked (static friction's anchor), m/s.
+const ANCHOR_SPEED_MPS: f64 = 0.01;
+/// ... and turns slower than this, rad/s.
+const ANCHOR_TURN_RADPS: f64 = 0.05;
+/// Time constant of a parked track's return to its anchor, s.
+const ANCHOR_TIME_S: f32 = 0.2;
+/// Largest speed of that return, m/s (below [`ANCHOR_SPEED_MPS`]: the return never releases
+/// the anchor).
+const ANCHOR_MAX_MPS: f32 = 0.002;
 
 /// How a vehicle collider loads the soil.
 #[derive(Clone, Copy, Debug)]
@@ -196,7 +214,7 @@ pub(crate) struct SoilState {
     /// (the paper's non-deformable track), so its patches share one pressure, Wong's uniform
     /// pressure (the solver's split of a rigid link's load among its contacts is arbitrary).
     /// Any other part is its own footprint.
-    bodies: HashMap<Footprint, (f64, f64)>,
+    bodies: HashMap<Footprint, (f64, f64, f64)>,
     tracks: Vec<TrackSoil>,
     /// Each track's friction coefficient for the next step: its patches' mobilised limits over
     /// its load (None off soil).
@@ -213,6 +231,17 @@ pub(crate) struct SoilState {
     /// The vehicle's linear momentum before the step, N s (Rapier frame): the exact measure of
     /// the friction impulses (see [`Simulation::soil_contact_impulses`]).
     momentum_before: Vector,
+    /// Each parked track's anchor: its parent body, the parent's pose when it was parked
+    /// (Rapier frame) and the floating origin then (see [`Simulation::update_anchors`]).
+    anchors: Vec<Option<Anchor>>,
+}
+
+/// Where a parked track's parent stood when it was parked.
+#[derive(Clone, Copy, Debug)]
+struct Anchor {
+    parent: RigidBodyHandle,
+    pose: Pose,
+    origin: DVec3,
 }
 
 /// A footprint's raw soil force this step, N, its patches' area, m^2, its soil and Bekker's
@@ -225,7 +254,7 @@ struct Buffers {
     loads: Vec<Load>,
     raw: HashMap<Footprint, RawLoad>,
     seen: std::collections::HashSet<ColliderHandle>,
-    bodies: HashMap<Footprint, (f64, f64)>,
+    bodies: HashMap<Footprint, (f64, f64, f64)>,
 }
 
 /// A cell is reported to the live view again each time its rut reaches a multiple of this, m.
@@ -308,6 +337,7 @@ pub(crate) fn build_soil(
         recent: std::collections::VecDeque::new(),
         seq: 0,
         momentum_before: Vector::ZERO,
+        anchors: vec![None; models.len()],
         buffers: Buffers::default(),
     })
 }
@@ -393,6 +423,12 @@ pub(crate) fn modify_soil_contacts(
         return;
     };
     let patch = patch_of(&part, collider);
+    // A parked track's anchor: the motion that takes its parent back to where it was parked.
+    let back = part
+        .track
+        .and_then(|t| state.anchors.get(t).copied().flatten())
+        .filter(|a| a.origin == origin)
+        .map(|a| a.pose * ctx.bodies[a.parent].position().inverse());
     let Some(m) = ctx.rigid_mut() else {
         return;
     };
@@ -425,11 +461,11 @@ pub(crate) fn modify_soil_contacts(
         Some((_, half_width)) => 2.0 * half_width,
         None => patch.b(),
     };
-    let (force_body, area_body) = state
+    let (force_body, area_body, p_rut) = state
         .bodies
         .get(&part.footprint(body))
         .copied()
-        .unwrap_or((0.0, area));
+        .unwrap_or((0.0, area, 0.0));
     let p = force_body / area_body.max(1e-9);
     let force = p * area;
     // Grousers: until their tips have sunk their height the tips alone bear the load (Bekker
@@ -473,6 +509,9 @@ pub(crate) fn modify_soil_contacts(
         None => (soil.phi.tan() * mob) as f32,
     };
     let normal = *m.normal * sign;
+    if let Some(back) = back {
+        hold_parked(m.solver_contacts.iter_mut(), back, normal, sign);
+    }
     if let Ok(mut pending) = state.pending.lock() {
         pending.push(Load {
             soil: soil_index,
@@ -484,7 +523,7 @@ pub(crate) fn modify_soil_contacts(
             z_virgin: if engaged < part.height {
                 0.0
             } else {
-                soil.sinkage(p, b)
+                soil.sinkage(p_rut, b)
             },
             b,
             force,
@@ -493,6 +532,29 @@ pub(crate) fn modify_soil_contacts(
             ground: ground_h,
             normal: -normal,
         });
+    }
+}
+
+/// A parked track's contacts target the sliding velocity that takes each contact point back to
+/// where the parked parent held it, `-d / ANCHOR_TIME_S` (at most [`ANCHOR_MAX_MPS`]): the anchor
+/// static friction has between steps on rigid ground (recycled contacts keep their points) and
+/// soil contacts, rebuilt every step, do not. Still limited by the friction coefficient: a robot
+/// the soil cannot hold slides, and moving releases the anchor. `back` takes the parent's pose
+/// now to its anchor; `normal` is the soil's normal and `sign` +1 when the part is collider 1.
+fn hold_parked<'a>(
+    contacts: impl Iterator<Item = &'a mut SolverContact>,
+    back: Pose,
+    normal: Vector,
+    sign: f32,
+) {
+    for c in contacts {
+        let p = if sign > 0.0 { c.anchor1 } else { c.anchor2 };
+        let d = p - back * p;
+        let d = d - normal * d.dot(normal);
+        // The velocity of the part relative to the ground that removes the drift; the solver
+        // drives (v1 - v2).t to -tangent_velocity.t.
+        let w = (-d / ANCHOR_TIME_S).clamp_length_max(ANCHOR_MAX_MPS);
+        c.tangent_velocity = -w * sign;
     }
 }
 
@@ -562,7 +624,7 @@ impl SoilState {
         bodies.clear();
         for (&h, &(force_now, area, soil_i, b)) in raw {
             let soil = &self.soils[soil_i];
-            let previous = self.bodies.get(&h).map_or(0.0, |v| v.0);
+            let (previous, previous_rut) = self.bodies.get(&h).map_or((0.0, 0.0), |v| (v.0, v.2));
             // The stiffness at the larger of the two loads on Bekker's curve: a first contact
             // (nothing filtered yet) is not taken as stiff as the elastic line.
             let p = previous.max(force_now) / area;
@@ -574,7 +636,15 @@ impl SoilState {
             };
             let tau = soil.damping / k_local.max(1.0);
             let gain = if tau > dt { dt / tau } else { 1.0 };
-            bodies.insert(h, (previous + gain * (force_now - previous), area));
+            let rut_gain = (dt / RUT_PRESSURE_TIME_S).min(1.0);
+            bodies.insert(
+                h,
+                (
+                    previous + gain * (force_now - previous),
+                    area,
+                    previous_rut + rut_gain * (force_now / area.max(1e-9) - previous_rut),
+                ),
+            );
         }
         self.buffers.bodies = std::mem::replace(&mut self.bodies, bodies);
     }
@@ -804,11 +874,36 @@ impl Simulation {
             }
         }
         self.give_back_compaction(work, &mut figures);
+        self.update_anchors(state, &figures);
         state.tracks = figures;
         state.track_mu = limits
             .iter()
             .map(|&(lim, force)| (force > 1e-3).then(|| ((lim / force) as f32).min(MU_CAP)))
             .collect();
+    }
+
+    /// Anchors each parked track on soil (its belt held, its parent nearly still, loaded) where
+    /// its parent stands, keeping an anchor while it stays parked; releases the others.
+    fn update_anchors(&self, state: &mut SoilState, figures: &[TrackSoil]) {
+        for (t, f) in figures.iter().enumerate() {
+            let parent = self.track_parent(t);
+            let b = &self.world.bodies[parent];
+            let v = b.linvel();
+            let parked = self.tracks[t].holds_belt()
+                && f.normal_n > 0.0
+                && (v.x.hypot(v.y) as f64) < ANCHOR_SPEED_MPS
+                && (b.angvel().length() as f64) < ANCHOR_TURN_RADPS;
+            let a = &mut state.anchors[t];
+            *a = match *a {
+                Some(a) if parked && a.parent == parent && a.origin == self.origin => Some(a),
+                _ if parked => Some(Anchor {
+                    parent,
+                    pose: *b.position(),
+                    origin: self.origin,
+                }),
+                _ => None,
+            };
+        }
     }
 
     /// Compaction: the work `work` J of pressing soil deeper this step, taken from the
