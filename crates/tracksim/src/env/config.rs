@@ -433,18 +433,8 @@ impl EnvSpec {
         };
         let mut t = toml::Table::new();
         t.insert(key.to_string(), v);
-        let spec: EnvSpec =
-            serde::Deserialize::deserialize(toml::Value::Table(t)).map_err(|e| {
-                SpecIssue::new(
-                    key,
-                    format!(
-                        "expected {} ({}), got {}",
-                        Self::expected(key),
-                        e.message().trim_end(),
-                        value.what()
-                    ),
-                )
-            })?;
+        let spec: EnvSpec = serde::Deserialize::deserialize(toml::Value::Table(t))
+            .map_err(|e| SpecIssue::new(key, Self::refusal(key, value, e.message().trim_end())))?;
         if spec
             .record_dir
             .as_ref()
@@ -470,6 +460,31 @@ impl EnvSpec {
             "goal_xy_m" => "two numbers (x, y), m",
             "record_dir" => "a folder (a path as a string)",
             _ => "a number",
+        }
+    }
+
+    /// Why setting `key` refuses `value`, which serde could not read (`why`): a value of the
+    /// wrong kind is told what the key takes; one of the right kind is told why too (a mode's
+    /// own message names the modes).
+    fn refusal(key: &str, value: &EnvValue, why: &str) -> String {
+        let expected = Self::expected(key);
+        if !Self::kind_fits(key, value) {
+            format!("expected {expected}, got {}", value.what())
+        } else if expected.starts_with("a name") {
+            why.to_string()
+        } else {
+            format!("expected {expected}: {why}")
+        }
+    }
+
+    /// Whether `value` is of the kind setting `key` takes (a name, a number, two numbers, two
+    /// whole numbers).
+    fn kind_fits(key: &str, value: &EnvValue) -> bool {
+        match (Self::expected(key), value) {
+            (e, EnvValue::Text(_)) => e.starts_with("a name") || e.starts_with("a folder"),
+            (e, EnvValue::IntPair(..)) => e.starts_with("two"),
+            (e, EnvValue::Pair(..)) => e.starts_with("two numbers"),
+            (e, EnvValue::Number(_)) => e == "a number",
         }
     }
 

@@ -62,7 +62,7 @@ fn new_settings_are_refused_with_their_keys() {
     assert!(e.to_string().contains("\"learner\""), "{e}");
     assert!(
         e.to_string()
-            .contains("observation: expected a name: \"vector\", \"dict\" or \"learner\" (\"image\" is not an observation mode"),
+            .contains("observation: \"image\" is not an observation mode: use \"vector\""),
         "{e}"
     );
 }
