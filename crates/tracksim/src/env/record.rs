@@ -117,8 +117,6 @@ impl EpisodeRecord {
             plots: false,
             mcap: false,
         };
-        crate::output::write_outputs(sc, &result, &dir, which)?;
-        let duration = result.samples.last().map_or(0.0, |s| s.t);
         let what = format!("The controls of a learning environment's episode (seed {seed})");
         let notes = if sc.randomized.is_empty() {
             Vec::new()
@@ -140,7 +138,7 @@ impl EpisodeRecord {
             what: &what,
             notes: &notes,
         };
-        self.log.write(header, file, &dir, duration)?;
+        crate::output::write_session(sc, &result, (&self.log, header), file, &dir, which)?;
         Ok(Some(dir))
     }
 }

@@ -387,15 +387,18 @@ impl Session {
             plots,
             mcap: false,
         };
-        let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,
             notes: &[],
         };
-        written.push(
-            self.log
-                .write(header, scenario_file, dir, self.duration())?,
-        );
+        let mut written = crate::output::write_session(
+            sc,
+            &self.result,
+            (&self.log, header),
+            scenario_file,
+            dir,
+            which,
+        )?;
         let p = dir.join("controls.csv");
         crate::files::write_atomic(&p, self.controls_csv().as_bytes())?;
         written.push(p);

@@ -309,6 +309,24 @@ impl Outputs {
     };
 }
 
+/// Writes a session's run folder: what [`write_outputs`] writes (`which`) and the session's
+/// controls as `commands.toml` (`log` under `header`; its replay command runs
+/// `scenario_file` for the run's duration). Returns the paths written. `drive`, `ros` and the
+/// env's recorder write through here.
+pub fn write_session(
+    sc: &crate::model::Scenario,
+    result: &RunResult,
+    (log, header): (&crate::run::CommandLog, crate::run::LogHeader),
+    scenario_file: &Path,
+    dir: &Path,
+    which: Outputs,
+) -> Result<Vec<std::path::PathBuf>> {
+    let mut written = write_outputs(sc, result, dir, which)?;
+    let duration = result.samples.last().map_or(0.0, |s| s.t);
+    written.push(log.write(header, scenario_file, dir, duration)?);
+    Ok(written)
+}
+
 /// Writes every output of a run of `sc` into `dir` (`summary.json`, `trajectory.csv`, and
 /// what `which` selects; `run.mcap` also when the scenario's `[output] mcap` is true);
 /// returns the paths written. `run`, `drive`, `compare` and every

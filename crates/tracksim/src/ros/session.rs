@@ -329,15 +329,17 @@ impl RosSession {
             plots,
             mcap,
         };
-        let mut written = crate::output::write_outputs(sc, &self.result, dir, which)?;
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,
             notes: &[],
         };
-        written.push(
-            self.log
-                .write(header, scenario_file, dir, self.duration())?,
-        );
-        Ok(written)
+        crate::output::write_session(
+            sc,
+            &self.result,
+            (&self.log, header),
+            scenario_file,
+            dir,
+            which,
+        )
     }
 }

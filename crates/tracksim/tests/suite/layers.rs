@@ -62,7 +62,8 @@ pub(crate) fn rank(module: &str) -> Option<usize> {
     LAYERS.iter().position(|l| l.contains(&module))
 }
 
-fn rust_files(p: &Path, out: &mut Vec<PathBuf>) {
+/// Every `.rs` file under `p` (sub-folders included).
+pub(crate) fn rust_files(p: &Path, out: &mut Vec<PathBuf>) {
     if p.is_dir() {
         for e in std::fs::read_dir(p).unwrap() {
             rust_files(&e.unwrap().path(), out);

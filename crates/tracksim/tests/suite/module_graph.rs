@@ -8,8 +8,9 @@
 //! Checked on it: the layers import only downward ([`super::layers::LAYERS`]) and the graph has
 //! no circle at all (a strongly connected component of more than one file).
 
+use super::layers::rust_files;
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use syn::visit::Visit;
 
 /// A module path from the crate root (`[]` is `lib.rs`).
@@ -28,16 +29,6 @@ struct FileInfo {
     refs: Vec<ModPath>,
     /// Child modules declared with `mod x;`.
     children: BTreeSet<String>,
-}
-
-fn rust_files(p: &Path, out: &mut Vec<PathBuf>) {
-    if p.is_dir() {
-        for e in std::fs::read_dir(p).unwrap() {
-            rust_files(&e.unwrap().path(), out);
-        }
-    } else if p.extension().is_some_and(|e| e == "rs") {
-        out.push(p.to_path_buf());
-    }
 }
 
 /// The module path of a file under `src`.
