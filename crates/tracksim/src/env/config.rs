@@ -19,7 +19,7 @@ pub enum ActionMode {
 }
 
 impl ActionMode {
-    /// The names of the modes, as [`EnvConfig::set`] takes them for `action`.
+    /// The names of the modes, as the settings ([`EnvSpec`]) take them for `action`.
     pub const NAMES: &'static [&'static str] = &["twist", "belts"];
 
     /// The mode called `name` (`"twist"` or `"belts"`).
@@ -54,7 +54,7 @@ pub enum FlipperAction {
 }
 
 impl FlipperAction {
-    /// The names of the modes, as [`EnvConfig::set`] takes them for `flipper_action`.
+    /// The names of the modes, as the settings ([`EnvSpec`]) take them for `flipper_action`.
     pub const NAMES: &'static [&'static str] = &["position", "velocity"];
 
     /// The mode called `name` (`"position"` or `"velocity"`).
@@ -92,7 +92,7 @@ pub enum ObservationMode {
 }
 
 impl ObservationMode {
-    /// The names of the modes, as [`EnvConfig::set`] takes them for `observation`.
+    /// The names of the modes, as the settings ([`EnvSpec`]) take them for `observation`.
     pub const NAMES: &'static [&'static str] = &["vector", "dict", "learner"];
 
     /// The mode called `name` (`"vector"`, `"dict"` or `"learner"`).
