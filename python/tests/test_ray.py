@@ -57,3 +57,38 @@ def test_ray_vector_env_equals_the_native_one_on_two_local_cpus():
         renv.close()
     finally:
         ray.shutdown()
+
+
+def test_ray_ensemble_on_two_local_cpus_is_the_local_ensemble(tmp_path):
+    """An ensemble run as 2 Ray shards and joined has the members, verdict and spreads of the
+    same ensemble on one machine, and writes the joined ensemble.json."""
+    from conftest import SCENARIOS
+    from tracksim.ray_ensemble import ray_ensemble
+
+    step = SCENARIOS / "packbot_step.toml"
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        r = ray_ensemble(step, members=4, shards=2, out=tmp_path / "ray", seed=3)
+    finally:
+        ray.shutdown()
+    local = dataset.ensemble(step, members=4, seed=3, jobs=2)
+    assert r["verdict"] == local["verdict"] and r["requested"] == 4
+    assert r["success_time_s"] == local["success_time_s"]
+    assert [m["member"] for m in r["members"]] == [m["member"] for m in local["members"]]
+    for a, b in zip(r["members"], local["members"]):
+        assert (a["outcome"], a["outcome_time_s"], a["final_pose"]) == \
+            (b["outcome"], b["outcome_time_s"], b["final_pose"])
+    assert (tmp_path / "ray" / "ensemble.json").is_file()
+    assert (tmp_path / "ray" / "member-003" / "trajectory.csv").is_file()
+
+
+def test_ensemble_shards_join_once_each():
+    from conftest import SCENARIOS
+
+    step = SCENARIOS / "packbot_step.toml"
+    a = dataset.ensemble(step, members=3, seed=1, jobs=1, shard=(0, 2))
+    assert [m["member"]["index"] for m in a["members"]] == [0, 2]
+    with pytest.raises(ValueError, match="member 0 is in two shards"):
+        dataset.ensemble_merge([a, a])
+    with pytest.raises(ValueError, match="shard"):
+        dataset.ensemble(step, members=3, shard=(2, 2))

@@ -36,16 +36,31 @@ def sweep(scenario, out: PathLike, runs: int = 10, seed: Optional[int] = None,
 
 def ensemble(scenario, members: int = 16, out: Optional[PathLike] = None, seed: int = 0,
              start_mm: float = 1.0, yaw_deg: float = 0.05, keep_order: bool = False,
-             jobs: int = 0) -> dict:
+             jobs: int = 0, shard: Optional[Tuple[int, int]] = None) -> dict:
     """Runs the scenario (at its file's seed) as an ensemble of ``members`` perturbed runs, as
     ``tracksim run --ensemble`` (docs/ENSEMBLE.md): member 0 as written, the others with the
     start moved up to ``start_mm`` in x and y, turned up to ``yaw_deg`` and the solver's order
     changed. Returns the report: ``verdict`` ("S 16/16", "marginal 9/16"),
     ``success_fraction``, ``success_time_s`` (min, median, max) and ``members`` (each with its
-    perturbation, outcome, final pose and the file keys that reproduce it)."""
+    perturbation, outcome, final pose and the file keys that reproduce it).
+
+    ``shard=(i, n)`` runs only the members ``k`` with ``k % n == i`` (one task of a distributed
+    ensemble, see ``tracksim.ray_ensemble``); its report holds those members, and
+    :func:`ensemble_merge` joins the shards' reports."""
     text = _tracksim.ensemble(as_scenario(scenario), int(members),
                               None if out is None else os.fspath(out), int(seed),
-                              float(start_mm), float(yaw_deg), bool(keep_order), int(jobs))
+                              float(start_mm), float(yaw_deg), bool(keep_order), int(jobs),
+                              None if shard is None else (int(shard[0]), int(shard[1])))
+    return json.loads(text)
+
+
+def ensemble_merge(reports: Iterable[dict], out: Optional[PathLike] = None) -> dict:
+    """Joins the reports of an ensemble's shards (:func:`ensemble` with ``shard``) into the
+    ensemble's report, verdict and spreads recomputed; writes ``ensemble.json`` and
+    ``ensemble.csv`` into ``out`` if given. Shards of different ensembles, or a member in two
+    shards, are refused with a ``ValueError``."""
+    text = _tracksim.ensemble_merge([json.dumps(r) for r in reports],
+                                    None if out is None else os.fspath(out))
     return json.loads(text)
 
 

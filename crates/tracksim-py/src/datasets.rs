@@ -65,7 +65,7 @@ pub(crate) fn sweep(
 /// released; each member written into `out` if given. Returns the report as JSON (verdict,
 /// success fraction, success times, every member with its perturbation and outcome).
 #[pyfunction]
-#[pyo3(signature = (scenario, members=16, out=None, seed=0, start_mm=1.0, yaw_deg=0.05, keep_order=false, jobs=0))]
+#[pyo3(signature = (scenario, members=16, out=None, seed=0, start_mm=1.0, yaw_deg=0.05, keep_order=false, jobs=0, shard=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn ensemble(
     py: Python<'_>,
@@ -77,6 +77,7 @@ pub(crate) fn ensemble(
     yaw_deg: f64,
     keep_order: bool,
     jobs: usize,
+    shard: Option<(usize, usize)>,
 ) -> PyResult<String> {
     use tracksim::ensemble::{EnsembleOptions, Perturbations, run_ensemble};
     let t = template_of(scenario)?;
@@ -86,6 +87,7 @@ pub(crate) fn ensemble(
     opts.jobs = jobs;
     opts.out = out;
     opts.replay = true;
+    opts.shard = shard;
     opts.perturbations = Perturbations {
         start_m: start_mm * 1e-3,
         yaw_deg,
@@ -95,6 +97,24 @@ pub(crate) fn ensemble(
         .detach(|| run_ensemble(&sc, &opts, |_, _| {}))
         .map_err(py_err)?;
     report.to_json().map_err(py_err)
+}
+
+/// Joins the JSON reports of an ensemble's shards into the ensemble's report (JSON), written as
+/// `ensemble.json` and `ensemble.csv` into `out` if given.
+#[pyfunction]
+#[pyo3(signature = (reports, out=None))]
+pub(crate) fn ensemble_merge(reports: Vec<String>, out: Option<PathBuf>) -> PyResult<String> {
+    use tracksim::ensemble::EnsembleReport;
+    let parts = reports
+        .iter()
+        .map(|r| EnsembleReport::from_json(r))
+        .collect::<tracksim::Result<Vec<_>>>()
+        .map_err(py_err)?;
+    let all = EnsembleReport::merge(parts).map_err(py_err)?;
+    if let Some(out) = &out {
+        all.write(out).map_err(py_err)?;
+    }
+    all.to_json().map_err(py_err)
 }
 
 /// Merges sweep folders (shards) into the sweep folder `out` (see `tracksim merge`); returns

@@ -18,7 +18,7 @@ mod simulation;
 mod vec_env;
 
 use common::{ScenarioError, UnstableError};
-use datasets::{ensemble, merge, sweep};
+use datasets::{ensemble, ensemble_merge, merge, sweep};
 use env::PyEnvCore;
 use live_view::PyLiveView;
 use pyo3::prelude::*;
@@ -36,6 +36,7 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble_merge, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
     bundled::register(m)?;
     m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;

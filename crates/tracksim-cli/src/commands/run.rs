@@ -164,6 +164,7 @@ fn run_ensemble(a: &RunArgs, sc: &tracksim::Scenario, n: usize) -> Result<(), Fa
         out: Some(a.out.clone()),
         replay: true,
         stop: Some(&super::STOP),
+        shard: None,
     };
     on_stop(|| {});
     let show = !a.quiet && !a.json && std::io::stderr().is_terminal();

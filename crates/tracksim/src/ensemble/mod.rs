@@ -37,6 +37,11 @@ pub struct EnsembleOptions {
     pub replay: bool,
     /// Set from outside (Ctrl-C) to start no further member.
     pub stop: Option<&'static AtomicBool>,
+    /// Run only the members of this shard, (index, count): member `k` when `k % count ==
+    /// index` (a task of a distributed ensemble; its report holds its members, and
+    /// [`EnsembleReport::merge`] joins the shards'). A shard writes its members' folders but
+    /// not `ensemble.json`, which the merge writes.
+    pub shard: Option<(usize, usize)>,
 }
 
 impl EnsembleOptions {
@@ -50,6 +55,7 @@ impl EnsembleOptions {
             out: None,
             replay: false,
             stop: None,
+            shard: None,
         }
     }
 }
@@ -69,19 +75,36 @@ pub fn run_ensemble(
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<EnsembleReport> {
     opts.perturbations.check(opts.members)?;
+    if let Some((i, count)) = opts.shard
+        && (count == 0 || i >= count)
+    {
+        return Err(Error::setting(
+            "ensemble settings",
+            "shard",
+            format!("must be (index, count) with 0 <= index < count, got ({i}, {count})"),
+        ));
+    }
     let n = opts.members;
     let members: Vec<Member> = (0..n)
+        .filter(|k| opts.shard.is_none_or(|(i, c)| k % c == i))
         .map(|k| opts.perturbations.member(opts.seed, k))
         .collect();
+    if members.is_empty() {
+        return Err(Error::setting(
+            "ensemble settings",
+            "shard",
+            format!("{:?} holds none of the {n} members", opts.shard),
+        ));
+    }
     let jobs = if opts.jobs == 0 {
         std::thread::available_parallelism().map_or(1, |p| p.get())
     } else {
         opts.jobs
     }
-    .clamp(1, n);
+    .clamp(1, members.len());
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<MemberResult>>> = Mutex::new(vec![None; n]);
+    let results: Mutex<Vec<Option<MemberResult>>> = Mutex::new(vec![None; members.len()]);
     let first_error: Mutex<Option<Error>> = Mutex::new(None);
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -100,7 +123,7 @@ pub fn run_ensemble(
                             if let Ok(mut v) = results.lock() {
                                 v[k] = Some(r);
                             }
-                            progress(done.fetch_add(1, Ordering::SeqCst) + 1, n);
+                            progress(done.fetch_add(1, Ordering::SeqCst) + 1, members.len());
                         }
                         Err(e) => {
                             if let Ok(mut slot) = first_error.lock() {
@@ -130,7 +153,7 @@ pub fn run_ensemble(
         requested: n,
         members: results,
     };
-    if let Some(out) = &opts.out {
+    if let (Some(out), None) = (&opts.out, opts.shard) {
         report.write(out)?;
     }
     Ok(report)

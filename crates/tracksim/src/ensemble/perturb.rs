@@ -10,7 +10,7 @@ use rand_distr::{Distribution, Uniform};
 pub const MAX_MEMBERS: usize = 1024;
 
 /// The sizes of the perturbations every member but the nominal one draws.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Perturbations {
     /// Half-width of the uniform start offset in x and in y (each drawn), m. Default 1 mm:
     /// less than anyone places a real robot, far more than f32 rounding at a few metres.
@@ -34,7 +34,7 @@ impl Default for Perturbations {
 }
 
 /// One member's perturbation. Member 0 is the scenario as written (all zero).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Member {
     /// Index in the ensemble, from 0.
     pub index: usize,

@@ -11,7 +11,7 @@ use crate::world::PoseRpy;
 use std::path::{Path, PathBuf};
 
 /// One member's result.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct MemberResult {
     /// Its perturbation.
     pub member: Member,
@@ -21,11 +21,14 @@ pub struct MemberResult {
     pub outcome: String,
     /// Why.
     pub reason: String,
-    /// When the outcome was decided (the end of the run if never), s.
+    /// When the outcome was decided (the end of the run if never), s (NaN, null in JSON, if
+    /// unknown).
+    #[serde(deserialize_with = "nan_if_null")]
     pub outcome_time_s: f64,
     /// The body's final pose, m and rad.
     pub final_pose: PoseRpy,
-    /// Progress along the start heading, m.
+    /// Progress along the start heading, m (NaN, null in JSON, for an unstable member).
+    #[serde(deserialize_with = "nan_if_null")]
     pub progress_m: f64,
     /// Its run folder, if written.
     pub dir: Option<PathBuf>,
@@ -107,8 +110,13 @@ impl Spread {
 /// A final-pose coordinate in the report: name, how to read it, scale to the unit, unit.
 type Coordinate = (&'static str, fn(&PoseRpy) -> f64, f64, &'static str);
 
+/// A number that JSON wrote as null (serde_json writes NaN so): NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// An ensemble's results.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct EnsembleReport {
     /// The scenario file, if any.
     pub scenario: Option<String>,
@@ -257,6 +265,63 @@ impl EnsembleReport {
             report: self,
         })
         .map_err(|e| Error::Build(format!("ensemble.json: {e}")))
+    }
+
+    /// A report read back from its JSON ([`EnsembleReport::to_json`], e.g. a shard's sent from
+    /// another machine); the verdict and spreads are recomputed from the members.
+    pub fn from_json(text: &str) -> Result<Self> {
+        serde_json::from_str(text).map_err(|e| {
+            Error::setting(
+                "ensemble merge",
+                "report",
+                format!("not an ensemble report's JSON: {e}"),
+            )
+        })
+    }
+
+    /// The reports of an ensemble's shards ([`super::EnsembleOptions::shard`]) as one: the
+    /// same scenario, method, seed, perturbations and size, members joined in index order
+    /// (each once); refused, naming what differs, otherwise.
+    pub fn merge(parts: Vec<EnsembleReport>) -> Result<EnsembleReport> {
+        let bad = |m: String| Error::setting("ensemble merge", "reports", m);
+        let mut parts = parts.into_iter();
+        let Some(mut all) = parts.next() else {
+            return Err(bad("no report to merge".into()));
+        };
+        for p in parts {
+            let same = p.scenario == all.scenario
+                && p.method == all.method
+                && p.seed == all.seed
+                && p.perturbations == all.perturbations
+                && p.requested == all.requested;
+            if !same {
+                return Err(bad(format!(
+                    "the shards are of different ensembles: {:?} {} seed {} ({} members) and \
+                     {:?} {} seed {} ({} members)",
+                    all.scenario,
+                    all.method,
+                    all.seed,
+                    all.requested,
+                    p.scenario,
+                    p.method,
+                    p.seed,
+                    p.requested
+                )));
+            }
+            all.members.extend(p.members);
+        }
+        all.members.sort_by_key(|m| m.member.index);
+        if let Some(w) = all
+            .members
+            .windows(2)
+            .find(|w| w[0].member.index == w[1].member.index)
+        {
+            return Err(bad(format!(
+                "member {} is in two shards",
+                w[0].member.index
+            )));
+        }
+        Ok(all)
     }
 
     /// Writes `ensemble.json` (the report, each member with its keys) and `ensemble.csv`

@@ -9,7 +9,7 @@ use glam::DVec3;
 use rapier3d::prelude::*;
 
 /// Pose of a body as REP 103 position and roll/pitch/yaw (Z-Y-X), m and rad.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PoseRpy {
     /// m.
     pub x: f64,
