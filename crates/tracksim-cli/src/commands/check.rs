@@ -19,20 +19,32 @@ fn is_vehicle_file(path: &Path) -> Result<bool, Error> {
     Ok(table.contains_key("body") || table.contains_key("tracks") || table.contains_key("urdf"))
 }
 
-/// What is simulated of a scenario: the built world's masses, then the vehicle's design.
+/// What is simulated of a scenario: the built world's masses, then each vehicle's design (a
+/// block per robot in a file with several).
 fn scenario_text(f: &Path) -> Result<String, Error> {
     let s = tracksim::load_scenario(f)?;
     // Build it (no step) to show what is simulated: every part's mass.
-    let sim = tracksim::Simulation::new(&s)?;
+    let mut sim = tracksim::Simulation::new(&s)?;
     let mut lines = vec![format!(
-        "scenario with vehicle \"{}\", {:.1} s, method {}",
-        s.vehicle.name, s.duration, s.method
+        "scenario with {} robot(s), {:.1} s, method {}",
+        sim.robot_count(),
+        s.duration,
+        s.method
     )];
-    if let Some(u) = &s.vehicle.urdf {
-        lines.extend(u.lines());
+    for k in 0..sim.robot_count() {
+        sim.select(k);
+        let v = &sim.scenario().vehicle;
+        lines.push(format!(
+            "robot \"{}\": vehicle \"{}\"",
+            sim.robot_name(),
+            v.name
+        ));
+        if let Some(u) = &v.urdf {
+            lines.extend(u.lines());
+        }
+        lines.extend(sim.mass_report().lines());
+        lines.extend(tracksim::model::design_report(v).lines());
     }
-    lines.extend(sim.mass_report().lines());
-    lines.extend(tracksim::model::design_report(&s.vehicle).lines());
     Ok(lines.join("\n       "))
 }
 

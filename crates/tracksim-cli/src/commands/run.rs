@@ -90,6 +90,9 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     if let Some(n) = a.ensemble {
         return run_ensemble(&a, &sc, n);
     }
+    if sc.robot_count() > 1 {
+        return run_team(&a, &file, &sc);
+    }
     let trainee = super::trainee(a.trainee.as_deref())?;
     let bar = progress_bar(!a.quiet && !a.json && std::io::stderr().is_terminal());
     on_stop(|| {});
@@ -134,6 +137,48 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
             "interrupted: wrote what was simulated into {} (exit {EXIT_INTERRUPTED})",
             a.out.display()
         );
+        return Err(Failure::Interrupted);
+    }
+    if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
+        return Err(Failure::Outcome);
+    }
+    Ok(())
+}
+
+/// `tracksim run` of a file with several robots (`[[vehicles]]`).
+fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Result<(), Failure> {
+    if a.mcap || a.trainee.is_some() {
+        return Err(Failure::Sim(tracksim::Error::Build(
+            "--mcap and --trainee record one robot; this file has several ([[vehicles]]): \
+             leave them out"
+                .into(),
+        )));
+    }
+    on_stop(|| {});
+    let opts = RunOptions {
+        realtime: a.realtime,
+        stop: Some(&super::STOP),
+    };
+    let result = tracksim::run::run_team(sc, opts)?;
+    let which = tracksim::output::Outputs {
+        replay: true,
+        plots: !a.no_plot,
+        mcap: false,
+    };
+    tracksim::output::write_team(sc, &result, &a.out, which)?;
+    if a.json {
+        out!(
+            "{}",
+            serde_json::to_string_pretty(&tracksim::output::team::TeamSummary::of(sc, &result))
+                .expect("team serialises")
+        );
+    } else if !a.quiet {
+        out!(
+            "{}",
+            tracksim::output::team_report(file, sc, &result, &a.out)
+        );
+    }
+    if matches!(result.outcome, Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {

@@ -86,6 +86,7 @@ pub fn compile_scenario(
         seed: s.seed,
         record_mcap: spec.output.mcap,
         randomized: Default::default(),
+        team: None,
         source: None,
         description: spec.description.clone(),
         vehicle,

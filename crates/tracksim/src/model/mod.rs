@@ -27,6 +27,8 @@
 //! - `overrides.rs`: what a caller changes in a file before it is compiled ([`Overrides`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
 //! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
+//! - `team.rs`: several robots in one world ([`Team`], [`RobotModel`], [`TeamRule`],
+//!   [`Scenario::robot_view`]); `compile_team.rs`: a `[[vehicles]]` file compiled robot by robot;
 //! - `wheel.rs`: a lugged wheel's rolling circle ([`rolling_radius`]) and its lugs.
 
 #![warn(clippy::too_many_lines)]
@@ -34,6 +36,7 @@
 mod compile_file;
 mod compile_scenario;
 mod compile_sensor;
+mod compile_team;
 mod compile_track;
 mod compile_urdf;
 mod compile_vehicle;
@@ -53,6 +56,7 @@ mod randomize;
 mod read;
 mod scenario;
 mod sensor;
+mod team;
 mod template;
 mod vehicle;
 mod wheel;
@@ -85,6 +89,7 @@ pub use randomize::*;
 pub use read::{parse_toml, read_scenario_spec, read_toml};
 pub use scenario::*;
 pub use sensor::*;
+pub use team::{DEFAULT_ROBOT_NAME, MAX_ROBOT_SPREAD_M, MAX_ROBOTS, RobotModel, Team, TeamRule};
 pub use template::*;
 pub use vehicle::*;
 pub use wheel::rolling_radius;

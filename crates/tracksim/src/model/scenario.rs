@@ -129,4 +129,8 @@ pub struct Scenario {
     /// The values drawn for the file's `[randomize]` parameters, by name, in the units of their
     /// keys (empty for a scenario without `[randomize]`).
     pub randomized: std::collections::BTreeMap<String, f64>,
+    /// Several robots in one world (`[[vehicles]]`): every robot, the rule deciding the world
+    /// and its `[expect]`; `None` for a one-robot file. The robot fields above (`vehicle`,
+    /// `start_*`, `commands`, `outcome`, `drawbar`, `expect`) are then the first robot's.
+    pub team: Option<Box<super::Team>>,
 }

@@ -47,6 +47,19 @@ impl ScenarioTemplate {
             issues,
         };
         let commands = overrides.read_commands()?;
+        if !spec.vehicles.is_empty() {
+            let sc = super::compile_team::compile_team(path, &spec, overrides, commands.as_ref())?;
+            return Ok(ScenarioTemplate {
+                path: path.to_path_buf(),
+                doc: toml::Table::new(),
+                randomizer: Randomizer::default(),
+                vehicle: None,
+                fixed: Some(sc),
+                overrides: overrides.clone(),
+                commands,
+                file_seed: spec.simulation.seed,
+            });
+        }
         if spec.randomize.is_empty() {
             let vehicle = scenario_vehicle(path, &spec)?;
             let sc = compile_file(path, &spec, vehicle, overrides, commands.as_ref())?;

@@ -8,6 +8,8 @@
 //! - [`plot_files`]: the plot files of runs and comparisons, with the terrain drawn under them;
 //! - [`signals`]: position, speed, yaw, flipper angles, slip and traction against time;
 //! - [`mod@mcap`]: `run.mcap`, the run as a ROS 2 recording (topics, types and frames there);
+//! - [`team`]: a world with several robots: each robot's outputs in its folder, `team.json`,
+//!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
 
@@ -21,11 +23,15 @@ pub mod ros_sensors;
 pub mod sensors;
 pub mod side_line;
 pub mod signals;
+pub mod team;
 pub mod vehicle_outline;
 
-pub use plot_files::{SideLine, side_view_terrain, write_compare_plots, write_run_plots};
+pub use plot_files::{
+    SideLine, side_view_terrain, write_compare_plots, write_run_plots, write_team_plots,
+};
 pub use replay::{Scene, write_replay};
 pub use report::run_report;
+pub use team::{team_report, write_team};
 
 use crate::error::{Error, Result};
 use crate::run::RunResult;

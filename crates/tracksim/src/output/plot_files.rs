@@ -71,9 +71,21 @@ fn write_runs(
     if runs.is_empty() {
         return Ok(Vec::new());
     }
+    let snapshots = super::vehicle_outline::snapshots(&sc.vehicle, runs[0].1, SNAPSHOTS);
+    write_runs_with(sc, runs, &snapshots, title, stem, dir)
+}
+
+/// [`write_runs`] with the vehicle outlines drawn given.
+fn write_runs_with(
+    sc: &Scenario,
+    runs: &[(String, &RunResult)],
+    snapshots: &[super::vehicle_outline::Snapshot],
+    title: &str,
+    stem: &str,
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
     let results: Vec<&RunResult> = runs.iter().map(|(_, r)| *r).collect();
     let (profile, outlines) = side_view_terrain(sc, &results);
-    let snapshots = super::vehicle_outline::snapshots(&sc.vehicle, results[0], SNAPSHOTS);
     let runs: Vec<super::plot::PlotRun> = runs
         .iter()
         .map(|(label, r)| super::plot::PlotRun {
@@ -87,7 +99,7 @@ fn write_runs(
             runs: &runs,
             ground_profile: &profile,
             outlines: &outlines,
-            snapshots: &snapshots,
+            snapshots,
         },
         dir,
         stem,
@@ -130,4 +142,29 @@ pub fn write_compare_plots(
 ) -> Result<Vec<std::path::PathBuf>> {
     let title = format!("{} (track methods compared)", sc.description);
     write_runs(sc, results, &title, "compare", dir)
+}
+
+/// Writes `team.png` / `team.svg` and `team_signals.*`: every robot of a world with several
+/// (`runs`: name, the robot's own scenario, its run) in one figure, each drawn with its own
+/// vehicle's outline.
+pub fn write_team_plots(
+    sc: &Scenario,
+    runs: &[(String, &Scenario, &RunResult)],
+    dir: &Path,
+) -> Result<Vec<std::path::PathBuf>> {
+    if runs.is_empty() {
+        return Ok(Vec::new());
+    }
+    let snapshots: Vec<_> = runs
+        .iter()
+        .flat_map(|(_, view, r)| super::vehicle_outline::snapshots(&view.vehicle, r, SNAPSHOTS))
+        .collect();
+    let labelled: Vec<(String, &RunResult)> =
+        runs.iter().map(|(n, _, r)| (n.clone(), *r)).collect();
+    let title = if sc.description.is_empty() {
+        "robots".to_string()
+    } else {
+        sc.description.clone()
+    };
+    write_runs_with(sc, &labelled, &snapshots, &title, "team", dir)
 }

@@ -17,7 +17,9 @@
 //! - [`track_summary`]: per-track figures and the odometry error in it;
 //! - [`drawbar_summary`]: the steady drawbar pull and slip of a `[drawbar]` run;
 //! - [`soil_summary`]: sinkage, soil thrust and the rut grid's memory of a run on soil;
-//! - [`turn_summary`]: commanded against achieved turns.
+//! - [`turn_summary`]: commanded against achieved turns;
+//! - [`team`]: a world with several robots run ([`TeamRunner`]), each robot's run and the
+//!   world's outcome by its rule.
 
 pub mod command_log;
 pub mod course;
@@ -30,6 +32,7 @@ pub mod scripted;
 pub mod session;
 pub mod soil_summary;
 pub mod summary;
+pub mod team;
 pub mod timeline;
 pub mod track_summary;
 pub mod turn_summary;
@@ -46,6 +49,7 @@ pub use scripted::Scripted;
 pub use session::{ControlSource, SessionLimits, SessionRun, run_session, time_reached};
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
+pub use team::{TeamResult, TeamRunner, run_team};
 pub use timeline::Timeline;
 pub use track_summary::{
     DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,

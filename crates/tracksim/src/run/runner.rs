@@ -71,6 +71,14 @@ impl Runner {
 
     /// [`Runner::new`] of a shared scenario (not copied).
     pub fn from_shared(sc: Arc<Scenario>) -> Result<Self> {
+        if sc.robot_count() > 1 {
+            return Err(crate::error::Error::Build(format!(
+                "this front end runs one robot; the scenario has {} ([[vehicles]]: {}): run it \
+                 with `tracksim run` (each robot's outputs in its own folder)",
+                sc.robot_count(),
+                sc.robot_names().join(", ")
+            )));
+        }
         let sim = Scripted::from_shared(sc.clone())?;
         let dt = sc.solver.dt;
         let every = ((sc.output_interval / dt).round() as u64).max(1);

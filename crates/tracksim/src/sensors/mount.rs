@@ -3,7 +3,6 @@
 //! angular velocity of its link, and the query filter that keeps the robot out of its rays.
 
 use crate::model::{Mount, SensorModel};
-use crate::tracks::VEHICLE_GROUP;
 use crate::world::Simulation;
 use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
@@ -43,16 +42,6 @@ pub fn sensor_frame(sim: &Simulation, m: &SensorModel) -> SensorFrame {
         velocity: d(b.velocity_at_point(point)),
         angvel: d(b.angvel()),
     }
-}
-
-/// What a sensor's rays see: every collider but the robot's own (terrain, conveyors, loose
-/// boxes).
-pub fn world_only() -> QueryFilter<'static> {
-    QueryFilter::default().groups(InteractionGroups::new(
-        Group::ALL,
-        Group::ALL.difference(VEHICLE_GROUP),
-        InteractionTestMode::And,
-    ))
 }
 
 /// An f64 point or direction as Rapier's f32 vector.

@@ -6,7 +6,7 @@
 //! bundled stairs). With more than [`MAX_CANDIDATES`] colliders in reach (a stepfield, a field
 //! of loose boxes), rays go through Rapier's query pipeline instead.
 
-use super::mount::{v32, world_only};
+use super::mount::v32;
 use crate::world::Simulation;
 use glam::DVec3;
 use rapier3d::parry::bounding_volume::Aabb;
@@ -28,7 +28,9 @@ impl Reach {
     /// world).
     pub fn gather(&mut self, sim: &Simulation, lo: DVec3, hi: DVec3) {
         self.candidates.clear();
-        let qp = sim.world.query_pipeline_with_filter(world_only());
+        let qp = sim
+            .world
+            .query_pipeline_with_filter(QueryFilter::default().groups(sim.sensor_filter()));
         for (h, co) in qp.intersect_aabb_conservative(Aabb::new(v32(lo), v32(hi))) {
             self.candidates.push((h, co.compute_aabb()));
         }
@@ -49,7 +51,9 @@ impl Reach {
     pub fn cast_down(&self, sim: &Simulation, x: f32, y: f32, top: f32, max: f32) -> Option<f32> {
         let ray = Ray::new(Vector::new(x, y, top), Vector::NEG_Z);
         if self.too_many {
-            let qp = sim.world.query_pipeline_with_filter(world_only());
+            let qp = sim
+                .world
+                .query_pipeline_with_filter(QueryFilter::default().groups(sim.sensor_filter()));
             return qp.cast_ray(&ray, max, true).map(|(_, t)| t);
         }
         let mut best: Option<f32> = None;
@@ -76,7 +80,9 @@ impl Reach {
     /// shapes (a ray starting inside one hits at 0).
     pub fn cast(&self, sim: &Simulation, ray: &Ray, max: f32) -> Option<f32> {
         if self.too_many {
-            let qp = sim.world.query_pipeline_with_filter(world_only());
+            let qp = sim
+                .world
+                .query_pipeline_with_filter(QueryFilter::default().groups(sim.sensor_filter()));
             return qp.cast_ray(ray, max, true).map(|(_, t)| t);
         }
         let mut best: Option<f32> = None;

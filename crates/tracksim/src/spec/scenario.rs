@@ -15,8 +15,15 @@ pub struct ScenarioSpec {
     /// One-line description.
     #[serde(default)]
     pub description: String,
-    /// Which vehicle, and where it starts.
+    /// Which vehicle, and where it starts (a one-robot file; absent when `[[vehicles]]` lists
+    /// several robots).
+    #[serde(default)]
     pub vehicle: VehicleRefSpec,
+    /// Several robots in one world (`[[vehicles]]`, issue 40): each with a name, its vehicle
+    /// and start pose, its own commands, outcome and `[expect]`. Empty: the file's one robot is
+    /// `[vehicle]`.
+    #[serde(default)]
+    pub vehicles: Vec<RobotSpec>,
     /// The world.
     #[serde(default)]
     pub terrain: TerrainSpec,
@@ -85,8 +92,33 @@ pub struct DrawbarSpec {
     pub ramp_s: f64,
 }
 
-/// The vehicle of a scenario.
+/// One robot of a world with several (`[[vehicles]]`): the keys a one-robot file has at its
+/// top level for its robot (`[vehicle]`, `[[commands]]`, `[outcome]`, `[drawbar]`,
+/// `[expect]`), under the robot's name.
 #[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSpec {
+    /// The robot's name: unique in the file, ROS-safe (a lower-case letter, then lower-case
+    /// letters, digits or `_`); it names its outputs, topics and frames.
+    pub name: String,
+    /// Which vehicle, and where it starts (the keys of a one-robot file's `[vehicle]`).
+    pub vehicle: VehicleRefSpec,
+    /// Its timed drive commands; each holds until the next.
+    #[serde(default)]
+    pub commands: Vec<CommandSpec>,
+    /// Its success and failure conditions (default: the file's `[outcome]`).
+    #[serde(default)]
+    pub outcome: Option<OutcomeSpec>,
+    /// A drawbar load on its chassis.
+    #[serde(default)]
+    pub drawbar: Option<DrawbarSpec>,
+    /// What its run must show (checked by `run`).
+    #[serde(default)]
+    pub expect: super::ExpectSpec,
+}
+
+/// The vehicle of a scenario.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleRefSpec {
     /// Vehicle file, relative to the scenario file (give this or `inline`).
@@ -147,6 +179,12 @@ pub struct OutcomeSpec {
     /// Stop the run as soon as the outcome is decided.
     #[serde(default = "default_true")]
     pub stop: bool,
+    /// With several robots (`[[vehicles]]`), when the scenario is decided: `"all"` (default:
+    /// a success once every robot has succeeded, a failure as soon as one fails, e.g. tips
+    /// over) or `"first"` (a race: a success when the first robot succeeds, a failure once
+    /// every robot has failed).
+    #[serde(default)]
+    pub team: Option<String>,
 }
 
 impl Default for OutcomeSpec {
@@ -157,6 +195,7 @@ impl Default for OutcomeSpec {
             max_tilt_deg: default_max_tilt(),
             fail_off_terrain: true,
             stop: true,
+            team: None,
         }
     }
 }

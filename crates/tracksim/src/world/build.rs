@@ -2,6 +2,7 @@
 //! (by their method), contact compliance, contact slop, then placement on the terrain.
 
 use super::origin::shift_for;
+use super::robot::{Robot, RobotCollision};
 use super::{Flipper, Odometry, START_CLEARANCE_M, Simulation};
 use crate::check::{f, q};
 use crate::error::{Error, Result};
@@ -13,18 +14,35 @@ use glam::{DQuat, DVec3};
 use rapier3d::prelude::*;
 use std::sync::Arc;
 
-/// Builds a simulation of `sc`, stage by stage.
+/// Builds a simulation of `sc`, stage by stage: the world, then every robot (one, or those of
+/// `[[vehicles]]` in file order), then what needs them all.
 pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     let method = sc.method;
-    check_method(&sc)?;
+    let views: Vec<Arc<Scenario>> = match &sc.team {
+        Some(t) => (0..t.robots.len())
+            .map(|k| Arc::new(sc.robot_view(k)))
+            .collect(),
+        None => vec![sc.clone()],
+    };
+    for v in &views {
+        check_method(v)?;
+    }
+    if views.len() > 1 && !sc.terrain.soils.is_empty() {
+        return Err(Error::Build(
+            "several robots on deformable soil are not supported yet (the soil's memory and \
+             thrust are kept for one robot): give the scenario one robot, or rigid terrain"
+                .into(),
+        ));
+    }
     let mut world = new_world(&sc.solver);
     crate::tracks::configure_world(method, &mut world.integration_parameters);
-    let origin = DVec3::new(shift_for(sc.start_xy.0), shift_for(sc.start_xy.1), 0.0);
+    let centre = start_centre(&views);
+    let origin = DVec3::new(shift_for(centre.0), shift_for(centre.1), 0.0);
     insert_order_salt(&mut world, sc.solver.order_salt);
     let ground_tile = sc.terrain.insert_into(
         &mut world,
         world_groups(),
-        Some((sc.start_xy.0 - origin.x, sc.start_xy.1 - origin.y)),
+        Some((centre.0 - origin.x, centre.1 - origin.y)),
         origin,
     );
     if let Some(tile) = ground_tile {
@@ -32,15 +50,20 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
             world.colliders[c].set_collision_groups(flat_ground_groups());
         }
     }
-    let start = start_pose(&sc, origin);
-    let v = &sc.vehicle;
-    let body = insert_chassis(&mut world, v, start)?;
-    let flippers = insert_flippers(&mut world, v, body, start)?;
-    let tracks = build_tracks(&mut world, &sc, method, body, &flippers)?;
-    let springs =
-        super::compliance::tag_compliance(&mut world, &sc.vehicle.tracks, &tracks, sc.solver.dt);
+    let mut springs = Vec::new();
+    let mut robots = Vec::new();
+    for (k, view) in views.iter().enumerate() {
+        let first_track = robots.iter().map(|r: &Robot| r.tracks.len()).sum();
+        let name = sc.robot_names().swap_remove(k);
+        let mut r = build_robot(&mut world, view, first_track, origin, &mut springs)?;
+        r.name = name;
+        robots.push(r);
+    }
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
+    }
+    for (k, r) in robots.iter().enumerate() {
+        RobotCollision::apply(&mut world, k, &r.bodies());
     }
     let conveyors = super::conveyor::build_conveyors(&mut world, &sc, origin)?;
     let mut sim = Simulation {
@@ -49,40 +72,96 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         method,
         slop: sc.solver.contact_slop as f32,
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
-        has_motors: sc.vehicle.tracks.iter().any(|t| t.motor.is_some()),
         springs,
         ground_tile,
-        body,
-        tracks,
-        flippers,
+        robots,
+        focus: 0,
         dt: sc.solver.dt,
         time: 0.0,
         steps: 0,
         seed: sc.seed,
-        track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
-        flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
         scenario: sc.clone(),
-        odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
-        drawbar: None,
         conveyors,
         soil: None,
-        load_window: Default::default(),
     };
-    sim.load_window =
-        super::track_loads::LoadWindow::new(sim.track_owners(), sc.output_interval, sc.solver.dt);
+    for k in 0..sim.robots.len() {
+        sim.focus = k;
+        sim.robots[k].load_window = super::track_loads::LoadWindow::new(
+            sim.track_owners(),
+            sc.output_interval,
+            sc.solver.dt,
+        );
+    }
+    sim.focus = 0;
     sim.soil = super::soil::build_soil(
         &sim.world,
         &sc.terrain.soils,
         &sc.vehicle.tracks,
-        &sim.tracks,
+        &sim.robots[0].tracks,
         &sim.vehicle_bodies(),
         sc.solver.dt,
     );
-    sim.conserve_mass(&sc)?;
-    place(&mut sim);
-    sim.odometry = start_odometry(&sim);
-    sim.drawbar = sim.start_drawbar();
+    for (k, view) in views.iter().enumerate() {
+        sim.focus = k;
+        sim.conserve_mass(view)?;
+    }
+    for k in 0..sim.robots.len() {
+        sim.focus = k;
+        place(&mut sim);
+    }
+    for k in 0..sim.robots.len() {
+        sim.focus = k;
+        sim.robots[k].odometry = start_odometry(&sim);
+        sim.robots[k].drawbar = sim.start_drawbar();
+    }
+    sim.focus = 0;
+    if sim.robots.len() > 1 {
+        super::robot::check_overlaps(&mut sim)?;
+    }
     Ok(sim)
+}
+
+/// The centre of the robots' start positions (x, y), m: where the floating origin starts.
+fn start_centre(views: &[Arc<Scenario>]) -> (f64, f64) {
+    let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
+    for v in views {
+        for (i, c) in [v.start_xy.0, v.start_xy.1].into_iter().enumerate() {
+            lo[i] = lo[i].min(c);
+            hi[i] = hi[i].max(c);
+        }
+    }
+    (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]))
+}
+
+/// A robot of the world (named by the caller): chassis, flippers, tracks (their tags numbered from `first_track`)
+/// and their contact springs (appended to the world's `springs`), at its start pose.
+fn build_robot(
+    world: &mut PhysicsWorld,
+    view: &Arc<Scenario>,
+    first_track: usize,
+    origin: DVec3,
+    springs: &mut Vec<super::compliance::SolverSpring>,
+) -> Result<Robot> {
+    let start = start_pose(view, origin);
+    let v = &view.vehicle;
+    let body = insert_chassis(world, v, start)?;
+    let flippers = insert_flippers(world, v, body, start)?;
+    let tracks = build_tracks(world, view, view.method, body, &flippers, first_track)?;
+    super::compliance::tag_compliance(world, &v.tracks, &tracks, view.solver.dt, springs);
+    Ok(Robot {
+        name: crate::model::DEFAULT_ROBOT_NAME.to_string(),
+        body,
+        tracks,
+        first_track,
+        flippers,
+        track_names: v.tracks.iter().map(|t| t.name.clone()).collect(),
+        flipper_names: v.flippers.iter().map(|f| f.name.clone()).collect(),
+        has_motors: v.tracks.iter().any(|t| t.motor.is_some()),
+        odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
+        drawbar: None,
+        load_window: Default::default(),
+        view: view.clone(),
+    })
 }
 
 /// `simulation.order_salt`: `n` inert colliders on a fixed body of their own, inserted before
@@ -124,7 +203,7 @@ fn check_method(sc: &Scenario) -> Result<()> {
 /// Odometry at the placed start pose over the chassis tracks (REP 105: the odom frame
 /// coincides with the world at the start).
 fn start_odometry(sim: &Simulation) -> Odometry {
-    let v = &sim.scenario.vehicle;
+    let v = &sim.rb().view.vehicle;
     let offsets: Vec<Option<f64>> = v
         .tracks
         .iter()
@@ -318,6 +397,7 @@ fn build_tracks(
     method: Method,
     body: RigidBodyHandle,
     flippers: &[Flipper],
+    first_track: usize,
 ) -> Result<Vec<Box<dyn Track>>> {
     let mut tracks = Vec::new();
     for (ti, t) in sc.vehicle.tracks.iter().enumerate() {
@@ -328,7 +408,7 @@ fn build_tracks(
         let mut ctx = BuildContext {
             world: &mut *world,
             parent,
-            index: ti,
+            index: first_track + ti,
             groups: vehicle_groups(),
             min_link_mass: sc.solver.min_link_mass,
         };
@@ -406,7 +486,7 @@ pub(crate) fn refresh_queries(world: &mut PhysicsWorld) {
 /// boxes, hulls and grousers; cylinders sampled every 360/64 deg), or to the file's `z_m`.
 fn place(sim: &mut Simulation) {
     let ground_z = sim.scenario.terrain.ground.map(|g| g.0).unwrap_or(0.0);
-    let dz = match sim.scenario.start_z {
+    let dz = match sim.rb().view.start_z {
         Some(z) => z,
         None => {
             refresh_queries(&mut sim.world);

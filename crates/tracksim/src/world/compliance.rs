@@ -37,15 +37,15 @@ impl SolverSpring {
 }
 
 /// Compliance stage: tags every grouser and belt collider of a track with a compliance with
-/// its spring (user data [`compliance_tag`], the contact hook on) and returns the springs in
-/// tag order. Colliders a track tagged for itself keep their tag (and stay rigid).
+/// its spring (user data [`compliance_tag`], the contact hook on), appending the springs to
+/// the world's table `springs` (a tag's index is its place there: every robot's in one table). Colliders a track tagged for itself keep their tag (and stay rigid).
 pub(crate) fn tag_compliance(
     world: &mut PhysicsWorld,
     models: &[TrackModel],
     tracks: &[Box<dyn Track>],
     dt: f64,
-) -> Vec<SolverSpring> {
-    let mut springs = Vec::new();
+    springs: &mut Vec<SolverSpring>,
+) {
     for (model, track) in models.iter().zip(tracks) {
         let c = model.compliance;
         if c.is_rigid() {
@@ -71,7 +71,6 @@ pub(crate) fn tag_compliance(
             }
         }
     }
-    springs
 }
 
 /// Lets the manifold's part sink by its spring's deflection under the filtered normal force

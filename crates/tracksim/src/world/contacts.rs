@@ -19,8 +19,8 @@ pub(crate) struct ContactHooks<'a> {
     /// Uncorrected penetration, m: a solver contact shallower than this is reported as
     /// touching (not pushed out, further approach still stopped); a deeper one as depth - slop.
     pub slop: f32,
-    /// The tracks, by index (the index in a collider's tag).
-    pub tracks: &'a [Box<dyn Track>],
+    /// The robots, whose tracks are numbered in order (the index in a collider's tag).
+    pub robots: &'a [super::robot::Robot],
     /// The contact springs, by index (the index in a collider's compliance tag).
     pub springs: &'a [SolverSpring],
     /// Time step, s.
@@ -69,6 +69,14 @@ fn track_contact(
 }
 
 impl ContactHooks<'_> {
+    /// The track whose tag index is `index` (robots number their tracks one after another).
+    fn track(&self, index: usize) -> Option<&dyn Track> {
+        self.robots.iter().find_map(|r| {
+            let i = index.checked_sub(r.first_track)?;
+            r.tracks.get(i).map(|t| &**t)
+        })
+    }
+
     /// Stage 1, soil: a vehicle part on a soil surface may sink as deep as the soil yields
     /// (`dist` raised) and slides at the soil's shear limit (the friction coefficient), see
     /// `world/soil.rs`.
@@ -81,7 +89,7 @@ impl ContactHooks<'_> {
     /// Stage 2, the track's own contacts (e.g. constraint-to-ground's belt surface velocity).
     fn track_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
         if let Some((index, contact)) = track_contact(ctx, u1, u2)
-            && let Some(track) = self.tracks.get(index)
+            && let Some(track) = self.track(index)
         {
             track.modify_contacts(ctx, contact);
         }

@@ -73,8 +73,8 @@ impl Simulation {
     /// docs).
     pub(crate) fn conserve_mass(&mut self, sc: &Scenario) -> Result<()> {
         super::build::refresh_queries(&mut self.world);
-        let parents: Vec<RigidBodyHandle> = std::iter::once(self.body)
-            .chain(self.flippers.iter().map(|f| f.body))
+        let parents: Vec<RigidBodyHandle> = std::iter::once(self.robots[self.focus].body)
+            .chain(self.robots[self.focus].flippers.iter().map(|f| f.body))
             .collect();
         // Flippers first: their tracks' excess is carried to the chassis.
         let (mut carry, mut carry_moment) = (0.0, DVec3::ZERO);
@@ -90,7 +90,8 @@ impl Simulation {
                 if !on_this {
                     continue;
                 }
-                let (m, moment) = mass_moment(&self.world, &self.tracks[ti].bodies());
+                let (m, moment) =
+                    mass_moment(&self.world, &self.robots[self.focus].tracks[ti].bodies());
                 let file_c = parent_pose.transform_point(crate::check::f(belt_centroid(t)));
                 let file_c = DVec3::new(file_c.x as f64, file_c.y as f64, file_c.z as f64);
                 // A method without bodies of its own (constraint to ground) gets a negative
@@ -155,16 +156,16 @@ impl Simulation {
         let mut parts = vec![PartMass {
             part: "body".into(),
             file_kg: v.body.mass,
-            simulated_kg: mass(self.body),
+            simulated_kg: mass(self.robots[self.focus].body),
         }];
-        for (f, rt) in v.flippers.iter().zip(&self.flippers) {
+        for (f, rt) in v.flippers.iter().zip(&self.robots[self.focus].flippers) {
             parts.push(PartMass {
                 part: format!("flipper {}", f.name),
                 file_kg: f.mass,
                 simulated_kg: mass(rt.body),
             });
         }
-        for (t, rt) in v.tracks.iter().zip(&self.tracks) {
+        for (t, rt) in v.tracks.iter().zip(&self.robots[self.focus].tracks) {
             parts.push(PartMass {
                 part: format!("track {}", t.name),
                 file_kg: t.belt_mass,
@@ -174,7 +175,7 @@ impl Simulation {
         }
         let (m, moment) = mass_moment(&self.world, &self.vehicle_bodies());
         let c = moment / m.max(1e-12);
-        let local = self.world.bodies[self.body]
+        let local = self.world.bodies[self.robots[self.focus].body]
             .position()
             .inverse_transform_point(crate::check::f(c));
         MassReport {

@@ -33,6 +33,7 @@ mod drawbar;
 mod mass;
 mod odometry;
 mod origin;
+mod robot;
 mod rut_grid;
 mod sample;
 mod soil;
@@ -42,6 +43,7 @@ mod track_loads;
 pub use mass::{MIN_PARENT_MASS_FRACTION, MassReport, PartMass};
 pub use odometry::Odometry;
 pub use origin::ORIGIN_SHIFT_M;
+pub use robot::RobotCollision;
 pub use rut_grid::RutGridStats;
 pub use sample::{DriveSample, ICR_MIN_RATE_RAD_S, PoseRpy, Sample, slip_ratio};
 pub use soil::{RutCell, SHEAR_RESET_S, TrackSoil};
@@ -50,9 +52,10 @@ pub use track_loads::{MAX_LOAD_WINDOW_STEPS, TrackLoad, TrackOwners};
 
 use crate::model::Method;
 use crate::model::{Controls, Scenario};
-use crate::tracks::{LinkError, Track};
+use crate::tracks::LinkError;
 use glam::DVec3;
 use rapier3d::prelude::*;
+use robot::Robot;
 use std::sync::Arc;
 
 /// Clearance between the vehicle's lowest point and the ground at start, m.
@@ -75,7 +78,10 @@ pub(crate) struct Flipper {
     pub(crate) limits: Option<[f64; 2]>,
 }
 
-/// A vehicle on a terrain in a Rapier world, advanced one step at a time.
+/// Vehicles on a terrain in a Rapier world, advanced one step at a time: one robot, or several
+/// (`[[vehicles]]`, issue 40). The per-robot queries and controls (`sample`, `body_pose`,
+/// `set_belt_speed`, `track_loads`, ...) act on the selected robot ([`Simulation::select`],
+/// robot 0 until changed); [`Simulation::step`] advances every robot.
 pub struct Simulation {
     /// The Rapier world; public for inspection (and for advanced users). Its coordinates are
     /// relative to [`Simulation::origin`] (the floating origin).
@@ -90,31 +96,23 @@ pub struct Simulation {
     /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
     /// Rapier's position-correction pass (the brake holds).
     held_friction_in_bias_pass: bool,
-    /// Some track of the vehicle has a drive motor (`[tracks.motor]`).
-    has_motors: bool,
-    /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index.
+    /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index (every
+    /// robot's).
     springs: Vec<compliance::SolverSpring>,
-    /// The flat-ground tile kept under the vehicle (`terrain::GROUND_TILE_HALF_M`).
+    /// The flat-ground tile kept under the robots (`terrain::GROUND_TILE_HALF_M`).
     ground_tile: Option<RigidBodyHandle>,
-    body: RigidBodyHandle,
-    tracks: Vec<Box<dyn Track>>,
-    flippers: Vec<Flipper>,
+    /// The robots, in file order.
+    robots: Vec<Robot>,
+    /// The robot the per-robot queries and controls act on.
+    focus: usize,
     dt: f64,
     time: f64,
     steps: u64,
     seed: u64,
-    track_names: Vec<String>,
-    flipper_names: Vec<String>,
-    /// Dead reckoning from the measured belt speeds.
-    odometry: Odometry,
-    /// The drawbar (`[drawbar]`), if any.
-    drawbar: Option<drawbar::DrawbarState>,
     /// Conveyors and loose boxes.
     conveyors: conveyor::Conveyors,
     /// Deformable soil, when the terrain has some.
     soil: Option<soil::SoilState>,
-    /// The per-step track loads of the last output interval (`track_loads`).
-    load_window: track_loads::LoadWindow,
 }
 
 impl Simulation {
@@ -135,6 +133,7 @@ impl Simulation {
     pub fn reset(&mut self, seed: Option<u64>) -> crate::error::Result<()> {
         let mut fresh = build::build(self.scenario.clone())?;
         fresh.seed = seed.unwrap_or(self.seed);
+        fresh.focus = self.focus;
         *self = fresh;
         Ok(())
     }
@@ -162,25 +161,25 @@ impl Simulation {
     /// Sets a duty or torque command on track `i` (a track with a drive motor; others ignore
     /// it). A later belt speed replaces it.
     pub fn set_motor_command(&mut self, i: usize, cmd: crate::model::MotorCommand) {
-        self.tracks[i].set_motor_command(&mut self.world, cmd);
+        self.robots[self.focus].tracks[i].set_motor_command(&mut self.world, cmd);
     }
 
     /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering, see
     /// [`Controls::twist`]).
     pub fn set_twist(&mut self, forward: f64, yaw_rate: f64) {
-        let c = Controls::twist(&self.scenario.vehicle, forward, yaw_rate);
+        let c = Controls::twist(&self.rb().view.vehicle, forward, yaw_rate);
         self.apply(&c);
     }
 
     /// Sets the belt speed of track `i`, m/s (positive drives forwards).
     pub fn set_belt_speed(&mut self, i: usize, v: f64) {
-        self.tracks[i].set_belt_speed(&mut self.world, v);
+        self.robots[self.focus].tracks[i].set_belt_speed(&mut self.world, v);
     }
 
     /// Sets the target angle of flipper `i`, rad (clamped to the joint's limits, if it has
     /// them).
     pub fn set_flipper_angle(&mut self, i: usize, a: f64) {
-        let fl = &mut self.flippers[i];
+        let fl = &mut self.robots[self.focus].flippers[i];
         let a = match fl.limits {
             Some([lo, hi]) => a.clamp(lo, hi),
             None => a,
@@ -192,8 +191,14 @@ impl Simulation {
         }
     }
 
-    /// The compiled scenario.
+    /// The selected robot's scenario: the compiled scenario, with the selected robot as its one
+    /// robot in a world of several ([`Scenario::robot_view`]).
     pub fn scenario(&self) -> &Scenario {
+        &self.rb().view
+    }
+
+    /// The whole world's compiled scenario (every robot: [`Scenario::team`]).
+    pub fn world_scenario(&self) -> &Scenario {
         &self.scenario
     }
 
@@ -224,30 +229,31 @@ impl Simulation {
 
     /// Track names in output order.
     pub fn track_names(&self) -> &[String] {
-        &self.track_names
+        &self.robots[self.focus].track_names
     }
 
     /// Flipper names in output order.
     pub fn flipper_names(&self) -> &[String] {
-        &self.flipper_names
+        &self.robots[self.focus].flipper_names
     }
 
     /// Commanded belt speed of track `i`, m/s.
     pub fn commanded_belt_speed(&self, i: usize) -> f64 {
-        self.tracks[i].commanded_belt_speed()
+        self.robots[self.focus].tracks[i].commanded_belt_speed()
     }
 
     /// Target angle of flipper `i`, rad.
     pub fn flipper_target(&self, i: usize) -> f64 {
-        self.flippers[i].target
+        self.robots[self.focus].flippers[i].target
     }
 
     /// Largest distance, m, and angle, rad, seen between a track body's pose after a physics
-    /// step and where its method puts it, over all tracks and steps so far.
+    /// step and where its method puts it, over all tracks of every robot and steps so far.
     pub fn max_link_error(&self) -> (f64, f64) {
         let e = self
-            .tracks
+            .robots
             .iter()
+            .flat_map(|r| r.tracks.iter())
             .map(|t| t.link_error())
             .fold(LinkError::default(), |a, b| LinkError {
                 distance: a.distance.max(b.distance),
@@ -258,42 +264,39 @@ impl Simulation {
 
     /// Forgets the largest link error seen so far (e.g. after the landing transient).
     pub fn reset_max_link_error(&mut self) {
-        for t in &mut self.tracks {
+        for t in self.robots.iter_mut().flat_map(|r| r.tracks.iter_mut()) {
             t.reset_link_error();
         }
     }
 
     /// Handle of the chassis body.
     pub fn body_handle(&self) -> RigidBodyHandle {
-        self.body
+        self.robots[self.focus].body
     }
 
     /// Unwrapped belt position of track `i`, m.
     pub fn belt_position(&self, i: usize) -> f64 {
-        self.tracks[i].belt_position()
+        self.robots[self.focus].tracks[i].belt_position()
     }
 
     /// Belt speed of track `i` as its encoder measures it, m/s.
     pub fn measured_belt_speed(&self, i: usize) -> f64 {
-        self.tracks[i].measured_belt_speed()
+        self.robots[self.focus].tracks[i].measured_belt_speed()
     }
 
     /// Handle of flipper `i`'s body.
     pub fn flipper_body(&self, i: usize) -> RigidBodyHandle {
-        self.flippers[i].body
+        self.robots[self.focus].flippers[i].body
     }
 
     /// For track `i`: each link's pose relative to its parent and the pose it must have
     /// (`shift(phase)`). After a step both are equal up to float rounding.
     pub fn link_relative_poses(&self, i: usize) -> Vec<(Pose, Pose)> {
-        self.tracks[i].link_relative_poses(&self.world)
+        self.robots[self.focus].tracks[i].link_relative_poses(&self.world)
     }
 
-    /// Every body of the vehicle: chassis, flippers, then each track's bodies.
+    /// Every body of the selected robot: chassis, flippers, then each track's bodies.
     pub fn vehicle_bodies(&self) -> Vec<RigidBodyHandle> {
-        std::iter::once(self.body)
-            .chain(self.flippers.iter().map(|f| f.body))
-            .chain(self.tracks.iter().flat_map(|t| t.bodies()))
-            .collect()
+        self.rb().bodies()
     }
 }

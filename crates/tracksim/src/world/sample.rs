@@ -169,7 +169,7 @@ impl Simulation {
 
     /// Pose of the chassis in world coordinates.
     pub fn body_pose(&self) -> PoseRpy {
-        let mut p = PoseRpy::from_pose(self.world.bodies[self.body].position());
+        let mut p = PoseRpy::from_pose(self.world.bodies[self.robots[self.focus].body].position());
         p.x += self.origin.x;
         p.y += self.origin.y;
         p.z += self.origin.z;
@@ -268,8 +268,8 @@ impl Simulation {
 
     /// Angle of flipper `i` relative to the body, rad.
     pub fn flipper_angle(&self, i: usize) -> f64 {
-        let fl = &self.flippers[i];
-        let pb = self.world.bodies[self.body].position();
+        let fl = &self.robots[self.focus].flippers[i];
+        let pb = self.world.bodies[self.robots[self.focus].body].position();
         let pf = self.world.bodies[fl.body].position();
         let r = (pb.rotation.inverse() * pf.rotation).normalize();
         let v = DVec3::new(r.x as f64, r.y as f64, r.z as f64);
@@ -278,7 +278,7 @@ impl Simulation {
 
     /// Current state as a sample.
     pub fn sample(&self) -> Sample {
-        let b = &self.world.bodies[self.body];
+        let b = &self.world.bodies[self.robots[self.focus].body];
         let lv = b.linvel();
         let av = b.angvel();
         // Before the first step the narrow phase still holds the placement's trial contacts.
@@ -293,25 +293,39 @@ impl Simulation {
             linvel: [lv.x as f64, lv.y as f64, lv.z as f64],
             angvel: [av.x as f64, av.y as f64, av.z as f64],
             belt_speed: self
+                .rb()
                 .tracks
                 .iter()
                 .map(|t| t.measured_belt_speed())
                 .collect(),
-            belt_phase: self.tracks.iter().map(|t| t.belt_phase()).collect(),
-            belt_position: self.tracks.iter().map(|t| t.belt_position()).collect(),
-            flipper_angle: (0..self.flippers.len())
+            belt_phase: self.robots[self.focus]
+                .tracks
+                .iter()
+                .map(|t| t.belt_phase())
+                .collect(),
+            belt_position: self.robots[self.focus]
+                .tracks
+                .iter()
+                .map(|t| t.belt_position())
+                .collect(),
+            flipper_angle: (0..self.robots[self.focus].flippers.len())
                 .map(|i| self.flipper_angle(i))
                 .collect(),
             contacts,
             penetration,
             belt_cmd: self
+                .rb()
                 .tracks
                 .iter()
                 .map(|t| t.commanded_belt_speed())
                 .collect(),
             slip: self.slip(),
             loads: self.track_loads(),
-            odom: [self.odometry.x, self.odometry.y, self.odometry.yaw],
+            odom: [
+                self.robots[self.focus].odometry.x,
+                self.robots[self.focus].odometry.y,
+                self.robots[self.focus].odometry.yaw,
+            ],
             icr: self.icr(),
             drawbar_n: self.drawbar_pull(),
             drive: self.drive(),
@@ -327,7 +341,7 @@ impl Simulation {
             .vehicle
             .tracks
             .iter()
-            .zip(&self.tracks)
+            .zip(&self.robots[self.focus].tracks)
             .zip(self.track_loads())
             .map(|((m, t), load)| {
                 let motor = m.motor.as_ref()?;
@@ -360,7 +374,7 @@ impl Simulation {
 
     /// Slip ratio of every track ([`Sample::slip`]).
     fn slip(&self) -> Vec<f64> {
-        let mut out = vec![0.0; self.tracks.len()];
+        let mut out = vec![0.0; self.robots[self.focus].tracks.len()];
         self.slip_into(&mut out);
         out
     }
@@ -368,11 +382,16 @@ impl Simulation {
     /// The slip ratio of every track ([`Sample::slip`], [`slip_ratio`]) into `out` (one per
     /// track, in track order), without allocating.
     pub fn slip_into(&self, out: &mut [f64]) {
-        let tracks = self.scenario.vehicle.tracks.iter().zip(&self.tracks);
+        let tracks = self
+            .scenario
+            .vehicle
+            .tracks
+            .iter()
+            .zip(&self.robots[self.focus].tracks);
         for (o, (m, t)) in out.iter_mut().zip(tracks) {
             let parent = match m.parent {
-                Parent::Body => self.body,
-                Parent::Flipper(i) => self.flippers[i].body,
+                Parent::Body => self.robots[self.focus].body,
+                Parent::Flipper(i) => self.robots[self.focus].flippers[i].body,
             };
             let b = &self.world.bodies[parent];
             let segs = m.path.segments();
@@ -385,7 +404,7 @@ impl Simulation {
 
     /// Instantaneous centre of rotation in the chassis frame ([`Sample::icr`]).
     fn icr(&self) -> Option<[f64; 2]> {
-        let b = &self.world.bodies[self.body];
+        let b = &self.world.bodies[self.robots[self.focus].body];
         let r = b.rotation().inverse();
         // Velocity of the chassis frame's origin (not of its centre of mass), body frame.
         let (v, w) = (r * b.velocity_at_point(b.translation()), r * b.angvel());

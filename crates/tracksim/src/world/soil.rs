@@ -680,8 +680,8 @@ impl Simulation {
     /// The body track `t` runs on.
     fn track_parent(&self, t: usize) -> RigidBodyHandle {
         match self.scenario.vehicle.tracks[t].parent {
-            crate::model::Parent::Body => self.body,
-            crate::model::Parent::Flipper(i) => self.flippers[i].body,
+            crate::model::Parent::Body => self.robots[0].body,
+            crate::model::Parent::Flipper(i) => self.robots[0].flippers[i].body,
         }
     }
 
@@ -695,7 +695,9 @@ impl Simulation {
             Some(t) => {
                 let parent = &self.world.bodies[self.track_parent(t)];
                 parent.velocity_at_point(c)
-                    - parent.rotation() * Vector::X * self.tracks[t].measured_belt_speed() as f32
+                    - parent.rotation()
+                        * Vector::X
+                        * self.robots[0].tracks[t].measured_belt_speed() as f32
             }
             None => self.world.bodies[l.body].velocity_at_point(c),
         };
@@ -806,7 +808,7 @@ impl Simulation {
             Err(_) => return,
         }
         let step = self.steps.min(u32::MAX as u64 - 1) as u32 + 1;
-        let forward = self.world.bodies[self.body].rotation() * Vector::X;
+        let forward = self.world.bodies[self.robots[0].body].rotation() * Vector::X;
         let n = state.tracks.len();
         let mut figures = vec![TrackSoil::default(); n];
         let mut weighted = vec![0.0f64; n];
@@ -889,7 +891,7 @@ impl Simulation {
             let parent = self.track_parent(t);
             let b = &self.world.bodies[parent];
             let v = b.linvel();
-            let parked = self.tracks[t].holds_belt()
+            let parked = self.robots[0].tracks[t].holds_belt()
                 && f.normal_n > 0.0
                 && (v.x.hypot(v.y) as f64) < ANCHOR_SPEED_MPS
                 && (b.angvel().length() as f64) < ANCHOR_TURN_RADPS;
@@ -911,7 +913,7 @@ impl Simulation {
     /// momentum: settling, not driving); its force is
     /// shared among the tracks by their load in `figures`.
     fn give_back_compaction(&mut self, work: f64, figures: &mut [TrackSoil]) {
-        let b = &mut self.world.bodies[self.body];
+        let b = &mut self.world.bodies[self.robots[0].body];
         let vh = Vector::new(b.linvel().x, b.linvel().y, 0.0);
         let speed = vh.length() as f64;
         if work <= 0.0 || speed <= COMPACTION_MIN_SPEED_MPS {

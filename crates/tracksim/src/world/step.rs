@@ -12,18 +12,27 @@ pub const STICK_SPEED_MPS: f32 = 0.01;
 pub const STICK_RATE_RAD_S: f32 = 0.01;
 
 impl Simulation {
-    /// Advances the simulation by one time step with the controls set so far.
+    /// Advances the simulation by one time step with the controls set so far (every robot).
     pub fn step(&mut self) -> Result<()> {
+        let focus = self.focus;
         let shifted = self.scenario.solver.floating_origin && self.follow_origin();
         self.recentre_ground_tile();
-        self.apply_drawbar();
-        let held = self.braked_at_rest();
+        let mut held_all = true;
+        let mut held_on_motors = false;
+        for k in 0..self.robots.len() {
+            self.focus = k;
+            self.apply_drawbar();
+            let held = self.braked_at_rest();
+            held_all &= held;
+            held_on_motors |= held && self.robots[k].has_motors;
+        }
+        self.focus = focus;
         self.soil_before_step();
         self.world.integration_parameters.friction_in_bias_pass =
-            self.held_friction_in_bias_pass && held;
+            self.held_friction_in_bias_pass && held_all;
         let hooks = ContactHooks {
             slop: self.slop,
-            tracks: &self.tracks,
+            robots: &self.robots,
             springs: &self.springs,
             dt: self.dt as f32,
             soil: self.soil.as_ref(),
@@ -35,7 +44,6 @@ impl Simulation {
         // robot down 20 deg at 0.9 mm/s; with fresh contacts 0.017 mm/s. Held without motors
         // the links come back to the same pose every step and recycling holds them exactly
         // (0.23 mm/s of creep with fresh contacts), so it stays on.
-        let held_on_motors = held && self.has_motors;
         let recycling = self.world.integration_parameters.contact_recycling;
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
@@ -45,46 +53,77 @@ impl Simulation {
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
-        self.record_track_loads();
+        for k in 0..self.robots.len() {
+            self.focus = k;
+            self.record_track_loads();
+        }
+        self.focus = focus;
         self.soil_after_step();
-        for t in &mut self.tracks {
-            t.after_step(&mut self.world, self.dt);
+        let dt = self.dt;
+        for r in &mut self.robots {
+            for t in &mut r.tracks {
+                t.after_step(&mut self.world, dt);
+            }
         }
         self.conveyors.after_step(&mut self.world, self.dt);
-        let tracks = &self.tracks;
-        self.odometry
-            .update_with(|i| tracks[i].measured_belt_speed(), self.dt);
-        self.check_stability()
+        for r in &mut self.robots {
+            let tracks = &r.tracks;
+            r.odometry
+                .update_with(|i| tracks[i].measured_belt_speed(), dt);
+        }
+        for k in 0..self.robots.len() {
+            self.check_stability(k)?;
+        }
+        self.check_spread()
     }
 
-    /// Every belt commanded to 0 m/s and the chassis at rest (below [`STICK_SPEED_MPS`] and
-    /// [`STICK_RATE_RAD_S`]): static friction holds the vehicle. A braked vehicle that slides
-    /// (beyond the friction cone) leaves this state within milliseconds and slides with
-    /// Rapier's plain friction.
+    /// The selected robot's belts are all commanded to 0 m/s and its chassis is at rest (below
+    /// [`STICK_SPEED_MPS`] and [`STICK_RATE_RAD_S`]): static friction holds it. A braked
+    /// vehicle that slides (beyond the friction cone) leaves this state within milliseconds and
+    /// slides with Rapier's plain friction.
     fn braked_at_rest(&self) -> bool {
-        let b = &self.world.bodies[self.body];
-        self.tracks.iter().all(|t| t.holds_belt())
+        let b = &self.world.bodies[self.rb().body];
+        self.rb().tracks.iter().all(|t| t.holds_belt())
             && b.linvel().length() < STICK_SPEED_MPS
             && b.angvel().length() < STICK_RATE_RAD_S
     }
 
-    /// Moves the flat-ground tile under the vehicle (`terrain::GROUND_RECENTRE_M`).
+    /// Moves the flat-ground tile under the robots (`terrain::GROUND_RECENTRE_M`): under their
+    /// chassis' centre.
     fn recentre_ground_tile(&mut self) {
         if let Some(tile) = self.ground_tile {
-            let p = self.world.bodies[self.body].translation();
-            crate::terrain::TerrainModel::recentre_ground_tile(
-                &mut self.world,
-                tile,
-                p.x as f64,
-                p.y as f64,
-            );
+            let (x, y) = self.chassis_centre_local();
+            crate::terrain::TerrainModel::recentre_ground_tile(&mut self.world, tile, x, y);
         }
     }
 
-    /// Stops a run that blew up: NaN, a body flung off, or one that left the world.
-    fn check_stability(&self) -> Result<()> {
+    /// Stops a world whose robots have spread further apart than it holds exactly
+    /// ([`crate::model::MAX_ROBOT_SPREAD_M`]).
+    fn check_spread(&self) -> Result<()> {
+        if self.robots.len() < 2 {
+            return Ok(());
+        }
+        let (lo, hi) = self.chassis_extent_local();
+        let spread = (hi.0 - lo.0).max(hi.1 - lo.1);
+        if spread <= crate::model::MAX_ROBOT_SPREAD_M {
+            return Ok(());
+        }
+        Err(Error::Build(format!(
+            "at t = {:.3} s the robots ({}) are {spread:.2} m apart in x or y, more than the \
+             {} m one world holds exactly (Rapier's f32 around one floating origin); the run \
+             stops: keep the robots closer, or run them in separate scenarios",
+            self.time,
+            self.robot_names().join(", "),
+            crate::model::MAX_ROBOT_SPREAD_M
+        )))
+    }
+
+    /// Stops a run that blew up: NaN, a body of robot `k` flung off, or one that left the
+    /// world.
+    fn check_stability(&self, k: usize) -> Result<()> {
         // Names are only formatted when something is wrong: this runs every step.
-        let handles = std::iter::once(self.body).chain(self.flippers.iter().map(|f| f.body));
+        let r = &self.robots[k];
+        let handles = std::iter::once(r.body).chain(r.flippers.iter().map(|f| f.body));
         for (i, h) in handles.enumerate() {
             let b = &self.world.bodies[h];
             let p = b.position();
@@ -102,11 +141,16 @@ impl Simulation {
                 None
             };
             if let Some(what) = bad {
+                let part = match i {
+                    0 => "body".to_string(),
+                    _ => format!("flipper {}", r.flipper_names[i - 1]),
+                };
                 return Err(Error::Unstable {
                     time_s: self.time,
-                    body: match i {
-                        0 => "body".to_string(),
-                        _ => format!("flipper {}", self.flipper_names[i - 1]),
+                    body: if self.robots.len() > 1 {
+                        format!("{} of robot `{}`", part, r.name)
+                    } else {
+                        part
                     },
                     what,
                 });

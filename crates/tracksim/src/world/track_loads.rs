@@ -90,7 +90,7 @@ impl Simulation {
     /// (`simulation.output_interval_s`; fewer steps at the start, zero before the first step).
     /// Contacts: the last step's count.
     pub fn track_loads(&self) -> Vec<TrackLoad> {
-        let mut loads = vec![TrackLoad::default(); self.tracks.len()];
+        let mut loads = vec![TrackLoad::default(); self.robots[self.focus].tracks.len()];
         self.track_loads_mean_into(&mut loads);
         loads
     }
@@ -101,7 +101,7 @@ impl Simulation {
         for l in loads.iter_mut() {
             *l = TrackLoad::default();
         }
-        let w = &self.load_window;
+        let w = &self.robots[self.focus].load_window;
         if w.ring.is_empty() {
             return;
         }
@@ -127,27 +127,28 @@ impl Simulation {
     /// The terrain's force on every track over the last step alone (zero before the first
     /// step).
     pub fn track_loads_last_step(&self) -> Vec<TrackLoad> {
-        let mut loads = vec![TrackLoad::default(); self.tracks.len()];
-        self.track_loads_into(&self.load_window.owners, &mut loads);
+        let mut loads = vec![TrackLoad::default(); self.robots[self.focus].tracks.len()];
+        self.track_loads_into(&self.robots[self.focus].load_window.owners, &mut loads);
         loads
     }
 
     /// Adds the last step's loads to the window (after every step).
     pub(crate) fn record_track_loads(&mut self) {
-        let n = self.tracks.len();
-        let mut w = std::mem::take(&mut self.load_window);
+        let n = self.robots[self.focus].tracks.len();
+        let mut w = std::mem::take(&mut self.robots[self.focus].load_window);
         if w.ring.len() < w.len {
             w.ring.push(vec![TrackLoad::default(); n]);
         }
         let slot = w.next;
         self.track_loads_into(&w.owners, &mut w.ring[slot]);
         w.next = (slot + 1) % w.len;
-        self.load_window = w;
+        self.robots[self.focus].load_window = w;
     }
 
     /// The track owning each body of the tracks (links, wheels, plates), by body handle.
     pub fn track_owners(&self) -> TrackOwners {
-        self.tracks
+        self.robots[self.focus]
+            .tracks
             .iter()
             .enumerate()
             .flat_map(|(i, t)| t.bodies().into_iter().map(move |b| (b, i)))
@@ -165,15 +166,22 @@ impl Simulation {
             return;
         }
         let cs = &self.world.colliders;
+        // Tags number every robot's tracks one after another; this robot's are its own.
+        let (first, n) = (self.rb().first_track, self.rb().tracks.len());
+        let own_tag = |u: u128| {
+            tagged_track(u)
+                .and_then(|g| g.checked_sub(first))
+                .filter(|&i| i < n)
+        };
         let track_of = |h: ColliderHandle| -> Option<usize> {
             let c = cs.get(h)?;
-            tagged_track(c.user_data).or_else(|| c.parent().and_then(|b| owner.get(&b).copied()))
+            own_tag(c.user_data).or_else(|| c.parent().and_then(|b| owner.get(&b).copied()))
         };
         let terrain = |h: ColliderHandle| {
             cs.get(h)
                 .is_some_and(|c| c.collision_groups().memberships.contains(WORLD_GROUP))
         };
-        let forward = self.world.bodies[self.body].rotation() * Vector::X;
+        let forward = self.world.bodies[self.robots[self.focus].body].rotation() * Vector::X;
         let inv_dt = 1.0 / self.dt;
         let substeps = self.world.integration_parameters.num_solver_iterations as f32;
         for p in self.world.narrow_phase.contact_pairs() {

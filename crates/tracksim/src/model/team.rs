@@ -1,0 +1,156 @@
+//! Several robots in one world (`[[vehicles]]`, issue 40): each robot compiled as the one robot
+//! of a scenario ([`RobotModel`]), the rule that decides the world's outcome ([`TeamRule`]) and
+//! the world's own `[expect]` ([`Team`]). A one-robot file has no [`Team`]: its scenario is its
+//! robot's.
+//!
+//! Every layer that knows one robot (sensors, samples, summaries, outputs) reads a robot
+//! through [`Scenario::robot_view`]: the world with that robot as its one robot.
+
+use super::scenario::{OutcomeModel, Scenario};
+use super::{Command, Drawbar, Expectation, VehicleModel};
+
+/// Most robots one world holds: each takes a collision-group bit of Rapier's 32 (16 are the
+/// world's and the vehicle parts'), so robots touch each other and never themselves.
+pub const MAX_ROBOTS: usize = 16;
+
+/// Largest distance, m, between two robots' chassis (in x or y) that one world holds. Rapier
+/// works in f32 with one floating origin kept at the centre of the robots: within 10 m of it
+/// the spacing of f32 is at most 0.95 um (0.24 um within 2 m, where one robot is kept), and the
+/// flat-ground tile (`terrain::GROUND_TILE_HALF_M`, 10 m) still lies under every robot. Checked
+/// at the start (a file's error) and at every step (the run stops with a message).
+pub const MAX_ROBOT_SPREAD_M: f64 = 10.0;
+
+/// Name of the robot of a one-robot file.
+pub const DEFAULT_ROBOT_NAME: &str = "robot";
+
+/// How a world with several robots is decided (`outcome.team`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TeamRule {
+    /// A success once every robot has succeeded; a failure as soon as one fails.
+    #[default]
+    All,
+    /// A race: a success when the first robot succeeds; a failure once every robot has failed.
+    First,
+}
+
+impl TeamRule {
+    /// The rule named by `outcome.team` (`"all"` or `"first"`).
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "all" => Some(TeamRule::All),
+            "first" => Some(TeamRule::First),
+            _ => None,
+        }
+    }
+
+    /// The rule's name in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            TeamRule::All => "all",
+            TeamRule::First => "first",
+        }
+    }
+}
+
+/// One robot of a world with several, compiled: what a one-robot [`Scenario`] holds for its
+/// robot.
+#[derive(Clone, Debug)]
+pub struct RobotModel {
+    /// Its name (unique, ROS-safe).
+    pub name: String,
+    /// Its vehicle.
+    pub vehicle: VehicleModel,
+    /// Start position, m.
+    pub start_xy: (f64, f64),
+    /// Start height, m (None: rest on the ground).
+    pub start_z: Option<f64>,
+    /// Start yaw, rad.
+    pub start_yaw: f64,
+    /// Start pitch, rad.
+    pub start_pitch: f64,
+    /// Its commands, sorted by time.
+    pub commands: Vec<Command>,
+    /// Its outcome conditions.
+    pub outcome: OutcomeModel,
+    /// A drawbar load on its chassis, if any.
+    pub drawbar: Option<Drawbar>,
+    /// What its run must show.
+    pub expect: Expectation,
+}
+
+impl RobotModel {
+    /// The robot part of a compiled one-robot scenario, under `name`.
+    pub(crate) fn of(name: &str, sc: &Scenario) -> Self {
+        RobotModel {
+            name: name.to_string(),
+            vehicle: sc.vehicle.clone(),
+            start_xy: sc.start_xy,
+            start_z: sc.start_z,
+            start_yaw: sc.start_yaw,
+            start_pitch: sc.start_pitch,
+            commands: sc.commands.clone(),
+            outcome: sc.outcome.clone(),
+            drawbar: sc.drawbar.clone(),
+            expect: sc.expect.clone(),
+        }
+    }
+}
+
+/// The robots of a world with several, in file order, and how the world is decided.
+#[derive(Clone, Debug)]
+pub struct Team {
+    /// Every robot, the first included (the scenario's own robot fields are the first's).
+    pub robots: Vec<RobotModel>,
+    /// How the world's outcome is decided.
+    pub rule: TeamRule,
+    /// What the world's run must show (`[expect]`: its outcome and outcome time).
+    pub expect: Expectation,
+}
+
+impl Scenario {
+    /// Robots in the world (1 for a one-robot file).
+    pub fn robot_count(&self) -> usize {
+        self.team.as_ref().map_or(1, |t| t.robots.len())
+    }
+
+    /// The robots' names, in file order ([`DEFAULT_ROBOT_NAME`] for a one-robot file).
+    pub fn robot_names(&self) -> Vec<String> {
+        match &self.team {
+            Some(t) => t.robots.iter().map(|r| r.name.clone()).collect(),
+            None => vec![DEFAULT_ROBOT_NAME.to_string()],
+        }
+    }
+
+    /// Robot `k`'s own scenario: this world with robot `k` as its one robot (its vehicle, start,
+    /// commands, outcome, drawbar and `[expect]`), what every one-robot layer reads. For a
+    /// one-robot file (k = 0) a copy of the scenario. Panics if `k` is out of range.
+    pub fn robot_view(&self, k: usize) -> Scenario {
+        let Some(team) = &self.team else {
+            assert_eq!(k, 0, "a one-robot scenario has robot 0 only");
+            return self.clone();
+        };
+        let r = &team.robots[k];
+        Scenario {
+            vehicle: r.vehicle.clone(),
+            start_xy: r.start_xy,
+            start_z: r.start_z,
+            start_yaw: r.start_yaw,
+            start_pitch: r.start_pitch,
+            commands: r.commands.clone(),
+            outcome: r.outcome.clone(),
+            drawbar: r.drawbar.clone(),
+            expect: r.expect.clone(),
+            team: None,
+            ..self.clone_world()
+        }
+    }
+
+    /// The scenario without its team (cheap enough: the world's parts are cloned once per robot
+    /// view, never per step).
+    fn clone_world(&self) -> Scenario {
+        Scenario {
+            team: None,
+            ..self.clone()
+        }
+    }
+}

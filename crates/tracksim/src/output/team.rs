@@ -1,0 +1,171 @@
+//! The outputs of a world with several robots (`[[vehicles]]`): each robot's run folder
+//! (`<dir>/<name>/`, everything a one-robot run writes, so `tracksim view <dir>` replays every
+//! robot and `tracksim view <dir>/<name>` one), `team.json` (the world's outcome and each
+//! robot's), and the robots together in `team.png` / `team_signals.png`.
+
+use super::{Outputs, write_outputs, write_team_plots};
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::run::TeamResult;
+use std::path::{Path, PathBuf};
+
+/// `team.json`: the world's outcome by its rule and each robot's outcome and final pose.
+#[derive(Debug, serde::Serialize)]
+pub struct TeamSummary {
+    /// The scenario's description.
+    pub description: String,
+    /// The rule deciding the world (`all`, `first`).
+    pub rule: String,
+    /// The world's outcome (`success`, `failure`, `completed`, `interrupted`).
+    pub outcome: String,
+    /// Why.
+    pub outcome_reason: String,
+    /// When it was decided, s.
+    pub outcome_time_s: f64,
+    /// Each robot, in file order.
+    pub robots: Vec<RobotLine>,
+}
+
+/// A robot's line in `team.json`.
+#[derive(Debug, serde::Serialize)]
+pub struct RobotLine {
+    /// Its name (its folder).
+    pub name: String,
+    /// Its vehicle's name.
+    pub vehicle: String,
+    /// Its outcome.
+    pub outcome: String,
+    /// Why.
+    pub outcome_reason: String,
+    /// When it was decided, s.
+    pub outcome_time_s: f64,
+    /// Final chassis position [x, y, z], m, and yaw, rad.
+    pub final_pose: [f64; 4],
+    /// Path length driven, m.
+    pub distance_m: f64,
+}
+
+impl TeamSummary {
+    /// The summary of `r`, a run of `sc`.
+    pub fn of(sc: &Scenario, r: &TeamResult) -> Self {
+        TeamSummary {
+            description: sc.description.clone(),
+            rule: r.rule.name().into(),
+            outcome: r.outcome.name().into(),
+            outcome_reason: r.outcome.reason(),
+            outcome_time_s: r.outcome_time,
+            robots: r
+                .robots
+                .iter()
+                .map(|(name, run)| {
+                    let s = &run.summary;
+                    let p = &s.final_pose;
+                    RobotLine {
+                        name: name.clone(),
+                        vehicle: s.vehicle.clone(),
+                        outcome: s.outcome.clone(),
+                        outcome_reason: s.outcome_reason.clone(),
+                        outcome_time_s: s.outcome_time_s,
+                        final_pose: [p.x, p.y, p.z, p.yaw],
+                        distance_m: s.distance_m,
+                    }
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Writes a team run of `sc` into `dir`: each robot's outputs (`which`) in `dir/<name>/`,
+/// `team.json`, and (with `which.plots`) the robots in one figure. Returns the paths written.
+pub fn write_team(
+    sc: &Scenario,
+    r: &TeamResult,
+    dir: &Path,
+    which: Outputs,
+) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let views: Vec<Scenario> = (0..r.robots.len()).map(|k| sc.robot_view(k)).collect();
+    for ((name, run), view) in r.robots.iter().zip(&views) {
+        written.extend(write_outputs(view, run, &dir.join(name), which)?);
+    }
+    let json = serde_json::to_string_pretty(&TeamSummary::of(sc, r)).expect("team serialises");
+    let path = dir.join("team.json");
+    crate::files::write_atomic(&path, (json + "\n").as_bytes())?;
+    written.push(path);
+    if which.plots {
+        let runs: Vec<(String, &Scenario, &crate::run::RunResult)> = r
+            .robots
+            .iter()
+            .zip(&views)
+            .map(|((n, run), v)| (n.clone(), v, run))
+            .collect();
+        written.extend(write_team_plots(sc, &runs, dir)?);
+    }
+    Ok(written)
+}
+
+/// A team run in words: the world's outcome, then a line per robot, and the `[expect]`
+/// verdict.
+pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> String {
+    let mut l = vec![
+        format!("scenario   {}", file.display()),
+        format!(
+            "robots     {} in one world (outcome rule `{}`)",
+            r.robots.len(),
+            r.rule.name()
+        ),
+    ];
+    for (name, run) in &r.robots {
+        let s = &run.summary;
+        let p = &s.final_pose;
+        l.push(format!(
+            "  {name:<12} {} ({}): {} at t = {:.3} s ({}); final x {:.3} y {:.3} z {:.3} m, \
+             yaw {:.1} deg",
+            s.vehicle,
+            s.method,
+            s.outcome,
+            s.outcome_time_s,
+            s.outcome_reason,
+            p.x,
+            p.y,
+            p.z,
+            p.yaw.to_degrees()
+        ));
+    }
+    l.push(format!(
+        "outcome    {}: {} (t = {:.3} s)",
+        r.outcome.name(),
+        r.outcome.reason(),
+        r.outcome_time
+    ));
+    let has_expect = sc
+        .team
+        .as_ref()
+        .is_some_and(|t| !t.expect.is_empty() || t.robots.iter().any(|x| !x.expect.is_empty()));
+    if has_expect {
+        let misses = crate::run::team::team_misses(sc, r);
+        l.push(if !sc.overridden.is_empty() {
+            format!(
+                "expect     not checked: the run overrides {}",
+                sc.overridden.join(", ")
+            )
+        } else if matches!(r.outcome, crate::run::Outcome::Interrupted(_)) {
+            "expect     not checked: the run was interrupted".into()
+        } else if misses.is_empty() {
+            "expect     met (the file's [expect] tables)".into()
+        } else {
+            format!("expect     MISSED: {}", misses.join("; "))
+        });
+    }
+    l.push(format!(
+        "outputs    {}/team.json, a folder per robot ({}); `tracksim view {}` replays them all",
+        out.display(),
+        r.robots
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(", "),
+        out.display()
+    ));
+    l.join("\n")
+}

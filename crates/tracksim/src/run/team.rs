@@ -1,0 +1,384 @@
+//! Several robots run in one world (`[[vehicles]]`, issue 40): [`TeamRunner`] steps the world
+//! with each robot's `[[commands]]`, updates each robot's sensors, records each robot's samples
+//! and decides each robot's outcome at every output interval, and the world's by its rule
+//! ([`TeamRule`]); [`TeamResult`] holds a [`RunResult`] per robot (what a one-robot run gives,
+//! so every one-robot output is written per robot) and the world's outcome.
+
+use super::course::CourseTracker;
+use super::outcome::{Outcome, at_end, check_outcome};
+use super::summary::{Summary, WallTimes};
+use super::timeline::Timeline;
+use super::{RunOptions, RunResult, SensorSummary};
+use crate::error::{Error, Result};
+use crate::model::{Scenario, TeamRule};
+use crate::sensors::SensorSet;
+use crate::world::{Sample, Simulation};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// One robot of a team run: its own scenario, commands, sensors, samples and outcome.
+struct RobotRun {
+    view: Arc<Scenario>,
+    timeline: Timeline,
+    sensors: SensorSet,
+    samples: Vec<Sample>,
+    decided: Option<(Outcome, f64)>,
+    course: Option<CourseTracker>,
+}
+
+/// A run of a world with several robots.
+pub struct TeamRunner {
+    sc: Arc<Scenario>,
+    sim: Simulation,
+    robots: Vec<RobotRun>,
+    rule: TeamRule,
+    every: u64,
+    end_step: u64,
+    decided: Option<(Outcome, f64)>,
+    stepping: f64,
+    wall: Instant,
+    started: std::time::SystemTime,
+    pace: Option<f64>,
+}
+
+/// What a team run produced: each robot's run, in file order, and the world's outcome.
+#[derive(Clone, Debug)]
+pub struct TeamResult {
+    /// Each robot's name and run (its samples, summary, outcome, sensors).
+    pub robots: Vec<(String, RunResult)>,
+    /// The world's outcome by its rule.
+    pub outcome: Outcome,
+    /// When the world's outcome was decided (or the run ended), s.
+    pub outcome_time: f64,
+    /// The rule that decided it.
+    pub rule: TeamRule,
+}
+
+impl TeamRunner {
+    /// A run of `sc` (a scenario with [`Scenario::team`]) with every robot's commands.
+    pub fn new(sc: &Scenario) -> Result<Self> {
+        let team = sc
+            .team
+            .as_ref()
+            .ok_or_else(|| Error::Build("a team run needs a scenario with [[vehicles]]".into()))?;
+        let sc = Arc::new(sc.clone());
+        let mut sim = Simulation::from_shared(sc.clone())?;
+        let mut robots = Vec::new();
+        for k in 0..team.robots.len() {
+            sim.select(k);
+            let view = Arc::new(sim.scenario().clone());
+            robots.push(RobotRun {
+                timeline: Timeline::new(&view.commands),
+                sensors: SensorSet::new(&sim, true),
+                samples: vec![sim.sample()],
+                decided: None,
+                course: view
+                    .course
+                    .as_ref()
+                    .map(|c| CourseTracker::new(c, view.outcome.max_tilt)),
+                view,
+            });
+        }
+        sim.select(0);
+        let dt = sc.solver.dt;
+        Ok(TeamRunner {
+            every: ((sc.output_interval / dt).round() as u64).max(1),
+            end_step: (sc.duration / dt).round().max(1.0) as u64,
+            rule: team.rule,
+            sim,
+            robots,
+            decided: None,
+            stepping: 0.0,
+            wall: Instant::now(),
+            started: std::time::SystemTime::now(),
+            pace: None,
+            sc,
+        })
+    }
+
+    /// Paces the run to the wall clock at `speed` simulated seconds per wall second.
+    pub fn paced(mut self, speed: f64) -> Self {
+        self.pace = Some(speed);
+        self
+    }
+
+    /// The running world.
+    pub fn sim(&self) -> &Simulation {
+        &self.sim
+    }
+
+    /// The world's outcome and its time, s, once decided.
+    pub fn decided(&self) -> Option<&(Outcome, f64)> {
+        self.decided.as_ref()
+    }
+
+    /// Robot `k`'s outcome and its time, s, once decided.
+    pub fn robot_decided(&self, k: usize) -> Option<&(Outcome, f64)> {
+        self.robots[k].decided.as_ref()
+    }
+
+    /// Whether the run has reached its end: its duration, or the world's decided outcome when
+    /// the file's `outcome.stop` says to stop there.
+    pub fn finished(&self) -> bool {
+        self.sim.steps() >= self.end_step || (self.sc.outcome.stop && self.decided.is_some())
+    }
+
+    /// Advances one step: every robot's commands that have fallen due, the world's step, every
+    /// robot's sensors, and at an output interval every robot's sample and outcome and the
+    /// world's.
+    pub fn step(&mut self) -> Result<()> {
+        if let Some(speed) = self.pace {
+            let ahead = self.sim.time() / speed - self.wall.elapsed().as_secs_f64();
+            if ahead > 0.002 {
+                std::thread::sleep(std::time::Duration::from_secs_f64(ahead));
+            }
+        }
+        let t0 = Instant::now();
+        let t = self.sim.time();
+        for (k, r) in self.robots.iter_mut().enumerate() {
+            self.sim.select(k);
+            for c in r.timeline.due(t) {
+                self.sim.apply(&c);
+            }
+        }
+        self.sim.select(0);
+        self.sim.step()?;
+        for (k, r) in self.robots.iter_mut().enumerate() {
+            self.sim.select(k);
+            r.sensors.update(&self.sim);
+        }
+        self.stepping += t0.elapsed().as_secs_f64();
+        let i = self.sim.steps();
+        if i.is_multiple_of(self.every) || i == self.end_step {
+            let now = self.sim.time();
+            for (k, r) in self.robots.iter_mut().enumerate() {
+                self.sim.select(k);
+                if let Some(c) = &mut r.course {
+                    c.update(&self.sim, now);
+                }
+                if r.decided.is_none() {
+                    let course = || r.course.as_ref().and_then(CourseTracker::outcome);
+                    r.decided = check_outcome(&r.view.outcome, &self.sim)
+                        .or_else(course)
+                        .map(|o| (o, now));
+                }
+                r.samples.push(self.sim.sample());
+            }
+            self.sim.select(0);
+            if self.decided.is_none() {
+                let outcomes: Vec<_> = self.robots.iter().map(|r| r.decided.clone()).collect();
+                self.decided = decide(self.rule, &self.names(), &outcomes, false);
+            }
+        }
+        Ok(())
+    }
+
+    fn names(&self) -> Vec<String> {
+        self.sim.robot_names()
+    }
+
+    /// Steps to the end ([`TeamRunner::finished`]); `stop` is asked before every step.
+    pub fn run_to_end(&mut self, stop: impl Fn() -> bool) -> Result<bool> {
+        while !self.finished() {
+            if stop() {
+                return Ok(false);
+            }
+            self.step()?;
+        }
+        Ok(true)
+    }
+
+    /// The run as it ended: each robot's [`RunResult`] (its outcome: decided, or at the end by
+    /// its own conditions) and the world's outcome (`reached`: the run reached its end, else it
+    /// was interrupted).
+    pub fn finish(mut self, reached: bool) -> TeamResult {
+        let t = self.sim.time();
+        let times = WallTimes {
+            stepping: self.stepping,
+            elapsed: self.wall.elapsed().as_secs_f64(),
+            paced: self.pace.is_some(),
+            started: Some(self.started),
+        };
+        let names = self.names();
+        let mut finals = Vec::new();
+        let mut robots = Vec::new();
+        for (k, r) in std::mem::take(&mut self.robots).into_iter().enumerate() {
+            self.sim.select(k);
+            let mut samples = r.samples;
+            if samples.last().is_some_and(|s| s.t < t) {
+                samples.push(self.sim.sample());
+            }
+            let (outcome, when) = match (&r.decided, reached) {
+                (Some(d), _) => d.clone(),
+                (None, true) => (at_end(&r.view.outcome, t), t),
+                (None, false) => (
+                    Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
+                    t,
+                ),
+            };
+            finals.push(Some((outcome.clone(), when)));
+            let mut summary = Summary::new(&r.view, &self.sim, &samples, (&outcome, when), times);
+            let sensors = r.sensors.into_streams();
+            summary.sensors = sensors.iter().map(SensorSummary::of).collect();
+            summary.course = r.course.as_ref().map(CourseTracker::score);
+            robots.push((
+                names[k].clone(),
+                RunResult {
+                    samples,
+                    track_names: self.sim.track_names().to_vec(),
+                    flipper_names: self.sim.flipper_names().to_vec(),
+                    summary,
+                    outcome,
+                    sensors,
+                    ruts: Vec::new(),
+                },
+            ));
+        }
+        self.sim.select(0);
+        let (outcome, outcome_time) = match (self.decided.take(), reached) {
+            (Some(d), _) => d,
+            (None, true) => {
+                decide(self.rule, &names, &finals, true).unwrap_or((Outcome::Completed, t))
+            }
+            (None, false) => (
+                Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
+                t,
+            ),
+        };
+        TeamResult {
+            robots,
+            outcome,
+            outcome_time,
+            rule: self.rule,
+        }
+    }
+}
+
+/// The world's outcome from its robots' (`None`: undecided) by `rule`; `at_end`: every robot's
+/// is final (the run reached its end), so a race nobody won is lost and a team whose robots all
+/// completed has completed.
+pub fn decide(
+    rule: TeamRule,
+    names: &[String],
+    outcomes: &[Option<(Outcome, f64)>],
+    at_end: bool,
+) -> Option<(Outcome, f64)> {
+    let of = |pred: fn(&Outcome) -> bool| {
+        outcomes
+            .iter()
+            .zip(names)
+            .filter_map(|(o, n)| o.as_ref().filter(|(o, _)| pred(o)).map(|(o, t)| (n, o, *t)))
+            .collect::<Vec<_>>()
+    };
+    let successes = of(|o| matches!(o, Outcome::Success(_)));
+    let failures = of(|o| matches!(o, Outcome::Failure(_)));
+    let last = |v: &[(&String, &Outcome, f64)]| v.iter().map(|x| x.2).fold(0.0, f64::max);
+    let first = |v: &[(&String, &Outcome, f64)]| {
+        v.iter()
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(n, o, t)| ((*n).clone(), o.reason(), *t))
+    };
+    let n = names.len();
+    match rule {
+        TeamRule::All => {
+            if let Some((name, why, t)) = first(&failures) {
+                Some((Outcome::Failure(format!("`{name}` failed: {why}")), t))
+            } else if successes.len() == n {
+                Some((
+                    Outcome::Success(format!(
+                        "every robot succeeded (the last at t = {:.3} s)",
+                        last(&successes)
+                    )),
+                    last(&successes),
+                ))
+            } else if at_end
+                && outcomes.iter().all(|o| {
+                    matches!(
+                        o,
+                        Some((Outcome::Completed, _)) | Some((Outcome::Success(_), _))
+                    )
+                })
+            {
+                let t = outcomes.iter().flatten().map(|o| o.1).fold(0.0, f64::max);
+                Some((Outcome::Completed, t))
+            } else {
+                None
+            }
+        }
+        TeamRule::First => {
+            if let Some((name, why, t)) = first(&successes) {
+                Some((
+                    Outcome::Success(format!("`{name}` finished first: {why}")),
+                    t,
+                ))
+            } else if failures.len() == n {
+                Some((
+                    Outcome::Failure("every robot failed".to_string()),
+                    last(&failures),
+                ))
+            } else if at_end {
+                let t = outcomes.iter().flatten().map(|o| o.1).fold(0.0, f64::max);
+                Some((Outcome::Failure("no robot finished".to_string()), t))
+            } else {
+                None
+            }
+        }
+    }
+}
+
+/// Runs a scenario with several robots to its end ([`TeamRunner`]).
+pub fn run_team(sc: &Scenario, opts: RunOptions) -> Result<TeamResult> {
+    let mut runner = TeamRunner::new(sc)?;
+    if opts.realtime {
+        runner = runner.paced(1.0);
+    }
+    let stop = || {
+        opts.stop
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+    };
+    let reached = runner.run_to_end(stop)?;
+    Ok(runner.finish(reached))
+}
+
+/// Every way a team run misses its file's expectations, one line each (empty: met): the
+/// world's `[expect]` (outcome, reason, outcome time) and each robot's `[vehicles.expect]`,
+/// named by its robot.
+pub fn team_misses(sc: &Scenario, r: &TeamResult) -> Vec<String> {
+    let mut misses = Vec::new();
+    if let Some(team) = &sc.team {
+        let e = &team.expect;
+        if let Some(o) = &e.outcome
+            && o != r.outcome.name()
+        {
+            misses.push(format!(
+                "the world's outcome {} ({}) where {o} was expected",
+                r.outcome.name(),
+                r.outcome.reason()
+            ));
+        }
+        if let Some(want) = &e.reason_contains
+            && !r.outcome.reason().contains(want.as_str())
+        {
+            misses.push(format!(
+                "the world's outcome reason {:?} does not contain {want:?}",
+                r.outcome.reason()
+            ));
+        }
+        if let Some([lo, hi]) = e.outcome_time
+            && !(lo..=hi).contains(&r.outcome_time)
+        {
+            misses.push(format!(
+                "the world's outcome time {:.3} s outside [{lo}, {hi}] s",
+                r.outcome_time
+            ));
+        }
+        for ((name, run), model) in r.robots.iter().zip(&team.robots) {
+            misses.extend(
+                super::check_expectations(&model.expect, run)
+                    .into_iter()
+                    .map(|m| format!("`{name}`: {m}")),
+            );
+        }
+    }
+    misses
+}
