@@ -29,15 +29,13 @@ pub(crate) fn compile_team(
     for (k, r) in spec.vehicles.iter().enumerate() {
         match compile_robot(path, spec, r, overrides) {
             Ok(sc) => {
-                robots.push(RobotModel::of(&r.name, &sc));
+                robots.push((k, RobotModel::of(&r.name, &sc)));
                 first.get_or_insert(sc);
             }
             Err(list) => issues.extend(list.into_iter().map(|i| keyed(k, r, i))),
         }
     }
-    if issues.is_empty() {
-        issues.extend(spread_issues(&robots));
-    }
+    issues.extend(spread_issues(&robots));
     let mut c = Checker::default();
     let expect = super::expect::compile_expect(&mut c, &team_expect(&spec.expect));
     issues.extend(c.issues);
@@ -64,7 +62,7 @@ pub(crate) fn compile_team(
     match first {
         Some(mut sc) if issues.is_empty() => {
             sc.team = Some(Box::new(Team {
-                robots,
+                robots: robots.into_iter().map(|(_, r)| r).collect(),
                 rule,
                 expect,
             }));
@@ -213,10 +211,11 @@ pub(crate) fn name_problem(name: &str) -> Option<String> {
 }
 
 /// Robots that start further apart than one world holds ([`MAX_ROBOT_SPREAD_M`]).
-fn spread_issues(robots: &[RobotModel]) -> Vec<SpecIssue> {
+/// `robots`: each compiled robot with its index in the file.
+fn spread_issues(robots: &[(usize, RobotModel)]) -> Vec<SpecIssue> {
     let mut out = Vec::new();
-    for (k, r) in robots.iter().enumerate() {
-        for (j, o) in robots[..k].iter().enumerate() {
+    for (i, (k, r)) in robots.iter().enumerate() {
+        for (j, o) in &robots[..i] {
             let d = (r.start_xy.0 - o.start_xy.0)
                 .abs()
                 .max((r.start_xy.1 - o.start_xy.1).abs());

@@ -50,15 +50,17 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
             world.colliders[c].set_collision_groups(flat_ground_groups());
         }
     }
+    let order = build_order(&views);
     let mut springs = Vec::new();
-    let mut robots = Vec::new();
-    for (k, view) in views.iter().enumerate() {
-        let first_track = robots.iter().map(|r: &Robot| r.tracks.len()).sum();
-        let name = sc.robot_names().swap_remove(k);
-        let mut r = build_robot(&mut world, view, first_track, origin, &mut springs)?;
-        r.name = name;
-        robots.push(r);
+    let mut built: Vec<Option<Robot>> = views.iter().map(|_| None).collect();
+    let mut first_track = 0;
+    for &k in &order {
+        let mut r = build_robot(&mut world, &views[k], first_track, origin, &mut springs)?;
+        r.name = sc.robot_names().swap_remove(k);
+        first_track += r.tracks.len();
+        built[k] = Some(r);
     }
+    let robots: Vec<Robot> = built.into_iter().flatten().collect();
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
@@ -101,11 +103,11 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         &sim.vehicle_bodies(),
         sc.solver.dt,
     );
-    for (k, view) in views.iter().enumerate() {
+    for &k in &order {
         sim.focus = k;
-        sim.conserve_mass(view)?;
+        sim.conserve_mass(&views[k])?;
     }
-    for k in 0..sim.robots.len() {
+    for &k in &order {
         sim.focus = k;
         place(&mut sim);
     }
@@ -119,6 +121,24 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         super::robot::check_overlaps(&mut sim)?;
     }
     Ok(sim)
+}
+
+/// The order the robots are built in: by start pose (x, y, yaw, pitch), whatever
+/// their order in the file (issue 38: the order of a file's entries never changes the physics;
+/// Rapier's handles and so its solver's order follow the build order). Two robots cannot start
+/// at one pose (they would overlap), so the order is the same for every permutation.
+fn build_order(views: &[Arc<Scenario>]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..views.len()).collect();
+    let key = |v: &Scenario| [v.start_xy.0, v.start_xy.1, v.start_yaw, v.start_pitch];
+    order.sort_by(|&a, &b| {
+        let (ka, kb) = (key(&views[a]), key(&views[b]));
+        ka.iter()
+            .zip(&kb)
+            .map(|(x, y)| x.total_cmp(y))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    order
 }
 
 /// The centre of the robots' start positions (x, y), m: where the floating origin starts.

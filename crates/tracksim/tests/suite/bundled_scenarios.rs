@@ -17,6 +17,9 @@ use std::sync::Mutex;
 /// Runs one file to its end; `Err` lists what it missed.
 fn run_to_end(file: &Path) -> Result<String, String> {
     let sc = tracksim::load_scenario(file).map_err(|e| e.to_string())?;
+    if sc.robot_count() > 1 {
+        return run_team_to_end(file, &sc);
+    }
     if sc.expect.is_empty() {
         return Err(format!(
             "{}: has no [expect] table: say what the scenario must show",
@@ -38,6 +41,46 @@ fn run_to_end(file: &Path) -> Result<String, String> {
         p.yaw.to_degrees(),
         r.summary.mean_speed_mps
     );
+    if misses.is_empty() {
+        Ok(line)
+    } else {
+        Err(format!("{line}\n    {}", misses.join("\n    ")))
+    }
+}
+
+/// Runs a file with several robots to its end against its `[expect]` tables (the world's and
+/// each robot's); every robot must have one.
+fn run_team_to_end(file: &Path, sc: &tracksim::Scenario) -> Result<String, String> {
+    let team = sc.team.as_ref().expect("a team");
+    if let Some(r) = team.robots.iter().find(|r| r.expect.is_empty()) {
+        return Err(format!(
+            "{}: robot `{}` has no [vehicles.expect] table: say what it must show",
+            file.display(),
+            r.name
+        ));
+    }
+    let opts = tracksim::RunOptions::default();
+    let r = tracksim::run::run_team(sc, opts).map_err(|e| e.to_string())?;
+    let misses = tracksim::run::team::team_misses(sc, &r);
+    let mut line = format!(
+        "{}: {} ({}) at {:.2} s",
+        file.display(),
+        r.outcome.name(),
+        r.outcome.reason(),
+        r.outcome_time
+    );
+    for (name, run) in &r.robots {
+        let p = &run.summary.final_pose;
+        line += &format!(
+            "\n    {name}: {} at {:.2} s, final x {:.3} y {:.3} z {:.3} m yaw {:.1} deg",
+            run.summary.outcome,
+            run.summary.outcome_time_s,
+            p.x,
+            p.y,
+            p.z,
+            p.yaw.to_degrees()
+        );
+    }
     if misses.is_empty() {
         Ok(line)
     } else {

@@ -104,6 +104,14 @@ fn permute_scenario(doc: &mut Table, p: Permutation) {
     if let Some(r) = doc.get_mut("randomize") {
         remap_randomize(r, &lists);
     }
+    // The robots of a world with several (issue 40).
+    if let Some(Value::Array(a)) = doc.get_mut("vehicles")
+        && a.len() > 1
+    {
+        let o = order(a.len(), p);
+        let old = std::mem::take(a);
+        *a = o.iter().map(|&i| old[i].clone()).collect();
+    }
 }
 
 /// The vehicle document with every track's pulley list permuted.
@@ -137,7 +145,11 @@ fn permuted_copy(scenario: &Path, p: Permutation, tag: &str) -> (PathBuf, usize)
             t.values()
                 .filter(|v| v.as_array().is_some_and(|a| a.len() > 1))
                 .count()
-        });
+        })
+        + doc
+            .get("vehicles")
+            .and_then(|v| v.as_array())
+            .map_or(0, |a| usize::from(a.len() > 1));
     let dir = scenario.parent().unwrap();
     if let Some(file) = doc
         .get("vehicle")
@@ -168,6 +180,20 @@ fn permuted_copy(scenario: &Path, p: Permutation, tag: &str) -> (PathBuf, usize)
 /// Runs a scenario to its end; the SHA-256 of its trajectory.csv and its outcome.
 fn run_hash(path: &Path) -> (String, String) {
     let sc = tracksim::load_scenario(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    if sc.robot_count() > 1 {
+        // Each robot's trajectory by its name (the outputs follow the file's order).
+        let r = tracksim::run::run_team(&sc, Default::default()).unwrap_or_else(|e| panic!("{e}"));
+        let mut runs: Vec<_> = r.robots.iter().collect();
+        runs.sort_by(|a, b| a.0.cmp(&b.0));
+        let text: String = runs
+            .iter()
+            .map(|(n, run)| format!("{n}\n{}", tracksim::output::trajectory_csv(run)))
+            .collect();
+        return (
+            format!("{:x}", Sha256::digest(text.as_bytes())),
+            format!("{:?}", r.outcome),
+        );
+    }
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap_or_else(|e| panic!("{e}"));
     let text = tracksim::output::trajectory_csv(&r);
     (

@@ -57,40 +57,7 @@ struct Window {
 /// The soil's contact impulses on the vehicle over the last step, world frame, N s: friction
 /// and normal, from Rapier's Coulomb writeback (total over the substeps).
 fn soil_impulses(sim: &tracksim::Scripted, vehicle: &[RigidBodyHandle]) -> (Vector, Vector) {
-    let (mut friction, mut normal) = (Vector::ZERO, Vector::ZERO);
-    let on_vehicle = |c: &Collider| c.parent().is_some_and(|b| vehicle.contains(&b));
-    for pair in sim.world.narrow_phase.contact_pairs() {
-        let (c1, c2) = (
-            &sim.world.colliders[pair.collider1],
-            &sim.world.colliders[pair.collider2],
-        );
-        // The impulses are written on collider 1.
-        let sign = match (on_vehicle(c1), on_vehicle(c2)) {
-            (true, false) => 1.0f32,
-            (false, true) => -1.0,
-            _ => continue,
-        };
-        for m in pair.solver_manifolds() {
-            // Rapier's tangent basis (`compute_tangent_contact_directions`): Pixar's
-            // orthonormal vector of the force direction, then their cross product.
-            let d = -m.data.normal;
-            let s = if d.z >= 0.0 { 1.0f32 } else { -1.0 };
-            let a = -1.0 / (s + d.z);
-            let b = d.x * d.y * a;
-            let t1 = Vector::new(b, s + d.y * d.y * a, -d.y);
-            let t2 = d.cross(t1);
-            // The points the solver saw (a manifold's other points keep stale impulses).
-            for sc in &m.data.solver_contacts {
-                let Some(p) = m.points.get((sc.contact_id[0] & !NEW_CONTACT_BIT) as usize) else {
-                    continue;
-                };
-                let t = p.data.tangent_impulse;
-                friction += sign * (t1 * t.x + t2 * t.y);
-                normal += sign * -m.data.normal * p.data.impulse;
-            }
-        }
-    }
-    (friction, normal)
+    crate::common::contact_impulses(sim, vehicle, |_| true)
 }
 
 /// PackBot (its masses times `mass`) on soil `preset` with `keys` (TOML lines) at belt speed

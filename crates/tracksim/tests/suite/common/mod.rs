@@ -95,11 +95,11 @@ fn scenarios_in(dir: &str) -> Vec<PathBuf> {
     files
 }
 
-/// Every bundled scenario file: `scenarios/` and its `classic/`, `random/`, `tasks/` and
-/// `soil/` folders.
+/// Every bundled scenario file: `scenarios/` and its `classic/`, `random/`, `tasks/`, `soil/`
+/// and `team/` folders.
 pub fn all_bundled_scenarios() -> Vec<PathBuf> {
     let mut files = bundled_scenarios();
-    for dir in ["classic", "random", "tasks", "soil"] {
+    for dir in ["classic", "random", "tasks", "soil", "team"] {
         let mut more: Vec<_> = std::fs::read_dir(root().join("scenarios").join(dir))
             .unwrap()
             .map(|e| e.unwrap().path())
@@ -109,4 +109,56 @@ pub fn all_bundled_scenarios() -> Vec<PathBuf> {
         files.extend(more);
     }
     files
+}
+
+/// The scenario files with several robots (`scenarios/team/`, issue 40), sorted.
+#[allow(dead_code)]
+pub fn team_scenarios() -> Vec<PathBuf> {
+    scenarios_in("team")
+}
+
+/// The contact impulses on `bodies` from every collider not on them over the last step, world
+/// frame, N s: (friction, normal), from Rapier's Coulomb writeback (the total over the
+/// substeps; the world must use `FrictionModel::Coulomb`). `from` picks the other colliders
+/// counted (e.g. the terrain's).
+pub fn contact_impulses(
+    sim: &tracksim::Simulation,
+    bodies: &[rapier3d::prelude::RigidBodyHandle],
+    from: impl Fn(&rapier3d::prelude::Collider) -> bool,
+) -> (rapier3d::prelude::Vector, rapier3d::prelude::Vector) {
+    use rapier3d::prelude::*;
+    let (mut friction, mut normal) = (Vector::ZERO, Vector::ZERO);
+    let on = |c: &Collider| c.parent().is_some_and(|b| bodies.contains(&b));
+    for pair in sim.world.narrow_phase.contact_pairs() {
+        let (c1, c2) = (
+            &sim.world.colliders[pair.collider1],
+            &sim.world.colliders[pair.collider2],
+        );
+        // The impulses are written on collider 1.
+        let sign = match (on(c1), on(c2)) {
+            (true, false) if from(c2) => 1.0f32,
+            (false, true) if from(c1) => -1.0,
+            _ => continue,
+        };
+        for m in pair.solver_manifolds() {
+            // Rapier's tangent basis (`compute_tangent_contact_directions`): Pixar's
+            // orthonormal vector of the force direction, then their cross product.
+            let d = -m.data.normal;
+            let s = if d.z >= 0.0 { 1.0f32 } else { -1.0 };
+            let a = -1.0 / (s + d.z);
+            let b = d.x * d.y * a;
+            let t1 = Vector::new(b, s + d.y * d.y * a, -d.y);
+            let t2 = d.cross(t1);
+            // The points the solver saw (a manifold's other points keep stale impulses).
+            for sc in &m.data.solver_contacts {
+                let Some(p) = m.points.get((sc.contact_id[0] & !NEW_CONTACT_BIT) as usize) else {
+                    continue;
+                };
+                let t = p.data.tangent_impulse;
+                friction += sign * (t1 * t.x + t2 * t.y);
+                normal += sign * -m.data.normal * p.data.impulse;
+            }
+        }
+    }
+    (friction, normal)
 }

@@ -1,0 +1,326 @@
+//! Issue 40: several robots in one world. Files with `[[vehicles]]` refused with every problem
+//! named; identical robots side by side mirror each other; a far neighbour changes nothing; a
+//! head-on push balances momentum (Newton on the terrain's impulses); the world's outcome by
+//! its rule; robots spreading beyond what one world holds stop the run with a message.
+
+use crate::common::{contact_impulses, root};
+use rapier3d::prelude::*;
+use tracksim::Simulation;
+use tracksim::model::{Scenario, TeamRule};
+use tracksim::run::Outcome;
+
+/// A `[[vehicles]]` entry: a PackBot 510 named `name` at (x, y) m heading `yaw` deg, driving
+/// with `cmd` (a `[[vehicles.commands]]` body, e.g. `belt_speed_mps = 0.3`).
+fn robot(name: &str, x: f64, y: f64, yaw: f64, cmd: &str) -> String {
+    format!(
+        "[[vehicles]]\nname = \"{name}\"\n[vehicles.vehicle]\nfile = \"{}\"\nx_m = {x}\n\
+         y_m = {y}\nyaw_deg = {yaw}\n[[vehicles.commands]]\nt_s = 0.0\n{cmd}\n",
+        root().join("vehicles/packbot510.toml").display()
+    )
+}
+
+/// Loads a scenario from its text (written to a temporary file named after `tag`).
+fn load(tag: &str, text: &str) -> tracksim::Result<Scenario> {
+    let path =
+        std::env::temp_dir().join(format!("tracksim_team_{}_{tag}.toml", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let r = tracksim::load_scenario(&path);
+    let _ = std::fs::remove_file(&path);
+    r
+}
+
+/// Flat ground with friction 0.6, `duration` s, and the given robots.
+fn flat(duration: f64, robots: &[String]) -> String {
+    flat_with("", duration, robots)
+}
+
+/// [`flat`] with more top-level keys and tables (`top`).
+fn flat_with(top: &str, duration: f64, robots: &[String]) -> String {
+    format!(
+        "description = \"team test\"\n[terrain.ground]\nfriction = 0.6\n[simulation]\n\
+         duration_s = {duration}\n{top}\n{}",
+        robots.join("")
+    )
+}
+
+#[test]
+fn bad_team_files_are_refused_with_every_problem_named() {
+    let text = flat_with(
+        "[outcome]\nteam = \"most\"\n[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n",
+        1.0,
+        &[
+            robot("alpha", 0.0, 0.0, 0.0, "belt_speed_mps = 0.3"),
+            robot("alpha", 0.0, 2.0, 0.0, "belt_speed_mps = 0.3"),
+            robot("Bad-Name", 0.0, -2.0, 0.0, "belt_speed_mps = 0.3"),
+            robot("far", 12.0, 0.0, 0.0, "belt_speed_mps = 0.3"),
+            robot("cmd", 0.0, 4.0, 0.0, "belt_speed_mps = { nope = 1.0 }"),
+        ],
+    );
+    let e = load("bad", &text).unwrap_err().to_string();
+    for want in [
+        "commands: a file with [[vehicles]]",
+        "outcome.team: unknown team rule `most`",
+        "vehicles[1].name: `alpha` is also the name of vehicles[0]",
+        "vehicles[2].name: `Bad-Name` is not ROS-safe",
+        "vehicles[3].vehicle.x_m: `far` starts 12.00 m from `alpha`",
+        "vehicles[4].commands[0].belt_speed_mps",
+    ] {
+        assert!(e.contains(want), "missing {want:?} in:\n{e}");
+    }
+    // More robots than a world holds.
+    let many: Vec<String> = (0..17)
+        .map(|i| {
+            robot(
+                &format!("r{i}"),
+                0.0,
+                0.6 * i as f64 - 4.8,
+                0.0,
+                "belt_speed_mps = 0.0",
+            )
+        })
+        .collect();
+    let e = load("many", &flat(1.0, &many)).unwrap_err().to_string();
+    assert!(e.contains("17 robots; one world holds at most 16"), "{e}");
+}
+
+#[test]
+fn robots_placed_overlapping_are_refused_naming_both() {
+    let sc = load(
+        "overlap",
+        &flat(
+            1.0,
+            &[
+                robot("alpha", 0.0, 0.0, 0.0, "belt_speed_mps = 0.3"),
+                robot("bravo", 0.3, 0.1, 0.0, "belt_speed_mps = 0.3"),
+                robot("charlie", 0.0, 2.0, 0.0, "belt_speed_mps = 0.3"),
+            ],
+        ),
+    )
+    .unwrap();
+    let e = Simulation::new(&sc).err().expect("refused").to_string();
+    assert!(
+        e.contains("vehicles[1].vehicle.x_m: `bravo` overlaps `alpha`"),
+        "{e}"
+    );
+    assert!(!e.contains("charlie"), "{e}");
+}
+
+/// Runs a team scenario to its end.
+fn run(sc: &Scenario) -> tracksim::run::TeamResult {
+    tracksim::run::run_team(sc, Default::default()).unwrap()
+}
+
+#[test]
+fn two_identical_robots_side_by_side_mirror_each_other() {
+    // Turning away from each other: the left one left, the right one right.
+    let sc = load(
+        "mirror",
+        &flat(
+            6.0,
+            &[
+                robot(
+                    "left",
+                    0.0,
+                    1.5,
+                    0.0,
+                    "forward_mps = 0.2\nyaw_rate_rad_s = 0.3",
+                ),
+                robot(
+                    "right",
+                    0.0,
+                    -1.5,
+                    0.0,
+                    "forward_mps = 0.2\nyaw_rate_rad_s = -0.3",
+                ),
+            ],
+        ),
+    )
+    .unwrap();
+    let r = run(&sc);
+    let (a, b) = (&r.robots[0].1.samples, &r.robots[1].1.samples);
+    assert_eq!(a.len(), b.len());
+    let mut worst = (0.0f64, 0.0f64);
+    for (p, q) in a.iter().zip(b) {
+        worst.0 = worst
+            .0
+            .max((p.pose.x - q.pose.x).abs())
+            .max((p.pose.y + q.pose.y).abs());
+        worst.1 = worst.1.max((p.pose.yaw + q.pose.yaw).abs());
+    }
+    let turned = a.last().unwrap().pose.yaw;
+    println!(
+        "mirror: worst {:.2e} m, {:.2e} rad; turned {turned:.3} rad",
+        worst.0, worst.1
+    );
+    assert!(turned > 1.0, "the robots turned {turned} rad");
+    // A skid-steer turn is stick-slip: its yaw rate depends on the start position by up to
+    // 0.84 % (issue 38, `a_skid_steer_turn_does_not_depend_on_where_it_starts`). The mirror
+    // images (f32 rounding at y = +-1.5 m, the tracks' order swapped by the mirror) agree
+    // within that: yaw within 1 % of the angle turned, position within 0.5 % of the 1.2 m
+    // driven (measured: 1.6 mm, 0.37 %).
+    assert!(worst.1 < 0.01 * turned, "{worst:?}");
+    assert!(worst.0 < 0.005 * 1.2, "{worst:?}");
+}
+
+#[test]
+fn a_far_neighbour_does_not_change_a_robots_run() {
+    let drive = "forward_mps = 0.3\nyaw_rate_rad_s = 0.2";
+    let alone = load("alone", &flat(6.0, &[robot("alpha", 0.0, 0.0, 0.0, drive)])).unwrap();
+    let pair = load(
+        "pair",
+        &flat(
+            6.0,
+            &[
+                robot("alpha", 0.0, 0.0, 0.0, drive),
+                robot("parked", 0.0, 8.0, 0.0, "belt_speed_mps = 0.0"),
+            ],
+        ),
+    )
+    .unwrap();
+    assert_eq!(alone.robot_count(), 1);
+    let a = tracksim::run_scenario(&alone, |_, _| {}).unwrap();
+    let b = run(&pair);
+    let (pa, pb) = (a.summary.final_pose, b.robots[0].1.summary.final_pose);
+    let d = ((pa.x - pb.x).powi(2) + (pa.y - pb.y).powi(2)).sqrt();
+    println!(
+        "alone ({:.4}, {:.4}, {:.4} rad), with a neighbour 8 m away ({:.4}, {:.4}, {:.4} rad): \
+         {d:.2e} m apart",
+        pa.x, pa.y, pa.yaw, pb.x, pb.y, pb.yaw
+    );
+    // The neighbour moves the floating origin 4 m away (f32 spacing 0.48 um instead of
+    // 0.24 um): for the stick-slip turn that is a change of start position, whose effect on
+    // the yaw rate is up to 0.84 % (issue 38). Within 1 % of the angle turned and 0.5 % of the
+    // 1.8 m driven (measured: 0.1 %, 2.1 mm).
+    assert!(
+        (pa.yaw - pb.yaw).abs() < 0.01 * pa.yaw.abs(),
+        "{} {}",
+        pa.yaw,
+        pb.yaw
+    );
+    assert!(d < 0.005 * 1.8, "{d}");
+    // The parked neighbour stayed where it was.
+    let q = b.robots[1].1.summary.final_pose;
+    assert!(q.x.abs() < 1e-3 && (q.y - 8.0).abs() < 1e-3, "{q:?}");
+}
+
+#[test]
+fn robots_pushing_head_on_balance_momentum_and_never_pass_through() {
+    let sc = load(
+        "push",
+        &flat(
+            6.0,
+            &[
+                robot("west", -1.2, 0.0, 0.0, "belt_speed_mps = 0.3"),
+                robot("east", 1.2, 0.0, 180.0, "belt_speed_mps = 0.3"),
+            ],
+        ),
+    )
+    .unwrap();
+    let mut sim = Simulation::new(&sc).unwrap();
+    sim.world.integration_parameters.friction_model = FrictionModel::Coulomb;
+    let mut bodies = Vec::new();
+    for k in 0..2 {
+        sim.select(k);
+        sim.set_belt_speed(0, 0.3);
+        sim.set_belt_speed(1, 0.3);
+        bodies.extend(sim.vehicle_bodies());
+    }
+    sim.select(0);
+    let momentum = |s: &Simulation| -> Vector {
+        bodies
+            .iter()
+            .map(|h| {
+                let b = &s.world.bodies[*h];
+                b.linvel() * b.mass()
+            })
+            .sum()
+    };
+    let terrain = |c: &Collider| {
+        c.collision_groups()
+            .memberships
+            .contains(tracksim::tracks::WORLD_GROUP)
+    };
+    let (mut impulse, mut pushed) = (Vector::ZERO, 0.0f64);
+    let (t0, mut p0) = (3.0, Vector::ZERO);
+    let mut gap = f64::MAX;
+    while sim.time() < 6.0 - 1e-9 {
+        sim.step().unwrap();
+        if (sim.time() - t0).abs() < 1e-9 {
+            p0 = momentum(&sim);
+        }
+        if sim.time() > t0 + 1e-9 {
+            let (f, n) = contact_impulses(&sim, &bodies, terrain);
+            impulse += f + n;
+            // The push: the other robot's impulse on robot 0.
+            let (f, n) = contact_impulses(&sim, &bodies[..bodies.len() / 2], |c| !terrain(c));
+            pushed += ((f + n).x as f64).abs();
+        }
+        sim.select(1);
+        let east = sim.body_pose().x;
+        sim.select(0);
+        gap = gap.min(east - sim.body_pose().x);
+    }
+    let dp = momentum(&sim) - p0;
+    let dt = 6.0 - t0;
+    println!(
+        "push over {dt} s: mean push {:.1} N; momentum change x {:.4} N s, terrain impulse x \
+         {:.4} N s; closest chassis origins {gap:.3} m",
+        pushed / dt,
+        dp.x,
+        impulse.x
+    );
+    // They met and pushed (the robots' friction 0.6 x 13 kg x 9.81: ~77 N each).
+    assert!(pushed / dt > 40.0, "mean push {} N", pushed / dt);
+    // Newton: the robots' contact with each other is internal; their momentum changes by the
+    // terrain's impulse alone (Coulomb writeback: the total over the substeps). Measured equal
+    // to 1e-4 N s over 3 s; bound 0.02 N s, 0.01 % of the 230 N s each robot's belts push
+    // with, so a push force lost or counted twice (e.g. a robot's contact with the other
+    // counted as terrain) fails.
+    assert!(
+        f64::from((dp.x - impulse.x).abs()) < 0.02,
+        "dp {dp:?} impulse {impulse:?}"
+    );
+    // Never through each other: two PackBots (0.69 m long) nose to nose.
+    assert!(gap > 0.6, "{gap}");
+}
+
+#[test]
+fn the_worlds_outcome_follows_its_rule() {
+    let names: Vec<String> = ["a", "b"].iter().map(|s| s.to_string()).collect();
+    let ok = |t| Some((Outcome::Success("in".into()), t));
+    let bad = |t| Some((Outcome::Failure("tipped".into()), t));
+    let decide = tracksim::run::team::decide;
+    assert_eq!(decide(TeamRule::All, &names, &[ok(2.0), None], false), None);
+    let all = decide(TeamRule::All, &names, &[ok(2.0), ok(3.0)], false).unwrap();
+    assert!(matches!(all.0, Outcome::Success(_)) && all.1 == 3.0);
+    let one_fails = decide(TeamRule::All, &names, &[ok(2.0), bad(1.0)], false).unwrap();
+    assert!(matches!(&one_fails.0, Outcome::Failure(r) if r.contains("`b` failed")));
+    let race = decide(TeamRule::First, &names, &[None, ok(4.0)], false).unwrap();
+    assert!(matches!(&race.0, Outcome::Success(r) if r.contains("`b` finished first")));
+    assert_eq!(
+        decide(TeamRule::First, &names, &[bad(1.0), None], false),
+        None
+    );
+    let lost = decide(TeamRule::First, &names, &[bad(1.0), bad(2.0)], false).unwrap();
+    assert!(matches!(lost.0, Outcome::Failure(_)) && lost.1 == 2.0);
+}
+
+#[test]
+fn robots_spreading_beyond_one_world_stop_the_run_with_a_message() {
+    let sc = load(
+        "spread",
+        &flat(
+            10.0,
+            &[
+                robot("west", -4.5, 0.0, 180.0, "belt_speed_mps = 0.5"),
+                robot("east", 4.5, 0.0, 0.0, "belt_speed_mps = 0.5"),
+            ],
+        ),
+    )
+    .unwrap();
+    let e = tracksim::run::run_team(&sc, Default::default())
+        .err()
+        .expect("stopped")
+        .to_string();
+    assert!(e.contains("more than the 10 m one world holds"), "{e}");
+}
