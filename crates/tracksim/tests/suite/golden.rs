@@ -1,6 +1,6 @@
 //! Golden trajectories: the physics must not change when the code is rearranged.
 //!
-//! Every bundled scenario of `scenarios/` and `scenarios/tasks/` is run under every track
+//! Every bundled scenario of `scenarios/`, `tasks/`, `soil/` and `team/` is run under every track
 //! method for a short time and the SHA-256 of its `trajectory.csv` is compared with
 //! `tests/golden/trajectories.txt`. On a mismatch the test prints the new hashes; a deliberate physics change regenerates the file on purpose with
 //! `scripts/update-golden.sh` (which sets `TRACKSIM_UPDATE_GOLDEN=1`) and says why in its commit.
@@ -25,8 +25,19 @@ fn hash_run(file: &std::path::Path, method: &str) -> String {
     let mut sc = tracksim::load_scenario(file).unwrap_or_else(|e| panic!("{e}"));
     sc.duration = GOLDEN_DURATION_S;
     sc.method = tracksim::Method::from_name(method).expect("a method name");
-    let text = match tracksim::run_scenario(&sc, |_, _| {}) {
-        Ok(r) => tracksim::output::trajectory_csv(&r),
+    let run = if sc.robot_count() > 1 {
+        // A world with several robots (issue 40): every robot's trajectory, in file order.
+        tracksim::run::run_team(&sc, Default::default()).map(|r| {
+            r.robots
+                .iter()
+                .map(|(n, run)| format!("{n}\n{}", tracksim::output::trajectory_csv(run)))
+                .collect::<String>()
+        })
+    } else {
+        tracksim::run_scenario(&sc, |_, _| {}).map(|r| tracksim::output::trajectory_csv(&r))
+    };
+    let text = match run {
+        Ok(text) => text,
         // The message names the file by its path: keep only the part inside the checkout, so
         // the hash does not depend on where the repository was cloned.
         Err(e) => format!("error: {e}").replace(&format!("{}/", root().display()), ""),
@@ -40,7 +51,8 @@ fn bundled_trajectories_are_unchanged() {
     let files = common::bundled_scenarios()
         .into_iter()
         .chain(common::task_scenarios())
-        .chain(common::soil_scenarios());
+        .chain(common::soil_scenarios())
+        .chain(common::team_scenarios());
     let mut got = BTreeMap::new();
     for f in files {
         let name = f
