@@ -55,6 +55,7 @@ pub mod sensors;
 pub mod sessions;
 pub mod spec;
 pub mod sweep;
+pub mod team_bench;
 pub mod terrain;
 pub mod tracks;
 pub mod urdf;

@@ -36,6 +36,11 @@ pub struct BenchArgs {
     /// the stairs without and with every sensor, interleaved (docs/SENSORS.md).
     #[arg(long)]
     pub sensors: bool,
+    /// What more robots in one world cost: worlds of these many PackBots apart on flat ground
+    /// (e.g. `--robots 1,2,4,8`), timed in interleaved rounds (--repeat) for --duration s;
+    /// prints the step time per robot against one robot's (docs/TEAMS.md).
+    #[arg(long, value_delimiter = ',')]
+    pub robots: Vec<usize>,
 }
 
 /// Most `bench --repeat` runs per method.
@@ -98,6 +103,19 @@ pub fn bench(a: BenchArgs) -> Result<(), Failure> {
     let selected = selected_cases(&a)?;
     if let Some(jobs) = a.jobs {
         return bench_batch(&a, jobs, &selected, &methods);
+    }
+    if !a.robots.is_empty() {
+        let rows =
+            tracksim::team_bench::bench_team(&data_root()?, &a.robots, a.duration, a.repeat)?;
+        if a.json {
+            out!(
+                "{}",
+                serde_json::to_string_pretty(&rows).expect("serialises")
+            );
+        } else {
+            out!("{}", tracksim::team_bench::to_markdown(&rows));
+        }
+        return Ok(());
     }
     if a.sensors {
         let pairs = tracksim::sensor_bench::bench_sensors(&data_root()?, a.duration, a.repeat)?;

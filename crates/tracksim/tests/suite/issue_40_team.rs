@@ -319,8 +319,8 @@ fn robots_spreading_beyond_one_world_stop_the_run_with_a_message() {
     )
     .unwrap();
     let e = tracksim::run::run_team(&sc, Default::default())
-        .err()
-        .expect("stopped")
+        .map(|r| r.outcome)
+        .expect_err("stopped")
         .to_string();
     assert!(e.contains("more than the 10 m one world holds"), "{e}");
 }
