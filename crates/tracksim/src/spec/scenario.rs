@@ -228,7 +228,8 @@ pub struct SimulationSpec {
     /// and joint errors out. Quince's Table IV climbs need 2 at 4 solver iterations, or 8
     /// solver iterations (BENCHMARKS.md, issue 16.6). With 1 a rigid vehicle's contacts can
     /// fall into a rocking at half the step rate whose phase depends on the start position
-    /// (issue 38: yaw rates of a turn 0.430-0.445 rad/s by start x; 2: 0.430-0.432).
+    /// (issue 38: yaw rates of a turn 0.430-0.445 rad/s by start x; 2: 0.428-0.437 over 41
+    /// starts, the load share the solver order sets: docs/DESIGN.md).
     #[serde(default = "default_stabilization")]
     pub stabilization_iterations: usize,
     /// Rapier contact clustering (merges coplanar contacts of compound shapes).

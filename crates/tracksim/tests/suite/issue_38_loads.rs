@@ -97,23 +97,72 @@ fn traction_on_a_plate_balances_the_weight_along_it_wherever_it_starts() {
     }
 }
 
+/// Starts of the turn, m: every 0.5 m across the floating origin's +-2 m (the Rapier world's
+/// coordinates at the start are the start's own).
+const TURN_STARTS: [f64; 9] = [-2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0];
+
+/// PackBot turning at 0.2 m/s and 0.6 rad/s on friction 0.6, started at `x` m: the mean yaw rate
+/// over 2-4 s, rad/s (the heading's change, unwrapped). `damping_ratio` replaces Rapier's
+/// damping ratio of contacts with fixed bodies (the terrain) when given.
+fn turn_rate(x: f64, damping_ratio: Option<f32>) -> f64 {
+    let sc = scenario(&format!(
+        "[vehicle]\nfile = \"VEHICLE\"\nx_m = {x}\n[terrain.ground]\nfriction = 0.6\n\
+         [simulation]\nduration_s = 4.0\n"
+    ));
+    let mut sim = tracksim::Simulation::new(&sc).unwrap();
+    if let Some(z) = damping_ratio {
+        sim.world
+            .integration_parameters
+            .static_contact_softness
+            .damping_ratio = z;
+    }
+    sim.set_twist(0.2, 0.6);
+    let (mut yaw, mut prev, mut at_2s) = (0.0, sim.body_pose().yaw, 0.0);
+    for i in 1..=4000 {
+        sim.step().unwrap();
+        let y = sim.body_pose().yaw;
+        let d = y - prev;
+        yaw += d - std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+        prev = y;
+        if i == 2000 {
+            at_2s = yaw;
+        }
+    }
+    (yaw - at_2s) / 2.0
+}
+
+/// (max - min) / min of the turn's yaw rates over [`TURN_STARTS`], and the rates.
+fn turn_spread(damping_ratio: Option<f32>) -> (f64, Vec<f64>) {
+    let rates: Vec<f64> = TURN_STARTS
+        .iter()
+        .map(|&x| turn_rate(x, damping_ratio))
+        .collect();
+    let lo = rates.iter().copied().fold(f64::MAX, f64::min);
+    let hi = rates.iter().copied().fold(f64::MIN, f64::max);
+    ((hi - lo) / lo, rates)
+}
+
+/// The turn's yaw rate is not averaging noise: each start keeps its own rate for 20 s (its
+/// 2-4 s and 2-22 s means agree within 0.1 %). The rigid track's pressure along its length is
+/// statically indeterminate, and Rapier's overdamped terrain contacts (damping ratio 10) keep
+/// the share the solver's contact order gave at the start, more or less concentrated under the
+/// middle: the start x changes the order through f32 rounding, as `order_salt` and a 1e-4 deg
+/// change of the start yaw do (docs/DESIGN.md). Measured over 41 starts -2..2 m: 0.4278-0.4367
+/// rad/s, 2.1 %; over these nine 1.7 %. The issue's 0.5 % is not reached by the default
+/// physics: bound 2.5 %.
 #[test]
 fn a_skid_steer_turn_does_not_depend_on_where_it_starts() {
-    let rates: Vec<f64> = [0.0, -1.98, 1.0]
-        .iter()
-        .map(|x| {
-            let sc = scenario(&format!(
-                "[vehicle]\nfile = \"VEHICLE\"\nx_m = {x}\n[terrain.ground]\nfriction = 0.6\n\
-                 [simulation]\nduration_s = 4.0\n[[commands]]\nt_s = 0.0\nforward_mps = 0.2\n\
-                 yaw_rate_rad_s = 0.6\n"
-            ));
-            means(&run(&sc), 2.0, 4.0).3
-        })
-        .collect();
-    let (lo, hi) = rates
-        .iter()
-        .fold((f64::MAX, f64::MIN), |(a, b), &r| (a.min(r), b.max(r)));
-    // Measured spread 0.84 % over five starts (before: 3.4 %); the issue's target is 0.5 %,
-    // not reached (docs/DESIGN.md). Bound: 1.5 %.
-    assert!((hi - lo) / lo < 0.015, "yaw rates {rates:?}");
+    let (spread, rates) = turn_spread(None);
+    assert!(spread < 0.025, "yaw rates {rates:?}: spread {spread:.4}");
+}
+
+/// The cause, checked: with the terrain contacts critically damped (damping ratio 1) the load
+/// share relaxes to the contacts' springs within milliseconds and the turn's rate no longer
+/// depends on where it starts (measured 0.23 % over 10 starts and 2 solver orders, 0.4329-0.4339
+/// rad/s). Not the default: it changes the drawbar, motor, step, long-run, soil and Table IV
+/// results (13 tests fail with it; docs/DESIGN.md).
+#[test]
+fn the_turn_spread_is_the_overdamped_contacts_load_share() {
+    let (spread, rates) = turn_spread(Some(1.0));
+    assert!(spread < 0.005, "yaw rates {rates:?}: spread {spread:.4}");
 }
