@@ -345,6 +345,14 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
             ),
         );
     }
+    if let Some(z) = s.terrain_contact_damping_ratio
+        && !(z.is_finite() && z > 0.0 && z <= 100.0)
+    {
+        c.push(
+            "simulation.terrain_contact_damping_ratio",
+            format!("must be in (0, 100] (1: critically damped; Rapier's default 10), got {z}"),
+        );
+    }
     if s.solver_iterations == 0 || s.solver_iterations > 100 {
         c.push(
             "simulation.solver_iterations",
@@ -363,6 +371,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         contact_recycling: s.contact_recycling,
         floating_origin: s.floating_origin,
         order_salt: s.order_salt,
+        terrain_contact_damping_ratio: s.terrain_contact_damping_ratio,
     }
 }
 

@@ -33,6 +33,9 @@ pub struct SolverSettings {
     /// Inert colliders inserted before the terrain (`simulation.order_salt`): the solver's
     /// order changes, nothing physical does.
     pub order_salt: usize,
+    /// Damping ratio of the terrain's contacts (`simulation.terrain_contact_damping_ratio`;
+    /// None: Rapier's 10, or what the track method sets).
+    pub terrain_contact_damping_ratio: Option<f64>,
 }
 
 impl Default for SolverSettings {
@@ -49,6 +52,7 @@ impl Default for SolverSettings {
             contact_recycling: true,
             floating_origin: true,
             order_salt: 0,
+            terrain_contact_damping_ratio: None,
         }
     }
 }

@@ -274,6 +274,16 @@ pub struct SimulationSpec {
     /// run is reproduced with its value.
     #[serde(default)]
     pub order_salt: usize,
+    /// Damping ratio of the contacts with the terrain (Rapier's `static_contact_softness`, a
+    /// spring of 60 Hz per contact; default: Rapier's 10, heavily overdamped). A rigid track on
+    /// rigid ground carries its load in a statically indeterminate share along its length;
+    /// overdamped contacts keep the share the solver's contact order set at the start, so a
+    /// skid-steer turn's rate depends on the start position by up to 2.1 %; critically damped
+    /// (1) the share settles and the spread is 0.23 % (issue 38, docs/DESIGN.md *The turn*).
+    /// Not the default: the validated figures (Table IV, the drawbar's slip, soil) were
+    /// measured with Rapier's.
+    #[serde(default)]
+    pub terrain_contact_damping_ratio: Option<f64>,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -314,6 +324,7 @@ impl Default for SimulationSpec {
             contact_recycling: true,
             floating_origin: true,
             order_salt: 0,
+            terrain_contact_damping_ratio: None,
             method: default_method(),
             seed: 0,
         }

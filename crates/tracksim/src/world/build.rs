@@ -36,6 +36,12 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     }
     let mut world = new_world(&sc.solver);
     crate::tracks::configure_world(method, &mut world.integration_parameters);
+    if let Some(z) = sc.solver.terrain_contact_damping_ratio {
+        world
+            .integration_parameters
+            .static_contact_softness
+            .damping_ratio = z as f32;
+    }
     let centre = start_centre(&views);
     let origin = DVec3::new(shift_for(centre.0), shift_for(centre.1), 0.0);
     insert_order_salt(&mut world, sc.solver.order_salt);

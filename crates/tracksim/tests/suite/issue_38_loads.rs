@@ -102,20 +102,17 @@ fn traction_on_a_plate_balances_the_weight_along_it_wherever_it_starts() {
 const TURN_STARTS: [f64; 9] = [-2.0, -1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5, 2.0];
 
 /// PackBot turning at 0.2 m/s and 0.6 rad/s on friction 0.6, started at `x` m: the mean yaw rate
-/// over 2-4 s, rad/s (the heading's change, unwrapped). `damping_ratio` replaces Rapier's
-/// damping ratio of contacts with fixed bodies (the terrain) when given.
+/// over 2-4 s, rad/s (the heading's change, unwrapped). `damping_ratio` is the file's
+/// `simulation.terrain_contact_damping_ratio` when given.
 fn turn_rate(x: f64, damping_ratio: Option<f32>) -> f64 {
+    let key = damping_ratio.map_or(String::new(), |z| {
+        format!("terrain_contact_damping_ratio = {z}\n")
+    });
     let sc = scenario(&format!(
         "[vehicle]\nfile = \"VEHICLE\"\nx_m = {x}\n[terrain.ground]\nfriction = 0.6\n\
-         [simulation]\nduration_s = 4.0\n"
+         [simulation]\nduration_s = 4.0\n{key}"
     ));
     let mut sim = tracksim::Simulation::new(&sc).unwrap();
-    if let Some(z) = damping_ratio {
-        sim.world
-            .integration_parameters
-            .static_contact_softness
-            .damping_ratio = z;
-    }
     sim.set_twist(0.2, 0.6);
     let (mut yaw, mut prev, mut at_2s) = (0.0, sim.body_pose().yaw, 0.0);
     for i in 1..=4000 {

@@ -153,13 +153,13 @@ fn two_identical_robots_side_by_side_mirror_each_other() {
         worst.0, worst.1
     );
     assert!(turned > 1.0, "the robots turned {turned} rad");
-    // A skid-steer turn is stick-slip: its yaw rate depends on the start position by up to
-    // 0.84 % (issue 38, `a_skid_steer_turn_does_not_depend_on_where_it_starts`). The mirror
-    // images (f32 rounding at y = +-1.5 m, the tracks' order swapped by the mirror) agree
-    // within that: yaw within 1 % of the angle turned, position within 0.5 % of the 1.2 m
-    // driven (measured: 1.6 mm, 0.37 %).
-    assert!(worst.1 < 0.01 * turned, "{worst:?}");
-    assert!(worst.0 < 0.005 * 1.2, "{worst:?}");
+    // A skid-steer turn's yaw rate depends on the start position by up to 2.1 % (issue 38,
+    // `a_skid_steer_turn_does_not_depend_on_where_it_starts`: the load share along the track
+    // the solver's order sets). The mirror images (f32 rounding at y = +-1.5 m, the tracks'
+    // order swapped by the mirror) agree within that: yaw within 2.5 % of the angle turned,
+    // position within 1 % of the 1.2 m driven (measured: 0.37 %, 1.6 mm).
+    assert!(worst.1 < 0.025 * turned, "{worst:?}");
+    assert!(worst.0 < 0.01 * 1.2, "{worst:?}");
 }
 
 #[test]
