@@ -66,6 +66,12 @@ impl PyScenario {
         self.t.file_seed()
     }
 
+    /// The file's simulated duration (`simulation.duration_s`), s.
+    #[getter]
+    fn duration_s(&self) -> PyResult<f64> {
+        Ok(self.t.file_scenario().map_err(py_err)?.duration)
+    }
+
     /// Names of the `[randomize]` parameters (sorted).
     #[getter]
     fn randomized_names(&self) -> Vec<String> {

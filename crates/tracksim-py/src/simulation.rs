@@ -21,8 +21,20 @@ use tracksim::sensors::SensorSet;
 pub(crate) struct PySimulation {
     t: Arc<ScenarioTemplate>,
     sim: tracksim::Simulation,
-    /// The vehicle's sensors (not recorded), updated after every step.
-    sensors: Shared<SensorSet>,
+    /// Each robot's sensors (not recorded), updated after every step.
+    sensors: Shared<Vec<SensorSet>>,
+}
+
+/// Each robot's sensor set (not recorded); robot 0 selected after.
+fn sensor_sets(sim: &mut tracksim::Simulation) -> Vec<SensorSet> {
+    let sets = (0..sim.robot_count())
+        .map(|k| {
+            sim.select(k);
+            SensorSet::new(sim, false)
+        })
+        .collect();
+    sim.select(0);
+    sets
 }
 
 /// A channel as a float64 numpy array of its shape.
@@ -51,7 +63,8 @@ impl PySimulation {
     /// Sensor `i`'s latest reading: t_s and one array per channel key.
     fn reading<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        let s = self.sensors.get();
+        let all = self.sensors.get();
+        let s = &all[self.sim.selected()];
         d.set_item("t_s", s.reading_time(i))?;
         for c in s.sensor(i).channels() {
             d.set_item(c.key(), channel_array(py, c)?)?;
@@ -72,8 +85,8 @@ impl PySimulation {
         let sc = t
             .instantiate(seed.unwrap_or(t.file_seed()))
             .map_err(py_err)?;
-        let sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
-        let sensors = Shared::new(SensorSet::new(&sim, false));
+        let mut sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
+        let sensors = Shared::new(sensor_sets(&mut sim));
         Ok(PySimulation { t, sim, sensors })
     }
 
@@ -85,8 +98,10 @@ impl PySimulation {
             .t
             .instantiate(seed.unwrap_or(self.sim.seed()))
             .map_err(py_err)?;
+        let selected = self.sim.selected();
         self.sim = tracksim::Simulation::new(&sc).map_err(py_err)?;
-        self.sensors = Shared::new(SensorSet::new(&self.sim, false));
+        self.sensors = Shared::new(sensor_sets(&mut self.sim));
+        self.sim.select(selected);
         Ok(())
     }
 
@@ -95,20 +110,26 @@ impl PySimulation {
     #[pyo3(signature = (n=1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
         let (sim, sensors) = (&mut self.sim, self.sensors.get_mut());
-        py.detach(|| {
+        let selected = sim.selected();
+        let r = py.detach(|| {
             for _ in 0..n {
                 sim.step()?;
-                sensors.update(sim);
+                for (k, s) in sensors.iter_mut().enumerate() {
+                    sim.select(k);
+                    s.update(sim);
+                }
             }
             Ok(())
-        })
-        .map_err(py_err)
+        });
+        sim.select(selected);
+        r.map_err(py_err)
     }
 
     /// Names of the vehicle's sensors (`[[sensors]]` order).
     #[getter]
     fn sensor_names(&self) -> Vec<String> {
-        let s = self.sensors.get();
+        let all = self.sensors.get();
+        let s = &all[self.sim.selected()];
         (0..s.len())
             .map(|i| s.sensor(i).model().name.clone())
             .collect()
@@ -137,10 +158,44 @@ impl PySimulation {
     fn sensor_axes<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyDict>> {
         let i = self.sensor_index(name)?;
         let d = PyDict::new(py);
-        for c in self.sensors.get().sensor(i).axes() {
+        for c in self.sensors.get()[self.sim.selected()].sensor(i).axes() {
             d.set_item(c.key(), channel_array(py, &c)?)?;
         }
         Ok(d)
+    }
+
+    /// The robots' names in file order (`["robot"]` for a one-robot file; `[[vehicles]]`'s
+    /// names, docs/TEAMS.md).
+    #[getter]
+    fn robot_names(&self) -> Vec<String> {
+        self.sim.robot_names()
+    }
+
+    /// The selected robot's name: the one the controls, `observe`, `sensors`, `outcome` and the
+    /// names of tracks and flippers act on (the first robot until `select`).
+    #[getter]
+    fn selected(&self) -> String {
+        self.sim.robot_name().to_string()
+    }
+
+    /// Selects a robot by name (or index) for the controls and queries; `KeyError` naming the
+    /// robots for an unknown one.
+    fn select(&mut self, robot: &Bound<'_, PyAny>) -> PyResult<()> {
+        let names = self.sim.robot_names();
+        let k = if let Ok(i) = robot.extract::<usize>() {
+            (i < names.len()).then_some(i)
+        } else {
+            let name: String = robot.extract()?;
+            names.iter().position(|n| *n == name)
+        };
+        let k = k.ok_or_else(|| {
+            PyKeyError::new_err(format!(
+                "no robot {robot} in the world; its robots: {}",
+                names.join(", ")
+            ))
+        })?;
+        self.sim.select(k);
+        Ok(())
     }
 
     /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering).
