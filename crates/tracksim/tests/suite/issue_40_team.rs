@@ -324,3 +324,55 @@ fn robots_spreading_beyond_one_world_stop_the_run_with_a_message() {
         .to_string();
     assert!(e.contains("more than the 10 m one world holds"), "{e}");
 }
+
+#[test]
+fn a_team_run_folder_is_written_per_robot_and_viewed_whole() {
+    let sc = load(
+        "view",
+        &flat(
+            0.5,
+            &[
+                robot("alpha", 0.0, 0.0, 0.0, "belt_speed_mps = 0.3"),
+                robot("bravo", 0.0, 2.0, 0.0, "belt_speed_mps = 0.2"),
+            ],
+        ),
+    )
+    .unwrap();
+    let r = run(&sc);
+    let dir = std::env::temp_dir().join(format!("tracksim_team_view_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let which = tracksim::output::Outputs {
+        replay: true,
+        plots: false,
+        mcap: false,
+    };
+    tracksim::output::write_team(&sc, &r, &dir, which).unwrap();
+    let team: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("team.json")).unwrap()).unwrap();
+    assert_eq!(team["robots"][1]["name"], "bravo");
+    // Each robot's folder is a one-robot run folder; `tracksim view DIR` serves both.
+    let files = tracksim::live::server::view_files(&dir).unwrap();
+    let runs = files.iter().find(|f| f.0 == "/runs.json").unwrap();
+    let runs: serde_json::Value = serde_json::from_slice(&runs.2).unwrap();
+    let names: Vec<&str> = runs["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["alpha", "bravo"]);
+    // Bravo's trajectory is its own: 0.5 s at 0.2 m/s along y = 2 m (t, x, y).
+    let csv = std::fs::read_to_string(dir.join("bravo/trajectory.csv")).unwrap();
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .take(3)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert!((last[0] - 0.5).abs() < 1e-9, "{last:?}");
+    assert!(last[1] > 0.05 && last[1] < 0.1, "{last:?}");
+    assert!((last[2] - 2.0).abs() < 1e-3, "{last:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
