@@ -27,8 +27,9 @@
 //! - `overrides.rs`: what a caller changes in a file before it is compiled ([`Overrides`]);
 //! - `randomize.rs`: the `[randomize]` table checked and sampled from a seed ([`Randomizer`]);
 //! - `template.rs`: a scenario file kept to be compiled for any seed ([`ScenarioTemplate`]);
-//! - `team.rs`: several robots in one world ([`Team`], [`RobotModel`], [`TeamRule`],
-//!   [`Scenario::robot_view`]); `compile_team.rs`: a `[[vehicles]]` file compiled robot by robot;
+//! - `team.rs`: several robots in one world ([`Team`], [`RobotModel`], [`TeamRule`]);
+//!   `robot_view.rs`: a robot as the one robot of its world ([`Scenario::robot_view`]);
+//!   `outcome.rs`: a robot's outcome conditions ([`OutcomeModel`]); `compile_team.rs`: a `[[vehicles]]` file compiled robot by robot;
 //! - `wheel.rs`: a lugged wheel's rolling circle ([`rolling_radius`]) and its lugs.
 
 #![warn(clippy::too_many_lines)]
@@ -51,9 +52,11 @@ mod load;
 mod method;
 mod motor;
 mod mounts;
+mod outcome;
 mod overrides;
 mod randomize;
 mod read;
+mod robot_view;
 mod scenario;
 mod sensor;
 mod team;
@@ -84,6 +87,7 @@ pub use load::{load_scenario, load_scenario_with, load_template};
 pub use method::Method;
 pub(crate) use motor::compile_motor;
 pub use motor::{DriveMotor, ElectricalState, MotorCommand, MotorElectrics};
+pub use outcome::OutcomeModel;
 pub use overrides::{Overrides, load_commands};
 pub use randomize::*;
 pub use read::{parse_toml, read_scenario_spec, read_toml};

@@ -1,6 +1,7 @@
 //! The compiled scenario: vehicle, start pose, terrain, solver settings, commands and outcome
 //! conditions ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]).
 
+use super::outcome::OutcomeModel;
 use super::{Command, VehicleModel};
 use crate::terrain::TerrainModel;
 use std::path::PathBuf;
@@ -65,21 +66,6 @@ impl Default for SolverSettings {
 /// drive (0.25 % at 0.1 kg), and the flipper PackBot stalled on the stairs. At 0.1 kg the
 /// bundled vehicles' links carry the belt mass their files give (docs/DESIGN.md).
 pub const MIN_LINK_MASS_KG: f64 = 0.1;
-
-/// Success and failure conditions, compiled.
-#[derive(Clone, Debug)]
-pub struct OutcomeModel {
-    /// Success when body x passes this, m.
-    pub success_x: Option<f64>,
-    /// Success when body z reaches this, m.
-    pub success_z: Option<f64>,
-    /// Tip-over limit on |roll| and |pitch|, rad.
-    pub max_tilt: f64,
-    /// Fail when leaving a bounded terrain.
-    pub fail_off_terrain: bool,
-    /// Stop when decided.
-    pub stop: bool,
-}
 
 /// A compiled scenario.
 #[derive(Clone, Debug)]

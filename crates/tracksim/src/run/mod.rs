@@ -89,6 +89,14 @@ pub struct RunOptions {
     pub stop: Option<&'static std::sync::atomic::AtomicBool>,
 }
 
+impl RunOptions {
+    /// Whether a stop was asked (the `stop` flag is set).
+    pub fn stop_asked(&self) -> bool {
+        self.stop
+            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
 /// Runs a scenario for its duration (or until its outcome is decided, if it says to stop).
 /// `progress` is called after every output sample with (simulated time, duration) in seconds.
 pub fn run_scenario(sc: &Scenario, progress: impl FnMut(f64, f64)) -> Result<RunResult> {
@@ -105,10 +113,6 @@ pub fn run_scenario_with(
     if opts.realtime {
         runner = runner.paced(1.0);
     }
-    let stop = || {
-        opts.stop
-            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
-    };
-    let end = runner.run_to_end(progress, stop)?;
+    let end = runner.run_to_end(progress, || opts.stop_asked())?;
     Ok(runner.finish(end))
 }

@@ -332,11 +332,7 @@ pub fn run_team(sc: &Scenario, opts: RunOptions) -> Result<TeamResult> {
     if opts.realtime {
         runner = runner.paced(1.0);
     }
-    let stop = || {
-        opts.stop
-            .is_some_and(|s| s.load(std::sync::atomic::Ordering::Relaxed))
-    };
-    let reached = runner.run_to_end(stop)?;
+    let reached = runner.run_to_end(|| opts.stop_asked())?;
     Ok(runner.finish(reached))
 }
 
