@@ -147,10 +147,10 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
 
 /// `tracksim run` of a file with several robots (`[[vehicles]]`).
 fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Result<(), Failure> {
-    if a.mcap || a.trainee.is_some() {
+    if a.trainee.is_some() {
         return Err(Failure::Sim(tracksim::Error::Build(
-            "--mcap and --trainee record one robot; this file has several ([[vehicles]]): \
-             leave them out"
+            "--trainee names the operator of one robot; this file has several ([[vehicles]]): \
+             leave it out"
                 .into(),
         )));
     }
@@ -160,10 +160,11 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
         stop: Some(&super::STOP),
     };
     let result = tracksim::run::run_team(sc, opts)?;
+    // With --mcap each robot's folder holds its run.mcap (its own topics and frames).
     let which = tracksim::output::Outputs {
         replay: true,
         plots: !a.no_plot,
-        mcap: false,
+        mcap: a.mcap,
     };
     tracksim::output::write_team(sc, &result, &a.out, which)?;
     if a.json {
