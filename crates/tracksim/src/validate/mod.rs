@@ -39,13 +39,11 @@ pub use turning::spin_ratio_coulomb;
 
 use crate::error::{Error, Result};
 use crate::model::Method as TrackMethod;
-use crate::model::compile_scenario;
 use crate::model::{Scenario, VehicleModel, load_vehicle};
 use crate::output::{SideLine, side_view_terrain};
 use crate::run::{RunResult, run_scenario_with};
-use crate::spec::ScenarioSpec;
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -364,14 +362,23 @@ fn progress_words(r: &Result<RunResult>) -> String {
 
 /// Compiles a validation scenario written as TOML, for `vehicle`.
 fn compile(text: &str, vehicle: VehicleModel, root: &Path) -> Result<Scenario> {
-    let spec: ScenarioSpec = toml::from_str(text).map_err(|e| Error::Parse {
-        path: PathBuf::from("<validation scenario>"),
-        message: e.to_string(),
-    })?;
-    compile_scenario(&spec, vehicle, &root.join("scenarios")).map_err(|issues| Error::Invalid {
-        path: PathBuf::from("<validation scenario>"),
-        issues,
-    })
+    compile_with(text, vehicle, root, &crate::model::Overrides::default())
+}
+
+/// [`compile`] with `overrides` written into the text's keys (an ensemble member's).
+fn compile_with(
+    text: &str,
+    vehicle: VehicleModel,
+    root: &Path,
+    overrides: &crate::model::Overrides,
+) -> Result<Scenario> {
+    crate::model::compile_scenario_text(
+        "<validation scenario>",
+        text,
+        vehicle,
+        &root.join("scenarios"),
+        overrides,
+    )
 }
 
 /// [`side_view_terrain`], with the ground profile extended under the whole drawing (runs and

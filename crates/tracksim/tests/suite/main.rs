@@ -54,6 +54,7 @@ mod module_graph;
 mod packbot_flat;
 mod plates;
 mod randomize;
+mod scenario_immutable;
 mod slope;
 mod step_climb;
 mod stepping_api;
