@@ -3,8 +3,9 @@
 //! (`fig2/<method>`) and with 4 wheels (`fig2/wheels4`), the wall with the method under test
 //! (`fig3/<method>`).
 
+use super::drawing::full_side_view;
+use super::jobs::{Jobs, Ran, Runs};
 use super::report::{Case, PlotJob, ValidationReport};
-use super::{Jobs, Ran, Runs, full_side_view};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
 use crate::model::Overrides;

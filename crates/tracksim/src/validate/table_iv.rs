@@ -1,13 +1,16 @@
 //! Table IV (paper Sec. IV-B): Quince climbing a step, one run per row and column, named
 //! `table_iv/<angle>deg_<height>mm/<column>`.
 
+use super::compile::{compile, compile_with};
+use super::drawing::full_side_view;
+use super::jobs::{Jobs, Ran, Runs};
+use super::limits::{
+    QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, STEP_DEPTH_M, STEP_DURATION_S,
+    STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M, TABLE_IV_CONTACT_SLOP_M,
+};
+use super::options::ValidationOptions;
 use super::report::{PlotJob, StepCase, StepRun, ValidationReport};
 use super::rubber::with_rubber_of;
-use super::{
-    Jobs, QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, Ran, Runs, STEP_DEPTH_M,
-    STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
-    TABLE_IV_CONTACT_SLOP_M, ValidationOptions, compile, compile_with, full_side_view,
-};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};
