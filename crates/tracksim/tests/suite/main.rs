@@ -3,6 +3,8 @@
 //! Rapier, so 44 targets cost most of CI's build time. Run one module with
 //! `cargo test -p tracksim --test suite NAME::` (e.g. `golden::`).
 
+#![warn(clippy::too_many_lines)]
+
 mod common;
 
 mod api_list;
