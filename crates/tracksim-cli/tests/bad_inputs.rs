@@ -5,6 +5,8 @@
 //! line, a 20,000-point hull), the CLI's flags, a closed standard output, `compare` with every
 //! method unstable (exit 3) and Ctrl-C during `run` (exit 130, the run written so far).
 
+#![warn(clippy::too_many_lines)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

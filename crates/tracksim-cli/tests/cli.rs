@@ -1,6 +1,8 @@
 //! The `tracksim` binary as a user runs it (issue 3): each subcommand, each output file and its
 //! columns, each exit code, and the message every kind of bad input gets.
 
+#![warn(clippy::too_many_lines)]
+
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 

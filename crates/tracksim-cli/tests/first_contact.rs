@@ -1,6 +1,8 @@
 //! Issue 24.5: what a new user meets outside the clone: bundled files by name, export,
 //! sweep's folder, and SIGTERM handled like Ctrl-C.
 
+#![warn(clippy::too_many_lines)]
+
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};

@@ -2,6 +2,8 @@
 //! another address only with `--bind` and a warning, a drive session (here ended by
 //! `--duration`) written as a run with the replay files, and clear errors for bad input.
 
+#![warn(clippy::too_many_lines)]
+
 use assert_cmd::Command;
 use std::path::{Path, PathBuf};
 

@@ -81,7 +81,6 @@ pub(crate) fn ensemble(
 ) -> PyResult<String> {
     use tracksim::ensemble::{EnsembleOptions, Perturbations, run_ensemble};
     let t = template_of(scenario)?;
-    let sc = t.file_scenario().map_err(py_err)?;
     let mut opts = EnsembleOptions::new(members);
     opts.seed = seed;
     opts.jobs = jobs;
@@ -94,7 +93,7 @@ pub(crate) fn ensemble(
         solver_order: !keep_order,
     };
     let report = py
-        .detach(|| run_ensemble(&sc, &opts, |_, _| {}))
+        .detach(|| run_ensemble(&t, &opts, |_, _| {}))
         .map_err(py_err)?;
     report.to_json().map_err(py_err)
 }

@@ -86,11 +86,9 @@ fn median(v: &[f64]) -> f64 {
     }
 }
 
-/// Runs `sc` once with `method`: (real-time factor, us per step, contacts per step).
-pub fn time_one(sc: &Scenario, method: TrackMethod) -> Result<(f64, f64, f64)> {
-    let mut sc = sc.clone();
-    sc.method = method;
-    let mut sim = Scripted::new(&sc)?;
+/// Runs `sc` once: (real-time factor, us per step, contacts per step).
+pub fn time_one(sc: &Scenario) -> Result<(f64, f64, f64)> {
+    let mut sim = Scripted::new(sc)?;
     let steps = (sc.duration / sc.solver.dt).round().max(1.0) as u64;
     let mut stepping = 0.0;
     let (mut contacts, mut samples) = (0usize, 0usize);
@@ -110,23 +108,35 @@ pub fn time_one(sc: &Scenario, method: TrackMethod) -> Result<(f64, f64, f64)> {
     ))
 }
 
-/// Benchmarks `methods` on `sc`, each `repeat` times, interleaved (m1, m2, ..., m1, m2, ...).
+/// Benchmarks `methods` on the case `load` compiles (its file with each method as an
+/// override, [`BenchLoad::scenario`]), each `repeat` times, interleaved (m1, m2, ..., m1, m2,
+/// ...). A method the file refuses, or that fails, is reported with its error.
 pub fn bench_case(
     case: &str,
-    sc: &Scenario,
+    load: &BenchLoad,
     methods: &[TrackMethod],
     repeat: usize,
     mut progress: impl FnMut(&str),
-) -> CaseResult {
-    let mut runs: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); methods.len()];
+) -> Result<CaseResult> {
+    let sc = load.scenario(None)?;
     let mut errors: Vec<Option<String>> = vec![None; methods.len()];
+    let scenarios: Vec<Option<Scenario>> = methods
+        .iter()
+        .zip(&mut errors)
+        .map(|(m, error)| {
+            load.scenario(Some(*m))
+                .map_err(|e| *error = Some(e.to_string()))
+                .ok()
+        })
+        .collect();
+    let mut runs: Vec<Vec<(f64, f64, f64)>> = vec![Vec::new(); methods.len()];
     for r in 0..repeat {
         for (i, m) in methods.iter().enumerate() {
-            if errors[i].is_some() {
+            let (Some(msc), None) = (&scenarios[i], &errors[i]) else {
                 continue;
-            }
+            };
             progress(&format!("{case}: {} run {}/{repeat}", m.name(), r + 1));
-            match time_one(sc, *m) {
+            match time_one(msc) {
                 Ok(x) => runs[i].push(x),
                 Err(e) => errors[i] = Some(e.to_string()),
             }
@@ -159,7 +169,7 @@ pub fn bench_case(
             }
         })
         .collect();
-    CaseResult {
+    Ok(CaseResult {
         case: case.to_string(),
         settings: BenchSettings {
             dt_s: sc.solver.dt,
@@ -170,7 +180,7 @@ pub fn bench_case(
             repeat,
         },
         methods,
-    }
+    })
 }
 
 impl CaseResult {
@@ -297,23 +307,48 @@ pub fn batch(sc: &Scenario, jobs: usize, runs: usize) -> Result<BatchResult> {
     })
 }
 
-/// A bench case's scenario: the file with `duration_s` and the solver iterations overridden
-/// before compiling; it never stops early (the benchmark measures stepping, not a mission).
+/// How a bench case's file is loaded: its duration and solver iterations overridden, and it
+/// never stops early (`outcome.stop = false`: the benchmark measures stepping, not a mission).
+#[derive(Clone, Debug)]
+pub struct BenchLoad {
+    /// The scenario file.
+    pub path: std::path::PathBuf,
+    /// Simulated time per run, s.
+    pub duration_s: f64,
+    /// Solver iterations (`None`: the file's).
+    pub solver_iterations: Option<usize>,
+}
+
+impl BenchLoad {
+    /// The overrides of the file's keys, with `method` if given.
+    pub fn overrides(&self, method: Option<TrackMethod>) -> crate::model::Overrides {
+        crate::model::Overrides {
+            method,
+            duration_s: Some(self.duration_s),
+            solver_iterations: self.solver_iterations,
+            stop_at_outcome: Some(false),
+            ..Default::default()
+        }
+    }
+
+    /// The case's scenario with `method` (`None`: the file's).
+    pub fn scenario(&self, method: Option<TrackMethod>) -> Result<Scenario> {
+        crate::model::load_scenario_with(&self.path, &self.overrides(method))
+    }
+}
+
+/// A bench case's scenario with the file's method ([`BenchLoad::scenario`]).
 pub fn bench_scenario(
     path: &std::path::Path,
     duration_s: f64,
     solver_iterations: Option<usize>,
 ) -> Result<Scenario> {
-    let mut sc = crate::model::load_scenario_with(
-        path,
-        &crate::model::Overrides {
-            duration_s: Some(duration_s),
-            solver_iterations,
-            ..Default::default()
-        },
-    )?;
-    sc.outcome.stop = false;
-    Ok(sc)
+    BenchLoad {
+        path: path.to_path_buf(),
+        duration_s,
+        solver_iterations,
+    }
+    .scenario(None)
 }
 
 /// The results of every benchmarked case, as `tracksim bench` prints and writes them.

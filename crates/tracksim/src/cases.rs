@@ -3,7 +3,7 @@
 //! times, what the validation runs and what a user opens are the same file.
 
 use crate::error::{Error, Result};
-use crate::model::Scenario;
+use crate::model::{Overrides, Scenario, ScenarioTemplate};
 use std::path::{Path, PathBuf};
 
 /// A named case: a bundled scenario file and what it is for.
@@ -101,14 +101,24 @@ impl Case {
     }
 }
 
-/// Loads the case called `name` from the repository root `root`; an unknown name is an error
-/// that lists the known ones.
-pub fn load(root: &Path, name: &str) -> Result<Scenario> {
-    let c = case(name).ok_or_else(|| {
+/// The case called `name`; an unknown name is an error that lists the known ones.
+fn named(name: &str) -> Result<&'static Case> {
+    case(name).ok_or_else(|| {
         Error::Build(format!(
             "unknown case \"{name}\"; the cases are {}",
             names()
         ))
-    })?;
-    c.load(root)
+    })
+}
+
+/// Loads the case called `name` from the repository root `root`; an unknown name is an error
+/// that lists the known ones.
+pub fn load(root: &Path, name: &str) -> Result<Scenario> {
+    named(name)?.load(root)
+}
+
+/// The case called `name` from the repository root `root` as a template with `overrides`
+/// (e.g. another method), to compile its scenario and its ensemble members.
+pub fn template(root: &Path, name: &str, overrides: &Overrides) -> Result<ScenarioTemplate> {
+    ScenarioTemplate::load_with(&named(name)?.path(root), overrides)
 }

@@ -2,7 +2,7 @@
 //! `compare.csv`, a combined plot, and the table as text or JSON.
 
 use crate::error::{Error, Result};
-use crate::model::{Method, Overrides, load_scenario_with};
+use crate::model::{Method, Overrides, ScenarioTemplate, load_scenario_with};
 use crate::run::{RunResult, run_scenario_with};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -244,11 +244,11 @@ pub fn run_compare_ensembles(
             duration_s,
             ..Overrides::default()
         };
-        let report = load_scenario_with(file, &o).and_then(|sc| {
+        let report = ScenarioTemplate::load_with(file, &o).and_then(|t| {
             let mut opts = crate::ensemble::EnsembleOptions::new(members);
             opts.out = Some(out.join(format!("ensemble-{}", m.name())));
             opts.stop = stop;
-            crate::ensemble::run_ensemble(&sc, &opts, |_, _| {})
+            crate::ensemble::run_ensemble(&t, &opts, |_, _| {})
         });
         rows.push(EnsembleRow {
             method: m.name(),

@@ -9,7 +9,7 @@
 //! that file (`packbot_stairs` against `packbot_sensors`, the same trajectory).
 
 use crate::error::Result;
-use crate::model::{Scenario, SensorKind, load_vehicle};
+use crate::model::{Scenario, ScenarioTemplate, SensorKind, load_vehicle};
 use crate::run::Runner;
 use std::path::Path;
 
@@ -122,17 +122,25 @@ fn pair(case: &str, without: &Scenario, with: &Scenario, repeat: usize) -> Resul
 /// The two pairs (see the module), each `repeat` times over `duration` simulated seconds,
 /// from the bundled files under `root`.
 pub fn bench_sensors(root: &Path, duration: f64, repeat: usize) -> Result<Vec<Pair>> {
-    let load = |f: &str| crate::bench::bench_scenario(&root.join(f), duration, None);
+    let bench = |f: &str| crate::bench::BenchLoad {
+        path: root.join(f),
+        duration_s: duration,
+        solver_iterations: None,
+    };
+    let load = |f: &str| bench(f).scenario(None);
     let flat = load("scenarios/packbot_flat.toml")?;
     let all = load_vehicle(&root.join("vehicles/packbot510_sensors.toml"))?.sensors;
-    let mut typical = flat.clone();
-    typical.vehicle.sensors = all
+    let mut vehicle = flat.vehicle.clone();
+    vehicle.sensors = all
         .iter()
         .filter(|s| TYPICAL.contains(&s.kind.name()))
         .filter(|s| s.mount == crate::model::Mount::Body)
         .filter(|s| !matches!(s.kind, SensorKind::DepthCamera(_)))
         .cloned()
         .collect();
+    let b = bench("scenarios/packbot_flat.toml");
+    let typical = ScenarioTemplate::load_for_vehicle(&b.path, &b.overrides(None), vehicle)?
+        .file_scenario()?;
     let stairs = load("scenarios/packbot_stairs.toml")?;
     let sensed = load("scenarios/packbot_sensors.toml")?;
     Ok(vec![

@@ -136,12 +136,16 @@ pub fn bench(a: BenchArgs) -> Result<(), Failure> {
         if super::stopped() {
             break;
         }
-        let sc = tracksim::bench::bench_scenario(&path, a.duration, a.solver_iterations)?;
-        let mut r = tracksim::bench::bench_case(name, &sc, &methods, a.repeat, |m| {
+        let load = tracksim::bench::BenchLoad {
+            path,
+            duration_s: a.duration,
+            solver_iterations: a.solver_iterations,
+        };
+        let mut r = tracksim::bench::bench_case(name, &load, &methods, a.repeat, |m| {
             if !quiet {
                 eprintln!("{m}");
             }
-        });
+        })?;
         if name != "packbot" {
             // The paper's figures are for its PackBot case only.
             for m in &mut r.methods {
@@ -183,10 +187,13 @@ fn bench_batch(
         .ok_or_else(|| bad_arg("--jobs", "jobs x repeat is too large".into()))?;
     let mut all = Vec::new();
     for (name, path) in cases {
-        let base = tracksim::bench::bench_scenario(path, a.duration, a.solver_iterations)?;
+        let load = tracksim::bench::BenchLoad {
+            path: path.clone(),
+            duration_s: a.duration,
+            solver_iterations: a.solver_iterations,
+        };
         for m in methods {
-            let mut sc = base.clone();
-            sc.method = *m;
+            let sc = load.scenario(Some(*m))?;
             if !a.json {
                 eprintln!(
                     "batch: {runs} {name} runs of {} s with {m} on {jobs} threads ...",

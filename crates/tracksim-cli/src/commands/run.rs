@@ -86,9 +86,10 @@ fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
 pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
-    let sc = tracksim::load_scenario_with(&file, &o)?;
+    let template = tracksim::ScenarioTemplate::load_with(&file, &o)?;
+    let sc = template.file_scenario()?;
     if let Some(n) = a.ensemble {
-        return run_ensemble(&a, &sc, n);
+        return run_ensemble(&a, &template, &sc, n);
     }
     if sc.robot_count() > 1 {
         return run_team(&a, &file, &sc);
@@ -189,7 +190,12 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
 }
 
 /// `tracksim run --ensemble N`.
-fn run_ensemble(a: &RunArgs, sc: &tracksim::Scenario, n: usize) -> Result<(), Failure> {
+fn run_ensemble(
+    a: &RunArgs,
+    template: &tracksim::ScenarioTemplate,
+    sc: &tracksim::Scenario,
+    n: usize,
+) -> Result<(), Failure> {
     use tracksim::ensemble::{EnsembleOptions, Perturbations, check_ensemble, run_ensemble};
     if a.realtime || a.mcap || a.trainee.is_some() {
         return Err(Failure::Sim(tracksim::Error::Build(
@@ -214,7 +220,7 @@ fn run_ensemble(a: &RunArgs, sc: &tracksim::Scenario, n: usize) -> Result<(), Fa
     };
     on_stop(|| {});
     let show = !a.quiet && !a.json && std::io::stderr().is_terminal();
-    let report = run_ensemble(sc, &opts, |done, total| {
+    let report = run_ensemble(template, &opts, |done, total| {
         if show {
             eprint!("\r{done}/{total} members");
         }

@@ -14,7 +14,7 @@ pub use perturb::{MAX_MEMBERS, Member, Perturbations};
 pub use report::{EnsembleReport, MemberResult, check_ensemble};
 
 use crate::error::{Error, Result};
-use crate::model::Scenario;
+use crate::model::{Scenario, ScenarioTemplate};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -65,16 +65,18 @@ pub fn member_dir_name(k: usize) -> String {
     format!("member-{k:03}")
 }
 
-/// Runs the ensemble of `sc`: every member to its end on `opts.jobs` threads, each written
+/// Runs the ensemble of the scenario `t` gives with its file's seed (`sc`): every member (`sc`
+/// compiled again with its perturbation written into the file's keys) to its end on `opts.jobs` threads, each written
 /// into its folder when `opts.out` is set, then `ensemble.json` and `ensemble.csv` there.
 /// A member that blows up counts as `unstable`; any other error stops the ensemble.
 /// `progress(done, total)` is called after each member.
 pub fn run_ensemble(
-    sc: &Scenario,
+    t: &ScenarioTemplate,
     opts: &EnsembleOptions,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<EnsembleReport> {
     opts.perturbations.check(opts.members)?;
+    let sc = &t.file_scenario()?;
     if let Some((i, count)) = opts.shard
         && (count == 0 || i >= count)
     {
@@ -116,7 +118,7 @@ pub fn run_ensemble(
                     }
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let Some(m) = members.get(k) else { return };
-                    match run_member(sc, m, opts.out.as_deref(), opts.replay, opts.stop) {
+                    match run_member(t, sc, m, opts.out.as_deref(), opts.replay, opts.stop) {
                         // Stopped from outside mid-run: not a member.
                         Ok(None) => return,
                         Ok(Some(r)) => {
@@ -161,13 +163,14 @@ pub fn run_ensemble(
 
 /// Runs one member to its end (and writes its folder); None if `stop` ended it first.
 fn run_member(
+    t: &ScenarioTemplate,
     sc: &Scenario,
     m: &Member,
     out: Option<&Path>,
     replay: bool,
     stop: Option<&'static AtomicBool>,
 ) -> Result<Option<MemberResult>> {
-    let msc = m.apply(sc);
+    let msc = m.scenario(t, sc)?;
     let dir = out.map(|o| o.join(member_dir_name(m.index)));
     let opts = crate::run::RunOptions {
         realtime: false,

@@ -2,7 +2,7 @@
 //! much, from which seed. docs/ENSEMBLE.md says why these and these sizes.
 
 use crate::error::{Error, Result, SpecIssue};
-use crate::model::{MAX_ORDER_SALT, Scenario};
+use crate::model::{MAX_ORDER_SALT, Overrides, Scenario, ScenarioTemplate, StartOffset};
 use rand_core::SeedableRng;
 use rand_distr::{Distribution, Uniform};
 
@@ -128,17 +128,30 @@ impl Perturbations {
 }
 
 impl Member {
-    /// The scenario with this member's perturbation: the start moved and turned as the file's
-    /// `vehicle.x_m`, `y_m` and `yaw_deg` keys would be, and its `simulation.order_salt`.
-    pub fn apply(&self, sc: &Scenario) -> Scenario {
-        let mut s = sc.clone();
-        s.start_xy = (sc.start_xy.0 + self.dx_m, sc.start_xy.1 + self.dy_m);
-        s.start_yaw = (sc.start_yaw.to_degrees() + self.dyaw_deg).to_radians();
-        if self.dyaw_deg == 0.0 {
-            s.start_yaw = sc.start_yaw;
+    /// This member's perturbation of `base` as overrides of the file's keys: the start moved
+    /// and turned (`vehicle.x_m`, `y_m`, `yaw_deg`) and `simulation.order_salt`, each left out
+    /// where it changes nothing (member 0 has none).
+    pub fn overrides(&self, base: &Scenario) -> Overrides {
+        let moved = self.dx_m != 0.0 || self.dy_m != 0.0 || self.dyaw_deg != 0.0;
+        Overrides {
+            start_offset: moved.then_some(StartOffset {
+                x_m: self.dx_m,
+                y_m: self.dy_m,
+                yaw_deg: self.dyaw_deg,
+            }),
+            order_salt: (self.order_salt != base.solver.order_salt).then_some(self.order_salt),
+            ..Overrides::default()
         }
-        s.solver.order_salt = self.order_salt;
-        s
+    }
+
+    /// The scenario of this member: `base` (the template's scenario for `base.seed`) compiled
+    /// again from the template with [`Member::overrides`], every key checked as the file's.
+    pub fn scenario(
+        &self,
+        t: &ScenarioTemplate,
+        base: &Scenario,
+    ) -> crate::error::Result<Scenario> {
+        t.instantiate_overridden(base.seed, &self.overrides(base))
     }
 
     /// The file keys that reproduce this member with `tracksim run` (added to the scenario's

@@ -44,6 +44,40 @@ pub(crate) fn compile_file(
     Ok(sc)
 }
 
+/// Compiles a scenario written as TOML `text` (not a file: `name` stands for it in errors)
+/// with `vehicle` in place of its `vehicle.file` and `overrides` written into its keys first
+/// (checked like its own); relative paths are taken from the folder `dir`.
+pub fn compile_scenario_text(
+    name: &str,
+    text: &str,
+    vehicle: VehicleModel,
+    dir: &Path,
+    overrides: &Overrides,
+) -> Result<Scenario> {
+    let parse = |e: &dyn std::fmt::Display| Error::Parse {
+        path: name.into(),
+        message: e.to_string(),
+    };
+    if overrides.commands.is_some() {
+        return Err(Error::Build(format!(
+            "{name}: a commands file overrides a scenario file's commands, not a text's"
+        )));
+    }
+    let spec: ScenarioSpec = if overrides.is_empty() {
+        toml::from_str(text).map_err(|e| parse(&e))?
+    } else {
+        let mut doc: toml::Table = toml::from_str(text).map_err(|e| parse(&e))?;
+        overrides.apply(&mut doc);
+        crate::spec::strict::from_value(&toml::Value::Table(doc)).map_err(|e| parse(&e))?
+    };
+    let mut sc = compile_scenario(&spec, vehicle, dir).map_err(|issues| Error::Invalid {
+        path: name.into(),
+        issues: overrides.mark(issues),
+    })?;
+    sc.overridden = overrides.keys();
+    Ok(sc)
+}
+
 /// The vehicle of a scenario file: its `vehicle.file` (relative to the scenario's folder) or
 /// its `[vehicle.inline]`, compiled.
 pub(crate) fn scenario_vehicle(path: &Path, spec: &ScenarioSpec) -> Result<VehicleModel> {

@@ -65,7 +65,7 @@ mod vehicle;
 mod wheel;
 
 pub use crate::urdf::{UrdfReport, UrdfRobot};
-pub use compile_file::load_vehicle;
+pub use compile_file::{compile_scenario_text, load_vehicle};
 pub use compile_scenario::*;
 pub use compile_sensor::{MAX_RATE_HZ, MAX_RAYS, MAX_SENSOR_RANGE_M, SENSOR_KINDS};
 pub use compile_track::MAX_GROUSERS;
@@ -88,7 +88,7 @@ pub use method::Method;
 pub(crate) use motor::compile_motor;
 pub use motor::{DriveMotor, ElectricalState, MotorCommand, MotorElectrics};
 pub use outcome::OutcomeModel;
-pub use overrides::{Overrides, load_commands};
+pub use overrides::{Overrides, StartOffset, load_commands};
 pub use randomize::*;
 pub use read::{parse_toml, read_scenario_spec, read_toml};
 pub use scenario::*;

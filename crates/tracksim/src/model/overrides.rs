@@ -1,7 +1,9 @@
 //! Changes a caller makes to a scenario file before it is compiled ([`Overrides`]: the track
-//! method, the duration, the solver iterations, the commands of another file), so that an
-//! overridden value is checked like the file's own, with its key, and the compiled scenario
-//! records what was overridden ([`super::Scenario::overridden`]).
+//! method, the duration, the solver iterations, the commands of another file, whether the run
+//! stops at its outcome, the solver's order, a moved start), so that an overridden value is
+//! checked like the file's own, with its key, and the compiled scenario records what was
+//! overridden ([`super::Scenario::overridden`]). A compiled [`super::Scenario`] is not changed
+//! afterwards: every variation of a file is written into its keys here.
 
 use super::{Method, VehicleModel, compile_commands};
 use crate::error::{Error, Result, SpecIssue};
@@ -20,6 +22,26 @@ pub struct Overrides {
     /// A file of `[[commands]]` replacing the scenario's (e.g. the `commands.toml` of a
     /// `tracksim drive` session).
     pub commands: Option<PathBuf>,
+    /// Whether the run stops as soon as its outcome is decided (`outcome.stop`; a benchmark
+    /// runs its whole duration).
+    pub stop_at_outcome: Option<bool>,
+    /// Inert colliders that change the solver's order (`simulation.order_salt`).
+    pub order_salt: Option<usize>,
+    /// The start moved and turned from the file's (`vehicle.x_m`, `vehicle.y_m`,
+    /// `vehicle.yaw_deg`): an ensemble member's perturbation.
+    pub start_offset: Option<StartOffset>,
+}
+
+/// A start moved and turned from the file's: added to its `vehicle.x_m`, `vehicle.y_m` and
+/// `vehicle.yaw_deg` (0 where the file leaves them out).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StartOffset {
+    /// Added to `vehicle.x_m`, m.
+    pub x_m: f64,
+    /// Added to `vehicle.y_m`, m.
+    pub y_m: f64,
+    /// Added to `vehicle.yaw_deg`, degrees (0: the key is left as it is).
+    pub yaw_deg: f64,
 }
 
 /// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`).
@@ -76,6 +98,31 @@ impl Overrides {
                 "--solver-iterations",
             ),
             (self.commands.is_some(), "commands", "--commands"),
+            (
+                self.stop_at_outcome.is_some(),
+                "outcome.stop",
+                "the benchmark's full duration",
+            ),
+            (
+                self.order_salt.is_some(),
+                "simulation.order_salt",
+                "an ensemble member's solver order",
+            ),
+            (
+                self.start_offset.is_some(),
+                "vehicle.x_m",
+                "an ensemble member's start",
+            ),
+            (
+                self.start_offset.is_some(),
+                "vehicle.y_m",
+                "an ensemble member's start",
+            ),
+            (
+                self.start_offset.is_some_and(|o| o.yaw_deg != 0.0),
+                "vehicle.yaw_deg",
+                "an ensemble member's start",
+            ),
         ]
         .into_iter()
         .filter(|(set, ..)| *set)
@@ -83,13 +130,44 @@ impl Overrides {
         .collect()
     }
 
+    /// These overrides with those set in `extra` replacing them (what a template's member is
+    /// compiled with: the template's overrides and the member's).
+    pub(crate) fn merged(&self, extra: &Overrides) -> Overrides {
+        Overrides {
+            method: extra.method.or(self.method),
+            duration_s: extra.duration_s.or(self.duration_s),
+            solver_iterations: extra.solver_iterations.or(self.solver_iterations),
+            commands: extra.commands.clone().or_else(|| self.commands.clone()),
+            stop_at_outcome: extra.stop_at_outcome.or(self.stop_at_outcome),
+            order_salt: extra.order_salt.or(self.order_salt),
+            start_offset: extra.start_offset.or(self.start_offset),
+        }
+    }
+
     /// Writes the overridden values into a scenario file's table `doc` (the commands are
-    /// removed: they come from [`Overrides::read_commands`] once the vehicle is known).
+    /// removed: they come from [`Overrides::read_commands`] once the vehicle is known). A key
+    /// the file gives a value of the wrong kind keeps it (the file's own problem, reported by
+    /// the parse).
     pub(crate) fn apply(&self, doc: &mut toml::Table) {
-        let sim = doc
-            .entry("simulation")
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        if let Some(sim) = sim.as_table_mut() {
+        if let Some(stop) = self.stop_at_outcome
+            && let Some(t) = table(doc, "outcome")
+        {
+            t.insert("stop".into(), toml::Value::Boolean(stop));
+        }
+        if let Some(o) = self.start_offset
+            && let Some(v) = table(doc, "vehicle")
+        {
+            add_to(v, "x_m", o.x_m);
+            add_to(v, "y_m", o.y_m);
+            if o.yaw_deg != 0.0 {
+                add_to(v, "yaw_deg", o.yaw_deg);
+            }
+        }
+        if let Some(sim) = table(doc, "simulation") {
+            if let Some(n) = self.order_salt {
+                let n = i64::try_from(n).unwrap_or(i64::MAX);
+                sim.insert("order_salt".into(), toml::Value::Integer(n));
+            }
             if let Some(m) = self.method {
                 sim.insert("method".into(), toml::Value::String(m.name()));
             }
@@ -130,6 +208,26 @@ impl Overrides {
             })
             .collect()
     }
+}
+
+/// The table `key` of `doc`, made if missing; `None` if the file gives it as something else
+/// (the file's own problem, which the parse reports with its key).
+fn table<'a>(doc: &'a mut toml::Table, key: &str) -> Option<&'a mut toml::Table> {
+    doc.entry(key)
+        .or_insert_with(|| toml::Value::Table(toml::Table::new()))
+        .as_table_mut()
+}
+
+/// Adds `d` to the number at `key` of `t` (0 if missing); a value that is not a number is left
+/// for the parse to report.
+fn add_to(t: &mut toml::Table, key: &str, d: f64) {
+    let base = match t.get(key) {
+        None => 0.0,
+        Some(toml::Value::Float(x)) => *x,
+        Some(toml::Value::Integer(i)) => *i as f64,
+        Some(_) => return,
+    };
+    t.insert(key.into(), toml::Value::Float(base + d));
 }
 
 /// Loads a file of `[[commands]]` (the format of a scenario's) for `vehicle`: the commands

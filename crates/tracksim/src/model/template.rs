@@ -15,10 +15,11 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug)]
 pub struct ScenarioTemplate {
     path: PathBuf,
-    /// The file's table without `[randomize]`.
+    /// The file's table without `[randomize]`, the overrides written in.
     doc: toml::Table,
     randomizer: Randomizer,
-    /// The vehicle of `vehicle.file` (loaded once), or `None` for an inline one.
+    /// The vehicle of `vehicle.file` (loaded once) or the caller's, or `None` for an inline
+    /// one.
     vehicle: Option<VehicleModel>,
     /// The compiled scenario of a file without `[randomize]`.
     fixed: Option<Scenario>,
@@ -41,6 +42,21 @@ impl ScenarioTemplate {
     /// [`ScenarioTemplate::load`] with `overrides` written into the file's keys before every
     /// compilation (a `[randomize]` parameter naming an overridden key still draws it).
     pub fn load_with(path: &Path, overrides: &Overrides) -> Result<Self> {
+        Self::load_inner(path, overrides, None)
+    }
+
+    /// [`ScenarioTemplate::load_with`] with `vehicle` in place of the file's `vehicle.file`
+    /// (a vehicle compiled and varied by the caller, e.g. with another sensor set), the
+    /// scenario's keys checked against it.
+    pub fn load_for_vehicle(
+        path: &Path,
+        overrides: &Overrides,
+        vehicle: VehicleModel,
+    ) -> Result<Self> {
+        Self::load_inner(path, overrides, Some(vehicle))
+    }
+
+    fn load_inner(path: &Path, overrides: &Overrides, given: Option<VehicleModel>) -> Result<Self> {
         let (spec, mut doc) = read_scenario(path, overrides)?;
         let invalid = |issues| Error::Invalid {
             path: path.to_path_buf(),
@@ -61,13 +77,16 @@ impl ScenarioTemplate {
             });
         }
         if spec.randomize.is_empty() {
-            let vehicle = scenario_vehicle(path, &spec)?;
-            let sc = compile_file(path, &spec, vehicle, overrides, commands.as_ref())?;
+            let vehicle = match given {
+                Some(v) => v,
+                None => scenario_vehicle(path, &spec)?,
+            };
+            let sc = compile_file(path, &spec, vehicle.clone(), overrides, commands.as_ref())?;
             return Ok(ScenarioTemplate {
                 path: path.to_path_buf(),
-                doc: toml::Table::new(),
+                doc,
                 randomizer: Randomizer::default(),
-                vehicle: None,
+                vehicle: Some(vehicle),
                 fixed: Some(sc),
                 overrides: overrides.clone(),
                 commands,
@@ -76,9 +95,10 @@ impl ScenarioTemplate {
         }
         doc.remove("randomize");
         let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
-        let vehicle = match spec.vehicle.inline {
-            None => Some(scenario_vehicle(path, &spec)?),
-            Some(_) => None,
+        let vehicle = match (given, &spec.vehicle.inline) {
+            (Some(v), _) => Some(v),
+            (None, None) => Some(scenario_vehicle(path, &spec)?),
+            (None, Some(_)) => None,
         };
         let t = ScenarioTemplate {
             path: path.to_path_buf(),
@@ -202,14 +222,50 @@ impl ScenarioTemplate {
         self.with_values(&values, seed)
     }
 
+    /// [`ScenarioTemplate::instantiate`] with `extra` overrides written into the file's keys
+    /// after the `[randomize]` values drawn from `seed` (so an offset moves the drawn start),
+    /// each checked like the file's own: an ensemble member's scenario. No `extra` override
+    /// gives the scenario of `instantiate(seed)`.
+    pub fn instantiate_overridden(&self, seed: u64, extra: &Overrides) -> Result<Scenario> {
+        if extra.is_empty() {
+            return self.instantiate(seed);
+        }
+        if extra.commands.is_some() {
+            return Err(Error::Build(
+                "a template's commands file is given when it is loaded (Overrides::commands)"
+                    .into(),
+            ));
+        }
+        self.compile_values(&self.randomizer.sample(seed), seed, extra)
+    }
+
     fn with_values(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
-        let (doc, sampled) = self.randomizer.apply(&self.doc, values);
+        self.compile_values(values, seed, &Overrides::default())
+    }
+
+    fn compile_values(
+        &self,
+        values: &[toml::Value],
+        seed: u64,
+        extra: &Overrides,
+    ) -> Result<Scenario> {
+        let (mut doc, sampled) = self.randomizer.apply(&self.doc, values);
+        extra.apply(&mut doc);
         let doc = toml::Value::Table(doc);
-        let spec: ScenarioSpec =
-            crate::spec::strict::from_value(&doc).map_err(|e| Error::Parse {
+        let spec: ScenarioSpec = crate::spec::strict::from_value(&doc).map_err(|e| {
+            let with = match (sampled.is_empty(), extra.is_empty()) {
+                (_, true) => format!("with the [randomize] values {sampled:?}"),
+                (true, false) => format!("with the overrides of {}", extra.keys().join(", ")),
+                _ => format!(
+                    "with the [randomize] values {sampled:?} and the overrides of {}",
+                    extra.keys().join(", ")
+                ),
+            };
+            Error::Parse {
                 path: self.path.clone(),
-                message: format!("with the [randomize] values {sampled:?}: {e}"),
-            })?;
+                message: format!("{with}: {e}"),
+            }
+        })?;
         let vehicle = match &self.vehicle {
             Some(v) => v.clone(),
             None => scenario_vehicle(&self.path, &spec)?,
@@ -218,7 +274,7 @@ impl ScenarioTemplate {
             &self.path,
             &spec,
             vehicle,
-            &self.overrides,
+            &self.overrides.merged(extra),
             self.commands.as_ref(),
         )?;
         sc.seed = seed;

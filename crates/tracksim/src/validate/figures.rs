@@ -3,10 +3,12 @@
 //! (`fig2/<method>`) and with 4 wheels (`fig2/wheels4`), the wall with the method under test
 //! (`fig3/<method>`).
 
+use super::drawing::full_side_view;
+use super::jobs::{Jobs, Ran, Runs};
 use super::report::{Case, PlotJob, ValidationReport};
-use super::{Jobs, Ran, Runs, full_side_view};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
+use crate::model::Overrides;
 use crate::run::{Outcome, RunResult};
 use std::path::Path;
 
@@ -48,25 +50,27 @@ fn present(root: &Path, name: &str) -> bool {
 
 /// Adds the Fig. 2 and Fig. 3 runs whose files are present.
 pub(super) fn add_jobs(jobs: &mut Jobs, method: TrackMethod, root: &Path) -> Result<()> {
+    let with = |m: TrackMethod| Overrides {
+        method: Some(m),
+        ..Overrides::default()
+    };
     if present(root, BUMP) {
-        let mut sc = crate::cases::load(root, BUMP)?;
-        sc.method = method;
-        let mut w = sc.clone();
-        w.method = WHEELS;
+        let sc = crate::cases::template(root, BUMP, &with(method))?.file_scenario()?;
+        let wt = crate::cases::template(root, BUMP, &with(WHEELS))?;
+        let w = wt.file_scenario()?;
         let (tested, reference) = bump_names(method);
         jobs.add(tested, sc)?;
         let p = crate::ensemble::Perturbations::default();
         for k in 1..WHEELS_MEMBERS {
             jobs.add(
                 format!("{reference}/member-{k}"),
-                p.member(WHEELS_SEED, k).apply(&w),
+                p.member(WHEELS_SEED, k).scenario(&wt, &w)?,
             )?;
         }
         jobs.add(reference, w)?;
     }
     if present(root, WALL) {
-        let mut sc = crate::cases::load(root, WALL)?;
-        sc.method = method;
+        let sc = crate::cases::template(root, WALL, &with(method))?.file_scenario()?;
         jobs.add(wall_name(method), sc)?;
     }
     Ok(())

@@ -1,6 +1,6 @@
 //! What `tracksim validate` found: the report's types, its Markdown and its files.
 
-use super::{
+use super::limits::{
     STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
     TABLE_IV_CONTACT_SLOP_M,
 };
@@ -39,7 +39,7 @@ pub struct StepCase {
     /// `None` if not run.
     pub with_grousers_rigid: Option<StepRun>,
     /// This simulator with compliant grousers and belts (the rubber of
-    /// [`super::rubber_compliance`]), rigid terrain and no slop (reported, not asserted);
+    /// [`super::rubber::rubber_compliance`]), rigid terrain and no slop (reported, not asserted);
     /// `None` if not run.
     pub compliant_grousers: Option<StepRun>,
     /// `with_grousers` agrees with reality.

@@ -2,7 +2,7 @@
 //! Quince's grousers and belts given the contact compliance that a stated track rubber and
 //! their dimensions imply, instead of the paper simulator's 10 mm contact slop.
 
-use super::STEP_SPEED_MPS;
+use super::limits::STEP_SPEED_MPS;
 use super::report::RubberNote;
 use crate::model::{
     Compliance, ContactSpring, GrouserShape, TrackModel, VehicleModel, belt_compression_stiffness,

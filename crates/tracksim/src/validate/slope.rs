@@ -1,11 +1,10 @@
 //! The slope limit: PackBot 510 on smooth plates at [`SLOPE_ANGLES_DEG`], one run each,
 //! named `slope/<angle>deg`.
 
+use super::compile::compile;
+use super::jobs::{Jobs, Ran, Runs, pose_at};
+use super::limits::{PACKBOT_SPEED_MPS, SLOPE_ANGLES_DEG, SLOPE_LIMIT_DEG, SLOPE_TOLERANCE_DEG};
 use super::report::{Case, PlotJob, SlopeRun, ValidationReport};
-use super::{
-    Jobs, PACKBOT_SPEED_MPS, Ran, Runs, SLOPE_ANGLES_DEG, SLOPE_LIMIT_DEG, SLOPE_TOLERANCE_DEG,
-    compile, pose_at,
-};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};

@@ -16,8 +16,9 @@
 //!   the rut: the second pass sinks no deeper than the first (Bekker's memory: only the elastic
 //!   `p / K_e` is added).
 
+use super::compile::compile;
+use super::jobs::{Jobs, Runs, pose_at};
 use super::report::{Case, ValidationReport};
-use super::{Jobs, Runs, compile};
 use crate::error::Result;
 use crate::model::{Scenario, VehicleModel};
 use crate::run::RunResult;
@@ -382,8 +383,8 @@ fn grouser_case(runs: &mut Runs, packbot: &VehicleModel) -> Case {
 
 /// Mean forward speed over the measurement window, m/s.
 fn progress(r: &RunResult) -> f64 {
-    let p1 = super::pose_at(r, SETTLE_S);
-    let p2 = super::pose_at(r, SETTLE_S + MEASURE_S);
+    let p1 = pose_at(r, SETTLE_S);
+    let p2 = pose_at(r, SETTLE_S + MEASURE_S);
     (p2.x - p1.x) / MEASURE_S
 }
 
@@ -401,8 +402,8 @@ fn slope_case(runs: &mut Runs) -> Case {
         match runs.take(name).result {
             Ok(r) => {
                 let th = deg.to_radians();
-                let p1 = super::pose_at(&r, SETTLE_S);
-                let p2 = super::pose_at(&r, SETTLE_S + MEASURE_S);
+                let p1 = pose_at(&r, SETTLE_S);
+                let p2 = pose_at(&r, SETTLE_S + MEASURE_S);
                 let along = ((p2.x - p1.x) * th.cos() + (p2.z - p1.z) * th.sin()) / MEASURE_S;
                 let w = window(&r, SETTLE_S, SETTLE_S + MEASURE_S);
                 let up = along >= 0.05;

@@ -1,13 +1,16 @@
 //! Table IV (paper Sec. IV-B): Quince climbing a step, one run per row and column, named
 //! `table_iv/<angle>deg_<height>mm/<column>`.
 
+use super::compile::{compile, compile_with};
+use super::drawing::full_side_view;
+use super::jobs::{Jobs, Ran, Runs};
+use super::limits::{
+    QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, STEP_DEPTH_M, STEP_DURATION_S,
+    STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M, TABLE_IV_CONTACT_SLOP_M,
+};
+use super::options::ValidationOptions;
 use super::report::{PlotJob, StepCase, StepRun, ValidationReport};
 use super::rubber::with_rubber_of;
-use super::{
-    Jobs, QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, Ran, Runs, STEP_DEPTH_M,
-    STEP_DURATION_S, STEP_EDGE_X_M, STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M,
-    TABLE_IV_CONTACT_SLOP_M, ValidationOptions, compile, full_side_view,
-};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
 use crate::model::{Scenario, VehicleModel};
@@ -104,21 +107,22 @@ pub(super) fn add_jobs(
             } else {
                 quince
             };
-            let sc = quince_step_scenario(
+            let (text, v) = quince_step_text(
                 vehicle,
                 a,
                 h / 1000.0,
                 column.grousers(),
                 column.slop_m(),
                 method,
-                root,
-            )?;
+            );
+            let sc = compile(&text, v.clone(), root)?;
             if column == Column::Grousers {
                 let p = crate::ensemble::Perturbations::default();
                 for k in 1..opts.ensemble {
+                    let o = p.member(0, k).overrides(&sc);
                     jobs.add(
                         format!("{}/member-{k}", case_name(a, h, column)),
-                        p.member(0, k).apply(&sc),
+                        compile_with(&text, v.clone(), root, &o)?,
                     )?;
                 }
             }
@@ -303,6 +307,20 @@ pub fn quince_step_scenario(
     method: TrackMethod,
     root: &Path,
 ) -> Result<Scenario> {
+    let (text, v) = quince_step_text(quince, front_deg, h, grousers, contact_slop_m, method);
+    compile(&text, v, root)
+}
+
+/// The file text of [`quince_step_scenario`] and its vehicle (Quince with the front flippers
+/// at `front_deg`).
+fn quince_step_text(
+    quince: &VehicleModel,
+    front_deg: f64,
+    h: f64,
+    grousers: bool,
+    contact_slop_m: f64,
+    method: TrackMethod,
+) -> (String, VehicleModel) {
     let mut v = quince.clone();
     for f in &mut v.flippers {
         if f.name.starts_with("front") {
@@ -358,5 +376,5 @@ flipper_angle_deg = {{ {fl} }}
         method = method.name(),
         fl = flippers.join(", "),
     );
-    compile(&text, v, root)
+    (text, v)
 }

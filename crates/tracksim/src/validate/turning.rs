@@ -1,10 +1,10 @@
 //! Skid steering: PackBot 510 spinning on the spot (`turning/spin`) and driving straight
 //! (`turning/straight`) on flat ground.
 
+use super::compile::compile;
+use super::jobs::{Jobs, Ran, Runs, pose_at};
+use super::limits::{PACKBOT_SPEED_MPS, STRAIGHT_SLIP_LIMIT, TURN_RATIO_BAND};
 use super::report::{Case, PlotJob, ValidationReport};
-use super::{
-    Jobs, PACKBOT_SPEED_MPS, Ran, Runs, STRAIGHT_SLIP_LIMIT, TURN_RATIO_BAND, compile, pose_at,
-};
 use crate::error::Result;
 use crate::geometry::Segment;
 use crate::model::Method as TrackMethod;

@@ -403,14 +403,59 @@ fn bad_urdf_is_refused_with_the_element_named() {
             assert!(msg.contains(w), "{name}: {w:?} not in:\n{msg}");
         }
     };
+    refused_masses(&case, &u, &t);
+    refused_joint_trees(&case, &u, &t);
+    refused_tracks_and_forms(&case, &u, &t);
+    refused_meshes(&case, &dir, &u, &t);
+}
+
+/// One refusal case: (name, URDF text, tracks file text, what the message must say).
+type RefusalCase<'a> = &'a dyn Fn(&str, &str, &str, &[&str]);
+
+/// Masses and inertias that no body has.
+fn refused_masses(case: RefusalCase, u: &str, t: &str) {
+    case(
+        "zero mass",
+        &edit(u, r#"<mass value="11.0"/>"#, r#"<mass value="0"/>"#),
+        t,
+        &[r#"<link name="base_link">"#, "<inertial>", "mass"],
+    );
+    case(
+        "negative mass",
+        &edit(u, r#"<mass value="11.0"/>"#, r#"<mass value="-3"/>"#),
+        t,
+        &[r#"<link name="base_link">"#, "mass"],
+    );
+    case(
+        "negative inertia",
+        &edit(u, r#"ixx="0.06645833333333334""#, r#"ixx="-0.1""#),
+        t,
+        &[r#"<link name="base_link">"#, "positive definite"],
+    );
+    case(
+        "zero inertia",
+        &edit(u, r#"izz="0.2864583333333333""#, r#"izz="0""#),
+        t,
+        &[r#"<link name="base_link">"#, "positive definite"],
+    );
+    case(
+        "impossible inertia",
+        &edit(u, r#"izz="0.2864583333333333""#, r#"izz="0.5""#),
+        t,
+        &[r#"<link name="base_link">"#, "triangle inequality"],
+    );
+}
+
+/// Joint trees that are not trees, and joints the simulator cannot model.
+fn refused_joint_trees(case: RefusalCase, u: &str, t: &str) {
     case(
         "missing link",
         &edit(
-            &u,
+            u,
             r#"<child link="left_track"/>"#,
             r#"<child link="left_trak"/>"#,
         ),
-        &t,
+        t,
         &[
             r#"<joint name="left_track_joint">"#,
             "line 34",
@@ -418,76 +463,40 @@ fn bad_urdf_is_refused_with_the_element_named() {
             "is not a link",
         ],
     );
-    case(
-        "zero mass",
-        &edit(&u, r#"<mass value="11.0"/>"#, r#"<mass value="0"/>"#),
-        &t,
-        &[r#"<link name="base_link">"#, "<inertial>", "mass"],
-    );
-    case(
-        "negative mass",
-        &edit(&u, r#"<mass value="11.0"/>"#, r#"<mass value="-3"/>"#),
-        &t,
-        &[r#"<link name="base_link">"#, "mass"],
-    );
-    case(
-        "negative inertia",
-        &edit(&u, r#"ixx="0.06645833333333334""#, r#"ixx="-0.1""#),
-        &t,
-        &[r#"<link name="base_link">"#, "positive definite"],
-    );
-    case(
-        "zero inertia",
-        &edit(&u, r#"izz="0.2864583333333333""#, r#"izz="0""#),
-        &t,
-        &[r#"<link name="base_link">"#, "positive definite"],
-    );
-    case(
-        "impossible inertia",
-        &edit(&u, r#"izz="0.2864583333333333""#, r#"izz="0.5""#),
-        &t,
-        &[r#"<link name="base_link">"#, "triangle inequality"],
-    );
     let looped = edit(
-        &u,
+        u,
         "</robot>",
         r#"<joint name="back" type="fixed"><parent link="front_left_flipper"/><child link="base_link"/></joint></robot>"#,
     );
-    case("loop", &looped, &t, &["loop"]);
+    case("loop", &looped, t, &["loop"]);
     let two_parents = edit(
-        &u,
+        u,
         "</robot>",
         r#"<joint name="again" type="fixed"><parent link="front_left_flipper"/><child link="left_track"/></joint></robot>"#,
     );
     case(
         "two parents",
         &two_parents,
-        &t,
+        t,
         &[
             r#"<joint name="again">"#,
             "already the child of joint \"left_track_joint\"",
         ],
     );
     case(
-        "unknown track link",
-        &u,
-        &edit(&t, r#"link = "left_track""#, r#"link = "left_trak""#),
-        &["tracks[0].link", "did you mean `left_track`"],
-    );
-    case(
         "prismatic",
         &edit(
-            &u,
+            u,
             r#"<joint name="front_left" type="revolute">"#,
             r#"<joint name="front_left" type="prismatic">"#,
         ),
-        &t,
+        t,
         &[r#"<joint name="front_left">"#, "prismatic"],
     );
     case(
         "no effort",
         &edit(
-            &u,
+            u,
             r#"effort="60" velocity="2.0"/>
   </joint>
   <link name="front_right_flipper">"#,
@@ -495,45 +504,59 @@ fn bad_urdf_is_refused_with_the_element_named() {
   </joint>
   <link name="front_right_flipper">"#,
         ),
-        &t,
+        t,
         &[r#"<joint name="front_left">"#, "effort"],
+    );
+}
+
+/// Track entries that name no link, and files in forms the reader refuses.
+fn refused_tracks_and_forms(case: RefusalCase, u: &str, t: &str) {
+    case(
+        "unknown track link",
+        u,
+        &edit(t, r#"link = "left_track""#, r#"link = "left_trak""#),
+        &["tracks[0].link", "did you mean `left_track`"],
     );
     case(
         "plugin track without a track",
-        &u,
+        u,
         &t.replace("mirror_link = \"right_track\"\n", ""),
         &["<plugin><right_track>", "right_track"],
     );
     case(
         "body with urdf",
-        &u,
-        &(t.clone()
+        u,
+        &(t.to_string()
             + "\n[body]\nmass_kg = 1.0\nshape = { type = \"box\", size_m = [0.1, 0.1, 0.1] }\n"),
         &["body", "remove [body]"],
     );
     case(
         "xacro",
         &edit(
-            &u,
+            u,
             "<robot name=",
             "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\" name=",
         ),
-        &t,
+        t,
         &["xacro"],
     );
     case(
         "not finite",
         &edit(
-            &u,
+            u,
             r#"<origin xyz="0 0.1625 0" rpy="0 0 0"/>"#,
             r#"<origin xyz="0 nan 0" rpy="0 0 0"/>"#,
         ),
-        &t,
+        t,
         &[r#"<joint name="left_track_joint">"#, "not finite"],
     );
+}
+
+/// Collision meshes missing, or too large by their header or their size.
+fn refused_meshes(case: RefusalCase, dir: &std::path::Path, u: &str, t: &str) {
     let with_mesh = |file: &str| {
         edit(
-            &u,
+            u,
             r#"<collision>
       <geometry><box size="0.50 0.25 0.10"/></geometry>"#,
             &format!("<collision>\n      <geometry><mesh filename=\"{file}\"/></geometry>"),
@@ -542,7 +565,7 @@ fn bad_urdf_is_refused_with_the_element_named() {
     case(
         "missing mesh",
         &with_mesh("meshes/nowhere.stl"),
-        &t,
+        t,
         &[r#"<link name="base_link">"#, "<collision> 1", "nowhere.stl"],
     );
     // 10^8 triangles: a header that says so (refused before anything is read) ...
@@ -555,7 +578,7 @@ fn bad_urdf_is_refused_with_the_element_named() {
     case(
         "huge",
         &with_mesh("../huge/huge.stl"),
-        &t,
+        t,
         &[r#"<link name="base_link">"#, "100000000 triangles"],
     );
     // ... and a file of that size (5 GB, sparse): refused by its size.
@@ -565,7 +588,7 @@ fn bad_urdf_is_refused_with_the_element_named() {
     case(
         "big",
         &with_mesh("../huge/big.stl"),
-        &t,
+        t,
         &[r#"<link name="base_link">"#, "<collision> 1"],
     );
 }

@@ -173,54 +173,7 @@ fn run_mcap_messages_carry_the_run_values() {
         assert_eq!([op.x, op.y], [s.odom[0], s.odom[1]]);
         let oq = o.pose.pose.orientation;
         assert!((2.0 * oq.z.atan2(oq.w) - s.odom[2]).abs() < 1e-9);
-        // /tf: odom -> base_link (the encoders, as /odom), each flipper turned by its angle
-        // at its pivot, and map -> odom, with which map -> base_link is the true pose.
-        let t = &tf[k].transforms;
-        assert_eq!(t.len(), 2 + sc.vehicle.flippers.len());
-        assert_eq!(t[0].transform.translation.x, s.odom[0]);
-        assert_eq!(t[0].transform.translation.y, s.odom[1]);
-        assert_eq!(t[0].child_frame_id, "base_link");
-        let m = t.last().unwrap();
-        assert_eq!(
-            (m.header.frame_id.as_str(), m.child_frame_id.as_str()),
-            ("map", "odom")
-        );
-        let iso = |tr: &tracksim::rosmsg::Transform| {
-            let (v, q) = (tr.translation, tr.rotation);
-            glam::DAffine3::from_rotation_translation(
-                glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w),
-                glam::DVec3::new(v.x, v.y, v.z),
-            )
-        };
-        let composed = iso(&m.transform) * iso(&t[0].transform);
-        let at = composed.translation;
-        assert!(
-            (at - glam::DVec3::new(s.pose.x, s.pose.y, s.pose.z)).length() < 1e-9,
-            "map -> odom -> base_link {at:?} is not the true position at t = {} s",
-            s.t
-        );
-        let (yaw_c, pitch_c, roll_c) =
-            glam::DQuat::from_mat3(&composed.matrix3).to_euler(glam::EulerRot::ZYX);
-        assert!((yaw_c - s.pose.yaw).abs() < 1e-9 && (pitch_c - s.pose.pitch).abs() < 1e-9);
-        assert!((roll_c - s.pose.roll).abs() < 1e-9);
-        for (i, f) in sc.vehicle.flippers.iter().enumerate() {
-            let tr = &t[1 + i];
-            assert_eq!(tr.header.frame_id, "base_link");
-            assert_eq!(tr.child_frame_id, format!("{}_flipper_link", f.name));
-            assert_eq!(tr.transform.translation.x, f.pivot.x);
-            let q = tr.transform.rotation;
-            let (axis, angle) = glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w).to_axis_angle();
-            let signed = if angle.abs() < 1e-12 {
-                0.0
-            } else {
-                angle * axis.dot(f.axis).signum()
-            };
-            assert!(
-                (signed - s.flipper_angle[i]).abs() < 1e-9,
-                "{signed} {:?}",
-                s.flipper_angle
-            );
-        }
+        check_tf(&tf[k].transforms, s, &sc);
         // /joint_states: flippers, then belts.
         let j = &joints[k];
         let nf = r.flipper_names.len();
@@ -239,7 +192,66 @@ fn run_mcap_messages_carry_the_run_values() {
     // The robot drives: odometry and the flippers move.
     let last = odom.last().unwrap().pose.pose.position.x;
     assert!(last > odom[0].pose.pose.position.x + 0.1, "{last}");
-    // The IMU: the stream's readings, gravity at the first.
+    check_sensor_messages(&msgs, &r);
+}
+
+/// `/tf` at the sample `s`: odom -> base_link (the encoders, as /odom), each flipper turned by
+/// its angle at its pivot, and map -> odom, with which map -> base_link is the true pose.
+fn check_tf(
+    t: &[tracksim::rosmsg::TransformStamped],
+    s: &tracksim::world::Sample,
+    sc: &tracksim::Scenario,
+) {
+    assert_eq!(t.len(), 2 + sc.vehicle.flippers.len());
+    assert_eq!(t[0].transform.translation.x, s.odom[0]);
+    assert_eq!(t[0].transform.translation.y, s.odom[1]);
+    assert_eq!(t[0].child_frame_id, "base_link");
+    let m = t.last().unwrap();
+    assert_eq!(
+        (m.header.frame_id.as_str(), m.child_frame_id.as_str()),
+        ("map", "odom")
+    );
+    let iso = |tr: &tracksim::rosmsg::Transform| {
+        let (v, q) = (tr.translation, tr.rotation);
+        glam::DAffine3::from_rotation_translation(
+            glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w),
+            glam::DVec3::new(v.x, v.y, v.z),
+        )
+    };
+    let composed = iso(&m.transform) * iso(&t[0].transform);
+    let at = composed.translation;
+    assert!(
+        (at - glam::DVec3::new(s.pose.x, s.pose.y, s.pose.z)).length() < 1e-9,
+        "map -> odom -> base_link {at:?} is not the true position at t = {} s",
+        s.t
+    );
+    let (yaw_c, pitch_c, roll_c) =
+        glam::DQuat::from_mat3(&composed.matrix3).to_euler(glam::EulerRot::ZYX);
+    assert!((yaw_c - s.pose.yaw).abs() < 1e-9 && (pitch_c - s.pose.pitch).abs() < 1e-9);
+    assert!((roll_c - s.pose.roll).abs() < 1e-9);
+    for (i, f) in sc.vehicle.flippers.iter().enumerate() {
+        let tr = &t[1 + i];
+        assert_eq!(tr.header.frame_id, "base_link");
+        assert_eq!(tr.child_frame_id, format!("{}_flipper_link", f.name));
+        assert_eq!(tr.transform.translation.x, f.pivot.x);
+        let q = tr.transform.rotation;
+        let (axis, angle) = glam::DQuat::from_xyzw(q.x, q.y, q.z, q.w).to_axis_angle();
+        let signed = if angle.abs() < 1e-12 {
+            0.0
+        } else {
+            angle * axis.dot(f.axis).signum()
+        };
+        assert!(
+            (signed - s.flipper_angle[i]).abs() < 1e-9,
+            "{signed} {:?}",
+            s.flipper_angle
+        );
+    }
+}
+
+/// The sensors' messages: the IMU's are the stream's readings (gravity at the first), the scan
+/// has 720 rays, `/tf_static` holds the sensor mounts.
+fn check_sensor_messages(msgs: &BTreeMap<String, Vec<(u64, Vec<u8>)>>, r: &tracksim::RunResult) {
     let imu_stream = r.sensors.iter().find(|s| s.name == "imu").unwrap();
     let imu: Vec<Imu> = decoded(&msgs["/imu"]);
     assert_eq!(imu[0].header.frame_id, "imu_link");

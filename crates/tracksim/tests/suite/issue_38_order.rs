@@ -280,7 +280,8 @@ fn bundled_ensembles_meet_their_bounds() {
         };
         let mut opts = tracksim::ensemble::EnsembleOptions::new(e.members);
         opts.seed = 38;
-        let r = tracksim::ensemble::run_ensemble(&sc, &opts, |_, _| {}).unwrap();
+        let t = tracksim::load_template(&f).unwrap();
+        let r = tracksim::ensemble::run_ensemble(&t, &opts, |_, _| {}).unwrap();
         let misses = tracksim::ensemble::check_ensemble(&e, &r);
         let line = format!("{}: {}", f.display(), r.text());
         println!("{line}");
@@ -322,7 +323,12 @@ fn order_salt_reorders_the_solver_and_members_are_reproducible() {
     // A member is reproduced by its keys written into the file.
     let p = tracksim::ensemble::Perturbations::default();
     let m = p.member(38, 5);
-    let msc = m.apply(&sc);
+    let two_seconds = tracksim::Overrides {
+        duration_s: Some(2.0),
+        ..Default::default()
+    };
+    let t = tracksim::ScenarioTemplate::load_with(&path, &two_seconds).unwrap();
+    let msc = m.scenario(&t, &sc).unwrap();
     let mut text = std::fs::read_to_string(&path).unwrap();
     let mut doc: Table = toml::from_str(&text).unwrap();
     for (k, v) in m.keys(&sc) {

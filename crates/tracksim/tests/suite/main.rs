@@ -3,6 +3,8 @@
 //! Rapier, so 44 targets cost most of CI's build time. Run one module with
 //! `cargo test -p tracksim --test suite NAME::` (e.g. `golden::`).
 
+#![warn(clippy::too_many_lines)]
+
 mod common;
 
 mod api_list;
@@ -55,6 +57,7 @@ mod module_graph;
 mod packbot_flat;
 mod plates;
 mod randomize;
+mod scenario_immutable;
 mod slope;
 mod step_climb;
 mod stepping_api;

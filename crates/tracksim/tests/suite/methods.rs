@@ -47,7 +47,12 @@ fn fig2_bump_is_climbed_by_the_track_not_by_4_wheels() {
     let ens = |m: TrackMethod| {
         let mut opts = tracksim::ensemble::EnsembleOptions::new(8);
         opts.jobs = 2;
-        tracksim::ensemble::run_ensemble(&scenario(f, m), &opts, |_, _| {}).unwrap()
+        let o = tracksim::Overrides {
+            method: Some(m),
+            ..Default::default()
+        };
+        let t = tracksim::ScenarioTemplate::load_with(&root().join(f), &o).unwrap();
+        tracksim::ensemble::run_ensemble(&t, &opts, |_, _| {}).unwrap()
     };
     let track = ens(TrackMethod::Okada2020);
     assert_eq!(track.verdict(), "S 8/8", "track: {}", track.text());
