@@ -63,18 +63,20 @@ impl ScenarioTemplate {
             issues,
         };
         let commands = overrides.read_commands()?;
+        let fixed = |sc: Scenario, doc, vehicle, commands| ScenarioTemplate {
+            path: path.to_path_buf(),
+            doc,
+            randomizer: Randomizer::default(),
+            vehicle,
+            fixed: Some(sc),
+            overrides: overrides.clone(),
+            commands,
+            file_seed: spec.simulation.seed,
+        };
         if !spec.vehicles.is_empty() {
+            // Several robots (issue 40): compiled robot by robot, without [randomize].
             let sc = super::compile_team::compile_team(path, &spec, overrides, commands.as_ref())?;
-            return Ok(ScenarioTemplate {
-                path: path.to_path_buf(),
-                doc: toml::Table::new(),
-                randomizer: Randomizer::default(),
-                vehicle: None,
-                fixed: Some(sc),
-                overrides: overrides.clone(),
-                commands,
-                file_seed: spec.simulation.seed,
-            });
+            return Ok(fixed(sc, doc, None, commands));
         }
         if spec.randomize.is_empty() {
             let vehicle = match given {
@@ -82,16 +84,7 @@ impl ScenarioTemplate {
                 None => scenario_vehicle(path, &spec)?,
             };
             let sc = compile_file(path, &spec, vehicle.clone(), overrides, commands.as_ref())?;
-            return Ok(ScenarioTemplate {
-                path: path.to_path_buf(),
-                doc,
-                randomizer: Randomizer::default(),
-                vehicle: Some(vehicle),
-                fixed: Some(sc),
-                overrides: overrides.clone(),
-                commands,
-                file_seed: spec.simulation.seed,
-            });
+            return Ok(fixed(sc, doc, Some(vehicle), commands));
         }
         doc.remove("randomize");
         let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
