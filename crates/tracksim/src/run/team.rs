@@ -135,9 +135,11 @@ impl TeamRunner {
         }
         let t0 = Instant::now();
         let t = self.sim.time();
-        for (k, r) in self.robots.iter_mut().enumerate() {
+        // In the world's build order, not the file's (`Simulation::build_order`).
+        for i in 0..self.robots.len() {
+            let k = self.sim.build_order()[i];
             self.sim.select(k);
-            for c in r.timeline.due(t) {
+            for c in self.robots[k].timeline.due(t) {
                 self.sim.apply(&c);
             }
         }

@@ -70,8 +70,8 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     if sc.solver.contact_slop > 0.0 {
         tag_slop(&mut world);
     }
-    for (k, r) in robots.iter().enumerate() {
-        RobotCollision::apply(&mut world, k, &r.bodies());
+    for &k in &order {
+        RobotCollision::apply(&mut world, k, &robots[k].bodies());
     }
     let conveyors = super::conveyor::build_conveyors(&mut world, &sc, origin)?;
     let mut sim = Simulation {
@@ -84,6 +84,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         ground_tile,
         robots,
         focus: 0,
+        order: order.clone(),
         dt: sc.solver.dt,
         time: 0.0,
         steps: 0,

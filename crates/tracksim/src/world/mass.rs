@@ -151,7 +151,7 @@ impl Simulation {
 
     /// Simulated and file masses of every part and in all, kg.
     pub fn mass_report(&self) -> MassReport {
-        let v = &self.scenario.vehicle;
+        let v = &self.rb().view.vehicle;
         let mass = |h: RigidBodyHandle| self.world.bodies[h].mass() as f64;
         let mut parts = vec![PartMass {
             part: "body".into(),

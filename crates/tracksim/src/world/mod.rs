@@ -105,6 +105,10 @@ pub struct Simulation {
     robots: Vec<Robot>,
     /// The robot the per-robot queries and controls act on.
     focus: usize,
+    /// The robots' indices in the order they were built (by start pose): the order every
+    /// stage that changes the world visits them, so that Rapier's internal order (its modified
+    /// bodies and joints, hence its solver's) never follows the file's order.
+    order: Vec<usize>,
     dt: f64,
     time: f64,
     steps: u64,

@@ -122,6 +122,14 @@ impl Simulation {
         self.focus = k;
     }
 
+    /// The robots' indices in the order they were built (by start pose, whatever the file's
+    /// order): a caller that sets several robots' controls at once sets them in this order, so
+    /// that Rapier's internal order (its modified joints, hence its solver's) does not follow
+    /// the file's.
+    pub fn build_order(&self) -> &[usize] {
+        &self.order
+    }
+
     /// The selected robot's index.
     pub fn selected(&self) -> usize {
         self.focus

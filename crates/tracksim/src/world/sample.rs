@@ -337,7 +337,8 @@ impl Simulation {
 
     /// [`Sample::drive`].
     fn drive(&self) -> Vec<Option<DriveSample>> {
-        self.scenario
+        self.rb()
+            .view
             .vehicle
             .tracks
             .iter()
@@ -382,12 +383,7 @@ impl Simulation {
     /// The slip ratio of every track ([`Sample::slip`], [`slip_ratio`]) into `out` (one per
     /// track, in track order), without allocating.
     pub fn slip_into(&self, out: &mut [f64]) {
-        let tracks = self
-            .scenario
-            .vehicle
-            .tracks
-            .iter()
-            .zip(&self.robots[self.focus].tracks);
+        let tracks = self.rb().view.vehicle.tracks.iter().zip(&self.rb().tracks);
         for (o, (m, t)) in out.iter_mut().zip(tracks) {
             let parent = match m.parent {
                 Parent::Body => self.robots[self.focus].body,

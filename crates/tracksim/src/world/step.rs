@@ -19,7 +19,8 @@ impl Simulation {
         self.recentre_ground_tile();
         let mut held_all = true;
         let mut held_on_motors = false;
-        for k in 0..self.robots.len() {
+        for i in 0..self.order.len() {
+            let k = self.order[i];
             self.focus = k;
             self.apply_drawbar();
             let held = self.braked_at_rest();
@@ -60,8 +61,8 @@ impl Simulation {
         self.focus = focus;
         self.soil_after_step();
         let dt = self.dt;
-        for r in &mut self.robots {
-            for t in &mut r.tracks {
+        for &k in &self.order {
+            for t in &mut self.robots[k].tracks {
                 t.after_step(&mut self.world, dt);
             }
         }

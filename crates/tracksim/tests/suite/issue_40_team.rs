@@ -376,3 +376,81 @@ fn a_team_run_folder_is_written_per_robot_and_viewed_whole() {
     assert!((last[2] - 2.0).abs() < 1e-3, "{last:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The nearest range within 5 deg of straight ahead of the selected robot's lidar `scan` after
+/// 0.2 s (m; +inf when nothing is in range), and the nearest over every ray.
+fn lidar_ahead(sc: &Scenario) -> (f64, f64) {
+    let mut sim = Simulation::new(sc).unwrap();
+    sim.select(0);
+    let mut set = tracksim::sensors::SensorSet::new(&sim, false);
+    for _ in 0..200 {
+        sim.step().unwrap();
+        set.update(&sim);
+    }
+    let i = (0..set.len())
+        .find(|&i| set.sensor(i).model().name == "scan")
+        .expect("a lidar called scan");
+    let s = set.sensor(i);
+    let azimuth = s
+        .axes()
+        .into_iter()
+        .find(|c| c.name == "azimuth")
+        .unwrap()
+        .data;
+    let range = &s
+        .channels()
+        .iter()
+        .find(|c| c.name == "range")
+        .unwrap()
+        .data;
+    let n = azimuth.len();
+    let ahead = range
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| azimuth[k % n].abs() < 5f64.to_radians())
+        .map(|(_, r)| *r)
+        .fold(f64::INFINITY, f64::min);
+    let nearest = range
+        .iter()
+        .copied()
+        .filter(|r| r.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    (ahead, nearest)
+}
+
+#[test]
+fn a_robots_lidar_sees_the_other_robots_and_never_itself() {
+    let seer = |x: f64| {
+        format!(
+            "[[vehicles]]\nname = \"seer\"\n[vehicles.vehicle]\nfile = \"{}\"\nx_m = {x}\n",
+            root().join("vehicles/packbot510_sensors.toml").display()
+        )
+    };
+    // A 0.1 m platform under the target lifts it into the lidar's plane (0.19 m up, above a
+    // PackBot on the ground); the platform's top stays below the plane.
+    let platform = "[[terrain.boxes]]\ncentre_m = [2.0, 0.0, 0.05]\nsize_m = [1.2, 1.0, 0.1]\n";
+    let alone = load("seer_alone", &flat_with(platform, 0.3, &[seer(0.0)])).unwrap();
+    let with = load(
+        "seer_with",
+        &flat_with(
+            platform,
+            0.3,
+            &[
+                seer(0.0),
+                robot("target", 2.0, 0.0, 0.0, "belt_speed_mps = 0.0"),
+            ],
+        ),
+    )
+    .unwrap();
+    let (a, near_a) = lidar_ahead(&alone);
+    let (b, near_b) = lidar_ahead(&with);
+    println!(
+        "ahead alone {a} m (nearest {near_a}), with a robot 2 m ahead {b} m (nearest {near_b})"
+    );
+    // Alone: nothing ahead within 10 m. With the other PackBot's rear pulley 2 - 0.345 m ahead
+    // of the chassis origin and the lidar 0.15 m forward: about 1.5 m.
+    assert!(a.is_infinite(), "{a}");
+    assert!((b - 1.5).abs() < 0.1, "{b}");
+    // Never its own body: the nearest return alone is beyond the robot (0.5 m from the lidar).
+    assert!(near_a > 0.5, "{near_a}");
+}
