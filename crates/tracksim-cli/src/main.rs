@@ -84,7 +84,7 @@ fn main() -> ExitCode {
         Err(Failure::Sim(e)) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {
-                Error::Unstable { .. } => 3,
+                Error::Unstable { .. } | Error::Limit { .. } => 3,
                 _ => 2,
             })
         }

@@ -42,9 +42,9 @@ impl<T> Shared<T> {
 
 pub(crate) fn py_err(e: tracksim::Error) -> PyErr {
     match e {
-        tracksim::Error::Unstable { .. } | tracksim::Error::Build(_) => {
-            UnstableError::new_err(e.to_string())
-        }
+        tracksim::Error::Unstable { .. }
+        | tracksim::Error::Limit { .. }
+        | tracksim::Error::Build(_) => UnstableError::new_err(e.to_string()),
         tracksim::Error::Settings { .. } => PyValueError::new_err(e.to_string()),
         _ => ScenarioError::new_err(e.to_string()),
     }

@@ -71,6 +71,8 @@ pub fn run_compare(
             ..Overrides::default()
         },
     )?;
+    // A world with several robots runs with `tracksim run` (refused before anything is written).
+    crate::run::one_robot(&base)?;
     std::fs::create_dir_all(out).map_err(|source| Error::Io {
         path: out.to_path_buf(),
         source,

@@ -98,6 +98,15 @@ pub enum Error {
     /// The vehicle cannot be built with the chosen track method.
     #[error("cannot build the vehicle: {0}")]
     Build(String),
+    /// A run went past what one world holds exactly (robots spread further apart than
+    /// `model::MAX_ROBOT_SPREAD_M`): the run stops.
+    #[error("run stopped at t = {time_s:.3} s: {what}")]
+    Limit {
+        /// Simulated time when detected, s.
+        time_s: f64,
+        /// What was seen and what to do.
+        what: String,
+    },
     /// The simulation became unstable (non-finite state or a body flying off).
     #[error(
         "simulation unstable at t = {time_s:.4} s: {body} {what}; try a smaller dt, more solver iterations, or check masses and friction"

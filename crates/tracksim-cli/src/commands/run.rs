@@ -149,11 +149,11 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
 /// `tracksim run` of a file with several robots (`[[vehicles]]`).
 fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Result<(), Failure> {
     if a.trainee.is_some() {
-        return Err(Failure::Sim(tracksim::Error::Build(
-            "--trainee names the operator of one robot; this file has several ([[vehicles]]): \
-             leave it out"
+        return Err(super::bad_arg(
+            "--trainee",
+            "names the operator of one robot; this file has several ([[vehicles]]): leave it out"
                 .into(),
-        )));
+        ));
     }
     on_stop(|| {});
     let opts = RunOptions {

@@ -610,6 +610,10 @@ fn outcome(c: &mut Checker, o: &OutcomeSpec) -> OutcomeModel {
     if let Some(z) = o.success_z_m {
         c.finite("outcome.success_z_m", &[z]);
     }
+    // Meaningful with several robots only, but a wrong name is refused in any file.
+    if let Err(issue) = super::TeamRule::parse(o.team.as_deref()) {
+        c.issues.push(issue);
+    }
     if !(o.max_tilt_deg.is_finite() && o.max_tilt_deg > 0.0 && o.max_tilt_deg <= 180.0) {
         c.push(
             "outcome.max_tilt_deg",

@@ -39,20 +39,10 @@ pub(crate) fn compile_team(
     let mut c = Checker::default();
     let expect = super::expect::compile_expect(&mut c, &team_expect(&spec.expect));
     issues.extend(c.issues);
-    let rule = match spec.outcome.team.as_deref() {
-        None => TeamRule::All,
-        Some(s) => TeamRule::from_name(s).unwrap_or_else(|| {
-            issues.push(SpecIssue::new(
-                "outcome.team",
-                format!(
-                    "unknown team rule `{}`: give \"all\" (every robot succeeds, none fails) or \
-                     \"first\" (a race)",
-                    crate::check::echoed(s)
-                ),
-            ));
-            TeamRule::All
-        }),
-    };
+    let rule = TeamRule::parse(spec.outcome.team.as_deref()).unwrap_or_else(|issue| {
+        issues.push(issue);
+        TeamRule::All
+    });
     let mut seen = Vec::new();
     issues.retain(|i| {
         let new = !seen.contains(i);
@@ -64,6 +54,7 @@ pub(crate) fn compile_team(
             sc.team = Some(Box::new(Team {
                 robots: robots.into_iter().map(|(_, r)| r).collect(),
                 rule,
+                stop: spec.outcome.stop,
                 expect,
             }));
             Ok(sc)
@@ -86,7 +77,14 @@ fn compile_robot(
         vehicle: r.vehicle.clone(),
         vehicles: Vec::new(),
         commands: r.commands.clone(),
-        outcome: r.outcome.clone().unwrap_or_else(|| spec.outcome.clone()),
+        // The file's rule is the world's (checked once, by `compile_team`), not the robot's.
+        outcome: r
+            .outcome
+            .clone()
+            .unwrap_or_else(|| crate::spec::OutcomeSpec {
+                team: None,
+                ..spec.outcome.clone()
+            }),
         drawbar: r.drawbar.clone(),
         expect: r.expect.clone(),
         ..spec.clone()

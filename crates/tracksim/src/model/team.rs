@@ -44,6 +44,23 @@ impl TeamRule {
         }
     }
 
+    /// The rule `outcome.team` names (absent: [`TeamRule::All`]), or the problem with it.
+    pub(crate) fn parse(team: Option<&str>) -> Result<Self, crate::error::SpecIssue> {
+        match team {
+            None => Ok(TeamRule::All),
+            Some(s) => Self::from_name(s).ok_or_else(|| {
+                crate::error::SpecIssue::new(
+                    "outcome.team",
+                    format!(
+                        "unknown team rule `{}`: give \"all\" (every robot succeeds, none fails) \
+                         or \"first\" (a race)",
+                        crate::check::echoed(s)
+                    ),
+                )
+            }),
+        }
+    }
+
     /// The rule's name in files.
     pub fn name(self) -> &'static str {
         match self {
@@ -86,6 +103,8 @@ pub struct Team {
     pub robots: Vec<RobotModel>,
     /// How the world's outcome is decided.
     pub rule: TeamRule,
+    /// Stop the run once the world's outcome is decided (the file's `outcome.stop`).
+    pub stop: bool,
     /// What the world's run must show (`[expect]`: its outcome and outcome time).
     pub expect: Expectation,
 }

@@ -44,7 +44,7 @@ pub use course::{
 pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
 pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
-pub use runner::{End, Runner};
+pub use runner::{End, Runner, one_robot};
 pub use scripted::Scripted;
 pub use session::{ControlSource, SessionLimits, SessionRun, run_session, time_reached};
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};

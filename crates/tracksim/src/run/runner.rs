@@ -20,6 +20,26 @@ use crate::world::{Sample, Simulation};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// Refuses a scenario with several robots (`[[vehicles]]`) in a front end that runs one: what
+/// `Runner` (and so the env, drive, ros, compare, ensembles and sweeps) says of it.
+pub fn one_robot(sc: &Scenario) -> Result<()> {
+    if sc.robot_count() > 1 {
+        return Err(crate::error::Error::Settings {
+            what: "the scenario's robots".into(),
+            issues: vec![crate::error::SpecIssue::new(
+                "vehicles",
+                format!(
+                    "this front end runs one robot; the scenario has {} ({}): run it with \
+                     `tracksim run` (each robot's outputs in its own folder, docs/TEAMS.md)",
+                    sc.robot_count(),
+                    sc.robot_names().join(", ")
+                ),
+            )],
+        });
+    }
+    Ok(())
+}
+
 /// How a run ended, as the caller of [`Runner::finish`] says.
 #[derive(Clone, Debug, PartialEq)]
 pub enum End {
@@ -71,14 +91,7 @@ impl Runner {
 
     /// [`Runner::new`] of a shared scenario (not copied).
     pub fn from_shared(sc: Arc<Scenario>) -> Result<Self> {
-        if sc.robot_count() > 1 {
-            return Err(crate::error::Error::Build(format!(
-                "this front end runs one robot; the scenario has {} ([[vehicles]]: {}): run it \
-                 with `tracksim run` (each robot's outputs in its own folder)",
-                sc.robot_count(),
-                sc.robot_names().join(", ")
-            )));
-        }
+        one_robot(&sc)?;
         let sim = Scripted::from_shared(sc.clone())?;
         let dt = sc.solver.dt;
         let every = ((sc.output_interval / dt).round() as u64).max(1);

@@ -28,10 +28,11 @@ struct RobotRun {
 
 /// A run of a world with several robots.
 pub struct TeamRunner {
-    sc: Arc<Scenario>,
     sim: Simulation,
     robots: Vec<RobotRun>,
     rule: TeamRule,
+    /// Stop once the world's outcome is decided (the file's `outcome.stop`).
+    stop: bool,
     every: u64,
     end_step: u64,
     decided: Option<(Outcome, f64)>,
@@ -85,6 +86,7 @@ impl TeamRunner {
             every: ((sc.output_interval / dt).round() as u64).max(1),
             end_step: (sc.duration / dt).round().max(1.0) as u64,
             rule: team.rule,
+            stop: team.stop,
             sim,
             robots,
             decided: None,
@@ -92,7 +94,6 @@ impl TeamRunner {
             wall: Instant::now(),
             started: std::time::SystemTime::now(),
             pace: None,
-            sc,
         })
     }
 
@@ -120,7 +121,7 @@ impl TeamRunner {
     /// Whether the run has reached its end: its duration, or the world's decided outcome when
     /// the file's `outcome.stop` says to stop there.
     pub fn finished(&self) -> bool {
-        self.sim.steps() >= self.end_step || (self.sc.outcome.stop && self.decided.is_some())
+        self.sim.steps() >= self.end_step || (self.stop && self.decided.is_some())
     }
 
     /// Advances one step: every robot's commands that have fallen due, the world's step, every

@@ -109,14 +109,16 @@ impl Simulation {
         if spread <= crate::model::MAX_ROBOT_SPREAD_M {
             return Ok(());
         }
-        Err(Error::Build(format!(
-            "at t = {:.3} s the robots ({}) are {spread:.2} m apart in x or y, more than the \
-             {} m one world holds exactly (Rapier's f32 around one floating origin); the run \
-             stops: keep the robots closer, or run them in separate scenarios",
-            self.time,
-            self.robot_names().join(", "),
-            crate::model::MAX_ROBOT_SPREAD_M
-        )))
+        Err(Error::Limit {
+            time_s: self.time,
+            what: format!(
+                "the robots ({}) are {spread:.2} m apart in x or y, more than the {} m one world \
+                 holds exactly (Rapier's f32 around one floating origin): keep the robots \
+                 closer, or run them in separate scenarios",
+                self.robot_names().join(", "),
+                crate::model::MAX_ROBOT_SPREAD_M
+            ),
+        })
     }
 
     /// Stops a run that blew up: NaN, a body of robot `k` flung off, or one that left the

@@ -67,6 +67,13 @@ fn bad_team_files_are_refused_with_every_problem_named() {
     ] {
         assert!(e.contains(want), "missing {want:?} in:\n{e}");
     }
+    // A wrong rule is refused in a one-robot file too (where it has no effect).
+    let one = format!(
+        "[vehicle]\nfile = \"{}\"\n[outcome]\nteam = \"most\"\n",
+        root().join("vehicles/packbot510.toml").display()
+    );
+    let e = load("one_bad_rule", &one).unwrap_err().to_string();
+    assert!(e.contains("outcome.team: unknown team rule `most`"), "{e}");
     // More robots than a world holds.
     let many: Vec<String> = (0..17)
         .map(|i| {
@@ -320,9 +327,12 @@ fn robots_spreading_beyond_one_world_stop_the_run_with_a_message() {
     .unwrap();
     let e = tracksim::run::run_team(&sc, Default::default())
         .map(|r| r.outcome)
-        .expect_err("stopped")
-        .to_string();
+        .expect_err("stopped");
+    assert!(matches!(e, tracksim::Error::Limit { .. }), "{e}");
+    let e = e.to_string();
     assert!(e.contains("more than the 10 m one world holds"), "{e}");
+    // At 2 x 0.5 m/s from 9 m apart the limit is reached near t = 1 s (after the start-up).
+    assert!(e.contains("run stopped at t = 1."), "{e}");
 }
 
 #[test]
