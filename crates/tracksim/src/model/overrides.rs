@@ -44,10 +44,23 @@ pub struct StartOffset {
     pub yaw_deg: f64,
 }
 
-/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`).
+/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`);
+/// or, for a file with several robots, `[[vehicles]]` each with a `name` and its
+/// `[[vehicles.commands]]` (a session of several robots).
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CommandsFile {
+    #[serde(default)]
+    commands: Vec<CommandSpec>,
+    #[serde(default)]
+    vehicles: Vec<RobotCommands>,
+}
+
+/// One robot's commands in a commands file.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotCommands {
+    name: String,
     #[serde(default)]
     commands: Vec<CommandSpec>,
 }
@@ -57,15 +70,78 @@ struct CommandsFile {
 pub(crate) struct OverrideCommands {
     path: PathBuf,
     specs: Vec<CommandSpec>,
+    robots: Vec<RobotCommands>,
 }
 
 impl OverrideCommands {
     /// The commands compiled for `vehicle`; problems name the commands file.
     pub(crate) fn compile(&self, vehicle: &VehicleModel) -> Result<Vec<super::Command>> {
-        compile_commands(&self.specs, vehicle).map_err(|issues| Error::Invalid {
+        if !self.robots.is_empty() {
+            return Err(self.invalid(vec![SpecIssue::new(
+                "vehicles",
+                "this commands file drives several robots ([[vehicles]]); the scenario has one: \
+                 give its controls as top-level [[commands]]",
+            )]));
+        }
+        compile_commands(&self.specs, vehicle).map_err(|issues| self.invalid(issues))
+    }
+
+    /// Problems of the commands file, naming it.
+    fn invalid(&self, issues: Vec<SpecIssue>) -> Error {
+        Error::Invalid {
             path: self.path.clone(),
             issues,
-        })
+        }
+    }
+
+    /// Each robot's commands, replacing its own, for a file whose robots are `names` (in file
+    /// order): every robot must be listed once under its name, and no other. A file of one
+    /// robot's `[[commands]]` is refused.
+    pub(crate) fn per_robot(&self, names: &[&str]) -> Result<Vec<Vec<CommandSpec>>> {
+        let mut issues = Vec::new();
+        if self.robots.is_empty() {
+            issues.push(SpecIssue::new(
+                "commands",
+                "this commands file drives one robot; a scenario with [[vehicles]] is replayed \
+                 from a file with [[vehicles]] (name, [[vehicles.commands]]) for each robot, as \
+                 `tracksim drive` writes it",
+            ));
+        }
+        for (i, r) in self.robots.iter().enumerate() {
+            if !names.contains(&r.name.as_str()) {
+                issues.push(SpecIssue::new(
+                    format!("vehicles[{i}].name"),
+                    format!(
+                        "no robot `{}` in the scenario (its robots: {})",
+                        r.name,
+                        names.join(", ")
+                    ),
+                ));
+            } else if self.robots[..i].iter().any(|o| o.name == r.name) {
+                issues.push(SpecIssue::new(
+                    format!("vehicles[{i}].name"),
+                    format!("robot `{}` is listed twice", r.name),
+                ));
+            }
+        }
+        let mut out = Vec::new();
+        for n in names {
+            match self.robots.iter().find(|r| r.name == *n) {
+                Some(r) => out.push(r.commands.clone()),
+                None if !self.robots.is_empty() => {
+                    issues.push(SpecIssue::new(
+                        "vehicles",
+                        format!("robot `{n}` is not listed: give every robot of the scenario its commands (an empty list for none)"),
+                    ));
+                }
+                None => {}
+            }
+        }
+        if issues.is_empty() {
+            Ok(out)
+        } else {
+            Err(self.invalid(issues))
+        }
     }
 }
 
@@ -190,9 +266,19 @@ impl Overrides {
             return Ok(None);
         };
         let f: CommandsFile = super::read::read_toml(path)?;
+        if !f.vehicles.is_empty() && !f.commands.is_empty() {
+            return Err(Error::Invalid {
+                path: path.clone(),
+                issues: vec![SpecIssue::new(
+                    "commands",
+                    "give either [[commands]] (one robot) or [[vehicles]] (several), not both",
+                )],
+            });
+        }
         Ok(Some(OverrideCommands {
             path: path.clone(),
             specs: f.commands,
+            robots: f.vehicles,
         }))
     }
 

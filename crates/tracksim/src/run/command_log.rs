@@ -83,19 +83,7 @@ impl CommandLog {
             commands: &self.commands,
         })
         .expect("commands serialise");
-        let mut text = format!(
-            "# {}, applied at these simulated times.\n\
-             # This run reproduces its trajectory.csv:\n\
-             #   tracksim run {} --commands {} --duration {duration_s}\n",
-            header.what,
-            scenario_file.display(),
-            commands_file.display(),
-        );
-        for n in header.notes {
-            text.push_str(&format!("# {n}\n"));
-        }
-        text.push_str(&body);
-        text
+        header.text(scenario_file, commands_file, duration_s, "trajectory.csv") + &body
     }
 
     /// Writes `commands.toml` into `dir` (see [`CommandLog::to_toml`]); returns its path.
@@ -111,6 +99,83 @@ impl CommandLog {
         crate::files::write_atomic(&p, text.as_bytes())?;
         Ok(p)
     }
+}
+
+impl LogHeader<'_> {
+    /// The comment lines opening a `commands.toml`: what the controls were, the command that
+    /// reproduces `what_replays` of the run of `scenario_file` for `duration_s` s, the notes.
+    fn text(
+        &self,
+        scenario_file: &Path,
+        commands_file: &Path,
+        duration_s: f64,
+        what_replays: &str,
+    ) -> String {
+        let mut text = format!(
+            "# {}, applied at these simulated times.\n\
+             # This run reproduces its {what_replays}:\n\
+             #   tracksim run {} --commands {} --duration {duration_s}\n",
+            self.what,
+            scenario_file.display(),
+            commands_file.display(),
+        );
+        for n in self.notes {
+            text.push_str(&format!("# {n}\n"));
+        }
+        text
+    }
+}
+
+/// The `commands.toml` of a session of several robots (to be written at `commands_file`): the
+/// header, then each robot's entries under its name as `[[vehicles]]` with
+/// `[[vehicles.commands]]` (every robot listed, in `logs`' order), which `tracksim run
+/// --commands` reads in place of the robots' own commands.
+pub fn team_toml(
+    logs: &[(&str, &CommandLog)],
+    header: LogHeader,
+    scenario_file: &Path,
+    commands_file: &Path,
+    duration_s: f64,
+) -> String {
+    #[derive(serde::Serialize)]
+    struct Robot<'a> {
+        name: &'a str,
+        commands: &'a [CommandSpec],
+    }
+    #[derive(serde::Serialize)]
+    struct File<'a> {
+        vehicles: Vec<Robot<'a>>,
+    }
+    let file = File {
+        vehicles: logs
+            .iter()
+            .map(|(name, log)| Robot {
+                name,
+                commands: log.commands(),
+            })
+            .collect(),
+    };
+    let body = toml::to_string(&file).expect("commands serialise");
+    header.text(
+        scenario_file,
+        commands_file,
+        duration_s,
+        "robots' trajectory.csv",
+    ) + &body
+}
+
+/// Writes [`team_toml`] as `commands.toml` into `dir`; returns its path.
+pub fn write_team_log(
+    logs: &[(&str, &CommandLog)],
+    header: LogHeader,
+    scenario_file: &Path,
+    dir: &Path,
+    duration_s: f64,
+) -> Result<PathBuf> {
+    let p = dir.join("commands.toml");
+    let text = team_toml(logs, header, scenario_file, &p, duration_s);
+    crate::files::write_atomic(&p, text.as_bytes())?;
+    Ok(p)
 }
 
 /// Whether two entries give the same controls (their times aside).

@@ -15,7 +15,9 @@
 
 use super::command_log::CommandLog;
 use super::runner::{End, Runner};
+use super::team::TeamRunner;
 use crate::error::{Error, Result};
+use crate::model::Command;
 use crate::spec::CommandSpec;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -74,6 +76,118 @@ pub fn time_reached(t: f64, limit: f64, dt: f64) -> bool {
     t >= limit - 0.5 * dt
 }
 
+/// A world a session drives: one robot's [`Runner`], or several robots' [`TeamRunner`].
+pub trait SessionWorld {
+    /// Simulated time, s.
+    fn time(&self) -> f64;
+    /// The physics step, s.
+    fn dt(&self) -> f64;
+    /// Robots driven (1 for a [`Runner`]).
+    fn robot_count(&self) -> usize;
+    /// One physics step.
+    fn step(&mut self) -> Result<()>;
+    /// Whether the last step reached an output interval (true before the first).
+    fn at_sample(&self) -> bool;
+    /// Starts again from the scenario.
+    fn restart(&mut self) -> Result<()>;
+    /// Applies command entry `c` to robot `k` as a file's `[[commands]]` entry is applied.
+    fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()>;
+}
+
+impl SessionWorld for Runner {
+    fn time(&self) -> f64 {
+        Runner::time(self)
+    }
+    fn dt(&self) -> f64 {
+        self.sim().dt()
+    }
+    fn robot_count(&self) -> usize {
+        1
+    }
+    fn step(&mut self) -> Result<()> {
+        Runner::step(self)
+    }
+    fn at_sample(&self) -> bool {
+        Runner::at_sample(self)
+    }
+    fn restart(&mut self) -> Result<()> {
+        self.reset(None)
+    }
+    fn apply_command(&mut self, _k: usize, c: &CommandSpec) -> Result<()> {
+        apply(self, c)
+    }
+}
+
+impl SessionWorld for TeamRunner {
+    fn time(&self) -> f64 {
+        self.sim().time()
+    }
+    fn dt(&self) -> f64 {
+        self.sim().dt()
+    }
+    fn robot_count(&self) -> usize {
+        self.sim().robot_count()
+    }
+    fn step(&mut self) -> Result<()> {
+        TeamRunner::step(self)
+    }
+    fn at_sample(&self) -> bool {
+        TeamRunner::at_sample(self)
+    }
+    fn restart(&mut self) -> Result<()> {
+        self.reset()
+    }
+    fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()> {
+        let compiled = compile(c, &self.robot_scenario(k).vehicle)?;
+        for cmd in compiled {
+            self.apply(k, &cmd.controls);
+        }
+        Ok(())
+    }
+}
+
+/// Where the controls of a session of world `W` come from, robot by robot: a
+/// [`ControlSource`] for several robots. The hooks after a step and a sample take the world
+/// mutably only to read a robot of a team ([`TeamRunner::view`] selects it).
+pub trait WorldSource<W> {
+    /// As [`ControlSource::end`].
+    fn end(&mut self, _world: &W) -> Option<End> {
+        None
+    }
+    /// As [`ControlSource::reset`] (every robot starts again).
+    fn reset(&mut self) -> bool {
+        false
+    }
+    /// Robot `k`'s controls from now on, if they changed (asked for every robot, in the
+    /// world's build order, at every sample boundary).
+    fn controls(&mut self, world: &W, k: usize) -> Option<CommandSpec>;
+    /// After every step.
+    fn after_step(&mut self, _world: &mut W) {}
+    /// After the step that reached a sample.
+    fn after_sample(&mut self, _world: &mut W) {}
+}
+
+/// A one-robot [`ControlSource`] as a [`WorldSource`] of a [`Runner`].
+struct OneRobot<'a>(&'a mut dyn ControlSource);
+
+impl WorldSource<Runner> for OneRobot<'_> {
+    fn end(&mut self, w: &Runner) -> Option<End> {
+        self.0.end(w)
+    }
+    fn reset(&mut self) -> bool {
+        self.0.reset()
+    }
+    fn controls(&mut self, w: &Runner, _k: usize) -> Option<CommandSpec> {
+        self.0.controls(w)
+    }
+    fn after_step(&mut self, w: &mut Runner) {
+        self.0.after_step(w)
+    }
+    fn after_sample(&mut self, w: &mut Runner) {
+        self.0.after_sample(w)
+    }
+}
+
 /// A finished session loop: the runner (to finish or publish from), how it ended and the
 /// controls it took.
 pub struct SessionRun {
@@ -85,55 +199,94 @@ pub struct SessionRun {
     pub log: CommandLog,
 }
 
+/// A finished session of a world of several robots: the world, how it ended, and each
+/// robot's controls (by robot index).
+pub struct WorldSessionRun<W> {
+    /// The world as the session left it.
+    pub world: W,
+    /// How the session ended.
+    pub end: End,
+    /// Each robot's controls, as `[[commands]]` entries.
+    pub logs: Vec<CommandLog>,
+}
+
 /// Runs `runner` (built without the file's commands, unbounded, paced if wanted) with
 /// controls from `source` until an end (see the module docs).
 pub fn run_session(
-    mut runner: Runner,
+    runner: Runner,
     source: &mut dyn ControlSource,
     limits: SessionLimits,
 ) -> Result<SessionRun> {
-    let mut log = CommandLog::new();
-    let dt = runner.sim().dt();
+    let run = run_world_session(runner, &mut OneRobot(source), limits, &[0])?;
+    let WorldSessionRun {
+        world,
+        end,
+        mut logs,
+    } = run;
+    Ok(SessionRun {
+        runner: world,
+        end,
+        log: logs.remove(0),
+    })
+}
+
+/// The session loop of any [`SessionWorld`] (see the module docs): robot by robot in `order`
+/// (the world's build order, so that the physics never sees the robots' file order), each
+/// robot's controls applied and logged.
+pub fn run_world_session<W: SessionWorld>(
+    mut world: W,
+    source: &mut dyn WorldSource<W>,
+    limits: SessionLimits,
+    order: &[usize],
+) -> Result<WorldSessionRun<W>> {
+    let mut logs = vec![CommandLog::new(); world.robot_count()];
+    let dt = world.dt();
     let end = loop {
         if limits.interrupted() {
             break End::Interrupted;
         }
-        if let Some(end) = source.end(&runner) {
+        if let Some(end) = source.end(&world) {
             break end;
         }
-        if limits.reached(runner.time(), dt) {
+        if limits.reached(world.time(), dt) {
             break End::Reached;
         }
         if source.reset() {
-            runner.reset(None)?;
-            log.clear();
+            world.restart()?;
+            logs.iter_mut().for_each(CommandLog::clear);
         }
-        if let Some(c) = source.controls(&runner) {
-            apply(&mut runner, &c)?;
-            log.push(c);
+        for &k in order {
+            if let Some(c) = source.controls(&world, k) {
+                world.apply_command(k, &c)?;
+                logs[k].push(c);
+            }
         }
         loop {
-            runner.step()?;
-            source.after_step(&runner);
-            if runner.at_sample() {
+            world.step()?;
+            source.after_step(&mut world);
+            if world.at_sample() {
                 break;
             }
         }
-        source.after_sample(&runner);
+        source.after_sample(&mut world);
     };
-    Ok(SessionRun { runner, end, log })
+    Ok(WorldSessionRun { world, end, logs })
 }
 
 /// Applies command entry `c` to `runner` as a file's `[[commands]]` entry is applied.
 pub fn apply(runner: &mut Runner, c: &CommandSpec) -> Result<()> {
-    let compiled =
-        crate::model::compile_commands(std::slice::from_ref(c), &runner.scenario().vehicle)
-            .map_err(|issues| Error::Settings {
-                what: format!("session control at t = {} s", c.t_s),
-                issues,
-            })?;
-    for cmd in compiled {
+    for cmd in compile(c, &runner.scenario().vehicle)? {
         runner.apply(&cmd.controls);
     }
     Ok(())
+}
+
+/// Command entry `c` compiled for `vehicle` as a file's entry is.
+fn compile(c: &CommandSpec, vehicle: &crate::model::VehicleModel) -> Result<Vec<Command>> {
+    crate::model::compile_commands(std::slice::from_ref(c), vehicle).map_err(|issues| {
+        Error::Settings {
+            what: format!("session control at t = {} s", c.t_s),
+            issues,
+        }
+    })
 }
