@@ -836,6 +836,7 @@ function liveFrame() {
     tilt_limit_deg: isNum(s.tilt_limit_deg) ? s.tilt_limit_deg : sceneTiltLimit,
     ahead: s.ahead && Array.isArray(s.ahead.d_m) ? s.ahead : profileAhead(x, y, z, yaw),
     outcome: s.outcome, course: s.course ?? null, driver: s.driver ?? null,
+    standings: s.team?.standings ?? null,
   };
   warn.update(vs);
   if (mapOn) minimap.draw(vs.pose, path, [...others.values()].filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(s.course?.next_gate) ? s.course.next_gate : null);

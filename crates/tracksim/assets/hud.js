@@ -259,6 +259,11 @@ export function createHud(vehicle, els) {
         ...(num(pick('penalty_s')) ? [`penalty ${fmt(pick('penalty_s'), 1)} s`] : []),
         ...((pick('rep_times_s') ?? []).length ? [`laps    ${pick('rep_times_s').map((x) => fmt(x, 1)).join(' ')} s`] : []),
         ...(pick('finished') ? ['FINISHED'] : []),
+        // Several robots on the course (run/standings.rs): the race or the team, best first.
+        ...(Array.isArray(vs.standings?.robots) ? [
+          `${vs.standings.rule === 'first' ? 'race' : 'team'}    ${vs.standings.completed} / ${vs.standings.robots.length} in${vs.standings.winner ? `, won by ${vs.standings.winner}` : ''}`,
+          ...vs.standings.robots.map((x) => `  ${x.rank}. ${x.name} ${x.status === 'completed' ? `${fmt(x.score_s, 1)} s` : `rep ${x.repetitions} gate ${x.gates_passed}`}`),
+        ] : []),
       ];
       els.course.textContent = lines.join('\n');
       info.course = lines;

@@ -8,7 +8,8 @@
 //!
 //! Each robot's state ([`super::drive::robot_state`]) goes to the pages that drive or follow
 //! it, with `robot` (its name), `others` (every other robot's name, pose, flipper angles and
-//! belt positions, to draw them) and `team` (the world's rule and outcome). A driver's stop
+//! belt positions, to draw them) and `team` (the world's rule and outcome, and on a course the
+//! standings: [`crate::run::Standings`]). A driver's stop
 //! closes their seat (the robot stops); the session ends when every seat that was taken has
 //! closed, on Ctrl-C/SIGTERM, at `--duration`, or when every page has left past its grace.
 
@@ -117,6 +118,7 @@ impl Seats<'_> {
             "outcome": world.decided().map(|(o, t)| json!({
                 "name": o.name(), "reason": o.reason(), "t": t
             })),
+            "standings": world.standings(),
         });
         for (k, seat) in self.seats.iter_mut().enumerate() {
             let outcome = ended.map(|e| world.robot_outcome(k, e));

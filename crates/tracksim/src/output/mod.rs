@@ -31,7 +31,7 @@ pub use plot_files::{
 };
 pub use replay::{Scene, write_replay};
 pub use report::run_report;
-pub use team::{team_report, write_team};
+pub use team::{TeamSummary, team_report, write_team};
 
 use crate::error::{Error, Result};
 use crate::run::RunResult;

@@ -24,6 +24,9 @@ pub struct TeamSummary {
     pub outcome_time_s: f64,
     /// Each robot, in file order.
     pub robots: Vec<RobotLine>,
+    /// The race or team score on the course, best first (absent without `[course]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub standings: Option<crate::run::Standings>,
 }
 
 /// A robot's line in `team.json`.
@@ -71,6 +74,7 @@ impl TeamSummary {
                     }
                 })
                 .collect(),
+            standings: r.standings.clone(),
         }
     }
 }
@@ -131,6 +135,9 @@ pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> St
             p.z,
             p.yaw.to_degrees()
         ));
+    }
+    if let Some(st) = &r.standings {
+        l.extend(st.lines());
     }
     l.push(format!(
         "outcome    {}: {} (t = {:.3} s)",

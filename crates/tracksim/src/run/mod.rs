@@ -11,6 +11,7 @@
 //!   writer of `commands.toml`;
 //! - [`outcome`]: success and failure conditions;
 //! - [`course`]: a `[course]` scored at every sample ([`CourseTracker`], [`CourseScore`]);
+//! - [`standings`]: several robots' course scores ranked, a race's winner, a team's score;
 //! - [`expect`]: a run checked against its scenario's `[expect]` table;
 //! - [`events`]: stalls, the largest tilt and the outcome, for a review (and the stall live);
 //! - [`summary`]: the numbers of `summary.json`;
@@ -32,6 +33,7 @@ pub mod runner;
 pub mod scripted;
 pub mod session;
 pub mod soil_summary;
+pub mod standings;
 pub mod summary;
 pub mod team;
 pub mod timeline;
@@ -53,6 +55,7 @@ pub use session::{
     run_session, run_world_session, time_reached,
 };
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
+pub use standings::{Standing, Standings};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
 pub use team::{TeamResult, TeamRunner, run_team};
 pub use timeline::Timeline;

@@ -60,6 +60,8 @@ pub struct TeamResult {
     pub outcome_time: f64,
     /// The rule that decided it.
     pub rule: TeamRule,
+    /// The robots' race or team score on the scenario's course (`None` without `[course]`).
+    pub standings: Option<super::Standings>,
 }
 
 impl TeamRunner {
@@ -143,6 +145,17 @@ impl TeamRunner {
     /// Robot `k`'s outcome if the run ended now with `end`, and its time, s.
     pub fn robot_outcome(&self, k: usize, end: &End) -> (Outcome, f64) {
         robot_outcome(&self.robots[k], end, self.sim.time())
+    }
+
+    /// The robots' race or team score on the course so far (`None` without `[course]`).
+    pub fn standings(&self) -> Option<super::Standings> {
+        let names = self.names();
+        let scores: Vec<_> = names
+            .into_iter()
+            .zip(&self.robots)
+            .map(|(n, r)| (n, r.course.as_ref().map(CourseTracker::score)))
+            .collect();
+        super::Standings::of(self.rule, &scores)
     }
 
     /// Whether the last step reached an output interval (true before the first step).
@@ -286,9 +299,12 @@ impl TeamRunner {
         let names = self.names();
         let mut finals = Vec::new();
         let mut robots = Vec::new();
-        for (k, r) in std::mem::take(&mut self.robots).into_iter().enumerate() {
+        for (k, mut r) in std::mem::take(&mut self.robots).into_iter().enumerate() {
             self.sim.select(k);
             let (outcome, when) = robot_outcome(&r, &end, t);
+            if let Some(c) = &mut r.course {
+                c.close();
+            }
             let mut samples = r.samples;
             if samples.last().is_some_and(|s| s.t < t) {
                 samples.push(self.sim.sample());
@@ -323,7 +339,12 @@ impl TeamRunner {
                 t,
             ),
         };
+        let scores: Vec<_> = robots
+            .iter()
+            .map(|(n, r): &(String, RunResult)| (n.clone(), r.summary.course.clone()))
+            .collect();
         TeamResult {
+            standings: super::Standings::of(self.rule, &scores),
             robots,
             outcome,
             outcome_time,

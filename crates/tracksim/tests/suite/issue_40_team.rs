@@ -464,3 +464,33 @@ fn a_robots_lidar_sees_the_other_robots_and_never_itself() {
     // Never its own body: the nearest return alone is beyond the robot (0.5 m from the lidar).
     assert!(near_a > 0.5, "{near_a}");
 }
+
+/// A race on a course (`scenarios/team/race_step.toml`): the standings rank the robots by the
+/// course's score, name the winner, and their times follow their speeds: the same step and
+/// gates at 0.35 and 0.30 m/s take times in the ratio 0.35 / 0.30 = 1.167 (within 3 %: both
+/// slip alike on the same step).
+#[test]
+fn a_race_on_a_course_is_ranked_by_the_course_and_its_times_follow_the_speeds() {
+    let file = root().join("scenarios/team/race_step.toml");
+    let sc = tracksim::load_scenario(&file).unwrap();
+    let r = tracksim::run::run_team(&sc, Default::default()).unwrap();
+    let st = r.standings.as_ref().expect("a course: standings");
+    let names: Vec<&str> = st.robots.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["red", "blue"]);
+    assert_eq!(st.winner.as_deref(), Some("red"));
+    assert_eq!(st.completed, 2);
+    let (red, blue) = (&st.robots[0], &st.robots[1]);
+    assert!(red.status == "completed" && blue.status == "completed");
+    let ratio = blue.time_s / red.time_s;
+    assert!(
+        (ratio / (0.35 / 0.30) - 1.0).abs() < 0.03,
+        "time ratio {ratio:.4} (red {:.2} s, blue {:.2} s)",
+        red.time_s,
+        blue.time_s
+    );
+    // The world's outcome is the race's: decided when red completed.
+    assert_eq!(r.outcome.name(), "success");
+    assert!((r.outcome_time - red.time_s).abs() < 1e-9);
+    let json = serde_json::to_value(tracksim::output::TeamSummary::of(&sc, &r)).unwrap();
+    assert_eq!(json["standings"]["winner"], "red");
+}
