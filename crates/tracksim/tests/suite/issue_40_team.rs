@@ -54,6 +54,8 @@ fn bad_team_files_are_refused_with_every_problem_named() {
             robot("Bad-Name", 0.0, -2.0, 0.0, "belt_speed_mps = 0.3"),
             robot("far", 12.0, 0.0, 0.0, "belt_speed_mps = 0.3"),
             robot("cmd", 0.0, 4.0, 0.0, "belt_speed_mps = { nope = 1.0 }"),
+            robot("buried", 0.0, 6.0, 0.0, "belt_speed_mps = 0.3")
+                .replace("x_m = 0", "z_m = -0.3\nx_m = 0"),
         ],
     );
     let e = load("bad", &text).unwrap_err().to_string();
@@ -64,6 +66,7 @@ fn bad_team_files_are_refused_with_every_problem_named() {
         "vehicles[2].name: `Bad-Name` is not ROS-safe",
         "vehicles[3].vehicle.x_m: `far` starts 12.00 m from `alpha`",
         "vehicles[4].commands[0].belt_speed_mps",
+        "vehicles[5].vehicle.z_m: -0.3 m is 0.300 m below the terrain surface",
     ] {
         assert!(e.contains(want), "missing {want:?} in:\n{e}");
     }
