@@ -895,6 +895,9 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
     const others = await b.page.evaluate(() => window.tracksim.others());
     const pb = others.find((o) => o.name === 'packbot');
     assert.ok(pb && pb.position[0] > xa + 0.05, JSON.stringify(others));
+    // Each drawn with its own vehicle (its scene.json), not quince's.
+    assert.equal(pb.vehicle, sceneA.name, JSON.stringify(others));
+    assert.notEqual(pb.vehicle, sceneB.name);
     await b.page.screenshot({ path: path.join(artifacts, 'team-drive.png') });
     await a.page.keyboard.up('ArrowUp');
     await b.page.keyboard.up('ArrowLeft');
@@ -916,5 +919,19 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
   execFileSync(bin, ['run', file, '--commands', path.join(out, 'commands.toml'), '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
   for (const r of ['packbot', 'packbot_urdf', 'quince']) {
     assert.equal(fs.readFileSync(path.join(again, r, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(out, r, 'trajectory.csv'), 'utf8'), `${r} replays`);
+  }
+  // `tracksim view` of the session's folder: every robot, each with its own vehicle.
+  const view = start(['view', out, '--port', '0']);
+  const vctx = await browser();
+  try {
+    const page = await openReplay(vctx, await view.url);
+    const ghosts = await page.evaluate(() => window.tracksim.ghosts());
+    const vehicles = new Set(ghosts.map((g) => g.vehicle));
+    assert.equal(ghosts.length, 2, JSON.stringify(ghosts));
+    assert.equal(vehicles.size, 2, `each robot its own vehicle: ${JSON.stringify(ghosts)}`);
+    await page.screenshot({ path: path.join(artifacts, 'team-view.png') });
+  } finally {
+    await vctx.close();
+    view.child.kill();
   }
 });

@@ -741,9 +741,16 @@ function placeOthers(list) {
   for (const o of list) {
     let g = others.get(o.name);
     if (!g) {
-      g = { ...makeGhost(GHOST_COLOURS[others.size % GHOST_COLOURS.length]), colour: GHOST_COLOURS[others.size % GHOST_COLOURS.length] };
+      // Drawn once its own vehicle has come (its scene.json); nothing until then.
+      g = { colour: GHOST_COLOURS[others.size % GHOST_COLOURS.length], group: null, pivots: [], now: null };
       others.set(o.name, g);
+      const slot = g;
+      fetch(`/scene.json?robot=${o.name}`).then((r) => r.json()).then((sc) => {
+        Object.assign(slot, makeGhost(slot.colour, sc.vehicle ?? null));
+        slot.vehicle = sc.vehicle?.name ?? null;
+      }).catch((err) => api.errors.push(`robot ${o.name}: ${err}`));
     }
+    if (!g.group) { g.now = o.pose; continue; }
     const [x, y, z, roll, pitch, yaw] = o.pose;
     g.group.position.set(x, y, z);
     euler.set(roll, pitch, yaw, 'ZYX');
@@ -752,7 +759,7 @@ function placeOthers(list) {
     g.now = o.pose;
   }
 }
-api.others = () => [...others.entries()].map(([name, g]) => ({ name, colour: hex(g.colour), position: g.group.position.toArray() }));
+api.others = () => [...others.entries()].filter(([, g]) => g.group).map(([name, g]) => ({ name, colour: hex(g.colour), position: g.group.position.toArray(), vehicle: g.vehicle ?? null }));
 
 let ended = false;
 // A dropped connection (a reload, a network hiccup) is not the session's end: the page
@@ -874,25 +881,35 @@ function parseCsv(text) {
 let replay = null;
 let playing = true, playTime = 0, lastWall = null;
 function togglePlay() { playing = !playing; $('play').textContent = playing ? 'pause' : 'play'; }
-// A ghost of a compare replay: the robot's body, flippers and belts, translucent, one colour.
+// A ghost of a compare replay or another robot of the world: a vehicle's body, flippers and
+// belts, translucent, one colour; `vj` the vehicle of its own scene.json (null: this page's).
 const GHOST_COLOURS = [0xff5050, 0x40a0ff, 0xffd040, 0xc060ff, 0x40e0a0, 0xff9040, 0xffffff, 0x90ff40];
-function makeGhost(colour) {
+function makeGhost(colour, vj = null) {
   const mat = new THREE.MeshStandardMaterial({ color: colour, transparent: true, opacity: 0.4, depthWrite: false });
   const g = new THREE.Group();
-  g.add(new THREE.Mesh(robot.children[0].geometry, mat));
-  const pivots = flipperPivots.map((fp) => {
+  const own = vj ?? v;
+  g.add(vj ? new THREE.Mesh(meshGeometry(vj.body), mat) : new THREE.Mesh(robot.children[0].geometry, mat));
+  const pivots = own.flippers.map((f, i) => {
     const pivot = new THREE.Group();
-    pivot.position.copy(fp.pivot.position);
+    pivot.position.fromArray(f.pivot_m);
     const inner = new THREE.Group();
-    inner.position.copy(fp.inner.position);
+    inner.position.set(-f.pivot_m[0], -f.pivot_m[1], -f.pivot_m[2]);
     pivot.add(inner);
     g.add(pivot);
-    for (const m of fp.inner.children) if (m.isMesh) inner.add(new THREE.Mesh(m.geometry, mat));
-    return { pivot, inner, axis: fp.axis };
+    if (vj) { if (f.mesh) inner.add(new THREE.Mesh(meshGeometry(f.mesh), mat)); } else for (const m of flipperPivots[i].inner.children) if (m.isMesh) inner.add(new THREE.Mesh(m.geometry, mat));
+    return { pivot, inner, axis: new THREE.Vector3().fromArray(f.axis) };
   });
-  tracks.forEach((tk) => (tk.tr.parent < 0 ? g : pivots[tk.tr.parent].inner).add(new THREE.Mesh(tk.beltMesh.geometry, mat)));
+  own.tracks.forEach((tr, i) => {
+    const parent = tr.parent < 0 ? g : pivots[tr.parent].inner;
+    if (!vj) { parent.add(new THREE.Mesh(tracks[i].beltMesh.geometry, mat)); return; }
+    // The belt alone (grousers are drawn only on this page's robot).
+    const holder = new THREE.Group();
+    const tk = buildTrack({ ...tr, grousers: null }, holder);
+    tk.beltMesh.material = mat;
+    parent.add(holder);
+  });
   world.add(g);
-  return { group: g, pivots };
+  return { group: g, pivots, flipperNames: own.flippers.map((f) => f.name) };
 }
 const hex = (c) => `#${c.toString(16).padStart(6, '0')}`;
 const ghosts = [];
@@ -931,7 +948,11 @@ if (!live) {
       const gsr = await fetch(`${run.base}/summary.json`);
       const gs = gsr.ok ? await gsr.json() : null;
       const colour = GHOST_COLOURS[ghosts.length % GHOST_COLOURS.length];
-      const gh = { name: run.name, colour, traj: gt, summary: gs, ...makeGhost(colour), pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((n) => gt.col(n)), flip: flipperNames.map((n) => gt.col(`flipper_${n}_rad`)), end: gt.rows[gt.rows.length - 1][0] };
+      // Its own vehicle (a robot of a team folder may be another vehicle).
+      const gsc = await fetch(`${run.base}/scene.json`);
+      const gv = gsc.ok ? (await gsc.json()).vehicle ?? null : null;
+      const made = makeGhost(colour, gv);
+      const gh = { name: run.name, colour, vehicle: gv?.name ?? v.name, traj: gt, summary: gs, ...made, pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((n) => gt.col(n)), flip: made.flipperNames.map((n) => gt.col(`flipper_${n}_rad`)), end: gt.rows[gt.rows.length - 1][0] };
       ghosts.push(gh);
       replay.end = Math.max(replay.end, gh.end);
       if (gs && isNum(gs.outcome_time_s) && gs.outcome) events.push({ t_s: gs.outcome_time_s, kind: 'outcome', detail: `${run.name}: ${gs.outcome}: ${gs.outcome_reason ?? ''}` });
@@ -951,13 +972,13 @@ if (!live) {
       lg.append(sw, document.createTextNode(text)); // names are folder names: text, never markup
     };
     const title = document.createElement('b');
-    title.textContent = 'compare';
+    title.textContent = runs.team ? 'robots' : 'compare';
     lg.append(title);
     entry('#4f5d3a', `${runs.runs[0].name}${out(summary)} (solid)`);
     for (const g of ghosts) entry(hex(g.colour), `${g.name}${out(g.summary)}`);
   }
   api.runs = runs.runs.map((r) => r.name);
-  api.ghosts = () => ghosts.map((g) => ({ name: g.name, colour: hex(g.colour), position: g.group.position.toArray(), visible: g.group.visible }));
+  api.ghosts = () => ghosts.map((g) => ({ name: g.name, colour: hex(g.colour), vehicle: g.vehicle, position: g.group.position.toArray(), visible: g.group.visible }));
   api.events = events;
   lanes = inputSeries(controls, traj, trackNames);
   api.inputs = { lanes: lanes.map((l) => ({ title: l.title, series: l.series.map((x) => x.name) })), source: controls ? 'controls.csv' : 'trajectory.csv', drawn: 0 };

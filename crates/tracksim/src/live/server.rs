@@ -433,7 +433,9 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
     if listed.is_empty() {
         return run_files(dir, "/run", true);
     }
-    let list = serde_json::json!({ "compare": true, "runs": listed });
+    // A team run's folder (`team.json`: several robots of one world) or a compare folder.
+    let team = dir.join("team.json").is_file();
+    let list = serde_json::json!({ "compare": true, "team": team, "runs": listed });
     files.push((
         "/runs.json".into(),
         "application/json",
