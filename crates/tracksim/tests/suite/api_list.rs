@@ -5,15 +5,25 @@
 use crate::common::root;
 use std::collections::BTreeSet;
 
-/// The public methods of `impl Simulation` blocks in `src/world/`, read from the sources.
-fn simulation_methods() -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    let dir = root().join("crates/tracksim/src/world");
+/// The `.rs` files under `dir`, sub-folders included.
+fn rust_files(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
     for e in std::fs::read_dir(dir).unwrap() {
         let p = e.unwrap().path();
-        if p.extension().is_none_or(|x| x != "rs") {
-            continue;
+        if p.is_dir() {
+            out.extend(rust_files(&p));
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
         }
+    }
+    out
+}
+
+/// The public methods of `impl Simulation` blocks in `src/world/` (sub-folders included),
+/// read from the sources.
+fn simulation_methods() -> BTreeSet<String> {
+    let mut out = BTreeSet::new();
+    for p in rust_files(&root().join("crates/tracksim/src/world")) {
         let ast = syn::parse_file(&std::fs::read_to_string(&p).unwrap()).unwrap();
         for item in ast.items {
             let syn::Item::Impl(i) = item else { continue };
