@@ -23,10 +23,41 @@ pub(crate) fn compile_team(
     overrides: &Overrides,
     commands: Option<&OverrideCommands>,
 ) -> Result<Scenario> {
-    let mut issues = world_issues(spec, commands.is_some());
+    let by_robot = commands.filter(|c| c.by_robot());
+    let mut issues = world_issues(spec, commands.is_some() && by_robot.is_none());
+    if let Some(c) = by_robot {
+        for n in c.robot_names() {
+            if !spec.vehicles.iter().any(|r| r.name == n) {
+                issues.push(SpecIssue::new(
+                    "commands",
+                    format!(
+                        "the commands file names robot `{n}`, which the scenario does not have \
+                         ({})",
+                        spec.vehicles
+                            .iter()
+                            .map(|r| r.name.as_str())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ));
+            }
+        }
+    }
     let mut robots = Vec::new();
     let mut first: Option<Scenario> = None;
     for (k, r) in spec.vehicles.iter().enumerate() {
+        // A commands file's entries for this robot replace its own (`--commands`).
+        let replaced;
+        let r = match by_robot.and_then(|c| c.robot(&r.name)) {
+            Some(cmds) => {
+                replaced = RobotSpec {
+                    commands: cmds.to_vec(),
+                    ..r.clone()
+                };
+                &replaced
+            }
+            None => r,
+        };
         match compile_robot(path, spec, r, overrides) {
             Ok(sc) => {
                 robots.push((k, RobotModel::of(&r.name, &sc)));
@@ -150,8 +181,9 @@ fn world_issues(spec: &ScenarioSpec, commands_file: bool) -> Vec<SpecIssue> {
     if commands_file {
         c.push(
             "vehicles",
-            "a commands file (--commands) drives one robot; a file with [[vehicles]] gives each \
-             robot its own [[vehicles.commands]]",
+            "a commands file of [[commands]] (--commands) drives one robot; for a file with \
+             [[vehicles]] give each robot's as [[vehicles]] tables (name, \
+             [[vehicles.commands]]), as `tracksim ros` records them",
         );
     }
     if format!("{:?}", team_expect(&spec.expect)) != format!("{:?}", spec.expect) {
@@ -188,6 +220,11 @@ fn world_issues(spec: &ScenarioSpec, commands_file: bool) -> Vec<SpecIssue> {
 
 /// Why `name` is not a ROS-safe robot name (it becomes a topic namespace, a frame prefix and a
 /// folder), if it is not.
+pub fn robot_name_problem(name: &str) -> Option<String> {
+    name_problem(name)
+}
+
+/// [`robot_name_problem`].
 pub(crate) fn name_problem(name: &str) -> Option<String> {
     let ok_first = name.chars().next().is_some_and(|c| c.is_ascii_lowercase());
     let ok_rest = name

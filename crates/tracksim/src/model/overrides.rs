@@ -44,10 +44,23 @@ pub struct StartOffset {
     pub yaw_deg: f64,
 }
 
-/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`).
+/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`),
+/// or, for a file of several robots, `[[vehicles]]` tables of a `name` and its
+/// `[[vehicles.commands]]` (as `tracksim ros` records a session of several robots).
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CommandsFile {
+    #[serde(default)]
+    commands: Vec<CommandSpec>,
+    #[serde(default)]
+    vehicles: Vec<RobotCommands>,
+}
+
+/// A robot's commands in a commands file.
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotCommands {
+    name: String,
     #[serde(default)]
     commands: Vec<CommandSpec>,
 }
@@ -57,11 +70,42 @@ struct CommandsFile {
 pub(crate) struct OverrideCommands {
     path: PathBuf,
     specs: Vec<CommandSpec>,
+    robots: Vec<RobotCommands>,
 }
 
 impl OverrideCommands {
+    /// Whether the file gives robots' commands by name (`[[vehicles]]`), for a file of
+    /// several robots.
+    pub(crate) fn by_robot(&self) -> bool {
+        !self.robots.is_empty()
+    }
+
+    /// The commands the file gives robot `name` (`None`: it does not name it; the robot keeps
+    /// its own).
+    pub(crate) fn robot(&self, name: &str) -> Option<&[CommandSpec]> {
+        self.robots
+            .iter()
+            .find(|r| r.name == name)
+            .map(|r| r.commands.as_slice())
+    }
+
+    /// The robot names the file gives.
+    pub(crate) fn robot_names(&self) -> impl Iterator<Item = &str> {
+        self.robots.iter().map(|r| r.name.as_str())
+    }
+
     /// The commands compiled for `vehicle`; problems name the commands file.
     pub(crate) fn compile(&self, vehicle: &VehicleModel) -> Result<Vec<super::Command>> {
+        if self.by_robot() {
+            return Err(Error::Invalid {
+                path: self.path.clone(),
+                issues: vec![SpecIssue::new(
+                    "vehicles",
+                    "this commands file gives several robots' commands ([[vehicles]]); the \
+                     scenario has one robot: give its commands as [[commands]]",
+                )],
+            });
+        }
         compile_commands(&self.specs, vehicle).map_err(|issues| Error::Invalid {
             path: self.path.clone(),
             issues,
@@ -193,6 +237,7 @@ impl Overrides {
         Ok(Some(OverrideCommands {
             path: path.clone(),
             specs: f.commands,
+            robots: f.vehicles,
         }))
     }
 

@@ -1,7 +1,8 @@
 //! The outputs of a world with several robots (`[[vehicles]]`): each robot's run folder
 //! (`<dir>/<name>/`, everything a one-robot run writes, so `tracksim view <dir>` replays every
 //! robot and `tracksim view <dir>/<name>` one), `team.json` (the world's outcome and each
-//! robot's), and the robots together in `team.png` / `team_signals.png`.
+//! robot's), the robots together in `team.png` / `team_signals.png`, and on request the world's
+//! `run.mcap` (every robot's topics namespaced, as the ROS 2 node names them).
 
 use super::{Outputs, write_outputs, write_team_plots};
 use crate::error::Result;
@@ -76,7 +77,10 @@ impl TeamSummary {
 }
 
 /// Writes a team run of `sc` into `dir`: each robot's outputs (`which`) in `dir/<name>/`,
-/// `team.json`, and (with `which.plots`) the robots in one figure. Returns the paths written.
+/// `team.json`, (with `which.plots`) the robots in one figure, and (with `which.mcap` or the
+/// file's `[output] mcap`) the world's `run.mcap` with every robot's topics and frames in its
+/// namespace ([`super::mcap::team_mcap_bytes`]) besides each robot's own. Returns the paths
+/// written.
 pub fn write_team(
     sc: &Scenario,
     r: &TeamResult,
@@ -92,6 +96,9 @@ pub fn write_team(
     let path = dir.join("team.json");
     crate::files::write_atomic(&path, (json + "\n").as_bytes())?;
     written.push(path);
+    if which.mcap || sc.record_mcap {
+        written.push(super::mcap::write_team_mcap(sc, r, dir)?);
+    }
     if which.plots {
         let runs: Vec<(String, &Scenario, &crate::run::RunResult)> = r
             .robots

@@ -83,19 +83,7 @@ impl CommandLog {
             commands: &self.commands,
         })
         .expect("commands serialise");
-        let mut text = format!(
-            "# {}, applied at these simulated times.\n\
-             # This run reproduces its trajectory.csv:\n\
-             #   tracksim run {} --commands {} --duration {duration_s}\n",
-            header.what,
-            scenario_file.display(),
-            commands_file.display(),
-        );
-        for n in header.notes {
-            text.push_str(&format!("# {n}\n"));
-        }
-        text.push_str(&body);
-        text
+        header_text(header, scenario_file, commands_file, duration_s) + &body
     }
 
     /// Writes `commands.toml` into `dir` (see [`CommandLog::to_toml`]); returns its path.
@@ -111,6 +99,74 @@ impl CommandLog {
         crate::files::write_atomic(&p, text.as_bytes())?;
         Ok(p)
     }
+}
+
+/// The controls of a session of several robots as a commands file (see
+/// [`write_team_commands`]): each robot's entries under its name.
+#[derive(serde::Serialize)]
+struct TeamFile<'a> {
+    vehicles: Vec<RobotEntries<'a>>,
+}
+
+#[derive(serde::Serialize)]
+struct RobotEntries<'a> {
+    name: &'a str,
+    commands: &'a [CommandSpec],
+}
+
+/// The header lines of a commands file replaying `scenario_file` for `duration_s` s.
+fn header_text(header: LogHeader, scenario_file: &Path, commands_file: &Path, duration_s: f64) -> String {
+    let mut text = format!(
+        "# {}, applied at these simulated times.\n\
+         # This run reproduces its trajectory.csv:\n\
+         #   tracksim run {} --commands {} --duration {duration_s}\n",
+        header.what,
+        scenario_file.display(),
+        commands_file.display(),
+    );
+    for n in header.notes {
+        text.push_str(&format!("# {n}\n"));
+    }
+    text
+}
+
+/// Writes the controls of a session of several robots (`logs`: each robot's name and log, in
+/// file order): `dir/commands.toml` holds every robot's entries as `[[vehicles]]` tables
+/// (`name`, `[[vehicles.commands]]`), which `tracksim run FILE --commands dir/commands.toml
+/// --duration T` puts in place of each named robot's `[[vehicles.commands]]`, replaying the
+/// session; `dir/<name>/commands.toml` holds robot `name`'s alone (the same form: given as
+/// `--commands`, it replaces that robot's commands only; its header names the world's file,
+/// which replays the session). Returns the paths written.
+pub fn write_team_commands(
+    logs: &[(&str, &CommandLog)],
+    header: LogHeader,
+    scenario_file: &Path,
+    dir: &Path,
+    duration_s: f64,
+) -> Result<Vec<PathBuf>> {
+    let world = dir.join("commands.toml");
+    let text = |which: &[(&str, &CommandLog)]| {
+        let file = TeamFile {
+            vehicles: which
+                .iter()
+                .map(|(name, log)| RobotEntries {
+                    name,
+                    commands: log.commands(),
+                })
+                .collect(),
+        };
+        header_text(header, scenario_file, &world, duration_s)
+            + &toml::to_string(&file).expect("commands serialise")
+    };
+    let mut written = Vec::new();
+    for one in logs {
+        let p = dir.join(one.0).join("commands.toml");
+        crate::files::write_atomic(&p, text(std::slice::from_ref(one)).as_bytes())?;
+        written.push(p);
+    }
+    crate::files::write_atomic(&world, text(logs).as_bytes())?;
+    written.push(world);
+    Ok(written)
 }
 
 /// Whether two entries give the same controls (their times aside).

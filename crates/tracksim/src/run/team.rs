@@ -103,9 +103,76 @@ impl TeamRunner {
         self
     }
 
+    /// Every robot's controls come only from the caller ([`TeamRunner::apply_robot`]): the
+    /// file's `[[vehicles.commands]]` are not applied (a ROS 2 session).
+    pub fn without_commands(mut self) -> Self {
+        for r in &mut self.robots {
+            r.timeline = Timeline::new(&[]);
+        }
+        self
+    }
+
+    /// Runs on past the scenario's duration until the caller stops (a live session); the
+    /// outcomes are decided but never stop the run.
+    pub fn unbounded(mut self) -> Self {
+        self.end_step = u64::MAX;
+        self.stop = false;
+        self
+    }
+
     /// The running world.
     pub fn sim(&self) -> &Simulation {
         &self.sim
+    }
+
+    /// Simulated time, s.
+    pub fn time(&self) -> f64 {
+        self.sim.time()
+    }
+
+    /// Whether the last step reached an output sample.
+    pub fn at_sample(&self) -> bool {
+        self.sim.steps().is_multiple_of(self.every)
+    }
+
+    /// How many robots.
+    pub fn robot_count(&self) -> usize {
+        self.robots.len()
+    }
+
+    /// Robot `k`'s own scenario (the world with it as its one robot).
+    pub fn robot_scenario(&self, k: usize) -> &Scenario {
+        &self.robots[k].view
+    }
+
+    /// Robot `k`'s samples so far (the first at t = 0).
+    pub fn robot_samples(&self, k: usize) -> &[Sample] {
+        &self.robots[k].samples
+    }
+
+    /// Robot `k`'s sensors, updated after every step.
+    pub fn robot_sensors(&self, k: usize) -> &SensorSet {
+        &self.robots[k].sensors
+    }
+
+    /// Applies command entry `c` to robot `k` before the next step, as its
+    /// `[[vehicles.commands]]` entry at this time would be (the same compilation). A caller
+    /// setting several robots' controls at once applies them in
+    /// [`Simulation::build_order`].
+    pub fn apply_robot(&mut self, k: usize, c: &crate::spec::CommandSpec) -> Result<()> {
+        let v = &self.robots[k].view.vehicle;
+        let compiled = crate::model::compile_commands(std::slice::from_ref(c), v).map_err(
+            |issues| Error::Settings {
+                what: format!("robot `{}`'s control at t = {} s", self.names()[k], c.t_s),
+                issues,
+            },
+        )?;
+        self.sim.select(k);
+        for cmd in compiled {
+            self.sim.apply(&cmd.controls);
+        }
+        self.sim.select(0);
+        Ok(())
     }
 
     /// The world's outcome and its time, s, once decided.
