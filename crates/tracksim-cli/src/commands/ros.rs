@@ -169,7 +169,13 @@ fn ros_team(
     let written = session.write(sc, file, &a.out, !a.no_plot, a.mcap)?;
     out!(
         "{}",
-        tracksim::output::team_report(file, sc, &session.result, &a.out)
+        tracksim::output::team::team_report_of(
+            file,
+            sc,
+            &session.result,
+            &a.out,
+            Some("ROS 2 topics")
+        )
     );
     for (name, _, c) in &session.robots {
         out!(

@@ -52,6 +52,7 @@ pub use super::ros_messages::{
     joint_state, optical_rotation, pose_rotation, tf_of_sample, tf_static, track_states, transform,
     true_odometry,
 };
+use super::ros_names::Namespace;
 pub use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
 use super::ros_sensors::{Reading, SensorMessage, sensor_message};
 use crate::error::{Error, Result};
@@ -60,7 +61,6 @@ use crate::rosmsg::{
     self, Clock, Image, Imu, JointState, LaserScan, Odometry, PointCloud2, RosMessage, TFMessage,
     TrackStates,
 };
-use super::ros_names::Namespace;
 use crate::run::{RunResult, TeamResult};
 use crate::sensors::{LogData, SensorStream};
 use crate::world::Sample;

@@ -114,6 +114,18 @@ pub fn write_team(
 /// A team run in words: the world's outcome, then a line per robot, and the `[expect]`
 /// verdict.
 pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> String {
+    team_report_of(file, sc, r, out, None)
+}
+
+/// [`team_report`] of a session whose commands came from outside (`commands_from`, e.g. "ROS 2
+/// topics"): the file's `[expect]` is not checked.
+pub fn team_report_of(
+    file: &Path,
+    sc: &Scenario,
+    r: &TeamResult,
+    out: &Path,
+    commands_from: Option<&str>,
+) -> String {
     let mut l = vec![
         format!("scenario   {}", file.display()),
         format!(
@@ -151,7 +163,9 @@ pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> St
         .is_some_and(|t| !t.expect.is_empty() || t.robots.iter().any(|x| !x.expect.is_empty()));
     if has_expect {
         let misses = crate::run::team::team_misses(sc, r);
-        l.push(if !sc.overridden.is_empty() {
+        l.push(if let Some(from) = commands_from {
+            format!("expect     not checked: the commands came from {from}")
+        } else if !sc.overridden.is_empty() {
             format!(
                 "expect     not checked: the run overrides {}",
                 sc.overridden.join(", ")

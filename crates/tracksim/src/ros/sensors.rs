@@ -5,8 +5,8 @@
 
 use super::dds::{DdsError, DdsNode, Pub};
 use super::topics;
-use crate::output::ros_names::Namespace;
 use crate::model::{Scenario, SensorKind};
+use crate::output::ros_names::Namespace;
 use crate::output::ros_sensors::{Reading, SensorMessage, sensor_message};
 use crate::rosmsg::{Image, Imu, JointState, LaserScan, PointCloud2};
 use crate::sensors::{Channel, SensorSet};

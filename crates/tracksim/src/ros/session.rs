@@ -551,8 +551,11 @@ impl RosTeamSession {
             what: RosSession::COMMANDS_HEADER,
             notes: &[],
         };
-        let logs: Vec<(&str, &CommandLog)> =
-            self.robots.iter().map(|(n, l, _)| (n.as_str(), l)).collect();
+        let logs: Vec<(&str, &CommandLog)> = self
+            .robots
+            .iter()
+            .map(|(n, l, _)| (n.as_str(), l))
+            .collect();
         written.extend(crate::run::command_log::write_team_commands(
             &logs,
             header,

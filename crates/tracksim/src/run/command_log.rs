@@ -115,7 +115,12 @@ struct RobotEntries<'a> {
 }
 
 /// The header lines of a commands file replaying `scenario_file` for `duration_s` s.
-fn header_text(header: LogHeader, scenario_file: &Path, commands_file: &Path, duration_s: f64) -> String {
+fn header_text(
+    header: LogHeader,
+    scenario_file: &Path,
+    commands_file: &Path,
+    duration_s: f64,
+) -> String {
     let mut text = format!(
         "# {}, applied at these simulated times.\n\
          # This run reproduces its trajectory.csv:\n\

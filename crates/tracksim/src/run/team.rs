@@ -161,12 +161,13 @@ impl TeamRunner {
     /// [`Simulation::build_order`].
     pub fn apply_robot(&mut self, k: usize, c: &crate::spec::CommandSpec) -> Result<()> {
         let v = &self.robots[k].view.vehicle;
-        let compiled = crate::model::compile_commands(std::slice::from_ref(c), v).map_err(
-            |issues| Error::Settings {
-                what: format!("robot `{}`'s control at t = {} s", self.names()[k], c.t_s),
-                issues,
-            },
-        )?;
+        let compiled =
+            crate::model::compile_commands(std::slice::from_ref(c), v).map_err(|issues| {
+                Error::Settings {
+                    what: format!("robot `{}`'s control at t = {} s", self.names()[k], c.t_s),
+                    issues,
+                }
+            })?;
         self.sim.select(k);
         for cmd in compiled {
             self.sim.apply(&cmd.controls);
