@@ -174,3 +174,36 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn namespace_is_refused_for_a_team_file_and_a_bad_name_before_any_node_starts() {
+    let run = |args: &[&str]| {
+        let o = assert_cmd::Command::cargo_bin("tracksim")
+            .unwrap()
+            .current_dir(root())
+            .args(args)
+            .timeout(std::time::Duration::from_secs(60))
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (code, err) = run(&[
+        "ros",
+        "scenarios/team/corridor_head_on.toml",
+        "--namespace",
+        "x",
+        "--duration",
+        "0.1",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("--namespace") && err.contains("several robots"),
+        "{err}"
+    );
+    let (code, err) = run(&["ros", "packbot_flat", "--namespace", "Bad-Name"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--namespace"), "{err}");
+}
