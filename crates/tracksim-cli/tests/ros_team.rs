@@ -135,6 +135,11 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
         (s.last().unwrap().pose.x - s[0].pose.x).abs()
     };
     let speed = |k: usize| r.robots[k].1.samples.last().unwrap().belt_cmd.clone();
+    eprintln!(
+        "west moved {:.4} m, east {:.4} m; east stopped at {when} s",
+        moved(0),
+        moved(1)
+    );
     assert!(moved(0) > 0.45, "a drove on: {} m", moved(0));
     assert!(moved(1) < 0.2, "b stopped early: {} m", moved(1));
     assert!(
