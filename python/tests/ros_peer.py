@@ -5,7 +5,7 @@ package, its own C library; message types declared as IDL with the ROS 2 type na
 subscribes /odom and /joint_states and publishes /cmd_vel. Prints one JSON line of what it
 measured; every wait is bounded and the child is always killed.
 
-Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors|urdf|team]
+Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors|urdf|team|namespace]
 
 - drive (default): packbot_flat; /cmd_vel at 0.3 m/s for 4 s at 20 Hz, then silence;
 - sensors: packbot_sensors (flippers and sensors); /imu read for its rate and gravity, flipper
@@ -14,6 +14,7 @@ Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors|urdf|team]
 - team: scenarios/team/corridor_head_on (robots `west` and `east`): /west/cmd_vel forward at
   0.3 m/s and /east/cmd_vel backward at 0.2 m/s for 3 s, then only /west/cmd_vel for 2 s
   (east's watchdog stops east alone); /west/odom, /east/odom and /tf read.
+- namespace: packbot_flat with `--namespace solo`, driven by /solo/cmd_vel for 2 s.
 """
 
 import json
@@ -532,11 +533,71 @@ def team(binary, out, links):
     print(json.dumps(result))
 
 
+def namespaced(binary, out, links):
+    """One robot namespaced by `--namespace solo`: /solo/cmd_vel drives it, /solo/odom in
+    solo/odom, nothing on /odom."""
+    dp = DomainParticipant(0)
+    odom_r = DataReader(dp, Topic(dp, "rt/solo/odom", Odometry), qos=QOS)
+    plain_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
+    tf_r = DataReader(dp, Topic(dp, "rt/tf", TFMessage), qos=QOS)
+    cmd_w = DataWriter(dp, Topic(dp, "rt/solo/cmd_vel", Twist), qos=QOS)
+    child = subprocess.Popen(
+        [binary, "ros", "packbot_flat", "--namespace", "solo", "--out", out, "--no-plot",
+         "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links}
+    odom, plain, tf = [], [], []
+
+    def drain():
+        take(odom_r, Odometry, odom)
+        take(plain_r, Odometry, plain)
+        take(tf_r, TFMessage, tf)
+
+    try:
+        deadline = time.monotonic() + 20.0
+        while not odom and time.monotonic() < deadline:
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.05)
+        if not odom:
+            raise RuntimeError("no /solo/odom within 20 s")
+        start = odom[-1]
+        t_end = time.monotonic() + 2.0
+        while time.monotonic() < t_end:
+            cmd_w.write(twist(FORWARD_MPS))
+            drain()
+            time.sleep(0.05)
+        drain()
+        result.update(
+            frame_id=odom[-1].header.frame_id,
+            child_frame_id=odom[-1].child_frame_id,
+            odom_dx=odom[-1].pose.pose.position.x - start.pose.pose.position.x,
+            tf_pairs=sorted({(t.header.frame_id, t.child_frame_id) for m in tf[-3:]
+                             for t in m.transforms}),
+            plain_odom_messages=len(plain),
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
 def main():
     binary, out = sys.argv[1], sys.argv[2]
     mode = sys.argv[3] if len(sys.argv) > 3 else "drive"
     links = netns_setup()
-    {"drive": drive, "sensors": sensors, "urdf": urdf, "team": team}[mode](binary, out, links)
+    {
+        "drive": drive,
+        "sensors": sensors,
+        "urdf": urdf,
+        "team": team,
+        "namespace": namespaced,
+    }[mode](binary, out, links)
 
 
 if __name__ == "__main__":

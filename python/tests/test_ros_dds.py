@@ -234,3 +234,18 @@ def test_team_session_writes_the_world_and_replays(team, tmp_path):
     assert p.returncode in (0, 1), p.stderr
     for n in ("west", "east"):
         assert (again / n / "trajectory.csv").read_text() == (out / n / "trajectory.csv").read_text(), n
+
+
+@pytest.fixture(scope="module")
+def solo(tmp_path_factory):
+    """packbot_flat with --namespace solo (ros_peer.py `namespace`)."""
+    return _peer(tmp_path_factory, "namespace")
+
+
+def test_one_robot_namespaced_on_request(solo):
+    assert solo["frame_id"] == "solo/odom"
+    assert solo["child_frame_id"] == "solo/base_link"
+    assert ["solo/odom", "solo/base_link"] in solo["tf_pairs"], solo["tf_pairs"]
+    assert solo["plain_odom_messages"] == 0
+    # 2 s of /solo/cmd_vel at 0.3 m/s drove it (less the discovery latency).
+    assert 0.2 < solo["odom_dx"] < 0.65, solo["odom_dx"]

@@ -6,6 +6,11 @@
 //! applied, changed controls go to the physics (recorded as a `[[commands]]` entry at that
 //! time, so `commands.toml` replays the session with `tracksim run`); then the world steps
 //! to the next sample, which is published.
+//!
+//! A file with several robots ([`run_ros_team`]) is one node on the same loop over the world's
+//! [`TeamRunner`]: each robot's topics and frames in its namespace
+//! ([`crate::output::ros_names::Namespace`]), its own [`RobotControl`] (command state,
+//! watchdog, counts), one `/clock`, `/tf`, `/tf_static` and `/rosout` for the world.
 
 use super::commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
 use super::dds::{DdsNode, Publishers, Subscriptions, WorldPublishers};

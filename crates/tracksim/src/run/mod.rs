@@ -6,7 +6,7 @@
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`session`]: the session loop of a runner whose controls come from outside (a page, ROS
-//!   topics), with one end rule;
+//!   topics), with one end rule, for one robot's [`Runner`] or a world's [`TeamRunner`];
 //! - [`command_log`]: the controls a session or an episode gave ([`CommandLog`]) and the one
 //!   writer of `commands.toml`;
 //! - [`outcome`]: success and failure conditions;
@@ -46,7 +46,9 @@ pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner, one_robot};
 pub use scripted::Scripted;
-pub use session::{ControlSource, SessionLimits, SessionRun, run_session, time_reached};
+pub use session::{
+    ControlSource, SessionLimits, SessionRun, SessionWorld, run_session, time_reached,
+};
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
 pub use team::{TeamResult, TeamRunner, run_team};
