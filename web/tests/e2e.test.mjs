@@ -860,3 +860,61 @@ test('soil (issue 30): a drive on dry sand draws its ruts live, and its replay r
     view.child.kill();
   }
 });
+
+test('several robots (issue 40): a seat per trainee, each page its own robot, a watcher, the session replayed byte for byte', async () => {
+  const out = path.join(tmp, 'team-drive');
+  const file = 'scenarios/team/rescue_site.toml';
+  const drive = start(['drive', file, '--port', '0', '--out', out, '--no-plot', '--wait-for-page']);
+  const url = await drive.url;
+  const ctx = await browser();
+  try {
+    // The first page takes the first free seat (packbot) and loads that robot's page.
+    const a = await openDrive(ctx, url);
+    await a.page.waitForFunction(() => window.tracksim.robot === 'packbot' && window.tracksim.role === 'driver', null, { timeout: 30000 });
+    assert.match(a.page.url(), /\?robot=packbot$/);
+    // A second trainee picks quince (another vehicle: its own scene); a third page watches packbot.
+    const b = await openDrive(ctx, `${url}?robot=quince`);
+    assert.equal(await b.page.evaluate(() => window.tracksim.role), 'driver');
+    const w = await openDrive(ctx, `${url}?watch=1&robot=packbot`);
+    assert.equal(await w.page.evaluate(() => window.tracksim.role), 'watcher');
+    assert.equal(await w.page.evaluate(() => window.tracksim.state.robot), 'packbot');
+    const sceneA = await a.page.evaluate(async () => (await (await fetch('/scene.json?robot=packbot')).json()).vehicle);
+    const sceneB = await b.page.evaluate(async () => (await (await fetch('/scene.json?robot=quince')).json()).vehicle);
+    assert.notDeepEqual(sceneA, sceneB, 'each robot its own vehicle');
+    assert.equal(await a.page.evaluate(() => document.getElementById('robot-select').options.length), 6);
+    // Both drive at once: packbot forward, quince turning.
+    const xa = await a.page.evaluate(() => window.tracksim.state.pose[0]);
+    const yawB = await b.page.evaluate(() => window.tracksim.state.pose[5]);
+    await a.page.keyboard.down('ArrowUp');
+    await b.page.keyboard.down('ArrowLeft');
+    await a.page.waitForFunction((x) => window.tracksim.state.pose[0] > x + 0.1, xa, { timeout: 60000 });
+    await b.page.waitForFunction((y) => window.tracksim.state.pose[5] > y + 0.1, yawB, { timeout: 60000 });
+    // The watcher sees packbot move; quince's page draws packbot and the URDF PackBot as others.
+    await w.page.waitForFunction((x) => window.tracksim.state.pose[0] > x + 0.1, xa, { timeout: 30000 });
+    await b.page.waitForFunction(() => window.tracksim.others().length === 2, null, { timeout: 10000 });
+    const others = await b.page.evaluate(() => window.tracksim.others());
+    const pb = others.find((o) => o.name === 'packbot');
+    assert.ok(pb && pb.position[0] > xa + 0.05, JSON.stringify(others));
+    await b.page.screenshot({ path: path.join(artifacts, 'team-drive.png') });
+    await a.page.keyboard.up('ArrowUp');
+    await b.page.keyboard.up('ArrowLeft');
+    // The first trainee ends: their seat closes, the other drives on; the second ends the session.
+    await a.page.click('#stop');
+    await a.page.waitForFunction(() => window.tracksim.role === 'watcher', null, { timeout: 10000 });
+    await b.page.click('#stop');
+    const { code, out: printed } = await drive.exited;
+    assert.equal(code, 0, printed);
+    assert.deepEqual([...a.errors, ...b.errors, ...w.errors], []);
+  } finally {
+    await ctx.close();
+    drive.child.kill();
+  }
+  const toml = fs.readFileSync(path.join(out, 'commands.toml'), 'utf8');
+  assert.match(toml, /\[\[vehicles\]\]\nname = "packbot"/);
+  const duration = toml.match(/--duration ([0-9.e-]+)/)[1];
+  const again = path.join(tmp, 'team-again');
+  execFileSync(bin, ['run', file, '--commands', path.join(out, 'commands.toml'), '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
+  for (const r of ['packbot', 'packbot_urdf', 'quince']) {
+    assert.equal(fs.readFileSync(path.join(again, r, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(out, r, 'trajectory.csv'), 'utf8'), `${r} replays`);
+  }
+});

@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use tracksim::output::ros_messages::{encoder_model, encoder_odometry, tf_of_sample, tf_static};
 use tracksim::output::ros_names::Namespace;
 use tracksim::ros::{Command, RobotControl, WATCHDOG_TIMEOUT_S, topics};
-use tracksim::run::{CommandLog, ControlSource, LogHeader, SessionLimits, TeamRunner, run_session};
+use tracksim::run::{
+    CommandLog, End, LogHeader, SessionLimits, TeamRunner, WorldSource, run_world_session,
+};
 use tracksim::spec::CommandSpec;
 
 fn root() -> PathBuf {
@@ -74,28 +76,22 @@ struct Peers {
     stops: Vec<Vec<f64>>,
 }
 
-impl ControlSource<TeamRunner> for Peers {
-    fn controls(&mut self, runner: &TeamRunner) -> Option<Vec<(usize, CommandSpec)>> {
-        let t = runner.time();
+impl WorldSource<TeamRunner> for Peers {
+    fn controls(&mut self, runner: &TeamRunner, k: usize) -> Option<CommandSpec> {
+        let t = runner.sim().time();
         let tick = ((t * 1000.0).round() as i64) % 100 == 0;
-        let mut out = Vec::new();
-        for k in 0..self.robots.len() {
-            let send = if k == 0 { tick } else { t == 0.0 };
-            let received = if send {
-                vec![Command::Twist {
-                    forward_mps: 0.3,
-                    yaw_rate_rad_s: 0.0,
-                }]
-            } else {
-                Vec::new()
-            };
-            let v = &runner.robot_scenario(k).vehicle;
-            let stops = &mut self.stops[k];
-            if let Some(c) = self.robots[k].controls(v, t, received, &mut |_| stops.push(t)) {
-                out.push((k, c));
-            }
-        }
-        (!out.is_empty()).then_some(out)
+        let send = if k == 0 { tick } else { t == 0.0 };
+        let received = if send {
+            vec![Command::Twist {
+                forward_mps: 0.3,
+                yaw_rate_rad_s: 0.0,
+            }]
+        } else {
+            Vec::new()
+        };
+        let v = &runner.robot_scenario(k).vehicle;
+        let stops = &mut self.stops[k];
+        self.robots[k].controls(v, t, received, &mut |_| stops.push(t))
     }
 }
 
@@ -114,9 +110,10 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
         max_time: Some(2.0),
         interrupt: None,
     };
-    let run = run_session(runner, &mut peers, limits).unwrap();
-    let logs: Vec<CommandLog> = run.log.clone();
-    let r = run.runner.finish(true);
+    let order = runner.sim().build_order().to_vec();
+    let run = run_world_session(runner, &mut peers, limits, &order).unwrap();
+    let logs: Vec<CommandLog> = run.logs.clone();
+    let r = run.world.finish(End::Reached);
     assert!(
         peers.stops[0].is_empty(),
         "a's peer kept talking: {:?}",
@@ -154,16 +151,12 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
     let names = sc.robot_names();
     let pairs: Vec<(&str, &CommandLog)> =
         names.iter().map(String::as_str).zip(logs.iter()).collect();
-    for n in &names {
-        std::fs::create_dir_all(dir.join(n)).unwrap();
-    }
+    std::fs::create_dir_all(&dir).unwrap();
     let header = LogHeader {
         what: "test",
         notes: &[],
     };
-    let written =
-        tracksim::run::command_log::write_team_commands(&pairs, header, &file, &dir, 2.0).unwrap();
-    assert_eq!(written.len(), 3, "each robot's and the world's");
+    tracksim::run::write_team_log(&pairs, header, &file, &dir, 2.0).unwrap();
     let o = tracksim::Overrides {
         commands: Some(dir.join("commands.toml")),
         duration_s: Some(2.0),

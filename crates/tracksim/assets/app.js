@@ -10,7 +10,12 @@ import { createRuts, parseRuts } from '/ruts.js';
 const $ = (id) => document.getElementById(id);
 const deg = (r) => (r * 180) / Math.PI;
 const session = await (await fetch('/session.json')).json();
-const scene = await (await fetch('/scene.json')).json();
+// A session of several robots: `?robot=NAME` drives (or with `watch=1` follows) that robot;
+// its scene holds its own vehicle. Names are ROS-safe ([a-z][a-z0-9_]*): nothing to escape.
+const query = new URLSearchParams(location.search);
+const askedRobot = /^[a-z][a-z0-9_]{0,63}$/.test(query.get('robot') ?? '') ? query.get('robot') : null;
+const watchOnly = query.get('watch') === '1';
+const scene = await (await fetch(`/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`)).json();
 const live = session.mode === 'drive';
 // The runs a replay shows: one, or every method of a `tracksim compare` folder (/runs.json).
 let runs = { compare: false, runs: [{ index: 0, name: 'run', base: '/run' }] };
@@ -702,6 +707,53 @@ function driveTick() {
   if (text !== lastSent && ws && ws.readyState === 1) { ws.send(text); lastSent = text; }
 }
 
+// ---------- several robots: the picker and the other robots ----------
+// The robot picker (a session of several robots): drive a robot (its seat, if free) or
+// watch one; choosing loads that robot's page.
+function showRobotPicker() {
+  const el = $('robots');
+  if (api.robots.length < 2) { el.classList.add('hidden'); return; }
+  el.classList.remove('hidden');
+  const sel = $('robot-select');
+  if (sel.options.length === 0) {
+    for (const n of api.robots) {
+      for (const w of [false, true]) {
+        const o = document.createElement('option');
+        o.value = `${n}${w ? ':watch' : ''}`;
+        o.textContent = `${w ? 'watch' : 'drive'} ${n}`; // names are ROS-safe: text, never markup
+        sel.append(o);
+      }
+    }
+    sel.addEventListener('change', () => {
+      const [n, w] = sel.value.split(':');
+      location.assign(`/?robot=${n}${w ? '&watch=1' : ''}`);
+    });
+  }
+  sel.value = `${api.robot}${watchOnly ? ':watch' : ''}`;
+  $('robot-role').textContent = api.role === 'driver' ? `driving ${api.robot}` : `watching ${api.robot}`;
+}
+
+// The other robots of the world, drawn as coloured see-through copies of this page's robot
+// (the state's `others`: name, pose, flipper angles), labelled on the minimap.
+const others = new Map();
+function placeOthers(list) {
+  if (!Array.isArray(list)) return;
+  for (const o of list) {
+    let g = others.get(o.name);
+    if (!g) {
+      g = { ...makeGhost(GHOST_COLOURS[others.size % GHOST_COLOURS.length]), colour: GHOST_COLOURS[others.size % GHOST_COLOURS.length] };
+      others.set(o.name, g);
+    }
+    const [x, y, z, roll, pitch, yaw] = o.pose;
+    g.group.position.set(x, y, z);
+    euler.set(roll, pitch, yaw, 'ZYX');
+    g.group.quaternion.setFromEuler(euler);
+    (o.flipper ?? []).forEach((a, k) => g.pivots[k]?.pivot.quaternion.setFromAxisAngle(g.pivots[k].axis, a));
+    g.now = o.pose;
+  }
+}
+api.others = () => [...others.entries()].map(([name, g]) => ({ name, colour: hex(g.colour), position: g.group.position.toArray() }));
+
 let ended = false;
 // A dropped connection (a reload, a network hiccup) is not the session's end: the page
 // reconnects every 0.5 s, presenting the driver's token (kept for the tab in sessionStorage)
@@ -711,19 +763,40 @@ const TOKEN_KEY = 'tracksim-driver-token';
 api.connected = false;
 api.reconnects = 0;
 let lostAt = null;
+// The robot this page drives or follows (a session of several robots names it in its hello).
+api.robot = askedRobot;
+api.robots = [];
+const tokenKey = () => (api.robot ? `${TOKEN_KEY}:${api.robot}` : TOKEN_KEY);
 function connect() {
   let token = null;
-  try { token = sessionStorage.getItem(TOKEN_KEY); } catch (_) { /* storage off: no token */ }
-  ws = new WebSocket(`ws://${location.host}/ws${token ? `?token=${encodeURIComponent(token)}` : ''}`);
+  try { token = sessionStorage.getItem(tokenKey()); } catch (_) { /* storage off: no token */ }
+  const params = new URLSearchParams();
+  if (api.robot) params.set('robot', api.robot);
+  if (watchOnly) params.set('watch', '1');
+  if (token) params.set('token', token);
+  const q = params.toString();
+  ws = new WebSocket(`ws://${location.host}/ws${q ? `?${q}` : ''}`);
   ws.onopen = () => { api.connected = true; lostAt = null; lastSent = ''; };
   ws.onmessage = (ev) => {
     const m = JSON.parse(ev.data);
     if (m.type === 'hello') {
       api.role = m.role;
       api.graceS = m.grace_s;
-      if (m.token) try { sessionStorage.setItem(TOKEN_KEY, m.token); } catch (_) { /* no storage */ }
+      api.robots = Array.isArray(m.robots) ? m.robots : [];
+      const several = api.robots.length > 1;
+      if (several && typeof m.robot === 'string' && m.robot !== askedRobot) {
+        // The server gave this page another robot's seat than the scene it loaded: keep the
+        // token, load that robot's page (its own vehicle).
+        if (m.token) try { sessionStorage.setItem(`${TOKEN_KEY}:${m.robot}`, m.token); } catch (_) { /* no storage */ }
+        location.replace(`/?robot=${m.robot}${watchOnly ? '&watch=1' : ''}`);
+        return;
+      }
+      if (several) api.robot = m.robot;
+      if (m.token) try { sessionStorage.setItem(tokenKey(), m.token); } catch (_) { /* no storage */ }
+      showRobotPicker();
     } else if (m.type === 'state') {
       api.state = m; api.states++; liveSensors(m.sensors);
+      placeOthers(m.others);
       if (m.session_ended) ended = true;
     } else if (m.type === 'ruts') {
       // The session's rut log (live/hub.rs): cells numbered from m.first; a reconnection
@@ -765,10 +838,11 @@ function liveFrame() {
     outcome: s.outcome, course: s.course ?? null, driver: s.driver ?? null,
   };
   warn.update(vs);
-  if (mapOn) minimap.draw(vs.pose, path, [], isNum(s.course?.next_gate) ? s.course.next_gate : null);
+  if (mapOn) minimap.draw(vs.pose, path, [...others.values()].filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(s.course?.next_gate) ? s.course.next_gate : null);
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
   hud([
-    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}`,
+    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
+    ...(s.team?.outcome ? [`team       ${s.team.rule}: ${s.team.outcome.name}: ${s.team.outcome.reason}`] : []),
     `sim time   ${fmt(s.t, 2)} s   x${fmt(s.speed, 2)} requested`,
     `RTF        paced ${fmt(s.rtf_paced, 2)}   compute ${fmt(s.rtf_compute, 1)}`,
     `speed      ${fmt(s.forward_mps, 3)} m/s (0.1 s mean)   cmd ${fmt(s.control.forward_mps, 2)} m/s, ${fmt(s.control.yaw_rate_rad_s, 2)} rad/s`,

@@ -70,8 +70,25 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
             ),
         ));
     }
+    let opts = DriveOptions {
+        speed: a.speed,
+        max_time,
+        wait_for_page: a.wait_for_page,
+        interrupt: Some(&super::STOP),
+    };
+    if sc.team.is_some() {
+        if a.trainee.is_some() {
+            return Err(bad_arg(
+                "--trainee",
+                "a session of several robots has a trainee per seat: not recorded yet; leave \
+                 --trainee out"
+                    .into(),
+            ));
+        }
+        return drive_team(&a, &file, &sc, opts);
+    }
     let hub = Hub::with_grace(a.reconnect_grace);
-    let scene_json = tracksim::output::Scene::new(&sc).to_json();
+    let scene_json = vec![tracksim::output::Scene::new(&sc).to_json()];
     let mode = Mode::Drive {
         hub: hub.clone(),
         scene_json,
@@ -88,12 +105,6 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
          reconnect within {} s (the robot stops meanwhile)",
         a.reconnect_grace
     );
-    let opts = DriveOptions {
-        speed: a.speed,
-        max_time,
-        wait_for_page: a.wait_for_page,
-        interrupt: Some(&super::STOP),
-    };
     let session = tracksim::live::run_session(&sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
@@ -113,6 +124,74 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         session.duration()
     );
     if interrupted {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}
+
+/// `tracksim drive` of a file with several robots: a seat per robot.
+fn drive_team(
+    a: &DriveArgs,
+    file: &std::path::Path,
+    sc: &tracksim::Scenario,
+    opts: tracksim::live::DriveOptions,
+) -> Result<(), Failure> {
+    use tracksim::live::{Hub, Mode, Server};
+    let names = sc.robot_names();
+    let hub = Hub::team(names.clone(), a.reconnect_grace);
+    let scene_json = (0..names.len())
+        .map(|k| tracksim::output::Scene::new(&sc.robot_view(k)).to_json())
+        .collect();
+    let mode = Mode::Drive {
+        hub: hub.clone(),
+        scene_json,
+    };
+    let mut server = Server::start(bind_address(a.bind), a.port, mode)?;
+    let h = hub.clone();
+    super::on_stop(move || h.request_stop());
+    out!(
+        "drive      {} robots, a seat each: open {} in a browser per trainee (each page takes \
+         the first free seat), or pick one:",
+        names.len(),
+        server.url()
+    );
+    for n in &names {
+        out!("           {n}: {}?robot={n}", server.url());
+    }
+    out!(
+        "           watch any robot: {}?watch=1&robot=NAME",
+        server.url()
+    );
+    out!(
+        "           a driver's stop closes their seat; the session ends when every seat taken \
+         has stopped, on Ctrl-C or SIGTERM; a dropped page may reconnect within {} s",
+        a.reconnect_grace
+    );
+    let session = tracksim::live::run_team_session(sc, &hub, opts);
+    hub.request_stop();
+    server.shutdown();
+    let session = session?;
+    let written = session.write(sc, file, &a.out, !a.no_plot)?;
+    for (name, run) in &session.result.robots {
+        out!(
+            "{name:<10} {}: {}",
+            run.summary.outcome,
+            run.summary.outcome_reason
+        );
+    }
+    let o = session.outcome();
+    out!("outcome    {}: {}", o.name(), o.reason());
+    for w in &written {
+        out!("wrote      {}", w.display());
+    }
+    out!(
+        "replay     tracksim view {}   (or reproduce: tracksim run {} --commands {} --duration {})",
+        a.out.display(),
+        file.display(),
+        a.out.join("commands.toml").display(),
+        session.duration()
+    );
+    if matches!(o, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
     Ok(())

@@ -10,11 +10,12 @@
 
 use super::hub::{DriveControl, Hub};
 use super::hud_feed::HudFeed;
+use super::seat::DriverStatus;
 use super::sensor_feed::SensorFeed;
 use crate::error::Result;
 use crate::model::Scenario;
 use crate::run::{
-    CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, Runner, SessionLimits,
+    CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, RunView, Runner, SessionLimits,
 };
 use crate::spec::CommandSpec;
 use std::path::{Path, PathBuf};
@@ -68,7 +69,7 @@ pub struct Session {
 
 /// A page's control as a scenario's command entry at `t` s (skid-steer twist, flipper
 /// targets in degrees by name): applied and recorded as such.
-fn to_command(sc: &Scenario, t: f64, c: &DriveControl) -> CommandSpec {
+pub(super) fn to_command(sc: &Scenario, t: f64, c: &DriveControl) -> CommandSpec {
     CommandSpec {
         t_s: t,
         forward_mps: Some(c.forward_mps),
@@ -105,7 +106,7 @@ fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
 /// last state, and the warnings' data.
 #[derive(Default)]
 pub(super) struct Feeds {
-    sensors: SensorFeed,
+    pub(super) sensors: SensorFeed,
     pub(super) hud: HudFeed,
     /// Sequence number of the next rut cell to send ([`crate::world::Simulation::ruts_since`]).
     pub(super) rut_seq: u64,
@@ -129,40 +130,48 @@ impl Feeds {
     }
 }
 
-/// The state streamed to the page (JSON): pose, belts, flippers, the real-time factors (paced
-/// and of stepping alone), the body's mean forward speed over the last 0.1 s (m/s), the
-/// controls in force, the outcome (`ended`: the session's; else the scenario's, once
+/// The clock figures of a live state: the requested speed (simulated seconds per wall
+/// second), wall seconds since the start and wall seconds spent stepping.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct LiveClock {
+    pub(super) speed: f64,
+    pub(super) wall_s: f64,
+    pub(super) stepping_s: f64,
+}
+
+/// The state of robot `run` streamed to the page (JSON): pose, belts, flippers, the real-time
+/// factors (paced and of stepping alone), the body's mean forward speed over the last 0.1 s
+/// (m/s), the controls in force, the outcome (`ended`: the session's; else the robot's, once
 /// decided), `sensors`: the lidar and depth camera readings new since the last state
 /// ([`SensorFeed`]: world-frame lidar points, decimated; depth images in millimetres), the
 /// warnings' data ([`HudFeed::fields`]: `slip`, `stall`, `stall_since_s`, `tilt_limit_deg`,
 /// `ahead`), `course` (the live score of a `[course]` scenario, [`crate::run::CourseScore`],
-/// with its latest [`LIVE_COURSE_EVENTS`] events; null without one), `driver` (`connected`, `grace_left_s`, `reconnects`) and `session_ended` (true
-/// in the last state: the page should not reconnect).
-pub(super) fn state_json(
-    runner: &Runner,
+/// with its latest [`LIVE_COURSE_EVENTS`] events; null without one), `driver` (`connected`,
+/// `grace_left_s`, `reconnects`) and `session_ended` (true in the last state: the page should
+/// not reconnect).
+pub(super) fn robot_state(
+    run: &RunView,
     control: &DriveControl,
-    (speed, hub): (f64, &Hub),
+    (clock, driver): (LiveClock, DriverStatus),
     ended: Option<&(Outcome, f64)>,
     feeds: &mut Feeds,
-) -> String {
-    let sim = runner.sim();
+) -> serde_json::Value {
+    let sim = run.sim;
     let p = sim.body_pose();
     let n = sim.track_names().len();
     let nf = sim.flipper_names().len();
-    let outcome = ended.or(runner.decided());
-    let driver = hub.driver_status();
-    feeds.push_ruts(runner, hub);
+    let outcome = ended.or(run.decided);
     let mut state = serde_json::json!({
         "type": "state",
         "t": sim.time(),
         "pose": [p.x, p.y, p.z, p.roll, p.pitch, p.yaw],
-        "forward_mps": mean_forward_speed(runner.samples(), runner.scenario().output_interval),
+        "forward_mps": mean_forward_speed(run.samples, run.scenario.output_interval),
         "belt_position": (0..n).map(|i| sim.belt_position(i)).collect::<Vec<_>>(),
         "belt_speed": (0..n).map(|i| sim.commanded_belt_speed(i)).collect::<Vec<_>>(),
         "flipper": (0..nf).map(|i| sim.flipper_angle(i)).collect::<Vec<_>>(),
-        "rtf_paced": sim.time() / runner.wall_elapsed().max(1e-9),
-        "rtf_compute": sim.time() / runner.stepping().max(1e-9),
-        "speed": speed,
+        "rtf_paced": sim.time() / clock.wall_s.max(1e-9),
+        "rtf_compute": sim.time() / clock.stepping_s.max(1e-9),
+        "speed": clock.speed,
         "outcome": outcome.map(|(o, t)| serde_json::json!({
             "name": o.name(), "reason": o.reason(), "t": t
         })),
@@ -171,9 +180,9 @@ pub(super) fn state_json(
             "yaw_rate_rad_s": control.yaw_rate_rad_s,
             "flipper_angle_deg": control.flipper_angle_deg,
         },
-        "sensors": feeds.sensors.new_readings(runner),
+        "sensors": feeds.sensors.new_readings(run),
         "session_ended": ended.is_some(),
-        "course": runner.course().map(|mut c| {
+        "course": run.course.clone().map(|mut c| {
             // Only the latest events: the whole list grows with the session (summary.json
             // has it all), and the state goes out up to 60 times a second.
             let n = c.events.len().saturating_sub(LIVE_COURSE_EVENTS);
@@ -187,9 +196,44 @@ pub(super) fn state_json(
         },
     });
     if let serde_json::Value::Object(m) = &mut state {
-        m.extend(feeds.hud.fields(runner));
+        m.extend(feeds.hud.fields(run));
     }
-    state.to_string()
+    state
+}
+
+/// The state of a one-robot session's `runner` ([`robot_state`]), its new rut cells handed to
+/// the hub first.
+pub(super) fn state_json(
+    runner: &Runner,
+    control: &DriveControl,
+    (speed, hub): (f64, &Hub),
+    ended: Option<&(Outcome, f64)>,
+    feeds: &mut Feeds,
+) -> String {
+    let driver = hub.driver_status();
+    feeds.push_ruts(runner, hub);
+    let clock = LiveClock {
+        speed,
+        wall_s: runner.wall_elapsed(),
+        stepping_s: runner.stepping(),
+    };
+    robot_state(&runner.view(), control, (clock, driver), ended, feeds).to_string()
+}
+
+/// Robot `k`'s new controls from its seat, if they changed from `current`: its driver's
+/// newest; without a driver (the page dropped, none yet, or it stopped) the robot stops, as a
+/// dead-man would, the flippers holding their targets.
+pub(super) fn next_control(hub: &Hub, k: usize, current: &DriveControl) -> Option<DriveControl> {
+    let wanted = if hub.driver_status_of(k).connected {
+        hub.take_control_of(k)
+    } else {
+        Some(DriveControl {
+            forward_mps: 0.0,
+            yaw_rate_rad_s: 0.0,
+            ..current.clone()
+        })
+    };
+    wanted.filter(|c| c != current)
 }
 
 /// The page as a session's control source: its controls, reset and stop, and the states it
@@ -229,19 +273,7 @@ impl ControlSource for PageSource<'_> {
     }
 
     fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
-        // Without a driver (its page dropped, or none yet) the robot stops, as a dead-man
-        // would; the flippers hold their targets.
-        let wanted = if self.hub.driver_status().connected {
-            self.hub.take_control()
-        } else {
-            Some(DriveControl {
-                forward_mps: 0.0,
-                yaw_rate_rad_s: 0.0,
-                ..self.current.clone()
-            })
-        };
-        let c = wanted.filter(|c| *c != self.current)?;
-        self.current = c;
+        self.current = next_control(self.hub, 0, &self.current)?;
         Some(to_command(runner.scenario(), runner.time(), &self.current))
     }
 
@@ -351,26 +383,12 @@ impl Session {
     /// `controls.csv`: the controls in force at each sample (`t_s`, m/s, rad/s, flipper
     /// targets in degrees).
     pub fn controls_csv(&self) -> String {
-        let mut text = String::from("t_s,forward_mps,yaw_rate_rad_s");
-        for n in &self.flipper_names {
-            text.push_str(&format!(",flipper_{n}_target_deg"));
-        }
-        text.push('\n');
-        let mut held = self.flipper_initial_deg.clone();
-        for (s, c) in self.result.samples.iter().zip(&self.controls) {
-            text.push_str(&format!(
-                "{:.6},{:.6},{:.6}",
-                s.t, c.forward_mps, c.yaw_rate_rad_s
-            ));
-            for (h, a) in held.iter_mut().zip(&c.flipper_angle_deg) {
-                if let Some(a) = a {
-                    *h = *a;
-                }
-                text.push_str(&format!(",{h:.6}"));
-            }
-            text.push('\n');
-        }
-        text
+        controls_csv(
+            &self.result.samples,
+            &self.controls,
+            &self.flipper_names,
+            &self.flipper_initial_deg,
+        )
     }
 
     /// Writes everything `tracksim run` writes (summary, trajectory, replay data, plots unless
@@ -404,4 +422,34 @@ impl Session {
         written.push(p);
         Ok(written)
     }
+}
+
+/// `controls.csv`: the controls in force at each of `samples` (`t_s`, m/s, rad/s, flipper
+/// targets in degrees: an uncommanded flipper's is its last target, from `initial_deg`).
+pub(super) fn controls_csv(
+    samples: &[crate::world::Sample],
+    controls: &[DriveControl],
+    flipper_names: &[String],
+    initial_deg: &[f64],
+) -> String {
+    let mut text = String::from("t_s,forward_mps,yaw_rate_rad_s");
+    for n in flipper_names {
+        text.push_str(&format!(",flipper_{n}_target_deg"));
+    }
+    text.push('\n');
+    let mut held = initial_deg.to_vec();
+    for (s, c) in samples.iter().zip(controls) {
+        text.push_str(&format!(
+            "{:.6},{:.6},{:.6}",
+            s.t, c.forward_mps, c.yaw_rate_rad_s
+        ));
+        for (h, a) in held.iter_mut().zip(&c.flipper_angle_deg) {
+            if let Some(a) = a {
+                *h = *a;
+            }
+            text.push_str(&format!(",{h:.6}"));
+        }
+        text.push('\n');
+    }
+    text
 }

@@ -6,9 +6,14 @@
 //! not sent yet (older ones are dropped for a slow client) and, for the driver, hands the
 //! messages it receives to the hub.
 //!
+//! Seats: a session has a seat per robot (one for a one-robot file). A page asks for robot `N`
+//! with `/ws?robot=N` (else it takes the first free seat in file order), or only watches with
+//! `/ws?watch=1` (with `robot=N`: following robot `N`); each seat has its own token and grace.
+//!
 //! Protocol (JSON text frames). Server to client:
-//! `{"type":"hello","role":"driver"|"watcher","token":T|null,"grace_s":G}` on connecting and
-//! again whenever the role changes (a watcher promoted to driver), then
+//! `{"type":"hello","role":"driver"|"watcher","token":T|null,"grace_s":G,"robot":N,"robots":[...]}`
+//! on connecting and again whenever the role changes (a watcher promoted to driver), `robot`
+//! the robot the connection drives or follows, `robots` every robot's name, then
 //! `{"type":"state", ...}` (see `drive::state_json`), and on soil
 //! `{"type":"ruts","epoch":E,"first":S,"cells":[[x,y,surface_z,depth,cell],...]}` (m): the
 //! rut cells made since the connection's last such message, numbered from `S` (a cell that
@@ -20,8 +25,11 @@
 //! answered with an error and ignored):
 //! - `{"type":"control","forward_mps":F,"yaw_rate_rad_s":W,"flipper_angle_deg":[A|null,...]}`
 //!   (m/s, rad/s, degrees by flipper index; `null` keeps a flipper's target);
-//! - `{"type":"reset"}`: the session starts again from the scenario's start;
-//! - `{"type":"stop"}`: the session ends and its outputs are written.
+//! - `{"type":"reset"}`: the session starts again from the scenario's start (refused in a
+//!   session of several robots: it would restart every robot);
+//! - `{"type":"stop"}`: the session ends and its outputs are written; in a session of several
+//!   robots the driver's seat closes (the robot stops) and the session ends once every seat
+//!   that was taken has closed.
 //!
 //! When the driver's connection closes, the robot stops and the seat is held for the driver
 //! for the grace period ([`super::seat::Seat`]); the session ends on `stop`, Ctrl-C/SIGTERM,
@@ -84,12 +92,17 @@ enum ClientMessage {
 
 /// State shared by the simulation loop and the connections.
 pub struct Hub {
-    /// Generation and text of the newest state.
-    state: Mutex<(u64, Arc<String>)>,
-    control: Mutex<Option<DriveControl>>,
+    /// Each robot's generation and text of its newest state.
+    states: Mutex<Vec<(u64, Arc<String>)>>,
+    /// Each robot's newest control from its driver.
+    controls: Mutex<Vec<Option<DriveControl>>>,
     reset: AtomicBool,
     stop: AtomicBool,
-    seat: Mutex<Seat>,
+    /// Each robot's seat.
+    seats: Mutex<Vec<Seat>>,
+    /// The robots' names (a seat each); `team`: a session of several robots.
+    robots: Vec<String>,
+    team: bool,
     next_id: AtomicU64,
     watchers: AtomicU64,
     /// Every connection watches (a learning environment's page: nobody drives).
@@ -110,18 +123,40 @@ impl Hub {
 
     /// A hub whose dropped driver has `grace_s` seconds to reconnect (0: none).
     pub fn with_grace(grace_s: f64) -> Arc<Hub> {
-        Arc::new(Hub {
-            state: Mutex::default(),
-            control: Mutex::default(),
+        Arc::new(Hub::seats(
+            vec![crate::model::DEFAULT_ROBOT_NAME.into()],
+            grace_s,
+            false,
+        ))
+    }
+
+    /// A hub for a session of several robots (`names`, in file order): a seat each, each
+    /// dropped driver with `grace_s` seconds to reconnect.
+    pub fn team(names: Vec<String>, grace_s: f64) -> Arc<Hub> {
+        Arc::new(Hub::seats(names, grace_s, true))
+    }
+
+    fn seats(robots: Vec<String>, grace_s: f64, team: bool) -> Hub {
+        let n = robots.len();
+        Hub {
+            states: Mutex::new(vec![(0, Arc::default()); n]),
+            controls: Mutex::new(vec![None; n]),
             reset: AtomicBool::default(),
             stop: AtomicBool::default(),
-            seat: Mutex::new(Seat::new(grace_s)),
+            seats: Mutex::new((0..n).map(|_| Seat::new(grace_s)).collect()),
+            robots,
+            team,
             next_id: AtomicU64::default(),
             watchers: AtomicU64::default(),
             watch_only: false,
             scene: Mutex::default(),
             ruts: Mutex::default(),
-        })
+        }
+    }
+
+    /// The robots' names, a seat each (one for a one-robot session).
+    pub fn robots(&self) -> &[String] {
+        &self.robots
     }
 
     /// A hub whose every connection watches: the page shows the state, nobody drives (a
@@ -144,20 +179,42 @@ impl Hub {
         self.scene.lock().expect("hub lock").clone()
     }
 
-    /// The driver's status: connected, or the grace left to a dropped one.
+    /// The (first) robot's driver status: connected, or the grace left to a dropped one.
     pub fn driver_status(&self) -> DriverStatus {
-        self.seat.lock().expect("hub lock").status()
+        self.driver_status_of(0)
+    }
+
+    /// Robot `k`'s driver status.
+    pub fn driver_status_of(&self, k: usize) -> DriverStatus {
+        self.seats.lock().expect("hub lock")[k].status()
     }
 
     /// The reconnect grace, s.
     pub fn grace_s(&self) -> f64 {
-        self.seat.lock().expect("hub lock").grace_s()
+        self.seats.lock().expect("hub lock")[0].grace_s()
     }
 
-    /// Whether the session has been left: the driver dropped, its grace passed, and no page
-    /// is connected to take the seat.
+    /// Whether the session has been left: a driver dropped and its grace passed, no seat is
+    /// driven or held for its driver, and no page is connected to take a seat.
     pub fn abandoned(&self) -> bool {
-        self.connections() == 0 && self.seat.lock().expect("hub lock").abandoned()
+        let seats = self.seats.lock().expect("hub lock");
+        self.connections() == 0
+            && seats.iter().any(Seat::abandoned)
+            && seats.iter().all(|s| {
+                let st = s.status();
+                !st.connected && st.grace_left_s.is_none()
+            })
+    }
+
+    /// Whether every driver of a session of several robots has stopped: each seat that was
+    /// taken is closed ([`Seat::finish`]) and at least one was.
+    pub fn all_stopped(&self) -> bool {
+        let seats = self.seats.lock().expect("hub lock");
+        self.team
+            && seats.iter().any(|s| s.status().finished)
+            && seats
+                .iter()
+                .all(|s| s.status().finished || !s.ever_driven() || s.abandoned())
     }
 
     /// Appends rut cells (`[x, y, surface_z, depth, cell]`, m) for every connection to send.
@@ -208,20 +265,31 @@ impl Hub {
         Some((msg.to_string(), log.epoch, from + n))
     }
 
-    /// Publishes a new state (replacing any the connections have not sent yet).
+    /// Publishes a new state of the (first) robot (replacing any the connections have not
+    /// sent yet).
     pub fn publish(&self, json: String) {
-        let mut s = self.state.lock().expect("hub lock");
-        s.0 += 1;
-        s.1 = Arc::new(json);
+        self.publish_robot(0, json);
     }
 
-    fn latest(&self) -> (u64, Arc<String>) {
-        self.state.lock().expect("hub lock").clone()
+    /// Publishes a new state of robot `k`: what the pages driving or following it are sent.
+    pub fn publish_robot(&self, k: usize, json: String) {
+        let mut s = self.states.lock().expect("hub lock");
+        s[k].0 += 1;
+        s[k].1 = Arc::new(json);
     }
 
-    /// The newest control the driver sent since the last call, if any.
+    fn latest(&self, k: usize) -> (u64, Arc<String>) {
+        self.states.lock().expect("hub lock")[k].clone()
+    }
+
+    /// The newest control the (first) robot's driver sent since the last call, if any.
     pub fn take_control(&self) -> Option<DriveControl> {
-        self.control.lock().expect("hub lock").take()
+        self.take_control_of(0)
+    }
+
+    /// The newest control robot `k`'s driver sent since the last call, if any.
+    pub fn take_control_of(&self, k: usize) -> Option<DriveControl> {
+        self.controls.lock().expect("hub lock")[k].take()
     }
 
     /// Whether the driver asked for a reset since the last call.
@@ -244,11 +312,35 @@ impl Hub {
         self.watchers.load(Ordering::Relaxed)
     }
 
+    /// The seat connection `id` drives, if any.
+    fn seat_of(&self, id: u64) -> Option<usize> {
+        self.seats
+            .lock()
+            .expect("hub lock")
+            .iter()
+            .position(|s| s.drives(id))
+    }
+
+    /// Connection `id` (presenting `token`) asks for a seat among `wanted` (in order); returns
+    /// the seat and its token if it now drives.
+    fn claim(&self, id: u64, token: Option<&str>, wanted: &[usize]) -> Option<(usize, String)> {
+        let mut seats = self.seats.lock().expect("hub lock");
+        // A token names its seat: the seats held for their drivers first.
+        let held: Vec<usize> = wanted
+            .iter()
+            .copied()
+            .filter(|&k| token.is_some() && seats[k].status().grace_left_s.is_some())
+            .collect();
+        held.into_iter()
+            .chain(wanted.iter().copied())
+            .find_map(|k| seats[k].claim(id, token).map(|t| (k, t)))
+    }
+
     /// Handles one message of connection `id`; returns an error text for the client.
     fn receive(&self, id: u64, text: &str) -> Option<String> {
-        if !self.seat.lock().expect("hub lock").drives(id) {
+        let Some(k) = self.seat_of(id) else {
             return Some("this connection only watches: another one drives".into());
-        }
+        };
         match serde_json::from_str::<ClientMessage>(text) {
             Ok(ClientMessage::Control {
                 forward_mps,
@@ -261,7 +353,7 @@ impl Hub {
                 if !finite {
                     return Some("control values must be finite numbers".into());
                 }
-                *self.control.lock().expect("hub lock") = Some(DriveControl {
+                self.controls.lock().expect("hub lock")[k] = Some(DriveControl {
                     forward_mps: forward_mps.clamp(-MAX_FORWARD_MPS, MAX_FORWARD_MPS),
                     yaw_rate_rad_s: yaw_rate_rad_s.clamp(-MAX_YAW_RATE_RAD_S, MAX_YAW_RATE_RAD_S),
                     flipper_angle_deg: flipper_angle_deg
@@ -271,8 +363,16 @@ impl Hub {
                 });
                 None
             }
+            Ok(ClientMessage::Reset) if self.team => Some(
+                "a reset would start every robot again: not in a session of several robots".into(),
+            ),
             Ok(ClientMessage::Reset) => {
                 self.reset.store(true, Ordering::Relaxed);
+                None
+            }
+            Ok(ClientMessage::Stop) if self.team => {
+                self.controls.lock().expect("hub lock")[k] = None;
+                self.seats.lock().expect("hub lock")[k].finish();
                 None
             }
             Ok(ClientMessage::Stop) => {
@@ -286,19 +386,61 @@ impl Hub {
     }
 }
 
-/// The token a page presents in its WebSocket URL's query (`token=HEX`), if any.
-fn query_token(query: &str) -> Option<&str> {
+/// The value of `key` in a WebSocket URL's query (`key=VALUE`), if any.
+fn query_value<'a>(query: &'a str, key: &str) -> Option<&'a str> {
     query
         .split('&')
-        .find_map(|kv| kv.strip_prefix("token="))
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('='))
+}
+
+/// The token a page presents in its WebSocket URL's query (`token=HEX`), if any.
+fn query_token(query: &str) -> Option<&str> {
+    query_value(query, "token")
         .filter(|t| !t.is_empty() && t.len() <= 64 && t.bytes().all(|b| b.is_ascii_hexdigit()))
 }
 
-/// The hello of a connection that drives (with its token) or watches.
-fn hello(token: Option<&str>, grace_s: f64) -> String {
+/// The robot a request's query names (`robot=NAME`) among `robots`, by index.
+pub(super) fn query_robot(query: &str, robots: &[String]) -> Option<usize> {
+    let n = query_value(query, "robot")?;
+    robots.iter().position(|r| r == n)
+}
+
+/// What a connection asks for in its query: the robot (`robot=NAME`, by index; an unknown
+/// name is an error text), and whether it only watches (`watch=1`).
+fn query_seat(
+    query: &str,
+    robots: &[String],
+) -> (std::result::Result<Option<usize>, String>, bool) {
+    let watch = query_value(query, "watch").is_some_and(|v| v == "1" || v == "true");
+    let robot = match query_value(query, "robot") {
+        None => Ok(None),
+        Some(n) => robots.iter().position(|r| r == n).map(Some).ok_or_else(|| {
+            format!(
+                "no robot `{}` in this session (its robots: {}); watching",
+                n.chars().take(64).collect::<String>(),
+                robots.join(", ")
+            )
+        }),
+    };
+    (robot, watch)
+}
+
+/// The hello of a connection that drives (with its token) or watches robot `robot`.
+fn hello(token: Option<&str>, grace_s: f64, robot: &str, robots: &[String]) -> String {
     let role = if token.is_some() { "driver" } else { "watcher" };
-    serde_json::json!({ "type": "hello", "role": role, "token": token, "grace_s": grace_s })
-        .to_string()
+    serde_json::json!({
+        "type": "hello", "role": role, "token": token, "grace_s": grace_s,
+        "robot": robot, "robots": robots,
+    })
+    .to_string()
+}
+
+/// What a connection wants and has: the seats it would take (in order; none when it only
+/// watches), the robot it follows, its seat and token once it drives.
+struct Wants {
+    seats: Vec<usize>,
+    follow: usize,
+    token: Option<String>,
 }
 
 /// Serves one WebSocket connection (its request's query in `query`) until it closes or the
@@ -310,19 +452,33 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
     let mut ws = tungstenite::accept(stream).map_err(std::io::Error::other)?;
     let id = hub.next_id.fetch_add(1, Ordering::Relaxed);
     let presented = query_token(query);
-    let token = if hub.watch_only {
-        None
-    } else {
-        hub.seat.lock().expect("hub lock").claim(id, presented)
+    let (robot, watch) = query_seat(query, &hub.robots);
+    let asked = robot.clone().unwrap_or(None);
+    let seats = match asked {
+        _ if hub.watch_only || watch || robot.is_err() => Vec::new(),
+        Some(k) => vec![k],
+        None => (0..hub.robots.len()).collect(),
     };
+    let mut wants = Wants {
+        seats,
+        follow: asked.unwrap_or(0),
+        token: None,
+    };
+    if let Some((k, t)) = hub.claim(id, presented, &wants.seats) {
+        wants.follow = k;
+        wants.token = Some(t);
+    }
     hub.watchers.fetch_add(1, Ordering::Relaxed);
     ws.get_mut().set_read_timeout(Some(POLL))?;
-    let result = socket_loop(&mut ws, hub, (id, presented), token);
-    let mut seat = hub.seat.lock().expect("hub lock");
-    if seat.drives(id) {
-        *hub.control.lock().expect("hub lock") = None;
+    if let Err(why) = robot {
+        let msg = serde_json::json!({ "type": "error", "message": why }).to_string();
+        let _ = ws.send(Message::text(msg));
     }
-    seat.leave(id);
+    let result = socket_loop(&mut ws, hub, (id, presented), wants);
+    if let Some(k) = hub.seat_of(id) {
+        hub.controls.lock().expect("hub lock")[k] = None;
+        hub.seats.lock().expect("hub lock")[k].leave(id);
+    }
     hub.watchers.fetch_sub(1, Ordering::Relaxed);
     result
 }
@@ -331,28 +487,40 @@ fn socket_loop(
     ws: &mut tungstenite::WebSocket<TcpStream>,
     hub: &Hub,
     (id, presented): (u64, Option<&str>),
-    mut token: Option<String>,
+    mut wants: Wants,
 ) -> std::io::Result<()> {
     let other = std::io::Error::other;
     let grace = hub.grace_s();
-    ws.send(Message::text(hello(token.as_deref(), grace)))
-        .map_err(other)?;
+    let hi = |w: &Wants| {
+        hello(
+            w.token.as_deref(),
+            grace,
+            &hub.robots[w.follow],
+            &hub.robots,
+        )
+    };
+    ws.send(Message::text(hi(&wants))).map_err(other)?;
     let mut sent = 0u64;
     // (epoch, next cell) of the ruts sent on this connection.
     let mut ruts_sent = (u64::MAX, 0u64);
     loop {
-        if token.is_none() && !hub.watch_only {
+        if wants.token.is_none() && !wants.seats.is_empty() {
             // A watcher takes a free seat; a reconnected driver whose old connection was
             // still open takes it back once that one has closed.
-            token = hub.seat.lock().expect("hub lock").claim(id, presented);
-            if token.is_some() {
-                ws.send(Message::text(hello(token.as_deref(), grace)))
-                    .map_err(other)?;
+            if let Some((k, t)) = hub.claim(id, presented, &wants.seats) {
+                wants.follow = k;
+                wants.token = Some(t);
+                ws.send(Message::text(hi(&wants))).map_err(other)?;
             }
+        } else if wants.token.is_some() && hub.seat_of(id).is_none() {
+            // The driver stopped: its seat closed; it watches its robot from now on.
+            wants.token = None;
+            wants.seats.clear();
+            ws.send(Message::text(hi(&wants))).map_err(other)?;
         }
         if hub.stop_requested() {
             // The last state, then a close frame; errors do not matter any more.
-            let (_, s) = hub.latest();
+            let (_, s) = hub.latest(wants.follow);
             let _ = ws.send(Message::text(s.as_str()));
             let _ = ws.close(None);
             let _ = ws.flush();
@@ -374,7 +542,7 @@ fn socket_loop(
                 ) => {}
             Err(e) => return Err(other(e)),
         }
-        let (g, s) = hub.latest();
+        let (g, s) = hub.latest(wants.follow);
         if g != sent && g > 0 {
             sent = g;
             ws.send(Message::text(s.as_str())).map_err(other)?;

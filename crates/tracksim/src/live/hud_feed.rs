@@ -3,7 +3,7 @@
 //! the tip-over limit, and the terrain's profile ahead of the robot (for the flipper gauge
 //! against the step ahead).
 
-use crate::run::Runner;
+use crate::run::RunView;
 use crate::run::events::StallDetector;
 
 /// Distances of the profile ahead, along the body's heading from its origin, m: from
@@ -19,8 +19,8 @@ pub const STEP_AHEAD_WITHIN_M: f64 = 1.0;
 /// The terrain's height along the body's horizontal heading: distances `d_m` and heights
 /// `z_m` relative to the terrain under the body's origin (null where there is no terrain),
 /// and `step_m`, the largest rise within [`STEP_AHEAD_WITHIN_M`] ahead (0 on level ground).
-pub fn ahead_profile(runner: &Runner) -> serde_json::Value {
-    let sim = runner.sim();
+pub fn ahead_profile(run: &RunView) -> serde_json::Value {
+    let sim = run.sim;
     let p = sim.body_pose();
     let n = ((AHEAD_TO_M - AHEAD_FROM_M) / AHEAD_STEP_M).round() as usize + 1;
     let d: Vec<f64> = (0..n)
@@ -59,8 +59,8 @@ impl HudFeed {
 
     /// `slip` (per track, the last sample's slip ratio), `stall` (bool) and `stall_since_s`
     /// (when it began, s), `tilt_limit_deg`, `ahead` ([`ahead_profile`]), as JSON fields.
-    pub fn fields(&mut self, runner: &Runner) -> serde_json::Map<String, serde_json::Value> {
-        let samples = runner.samples();
+    pub fn fields(&mut self, run: &RunView) -> serde_json::Map<String, serde_json::Value> {
+        let samples = run.samples;
         if samples.len() < self.seen {
             self.reset();
         }
@@ -78,9 +78,9 @@ impl HudFeed {
         );
         m.insert(
             "tilt_limit_deg".into(),
-            runner.scenario().outcome.max_tilt.to_degrees().into(),
+            run.scenario.outcome.max_tilt.to_degrees().into(),
         );
-        m.insert("ahead".into(), ahead_profile(runner));
+        m.insert("ahead".into(), ahead_profile(run));
         m
     }
 }

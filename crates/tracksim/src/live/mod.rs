@@ -8,6 +8,7 @@
 //!   connections, and the WebSocket protocol;
 //! - [`seat`]: who drives, and the grace a dropped driver has to come back;
 //! - [`drive`]: the paced session loop, recorded as a run;
+//! - [`team_drive`]: a session of several robots, a seat each;
 //! - [`hud_feed`]: slip, stall, tilt limit and the terrain ahead, for the page's warnings;
 //! - [`sensor_feed`]: the lidar and depth camera readings a live state carries;
 //! - [`watch`]: a learning environment's live page (watch-only, `render_mode="human"`).
@@ -19,12 +20,14 @@ pub mod hud_feed;
 pub mod seat;
 pub mod sensor_feed;
 pub mod server;
+pub mod team_drive;
 pub mod watch;
 
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
 pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};
 pub use server::{Mode, Server, view_files};
+pub use team_drive::{TeamSession, run_team_session};
 pub use watch::Watch;
 
 /// The default address: loopback only.

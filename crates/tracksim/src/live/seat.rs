@@ -8,6 +8,9 @@
 //! page presenting the token takes the seat back, any other page watches. Once the grace has
 //! passed, the seat is free: a watcher already connected, or the next page, takes it with a
 //! new token; with no page connected at all, the session ends (the operator has gone).
+//!
+//! A session of several robots has a seat per robot, each with its own token and grace; a
+//! driver who stops closes their seat ([`Seat::finish`]) and the others drive on.
 
 use std::hash::{BuildHasher, Hasher};
 use std::time::{Duration, Instant};
@@ -24,6 +27,9 @@ pub struct DriverStatus {
     pub grace_left_s: Option<f64>,
     /// How many times a dropped driver came back.
     pub reconnects: u32,
+    /// The driver has stopped (a seat of a session of several robots): nobody drives this
+    /// robot any more.
+    pub finished: bool,
 }
 
 /// The seat: the driving connection, its token, when it was lost.
@@ -35,6 +41,7 @@ pub struct Seat {
     lost_at: Option<Instant>,
     reconnects: u32,
     ever_driven: bool,
+    finished: bool,
 }
 
 /// A fresh token: 128 bits from the standard library's randomly seeded hasher (the OS's
@@ -59,6 +66,7 @@ impl Seat {
             lost_at: None,
             reconnects: 0,
             ever_driven: false,
+            finished: false,
         }
     }
 
@@ -74,6 +82,9 @@ impl Seat {
     /// Connection `id` (presenting `token`, if any) asks for the seat; returns the token if it
     /// now drives. A held seat goes only to the token; a free one to anybody.
     pub fn claim(&mut self, id: u64, token: Option<&str>) -> Option<String> {
+        if self.finished {
+            return None;
+        }
         if self.driver.is_some() {
             return (self.driver == Some(id)).then(|| self.token.clone());
         }
@@ -104,6 +115,18 @@ impl Seat {
         }
     }
 
+    /// The driver stopped: the seat is closed (nobody drives this robot again).
+    pub fn finish(&mut self) {
+        self.driver = None;
+        self.lost_at = None;
+        self.finished = true;
+    }
+
+    /// Whether the seat was ever taken.
+    pub fn ever_driven(&self) -> bool {
+        self.ever_driven
+    }
+
     /// The driver's status now.
     pub fn status(&self) -> DriverStatus {
         let grace_left_s = self
@@ -115,6 +138,7 @@ impl Seat {
             connected: self.driver.is_some(),
             grace_left_s,
             reconnects: self.reconnects,
+            finished: self.finished,
         }
     }
 

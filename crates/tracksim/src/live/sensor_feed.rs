@@ -18,7 +18,7 @@
 //!   at the reading.
 
 use crate::model::SensorKind;
-use crate::run::Runner;
+use crate::run::RunView;
 use crate::sensors::Channel;
 use glam::{DQuat, DVec3};
 use serde_json::{Value, json};
@@ -105,10 +105,10 @@ fn depth_entry(chs: &[Channel], max_range: f64) -> Option<Value> {
 }
 
 impl SensorFeed {
-    /// The lidar and depth camera readings of `runner` taken since the last call (see the
+    /// The lidar and depth camera readings of robot `run` taken since the last call (see the
     /// module's text for the entries).
-    pub fn new_readings(&mut self, runner: &Runner) -> Vec<Value> {
-        let set = runner.sensors();
+    pub fn new_readings(&mut self, run: &RunView) -> Vec<Value> {
+        let set = run.sensors;
         self.sent.resize(set.len(), f64::NAN);
         let mut out = Vec::new();
         for i in 0..set.len() {

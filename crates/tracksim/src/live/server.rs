@@ -25,8 +25,10 @@ pub enum Mode {
     Drive {
         /// The session's shared state.
         hub: Arc<Hub>,
-        /// `scene.json` of the scenario.
-        scene_json: String,
+        /// `scene.json` of the scenario: of each robot, in the hub's order
+        /// ([`Hub::robots`]); `/scene.json?robot=NAME` gives robot `NAME`'s, `/scene.json`
+        /// the first's.
+        scene_json: Vec<String>,
     },
     /// A replay: the files of a finished run, read once at start.
     View {
@@ -213,7 +215,12 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
     match mode {
         Mode::Drive { scene_json, hub } if path == "/scene.json" => {
             let set = hub.scene();
-            let body = set.as_deref().unwrap_or(scene_json);
+            let query = target.split_once('?').map_or("", |(_, q)| q);
+            let k = super::hub::query_robot(query, hub.robots()).unwrap_or(0);
+            let body = set
+                .as_deref()
+                .or(scene_json.get(k))
+                .map_or("{}", String::as_str);
             respond(&mut stream, "200 OK", "application/json", body.as_bytes())
         }
         Mode::View { files } => match files.iter().find(|f| f.0 == path) {

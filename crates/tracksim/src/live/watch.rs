@@ -41,7 +41,7 @@ impl Watch {
             port,
             Mode::Drive {
                 hub: hub.clone(),
-                scene_json: scene.clone(),
+                scene_json: vec![scene.clone()],
             },
         )?;
         Ok(Watch {

@@ -23,42 +23,14 @@ pub(crate) fn compile_team(
     overrides: &Overrides,
     commands: Option<&OverrideCommands>,
 ) -> Result<Scenario> {
-    let by_robot = commands.filter(|c| c.by_robot());
-    let mut issues = world_issues(spec, commands.is_some() && by_robot.is_none());
-    if let Some(c) = by_robot {
-        for n in c.robot_names() {
-            if !spec.vehicles.iter().any(|r| r.name == n) {
-                issues.push(SpecIssue::new(
-                    "commands",
-                    format!(
-                        "the commands file names robot `{n}`, which the scenario does not have \
-                         ({})",
-                        spec.vehicles
-                            .iter()
-                            .map(|r| r.name.as_str())
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                ));
-            }
-        }
-    }
+    let mut issues = world_issues(spec);
+    let names: Vec<&str> = spec.vehicles.iter().map(|r| r.name.as_str()).collect();
+    let replaced = commands.map(|c| c.per_robot(&names)).transpose()?;
     let mut robots = Vec::new();
     let mut first: Option<Scenario> = None;
     for (k, r) in spec.vehicles.iter().enumerate() {
-        // A commands file's entries for this robot replace its own (`--commands`).
-        let replaced;
-        let r = match by_robot.and_then(|c| c.robot(&r.name)) {
-            Some(cmds) => {
-                replaced = RobotSpec {
-                    commands: cmds.to_vec(),
-                    ..r.clone()
-                };
-                &replaced
-            }
-            None => r,
-        };
-        match compile_robot(path, spec, r, overrides) {
+        let own = replaced.as_ref().map(|c| c[k].clone());
+        match compile_robot(path, spec, r, overrides, own) {
             Ok(sc) => {
                 robots.push((k, RobotModel::of(&r.name, &sc)));
                 first.get_or_insert(sc);
@@ -97,17 +69,19 @@ pub(crate) fn compile_team(
     }
 }
 
-/// Robot `r` compiled as the one robot of the file.
+/// Robot `r` compiled as the one robot of the file (with `commands` in place of its own, when
+/// a commands file replaces them).
 fn compile_robot(
     path: &Path,
     spec: &ScenarioSpec,
     r: &RobotSpec,
     overrides: &Overrides,
+    commands: Option<Vec<crate::spec::CommandSpec>>,
 ) -> std::result::Result<Scenario, Vec<SpecIssue>> {
     let one = ScenarioSpec {
         vehicle: r.vehicle.clone(),
         vehicles: Vec::new(),
-        commands: r.commands.clone(),
+        commands: commands.unwrap_or_else(|| r.commands.clone()),
         // The file's rule is the world's (checked once, by `compile_team`), not the robot's.
         outcome: r
             .outcome
@@ -150,7 +124,7 @@ fn keyed(k: usize, r: &RobotSpec, i: SpecIssue) -> SpecIssue {
 }
 
 /// The file's own problems: a robot's keys left at the top level, names, how many robots.
-fn world_issues(spec: &ScenarioSpec, commands_file: bool) -> Vec<SpecIssue> {
+fn world_issues(spec: &ScenarioSpec) -> Vec<SpecIssue> {
     let mut c = Checker::default();
     let v = &spec.vehicle;
     if v.file.is_some() || v.inline.is_some() {
@@ -176,14 +150,6 @@ fn world_issues(spec: &ScenarioSpec, commands_file: bool) -> Vec<SpecIssue> {
         c.push(
             "randomize",
             "[randomize] is not supported with [[vehicles]] yet: give fixed values, or one robot",
-        );
-    }
-    if commands_file {
-        c.push(
-            "vehicles",
-            "a commands file of [[commands]] (--commands) drives one robot; for a file with \
-             [[vehicles]] give each robot's as [[vehicles]] tables (name, \
-             [[vehicles.commands]]), as `tracksim ros` records them",
         );
     }
     if format!("{:?}", team_expect(&spec.expect)) != format!("{:?}", spec.expect) {

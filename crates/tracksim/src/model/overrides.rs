@@ -44,9 +44,9 @@ pub struct StartOffset {
     pub yaw_deg: f64,
 }
 
-/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`),
-/// or, for a file of several robots, `[[vehicles]]` tables of a `name` and its
-/// `[[vehicles.commands]]` (as `tracksim ros` records a session of several robots).
+/// A file holding only `[[commands]]`, as `tracksim drive` records a session (`commands.toml`);
+/// or, for a file with several robots, `[[vehicles]]` each with a `name` and its
+/// `[[vehicles.commands]]` (a session of several robots).
 #[derive(serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CommandsFile {
@@ -56,7 +56,7 @@ struct CommandsFile {
     vehicles: Vec<RobotCommands>,
 }
 
-/// A robot's commands in a commands file.
+/// One robot's commands in a commands file.
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RobotCommands {
@@ -74,42 +74,74 @@ pub(crate) struct OverrideCommands {
 }
 
 impl OverrideCommands {
-    /// Whether the file gives robots' commands by name (`[[vehicles]]`), for a file of
-    /// several robots.
-    pub(crate) fn by_robot(&self) -> bool {
-        !self.robots.is_empty()
-    }
-
-    /// The commands the file gives robot `name` (`None`: it does not name it; the robot keeps
-    /// its own).
-    pub(crate) fn robot(&self, name: &str) -> Option<&[CommandSpec]> {
-        self.robots
-            .iter()
-            .find(|r| r.name == name)
-            .map(|r| r.commands.as_slice())
-    }
-
-    /// The robot names the file gives.
-    pub(crate) fn robot_names(&self) -> impl Iterator<Item = &str> {
-        self.robots.iter().map(|r| r.name.as_str())
-    }
-
     /// The commands compiled for `vehicle`; problems name the commands file.
     pub(crate) fn compile(&self, vehicle: &VehicleModel) -> Result<Vec<super::Command>> {
-        if self.by_robot() {
-            return Err(Error::Invalid {
-                path: self.path.clone(),
-                issues: vec![SpecIssue::new(
-                    "vehicles",
-                    "this commands file gives several robots' commands ([[vehicles]]); the \
-                     scenario has one robot: give its commands as [[commands]]",
-                )],
-            });
+        if !self.robots.is_empty() {
+            return Err(self.invalid(vec![SpecIssue::new(
+                "vehicles",
+                "this commands file drives several robots ([[vehicles]]); the scenario has one: \
+                 give its controls as top-level [[commands]]",
+            )]));
         }
-        compile_commands(&self.specs, vehicle).map_err(|issues| Error::Invalid {
+        compile_commands(&self.specs, vehicle).map_err(|issues| self.invalid(issues))
+    }
+
+    /// Problems of the commands file, naming it.
+    fn invalid(&self, issues: Vec<SpecIssue>) -> Error {
+        Error::Invalid {
             path: self.path.clone(),
             issues,
-        })
+        }
+    }
+
+    /// Each robot's commands, replacing its own, for a file whose robots are `names` (in file
+    /// order): every robot must be listed once under its name, and no other. A file of one
+    /// robot's `[[commands]]` is refused.
+    pub(crate) fn per_robot(&self, names: &[&str]) -> Result<Vec<Vec<CommandSpec>>> {
+        let mut issues = Vec::new();
+        if self.robots.is_empty() {
+            issues.push(SpecIssue::new(
+                "commands",
+                "this commands file drives one robot; a scenario with [[vehicles]] is replayed \
+                 from a file with [[vehicles]] (name, [[vehicles.commands]]) for each robot, as \
+                 `tracksim drive` writes it",
+            ));
+        }
+        for (i, r) in self.robots.iter().enumerate() {
+            if !names.contains(&r.name.as_str()) {
+                issues.push(SpecIssue::new(
+                    format!("vehicles[{i}].name"),
+                    format!(
+                        "no robot `{}` in the scenario (its robots: {})",
+                        r.name,
+                        names.join(", ")
+                    ),
+                ));
+            } else if self.robots[..i].iter().any(|o| o.name == r.name) {
+                issues.push(SpecIssue::new(
+                    format!("vehicles[{i}].name"),
+                    format!("robot `{}` is listed twice", r.name),
+                ));
+            }
+        }
+        let mut out = Vec::new();
+        for n in names {
+            match self.robots.iter().find(|r| r.name == *n) {
+                Some(r) => out.push(r.commands.clone()),
+                None if !self.robots.is_empty() => {
+                    issues.push(SpecIssue::new(
+                        "vehicles",
+                        format!("robot `{n}` is not listed: give every robot of the scenario its commands (an empty list for none)"),
+                    ));
+                }
+                None => {}
+            }
+        }
+        if issues.is_empty() {
+            Ok(out)
+        } else {
+            Err(self.invalid(issues))
+        }
     }
 }
 
@@ -234,6 +266,15 @@ impl Overrides {
             return Ok(None);
         };
         let f: CommandsFile = super::read::read_toml(path)?;
+        if !f.vehicles.is_empty() && !f.commands.is_empty() {
+            return Err(Error::Invalid {
+                path: path.clone(),
+                issues: vec![SpecIssue::new(
+                    "commands",
+                    "give either [[commands]] (one robot) or [[vehicles]] (several), not both",
+                )],
+            });
+        }
         Ok(Some(OverrideCommands {
             path: path.clone(),
             specs: f.commands,

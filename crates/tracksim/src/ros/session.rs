@@ -26,8 +26,8 @@ use crate::output::ros_messages::{
 use crate::output::ros_names::Namespace;
 use crate::rosmsg::{TFMessage, TransformStamped};
 use crate::run::{
-    CommandLog, ControlSource, End, LogHeader, RunResult, Runner, SessionLimits, TeamResult,
-    TeamRunner,
+    CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits, TeamResult, TeamRunner,
+    WorldSource, run_world_session,
 };
 use crate::sensors::SensorSet;
 use crate::spec::{CommandSpec, PerTrack};
@@ -361,40 +361,35 @@ impl ControlSource for TopicSource<'_, '_> {
 }
 
 /// ROS 2 topics as the control source of a session of several robots: each robot's own
-/// topics, commands and watchdog ([`TopicSource`] per robot), one `/clock` and one `/tf`.
+/// topics, commands and watchdog ([`RobotTopics`] per robot), one `/clock` and one `/tf`.
 struct TeamTopicSource<'w> {
     robots: Vec<RobotTopics>,
     world: World<'w>,
 }
 
-impl ControlSource<TeamRunner> for TeamTopicSource<'_> {
-    fn controls(&mut self, runner: &TeamRunner) -> Option<Vec<(usize, CommandSpec)>> {
-        let t = runner.time();
-        let out: Vec<(usize, CommandSpec)> = (0..self.robots.len())
-            .filter_map(|k| {
-                let v = &runner.robot_scenario(k).vehicle;
-                self.robots[k]
-                    .controls(v, t, &mut self.world.rep)
-                    .map(|c| (k, c))
-            })
-            .collect();
-        (!out.is_empty()).then_some(out)
+impl WorldSource<TeamRunner> for TeamTopicSource<'_> {
+    fn controls(&mut self, runner: &TeamRunner, k: usize) -> Option<CommandSpec> {
+        let v = &runner.robot_scenario(k).vehicle;
+        self.robots[k].controls(v, runner.sim().time(), &mut self.world.rep)
     }
 
-    fn after_step(&mut self, runner: &TeamRunner) {
+    fn after_step(&mut self, runner: &mut TeamRunner) {
+        let t = runner.sim().time();
         for (k, r) in self.robots.iter_mut().enumerate() {
-            r.publish_sensors(runner.robot_sensors(k), runner.time(), &mut self.world.rep);
+            r.publish_sensors(runner.view(k).sensors, t, &mut self.world.rep);
         }
     }
 
-    fn after_sample(&mut self, runner: &TeamRunner) {
+    fn after_sample(&mut self, runner: &mut TeamRunner) {
+        let t = runner.sim().time();
         let mut tf = Vec::new();
         for (k, r) in self.robots.iter().enumerate() {
-            if let Some(s) = last_two(runner.robot_samples(k)) {
-                r.publish(runner.robot_scenario(k), s, self.world.map_tf, &mut tf);
+            let view = runner.view(k);
+            if let Some(s) = last_two(view.samples) {
+                r.publish(view.scenario, s, self.world.map_tf, &mut tf);
             }
         }
-        self.world.publish(runner.time(), tf);
+        self.world.publish(t, tf);
     }
 }
 
@@ -507,13 +502,13 @@ pub fn run_ros_team(
         .collect();
     let (world, robots) = start(&mut node, opts, &robots, warn)?;
     let mut topics = TeamTopicSource { robots, world };
-    topics.after_sample(&runner);
-    topics.after_step(&runner);
-    let run = crate::run::run_session(runner, &mut topics, limits(opts))?;
-    let mut logs = run.log;
-    logs.resize_with(names.len(), CommandLog::new);
+    topics.after_sample(&mut runner);
+    topics.after_step(&mut runner);
+    let order = runner.sim().build_order().to_vec();
+    let run = run_world_session(runner, &mut topics, limits(opts), &order)?;
+    let logs = run.logs;
     Ok(RosTeamSession {
-        result: run.runner.finish(run.end == End::Reached),
+        result: run.world.finish(run.end),
         robots: names
             .into_iter()
             .zip(logs)
@@ -534,10 +529,10 @@ impl RosTeamSession {
     }
 
     /// Writes everything `tracksim run` writes for the world (a folder per robot,
-    /// `team.json`, plots unless `plots` is false, the world's `run.mcap` if `mcap`), each
-    /// robot's `commands.toml` in its folder and the world's in `dir`
-    /// ([`crate::run::command_log::write_team_commands`]: `tracksim run FILE --commands
-    /// dir/commands.toml --duration T` replays the session); returns the paths.
+    /// `team.json`, plots unless `plots` is false, the world's `run.mcap` if `mcap`) and
+    /// `dir/commands.toml`, every robot's controls ([`crate::run::write_team_log`]: `tracksim
+    /// run FILE --commands dir/commands.toml --duration T` replays the session); returns the
+    /// paths.
     pub fn write(
         &self,
         sc: &Scenario,
@@ -561,7 +556,7 @@ impl RosTeamSession {
             .iter()
             .map(|(n, l, _)| (n.as_str(), l))
             .collect();
-        written.extend(crate::run::command_log::write_team_commands(
+        written.push(crate::run::write_team_log(
             &logs,
             header,
             scenario_file,

@@ -83,7 +83,7 @@ impl CommandLog {
             commands: &self.commands,
         })
         .expect("commands serialise");
-        header_text(header, scenario_file, commands_file, duration_s) + &body
+        header.text(scenario_file, commands_file, duration_s, "trajectory.csv") + &body
     }
 
     /// Writes `commands.toml` into `dir` (see [`CommandLog::to_toml`]); returns its path.
@@ -101,77 +101,81 @@ impl CommandLog {
     }
 }
 
-/// The controls of a session of several robots as a commands file (see
-/// [`write_team_commands`]): each robot's entries under its name.
-#[derive(serde::Serialize)]
-struct TeamFile<'a> {
-    vehicles: Vec<RobotEntries<'a>>,
+impl LogHeader<'_> {
+    /// The comment lines opening a `commands.toml`: what the controls were, the command that
+    /// reproduces `what_replays` of the run of `scenario_file` for `duration_s` s, the notes.
+    fn text(
+        &self,
+        scenario_file: &Path,
+        commands_file: &Path,
+        duration_s: f64,
+        what_replays: &str,
+    ) -> String {
+        let mut text = format!(
+            "# {}, applied at these simulated times.\n\
+             # This run reproduces its {what_replays}:\n\
+             #   tracksim run {} --commands {} --duration {duration_s}\n",
+            self.what,
+            scenario_file.display(),
+            commands_file.display(),
+        );
+        for n in self.notes {
+            text.push_str(&format!("# {n}\n"));
+        }
+        text
+    }
 }
 
-#[derive(serde::Serialize)]
-struct RobotEntries<'a> {
-    name: &'a str,
-    commands: &'a [CommandSpec],
-}
-
-/// The header lines of a commands file replaying `scenario_file` for `duration_s` s.
-fn header_text(
+/// The `commands.toml` of a session of several robots (to be written at `commands_file`): the
+/// header, then each robot's entries under its name as `[[vehicles]]` with
+/// `[[vehicles.commands]]` (every robot listed, in `logs`' order), which `tracksim run
+/// --commands` reads in place of the robots' own commands.
+pub fn team_toml(
+    logs: &[(&str, &CommandLog)],
     header: LogHeader,
     scenario_file: &Path,
     commands_file: &Path,
     duration_s: f64,
 ) -> String {
-    let mut text = format!(
-        "# {}, applied at these simulated times.\n\
-         # This run reproduces its trajectory.csv:\n\
-         #   tracksim run {} --commands {} --duration {duration_s}\n",
-        header.what,
-        scenario_file.display(),
-        commands_file.display(),
-    );
-    for n in header.notes {
-        text.push_str(&format!("# {n}\n"));
+    #[derive(serde::Serialize)]
+    struct Robot<'a> {
+        name: &'a str,
+        commands: &'a [CommandSpec],
     }
-    text
+    #[derive(serde::Serialize)]
+    struct File<'a> {
+        vehicles: Vec<Robot<'a>>,
+    }
+    let file = File {
+        vehicles: logs
+            .iter()
+            .map(|(name, log)| Robot {
+                name,
+                commands: log.commands(),
+            })
+            .collect(),
+    };
+    let body = toml::to_string(&file).expect("commands serialise");
+    header.text(
+        scenario_file,
+        commands_file,
+        duration_s,
+        "robots' trajectory.csv",
+    ) + &body
 }
 
-/// Writes the controls of a session of several robots (`logs`: each robot's name and log, in
-/// file order): `dir/commands.toml` holds every robot's entries as `[[vehicles]]` tables
-/// (`name`, `[[vehicles.commands]]`), which `tracksim run FILE --commands dir/commands.toml
-/// --duration T` puts in place of each named robot's `[[vehicles.commands]]`, replaying the
-/// session; `dir/<name>/commands.toml` holds robot `name`'s alone (the same form: given as
-/// `--commands`, it replaces that robot's commands only; its header names the world's file,
-/// which replays the session). Returns the paths written.
-pub fn write_team_commands(
+/// Writes [`team_toml`] as `commands.toml` into `dir`; returns its path.
+pub fn write_team_log(
     logs: &[(&str, &CommandLog)],
     header: LogHeader,
     scenario_file: &Path,
     dir: &Path,
     duration_s: f64,
-) -> Result<Vec<PathBuf>> {
-    let world = dir.join("commands.toml");
-    let text = |which: &[(&str, &CommandLog)]| {
-        let file = TeamFile {
-            vehicles: which
-                .iter()
-                .map(|(name, log)| RobotEntries {
-                    name,
-                    commands: log.commands(),
-                })
-                .collect(),
-        };
-        header_text(header, scenario_file, &world, duration_s)
-            + &toml::to_string(&file).expect("commands serialise")
-    };
-    let mut written = Vec::new();
-    for one in logs {
-        let p = dir.join(one.0).join("commands.toml");
-        crate::files::write_atomic(&p, text(std::slice::from_ref(one)).as_bytes())?;
-        written.push(p);
-    }
-    crate::files::write_atomic(&world, text(logs).as_bytes())?;
-    written.push(world);
-    Ok(written)
+) -> Result<PathBuf> {
+    let p = dir.join("commands.toml");
+    let text = team_toml(logs, header, scenario_file, &p, duration_s);
+    crate::files::write_atomic(&p, text.as_bytes())?;
+    Ok(p)
 }
 
 /// Whether two entries give the same controls (their times aside).

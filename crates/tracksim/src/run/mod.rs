@@ -5,8 +5,8 @@
 //! - [`runner`]: the one run loop ([`Runner`]) that every way of running steps;
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
-//! - [`session`]: the session loop of a runner whose controls come from outside (a page, ROS
-//!   topics), with one end rule, for one robot's [`Runner`] or a world's [`TeamRunner`];
+//! - [`session`]: the session loop of a runner (or a team's) whose controls come from outside
+//!   (a page, ROS topics), with one end rule;
 //! - [`command_log`]: the controls a session or an episode gave ([`CommandLog`]) and the one
 //!   writer of `commands.toml`;
 //! - [`outcome`]: success and failure conditions;
@@ -19,7 +19,8 @@
 //! - [`soil_summary`]: sinkage, soil thrust and the rut grid's memory of a run on soil;
 //! - [`turn_summary`]: commanded against achieved turns;
 //! - [`team`]: a world with several robots run ([`TeamRunner`]), each robot's run and the
-//!   world's outcome by its rule.
+//!   world's outcome by its rule;
+//! - [`view`]: one robot of a running world as a live front end reads it ([`RunView`]).
 
 pub mod command_log;
 pub mod course;
@@ -36,8 +37,9 @@ pub mod team;
 pub mod timeline;
 pub mod track_summary;
 pub mod turn_summary;
+pub mod view;
 
-pub use command_log::{CommandLog, LogHeader};
+pub use command_log::{CommandLog, LogHeader, team_toml, write_team_log};
 pub use course::{
     CourseEvent, CourseScore, CourseTracker, FaultCounts, MAX_COURSE_EVENTS, ScoreSummary,
 };
@@ -47,7 +49,8 @@ pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner, one_robot};
 pub use scripted::Scripted;
 pub use session::{
-    ControlSource, SessionLimits, SessionRun, SessionWorld, run_session, time_reached,
+    ControlSource, SessionLimits, SessionRun, SessionWorld, WorldSessionRun, WorldSource,
+    run_session, run_world_session, time_reached,
 };
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
@@ -57,6 +60,7 @@ pub use track_summary::{
     DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,
 };
 pub use turn_summary::{TurnSummary, turn_summaries};
+pub use view::RunView;
 
 use crate::error::Result;
 use crate::model::Scenario;

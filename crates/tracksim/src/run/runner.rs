@@ -325,6 +325,18 @@ impl Runner {
         }
     }
 
+    /// The run's one robot as a live front end reads it.
+    pub fn view(&self) -> super::RunView<'_> {
+        super::RunView {
+            sim: self.sim(),
+            scenario: &self.sc,
+            samples: &self.samples,
+            sensors: &self.sensors,
+            decided: self.decided.as_ref(),
+            course: self.course(),
+        }
+    }
+
     /// The course's score so far (`[course]`; `None` without one): what a HUD shows live.
     pub fn course(&self) -> Option<CourseScore> {
         self.course.as_ref().map(CourseTracker::score)

@@ -12,124 +12,21 @@
 //!
 //! Determinism: a control is applied exactly as a `[[commands]]` entry at that time is (the
 //! same compilation, at the same step), so the log's `commands.toml` replays the session.
-//!
-//! The loop runs any [`SessionWorld`]: one robot's [`Runner`] (controls a [`CommandSpec`],
-//! one [`CommandLog`]) or a world of several robots' [`TeamRunner`] (controls per robot,
-//! applied in the world's build order, a [`CommandLog`] per robot).
 
 use super::command_log::CommandLog;
 use super::runner::{End, Runner};
 use super::team::TeamRunner;
 use crate::error::{Error, Result};
+use crate::model::Command;
 use crate::spec::CommandSpec;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-/// What a session loop steps: a run whose controls come from outside, taken in at sample
-/// boundaries.
-pub trait SessionWorld {
-    /// The controls of one sample boundary.
-    type Controls;
-    /// The record of the controls applied.
-    type Log: Default;
-    /// Simulated time, s.
-    fn time(&self) -> f64;
-    /// The physics step, s.
-    fn dt(&self) -> f64;
-    /// Starts again from the scenario.
-    fn restart(&mut self) -> Result<()>;
-    /// Applies `c` before the next step, as a file's `[[commands]]` at this time are.
-    fn apply_controls(&mut self, c: &Self::Controls) -> Result<()>;
-    /// Records `c` in `log`.
-    fn record(log: &mut Self::Log, c: Self::Controls);
-    /// Forgets what `log` holds (a session that starts again).
-    fn clear(log: &mut Self::Log);
-    /// Advances one physics step.
-    fn step(&mut self) -> Result<()>;
-    /// Whether the last step reached a sample.
-    fn at_sample(&self) -> bool;
-}
-
-impl SessionWorld for Runner {
-    type Controls = CommandSpec;
-    type Log = CommandLog;
-    fn time(&self) -> f64 {
-        Runner::time(self)
-    }
-    fn dt(&self) -> f64 {
-        self.sim().dt()
-    }
-    fn restart(&mut self) -> Result<()> {
-        self.reset(None)
-    }
-    fn apply_controls(&mut self, c: &CommandSpec) -> Result<()> {
-        apply(self, c)
-    }
-    fn record(log: &mut CommandLog, c: CommandSpec) {
-        log.push(c);
-    }
-    fn clear(log: &mut CommandLog) {
-        log.clear();
-    }
-    fn step(&mut self) -> Result<()> {
-        Runner::step(self)
-    }
-    fn at_sample(&self) -> bool {
-        Runner::at_sample(self)
-    }
-}
-
-/// A world of several robots in a session: the controls of a boundary are `(robot index,
-/// command entry)` pairs, applied in the world's build order
-/// ([`crate::world::Simulation::build_order`], as [`TeamRunner`] applies a file's commands),
-/// each robot's logged in its own [`CommandLog`] (indexed by robot).
-impl SessionWorld for TeamRunner {
-    type Controls = Vec<(usize, CommandSpec)>;
-    type Log = Vec<CommandLog>;
-    fn time(&self) -> f64 {
-        TeamRunner::time(self)
-    }
-    fn dt(&self) -> f64 {
-        self.sim().dt()
-    }
-    fn restart(&mut self) -> Result<()> {
-        Err(Error::Build(
-            "a session of several robots does not start again".into(),
-        ))
-    }
-    fn apply_controls(&mut self, c: &Self::Controls) -> Result<()> {
-        let order = self.sim().build_order().to_vec();
-        for k in order {
-            for (_, spec) in c.iter().filter(|(j, _)| *j == k) {
-                self.apply_robot(k, spec)?;
-            }
-        }
-        Ok(())
-    }
-    fn record(log: &mut Vec<CommandLog>, c: Self::Controls) {
-        for (k, spec) in c {
-            if log.len() <= k {
-                log.resize_with(k + 1, CommandLog::new);
-            }
-            log[k].push(spec);
-        }
-    }
-    fn clear(log: &mut Vec<CommandLog>) {
-        log.iter_mut().for_each(CommandLog::clear);
-    }
-    fn step(&mut self) -> Result<()> {
-        TeamRunner::step(self)
-    }
-    fn at_sample(&self) -> bool {
-        TeamRunner::at_sample(self)
-    }
-}
-
 /// Where a session's controls come from. Every method is called at a sample boundary except
 /// [`ControlSource::after_step`].
-pub trait ControlSource<W: SessionWorld = Runner> {
+pub trait ControlSource {
     /// Whether the session ends here for a reason of the source's own (the operator stopped
     /// it, the page left); `None` to go on.
-    fn end(&mut self, _runner: &W) -> Option<End> {
+    fn end(&mut self, _runner: &Runner) -> Option<End> {
         None
     }
 
@@ -141,13 +38,13 @@ pub trait ControlSource<W: SessionWorld = Runner> {
 
     /// The controls to apply from now on, as a command entry at `runner.time()`, if they
     /// changed.
-    fn controls(&mut self, runner: &W) -> Option<W::Controls>;
+    fn controls(&mut self, runner: &Runner) -> Option<CommandSpec>;
 
     /// After every step.
-    fn after_step(&mut self, _runner: &W) {}
+    fn after_step(&mut self, _runner: &Runner) {}
 
     /// After the step that reached a sample.
-    fn after_sample(&mut self, _runner: &W) {}
+    fn after_sample(&mut self, _runner: &Runner) {}
 }
 
 /// When a session ends besides its source's own reasons.
@@ -179,66 +76,217 @@ pub fn time_reached(t: f64, limit: f64, dt: f64) -> bool {
     t >= limit - 0.5 * dt
 }
 
+/// A world a session drives: one robot's [`Runner`], or several robots' [`TeamRunner`].
+pub trait SessionWorld {
+    /// Simulated time, s.
+    fn time(&self) -> f64;
+    /// The physics step, s.
+    fn dt(&self) -> f64;
+    /// Robots driven (1 for a [`Runner`]).
+    fn robot_count(&self) -> usize;
+    /// One physics step.
+    fn step(&mut self) -> Result<()>;
+    /// Whether the last step reached an output interval (true before the first).
+    fn at_sample(&self) -> bool;
+    /// Starts again from the scenario.
+    fn restart(&mut self) -> Result<()>;
+    /// Applies command entry `c` to robot `k` as a file's `[[commands]]` entry is applied.
+    fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()>;
+}
+
+impl SessionWorld for Runner {
+    fn time(&self) -> f64 {
+        Runner::time(self)
+    }
+    fn dt(&self) -> f64 {
+        self.sim().dt()
+    }
+    fn robot_count(&self) -> usize {
+        1
+    }
+    fn step(&mut self) -> Result<()> {
+        Runner::step(self)
+    }
+    fn at_sample(&self) -> bool {
+        Runner::at_sample(self)
+    }
+    fn restart(&mut self) -> Result<()> {
+        self.reset(None)
+    }
+    fn apply_command(&mut self, _k: usize, c: &CommandSpec) -> Result<()> {
+        apply(self, c)
+    }
+}
+
+impl SessionWorld for TeamRunner {
+    fn time(&self) -> f64 {
+        self.sim().time()
+    }
+    fn dt(&self) -> f64 {
+        self.sim().dt()
+    }
+    fn robot_count(&self) -> usize {
+        self.sim().robot_count()
+    }
+    fn step(&mut self) -> Result<()> {
+        TeamRunner::step(self)
+    }
+    fn at_sample(&self) -> bool {
+        TeamRunner::at_sample(self)
+    }
+    fn restart(&mut self) -> Result<()> {
+        self.reset()
+    }
+    fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()> {
+        let compiled = compile(c, &self.robot_scenario(k).vehicle)?;
+        for cmd in compiled {
+            self.apply(k, &cmd.controls);
+        }
+        Ok(())
+    }
+}
+
+/// Where the controls of a session of world `W` come from, robot by robot: a
+/// [`ControlSource`] for several robots. The hooks after a step and a sample take the world
+/// mutably only to read a robot of a team ([`TeamRunner::view`] selects it).
+pub trait WorldSource<W> {
+    /// As [`ControlSource::end`].
+    fn end(&mut self, _world: &W) -> Option<End> {
+        None
+    }
+    /// As [`ControlSource::reset`] (every robot starts again).
+    fn reset(&mut self) -> bool {
+        false
+    }
+    /// Robot `k`'s controls from now on, if they changed (asked for every robot, in the
+    /// world's build order, at every sample boundary).
+    fn controls(&mut self, world: &W, k: usize) -> Option<CommandSpec>;
+    /// After every step.
+    fn after_step(&mut self, _world: &mut W) {}
+    /// After the step that reached a sample.
+    fn after_sample(&mut self, _world: &mut W) {}
+}
+
+/// A one-robot [`ControlSource`] as a [`WorldSource`] of a [`Runner`].
+struct OneRobot<'a>(&'a mut dyn ControlSource);
+
+impl WorldSource<Runner> for OneRobot<'_> {
+    fn end(&mut self, w: &Runner) -> Option<End> {
+        self.0.end(w)
+    }
+    fn reset(&mut self) -> bool {
+        self.0.reset()
+    }
+    fn controls(&mut self, w: &Runner, _k: usize) -> Option<CommandSpec> {
+        self.0.controls(w)
+    }
+    fn after_step(&mut self, w: &mut Runner) {
+        self.0.after_step(w)
+    }
+    fn after_sample(&mut self, w: &mut Runner) {
+        self.0.after_sample(w)
+    }
+}
+
 /// A finished session loop: the runner (to finish or publish from), how it ended and the
 /// controls it took.
-pub struct SessionRun<W: SessionWorld = Runner> {
+pub struct SessionRun {
     /// The runner as the session left it.
-    pub runner: W,
+    pub runner: Runner,
     /// How the session ended.
     pub end: End,
     /// The controls applied, as `[[commands]]` entries.
-    pub log: W::Log,
+    pub log: CommandLog,
+}
+
+/// A finished session of a world of several robots: the world, how it ended, and each
+/// robot's controls (by robot index).
+pub struct WorldSessionRun<W> {
+    /// The world as the session left it.
+    pub world: W,
+    /// How the session ended.
+    pub end: End,
+    /// Each robot's controls, as `[[commands]]` entries.
+    pub logs: Vec<CommandLog>,
 }
 
 /// Runs `runner` (built without the file's commands, unbounded, paced if wanted) with
 /// controls from `source` until an end (see the module docs).
-pub fn run_session<W: SessionWorld>(
-    mut runner: W,
-    source: &mut dyn ControlSource<W>,
+pub fn run_session(
+    runner: Runner,
+    source: &mut dyn ControlSource,
     limits: SessionLimits,
-) -> Result<SessionRun<W>> {
-    let mut log = W::Log::default();
-    let dt = runner.dt();
+) -> Result<SessionRun> {
+    let run = run_world_session(runner, &mut OneRobot(source), limits, &[0])?;
+    let WorldSessionRun {
+        world,
+        end,
+        mut logs,
+    } = run;
+    Ok(SessionRun {
+        runner: world,
+        end,
+        log: logs.remove(0),
+    })
+}
+
+/// The session loop of any [`SessionWorld`] (see the module docs): robot by robot in `order`
+/// (the world's build order, so that the physics never sees the robots' file order), each
+/// robot's controls applied and logged.
+pub fn run_world_session<W: SessionWorld>(
+    mut world: W,
+    source: &mut dyn WorldSource<W>,
+    limits: SessionLimits,
+    order: &[usize],
+) -> Result<WorldSessionRun<W>> {
+    let mut logs = vec![CommandLog::new(); world.robot_count()];
+    let dt = world.dt();
     let end = loop {
         if limits.interrupted() {
             break End::Interrupted;
         }
-        if let Some(end) = source.end(&runner) {
+        if let Some(end) = source.end(&world) {
             break end;
         }
-        if limits.reached(runner.time(), dt) {
+        if limits.reached(world.time(), dt) {
             break End::Reached;
         }
         if source.reset() {
-            runner.restart()?;
-            W::clear(&mut log);
+            world.restart()?;
+            logs.iter_mut().for_each(CommandLog::clear);
         }
-        if let Some(c) = source.controls(&runner) {
-            runner.apply_controls(&c)?;
-            W::record(&mut log, c);
+        for &k in order {
+            if let Some(c) = source.controls(&world, k) {
+                world.apply_command(k, &c)?;
+                logs[k].push(c);
+            }
         }
         loop {
-            runner.step()?;
-            source.after_step(&runner);
-            if runner.at_sample() {
+            world.step()?;
+            source.after_step(&mut world);
+            if world.at_sample() {
                 break;
             }
         }
-        source.after_sample(&runner);
+        source.after_sample(&mut world);
     };
-    Ok(SessionRun { runner, end, log })
+    Ok(WorldSessionRun { world, end, logs })
 }
 
 /// Applies command entry `c` to `runner` as a file's `[[commands]]` entry is applied.
 pub fn apply(runner: &mut Runner, c: &CommandSpec) -> Result<()> {
-    let compiled =
-        crate::model::compile_commands(std::slice::from_ref(c), &runner.scenario().vehicle)
-            .map_err(|issues| Error::Settings {
-                what: format!("session control at t = {} s", c.t_s),
-                issues,
-            })?;
-    for cmd in compiled {
+    for cmd in compile(c, &runner.scenario().vehicle)? {
         runner.apply(&cmd.controls);
     }
     Ok(())
+}
+
+/// Command entry `c` compiled for `vehicle` as a file's entry is.
+fn compile(c: &CommandSpec, vehicle: &crate::model::VehicleModel) -> Result<Vec<Command>> {
+    crate::model::compile_commands(std::slice::from_ref(c), vehicle).map_err(|issues| {
+        Error::Settings {
+            what: format!("session control at t = {} s", c.t_s),
+            issues,
+        }
+    })
 }

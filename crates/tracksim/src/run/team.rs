@@ -6,8 +6,10 @@
 
 use super::course::CourseTracker;
 use super::outcome::{Outcome, at_end, check_outcome};
+use super::runner::End;
 use super::summary::{Summary, WallTimes};
 use super::timeline::Timeline;
+use super::view::RunView;
 use super::{RunOptions, RunResult, SensorSummary};
 use crate::error::{Error, Result};
 use crate::model::{Scenario, TeamRule};
@@ -34,7 +36,12 @@ pub struct TeamRunner {
     /// Stop once the world's outcome is decided (the file's `outcome.stop`).
     stop: bool,
     every: u64,
-    end_step: u64,
+    /// Steps to the end of the duration (`None`: no end, a live session).
+    end_step: Option<u64>,
+    /// Apply each robot's `[[commands]]` (false: controls come only from the caller).
+    commands: bool,
+    /// Whether the last step reached an output interval.
+    sampled: bool,
     decided: Option<(Outcome, f64)>,
     stepping: f64,
     wall: Instant,
@@ -64,31 +71,17 @@ impl TeamRunner {
             .ok_or_else(|| Error::Build("a team run needs a scenario with [[vehicles]]".into()))?;
         let sc = Arc::new(sc.clone());
         let mut sim = Simulation::from_shared(sc.clone())?;
-        let mut robots = Vec::new();
-        for k in 0..team.robots.len() {
-            sim.select(k);
-            let view = Arc::new(sim.scenario().clone());
-            robots.push(RobotRun {
-                timeline: Timeline::new(&view.commands),
-                sensors: SensorSet::new(&sim, true),
-                samples: vec![sim.sample()],
-                decided: None,
-                course: view
-                    .course
-                    .as_ref()
-                    .map(|c| CourseTracker::new(c, view.outcome.max_tilt)),
-                view,
-            });
-        }
-        sim.select(0);
+        let robots = robot_runs(&mut sim, true);
         let dt = sc.solver.dt;
         Ok(TeamRunner {
             every: ((sc.output_interval / dt).round() as u64).max(1),
-            end_step: (sc.duration / dt).round().max(1.0) as u64,
+            end_step: Some((sc.duration / dt).round().max(1.0) as u64),
             rule: team.rule,
             stop: team.stop,
             sim,
             robots,
+            commands: true,
+            sampled: true,
             decided: None,
             stepping: 0.0,
             wall: Instant::now(),
@@ -103,77 +96,94 @@ impl TeamRunner {
         self
     }
 
-    /// Every robot's controls come only from the caller ([`TeamRunner::apply_robot`]): the
-    /// file's `[[vehicles.commands]]` are not applied (a ROS 2 session).
+    /// Controls come only from the caller ([`TeamRunner::apply`]): no robot's `[[commands]]`
+    /// are applied (a live session).
     pub fn without_commands(mut self) -> Self {
+        self.commands = false;
         for r in &mut self.robots {
             r.timeline = Timeline::new(&[]);
         }
         self
     }
 
-    /// Runs on past the scenario's duration until the caller stops (a live session); the
-    /// outcomes are decided but never stop the run.
+    /// Runs on past the duration until the caller stops (a live session); outcomes are
+    /// decided but never stop the run.
     pub fn unbounded(mut self) -> Self {
-        self.end_step = u64::MAX;
+        self.end_step = None;
         self.stop = false;
         self
+    }
+
+    /// Applies the caller's controls to robot `k` before the next step.
+    pub fn apply(&mut self, k: usize, c: &crate::model::Controls) {
+        self.sim.select(k);
+        self.sim.apply(c);
+        self.sim.select(0);
+    }
+
+    /// Robot `k`'s scenario (the world with it as its one robot).
+    pub fn robot_scenario(&self, k: usize) -> &Scenario {
+        &self.robots[k].view
+    }
+
+    /// Robot `k` as a live front end reads it (selects it in the world).
+    pub fn view(&mut self, k: usize) -> RunView<'_> {
+        self.sim.select(k);
+        let r = &self.robots[k];
+        RunView {
+            sim: &self.sim,
+            scenario: &r.view,
+            samples: &r.samples,
+            sensors: &r.sensors,
+            decided: r.decided.as_ref(),
+            course: r.course.as_ref().map(CourseTracker::score),
+        }
+    }
+
+    /// Robot `k`'s outcome if the run ended now with `end`, and its time, s.
+    pub fn robot_outcome(&self, k: usize, end: &End) -> (Outcome, f64) {
+        robot_outcome(&self.robots[k], end, self.sim.time())
+    }
+
+    /// Whether the last step reached an output interval (true before the first step).
+    pub fn at_sample(&self) -> bool {
+        self.sampled
+    }
+
+    /// Wall-clock seconds since the start (or the last reset).
+    pub fn wall_elapsed(&self) -> f64 {
+        self.wall.elapsed().as_secs_f64()
+    }
+
+    /// Wall-clock seconds spent stepping.
+    pub fn stepping(&self) -> f64 {
+        self.stepping
+    }
+
+    /// Starts every robot again from the scenario ([`Simulation::reset`]): the clock, the
+    /// commands, the samples and the outcomes (a course keeps its reset count, as a one-robot
+    /// run's does).
+    pub fn reset(&mut self) -> Result<()> {
+        self.sim.reset(None)?;
+        let mut fresh = robot_runs(&mut self.sim, self.commands);
+        for (r, f) in self.robots.iter_mut().zip(&mut fresh) {
+            if let Some(mut c) = r.course.take() {
+                c.reset();
+                f.course = Some(c);
+            }
+        }
+        self.robots = fresh;
+        self.decided = None;
+        self.stepping = 0.0;
+        self.wall = Instant::now();
+        self.started = std::time::SystemTime::now();
+        self.sampled = true;
+        Ok(())
     }
 
     /// The running world.
     pub fn sim(&self) -> &Simulation {
         &self.sim
-    }
-
-    /// Simulated time, s.
-    pub fn time(&self) -> f64 {
-        self.sim.time()
-    }
-
-    /// Whether the last step reached an output sample.
-    pub fn at_sample(&self) -> bool {
-        self.sim.steps().is_multiple_of(self.every)
-    }
-
-    /// How many robots.
-    pub fn robot_count(&self) -> usize {
-        self.robots.len()
-    }
-
-    /// Robot `k`'s own scenario (the world with it as its one robot).
-    pub fn robot_scenario(&self, k: usize) -> &Scenario {
-        &self.robots[k].view
-    }
-
-    /// Robot `k`'s samples so far (the first at t = 0).
-    pub fn robot_samples(&self, k: usize) -> &[Sample] {
-        &self.robots[k].samples
-    }
-
-    /// Robot `k`'s sensors, updated after every step.
-    pub fn robot_sensors(&self, k: usize) -> &SensorSet {
-        &self.robots[k].sensors
-    }
-
-    /// Applies command entry `c` to robot `k` before the next step, as its
-    /// `[[vehicles.commands]]` entry at this time would be (the same compilation). A caller
-    /// setting several robots' controls at once applies them in
-    /// [`Simulation::build_order`].
-    pub fn apply_robot(&mut self, k: usize, c: &crate::spec::CommandSpec) -> Result<()> {
-        let v = &self.robots[k].view.vehicle;
-        let compiled =
-            crate::model::compile_commands(std::slice::from_ref(c), v).map_err(|issues| {
-                Error::Settings {
-                    what: format!("robot `{}`'s control at t = {} s", self.names()[k], c.t_s),
-                    issues,
-                }
-            })?;
-        self.sim.select(k);
-        for cmd in compiled {
-            self.sim.apply(&cmd.controls);
-        }
-        self.sim.select(0);
-        Ok(())
     }
 
     /// The world's outcome and its time, s, once decided.
@@ -189,7 +199,8 @@ impl TeamRunner {
     /// Whether the run has reached its end: its duration, or the world's decided outcome when
     /// the file's `outcome.stop` says to stop there.
     pub fn finished(&self) -> bool {
-        self.sim.steps() >= self.end_step || (self.stop && self.decided.is_some())
+        self.end_step.is_some_and(|e| self.sim.steps() >= e)
+            || (self.stop && self.decided.is_some())
     }
 
     /// Advances one step: every robot's commands that have fallen due, the world's step, every
@@ -220,7 +231,8 @@ impl TeamRunner {
         }
         self.stepping += t0.elapsed().as_secs_f64();
         let i = self.sim.steps();
-        if i.is_multiple_of(self.every) || i == self.end_step {
+        self.sampled = i.is_multiple_of(self.every) || self.end_step == Some(i);
+        if self.sampled {
             let now = self.sim.time();
             for (k, r) in self.robots.iter_mut().enumerate() {
                 self.sim.select(k);
@@ -259,10 +271,11 @@ impl TeamRunner {
         Ok(true)
     }
 
-    /// The run as it ended: each robot's [`RunResult`] (its outcome: decided, or at the end by
-    /// its own conditions) and the world's outcome (`reached`: the run reached its end, else it
-    /// was interrupted).
-    pub fn finish(mut self, reached: bool) -> TeamResult {
+    /// The run as it ended with `end`: each robot's [`RunResult`] (its outcome: decided, or
+    /// at the end by its own conditions; a live session's end for every robot) and the
+    /// world's outcome.
+    pub fn finish(mut self, end: End) -> TeamResult {
+        let reached = matches!(end, End::Reached);
         let t = self.sim.time();
         let times = WallTimes {
             stepping: self.stepping,
@@ -275,18 +288,11 @@ impl TeamRunner {
         let mut robots = Vec::new();
         for (k, r) in std::mem::take(&mut self.robots).into_iter().enumerate() {
             self.sim.select(k);
+            let (outcome, when) = robot_outcome(&r, &end, t);
             let mut samples = r.samples;
             if samples.last().is_some_and(|s| s.t < t) {
                 samples.push(self.sim.sample());
             }
-            let (outcome, when) = match (&r.decided, reached) {
-                (Some(d), _) => d.clone(),
-                (None, true) => (at_end(&r.view.outcome, t), t),
-                (None, false) => (
-                    Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
-                    t,
-                ),
-            };
             finals.push(Some((outcome.clone(), when)));
             let mut summary = Summary::new(&r.view, &self.sim, &samples, (&outcome, when), times);
             let sensors = r.sensors.into_streams();
@@ -307,6 +313,7 @@ impl TeamRunner {
         }
         self.sim.select(0);
         let (outcome, outcome_time) = match (self.decided.take(), reached) {
+            (d, _) if operator(&end).is_some() => (operator_outcome(&end, t, d.as_ref()), t),
             (Some(d), _) => d,
             (None, true) => {
                 decide(self.rule, &names, &finals, true).unwrap_or((Outcome::Completed, t))
@@ -323,6 +330,67 @@ impl TeamRunner {
             rule: self.rule,
         }
     }
+}
+
+/// Robot `r`'s outcome when the run ends with `end` at `t` s: its decided one (a live
+/// session's end by the operator says it), or at the end by its own conditions.
+fn robot_outcome(r: &RobotRun, end: &End, t: f64) -> (Outcome, f64) {
+    match (&r.decided, end) {
+        _ if operator(end).is_some() => (operator_outcome(end, t, r.decided.as_ref()), t),
+        (Some(d), _) => d.clone(),
+        (None, End::Reached) => (at_end(&r.view.outcome, t), t),
+        (None, _) => (
+            Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
+            t,
+        ),
+    }
+}
+
+/// Each robot's run state at the start: timelines (empty unless `commands`), sensors, the
+/// first sample, a course tracker.
+fn robot_runs(sim: &mut Simulation, commands: bool) -> Vec<RobotRun> {
+    let mut robots = Vec::new();
+    for k in 0..sim.robot_count() {
+        sim.select(k);
+        let view = Arc::new(sim.scenario().clone());
+        robots.push(RobotRun {
+            timeline: Timeline::new(if commands { &view.commands } else { &[] }),
+            sensors: SensorSet::new(sim, true),
+            samples: vec![sim.sample()],
+            decided: None,
+            course: view
+                .course
+                .as_ref()
+                .map(|c| CourseTracker::new(c, view.outcome.max_tilt)),
+            view,
+        });
+    }
+    sim.select(0);
+    robots
+}
+
+/// The words of a live session's end by the operator (`None`: not such an end).
+fn operator(end: &End) -> Option<String> {
+    match end {
+        End::ByOperator => Some("ended by the operator".into()),
+        End::Abandoned(grace) => Some(format!(
+            "every driver's page left and none came back within the {grace} s grace; ended"
+        )),
+        _ => None,
+    }
+}
+
+/// The outcome of a session ended by the operator at `t` s, saying the outcome `decided` so
+/// far.
+fn operator_outcome(end: &End, t: f64, decided: Option<&(Outcome, f64)>) -> Outcome {
+    let so_far = match decided {
+        Some((o, when)) => format!("{}: {} (t = {when:.3} s)", o.name(), o.reason()),
+        None => "undecided".into(),
+    };
+    Outcome::EndedByOperator(format!(
+        "{} at t = {t:.3} s; the scenario's outcome: {so_far}",
+        operator(end).unwrap_or_default()
+    ))
 }
 
 /// The world's outcome from its robots' (`None`: undecided) by `rule`; `at_end`: every robot's
@@ -404,7 +472,11 @@ pub fn run_team(sc: &Scenario, opts: RunOptions) -> Result<TeamResult> {
         runner = runner.paced(1.0);
     }
     let reached = runner.run_to_end(|| opts.stop_asked())?;
-    Ok(runner.finish(reached))
+    Ok(runner.finish(if reached {
+        End::Reached
+    } else {
+        End::Interrupted
+    }))
 }
 
 /// Every way a team run misses its file's expectations, one line each (empty: met): the

@@ -49,7 +49,7 @@ fn until(
 fn drive_server(hub: Arc<Hub>, scene_json: impl Into<String>) -> Server {
     let mode = Mode::Drive {
         hub,
-        scene_json: scene_json.into(),
+        scene_json: vec![scene_json.into()],
     };
     Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap()
 }

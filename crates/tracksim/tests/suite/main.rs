@@ -49,6 +49,7 @@ mod issue_38_pulley_order;
 mod issue_38_soil;
 mod issue_38_soil_balance;
 mod issue_39_session;
+mod issue_40_drive;
 mod issue_40_team;
 mod layers;
 mod live;

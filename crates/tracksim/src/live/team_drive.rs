@@ -1,0 +1,260 @@
+//! A live session of several robots (`[[vehicles]]`): a seat per robot ([`super::seat`]), so
+//! several trainees drive at once, each from their own page, and any page can watch any robot.
+//! The world ([`TeamRunner`]) is paced to the wall clock; each seat's controls are taken at
+//! sample boundaries, in the world's build order, through the session loop
+//! ([`crate::run::run_world_session`]) and recorded per robot; the session's `commands.toml`
+//! (`[[vehicles]]`, each robot's `[[vehicles.commands]]`) replays it with
+//! `tracksim run FILE --commands DIR/commands.toml --duration T`.
+//!
+//! Each robot's state ([`super::drive::robot_state`]) goes to the pages that drive or follow
+//! it, with `robot` (its name), `others` (every other robot's name, pose, flipper angles and
+//! belt positions, to draw them) and `team` (the world's rule and outcome). A driver's stop
+//! closes their seat (the robot stops); the session ends when every seat that was taken has
+//! closed, on Ctrl-C/SIGTERM, at `--duration`, or when every page has left past its grace.
+
+use super::drive::{
+    DriveOptions, Feeds, LiveClock, PUBLISH_INTERVAL_S, controls_csv, next_control, robot_state,
+    to_command,
+};
+use super::hub::{DriveControl, Hub};
+use crate::error::Result;
+use crate::model::Scenario;
+use crate::run::{
+    CommandLog, End, LogHeader, Outcome, SessionLimits, TeamResult, TeamRunner, WorldSource,
+};
+use crate::spec::CommandSpec;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// A finished session of several robots.
+pub struct TeamSession {
+    /// The world's run (each robot's, and the world's outcome).
+    pub result: TeamResult,
+    /// Each robot's control changes (by robot index), as `[[commands]]` entries.
+    pub logs: Vec<CommandLog>,
+    /// Each robot's controls in force at each of its samples.
+    pub controls: Vec<Vec<DriveControl>>,
+}
+
+/// One seat's side of the session: the controls in force and recorded, the state feeds.
+struct SeatState {
+    current: DriveControl,
+    controls: Vec<DriveControl>,
+    feeds: Feeds,
+}
+
+/// The seats as the session's control source.
+struct Seats<'a> {
+    hub: &'a Hub,
+    speed: f64,
+    seats: Vec<SeatState>,
+    last_publish: Option<Instant>,
+}
+
+impl WorldSource<TeamRunner> for Seats<'_> {
+    fn end(&mut self, _world: &TeamRunner) -> Option<End> {
+        if self.hub.stop_requested() || self.hub.all_stopped() {
+            Some(End::ByOperator)
+        } else if self.hub.abandoned() {
+            Some(End::Abandoned(self.hub.grace_s()))
+        } else {
+            None
+        }
+    }
+
+    fn controls(&mut self, world: &TeamRunner, k: usize) -> Option<CommandSpec> {
+        let seat = &mut self.seats[k];
+        seat.current = next_control(self.hub, k, &seat.current)?;
+        Some(to_command(
+            world.robot_scenario(k),
+            world.sim().time(),
+            &seat.current,
+        ))
+    }
+
+    fn after_step(&mut self, world: &mut TeamRunner) {
+        if self
+            .last_publish
+            .is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S)
+        {
+            self.last_publish = Some(Instant::now());
+            self.publish(world, None);
+        }
+    }
+
+    fn after_sample(&mut self, _world: &mut TeamRunner) {
+        for s in &mut self.seats {
+            s.controls.push(s.current.clone());
+        }
+    }
+}
+
+impl Seats<'_> {
+    /// Publishes every robot's state (`ended`: the session's end, in its last states).
+    fn publish(&mut self, world: &mut TeamRunner, ended: Option<&End>) {
+        let clock = LiveClock {
+            speed: self.speed,
+            wall_s: world.wall_elapsed(),
+            stepping_s: world.stepping(),
+        };
+        let names = world.sim().robot_names();
+        let n = names.len();
+        let bodies: Vec<Value> = (0..n)
+            .map(|k| {
+                let v = world.view(k);
+                let p = v.sim.body_pose();
+                json!({
+                    "name": names[k],
+                    "pose": [p.x, p.y, p.z, p.roll, p.pitch, p.yaw],
+                    "flipper": (0..v.sim.flipper_names().len()).map(|i| v.sim.flipper_angle(i)).collect::<Vec<_>>(),
+                    "belt_position": (0..v.sim.track_names().len()).map(|i| v.sim.belt_position(i)).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let team = json!({
+            "rule": world.sim().world_scenario().team.as_ref().map(|t| t.rule.name()),
+            "outcome": world.decided().map(|(o, t)| json!({
+                "name": o.name(), "reason": o.reason(), "t": t
+            })),
+        });
+        for (k, seat) in self.seats.iter_mut().enumerate() {
+            let outcome = ended.map(|e| world.robot_outcome(k, e));
+            let driver = self.hub.driver_status_of(k);
+            let v = world.view(k);
+            let mut state = robot_state(
+                &v,
+                &seat.current,
+                (clock, driver),
+                outcome.as_ref(),
+                &mut seat.feeds,
+            );
+            if let Value::Object(m) = &mut state {
+                m.insert("robot".into(), json!(names[k]));
+                let others: Vec<&Value> = (0..n).filter(|&j| j != k).map(|j| &bodies[j]).collect();
+                m.insert("others".into(), json!(others));
+                m.insert("team".into(), team.clone());
+            }
+            self.hub.publish_robot(k, state.to_string());
+        }
+    }
+}
+
+/// Runs a session of the robots of `sc` (a scenario with [`Scenario::team`]) until it ends
+/// (see the module docs): a [`TeamRunner`] paced to the wall clock at `opts.speed`, without
+/// the robots' commands, each seat's controls applied at sample boundaries.
+pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<TeamSession> {
+    while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let world = TeamRunner::new(sc)?
+        .without_commands()
+        .unbounded()
+        .paced(opts.speed);
+    let order = world.sim().build_order().to_vec();
+    let seats = (0..world.sim().robot_count())
+        .map(|k| {
+            let idle = DriveControl {
+                flipper_angle_deg: vec![None; world.robot_scenario(k).vehicle.flippers.len()],
+                ..DriveControl::default()
+            };
+            SeatState {
+                controls: vec![idle.clone()],
+                current: idle,
+                feeds: Feeds::default(),
+            }
+        })
+        .collect();
+    let mut source = Seats {
+        hub,
+        speed: opts.speed,
+        seats,
+        last_publish: None,
+    };
+    let limits = SessionLimits {
+        max_time: opts.max_time,
+        interrupt: opts.interrupt,
+    };
+    let run = crate::run::run_world_session(world, &mut source, limits, &order)?;
+    let mut world = run.world;
+    source.publish(&mut world, Some(&run.end));
+    Ok(TeamSession {
+        result: world.finish(run.end),
+        logs: run.logs,
+        controls: source.seats.into_iter().map(|s| s.controls).collect(),
+    })
+}
+
+impl TeamSession {
+    /// The session's duration, s (the last sample's time).
+    pub fn duration(&self) -> f64 {
+        self.result
+            .robots
+            .first()
+            .and_then(|(_, r)| r.samples.last())
+            .map_or(0.0, |s| s.t)
+    }
+
+    /// What `commands.toml` says the controls were.
+    pub const COMMANDS_HEADER: &'static str =
+        "The operators' controls of a `tracksim drive` session of several robots";
+
+    /// Writes what `tracksim run` writes for the file (a folder per robot, `team.json`, plots
+    /// unless `plots` is false), each robot's `controls.csv` in its folder, and
+    /// `commands.toml` (every robot's controls) into `dir`; returns the paths.
+    pub fn write(
+        &self,
+        sc: &Scenario,
+        scenario_file: &Path,
+        dir: &Path,
+        plots: bool,
+    ) -> Result<Vec<PathBuf>> {
+        let which = crate::output::Outputs {
+            replay: true,
+            plots,
+            mcap: false,
+        };
+        let mut written = crate::output::write_team(sc, &self.result, dir, which)?;
+        for (k, (name, run)) in self.result.robots.iter().enumerate() {
+            let view = sc.robot_view(k);
+            let flippers = &view.vehicle.flippers;
+            let initial: Vec<f64> = flippers
+                .iter()
+                .map(|f| f.initial_angle.to_degrees())
+                .collect();
+            let text = controls_csv(
+                &run.samples,
+                &self.controls[k],
+                &run.flipper_names,
+                &initial,
+            );
+            let p = dir.join(name).join("controls.csv");
+            crate::files::write_atomic(&p, text.as_bytes())?;
+            written.push(p);
+        }
+        let logs: Vec<(&str, &CommandLog)> = self
+            .result
+            .robots
+            .iter()
+            .zip(&self.logs)
+            .map(|((name, _), log)| (name.as_str(), log))
+            .collect();
+        let header = LogHeader {
+            what: Self::COMMANDS_HEADER,
+            notes: &[],
+        };
+        written.push(crate::run::write_team_log(
+            &logs,
+            header,
+            scenario_file,
+            dir,
+            self.duration(),
+        )?);
+        Ok(written)
+    }
+
+    /// The world's outcome.
+    pub fn outcome(&self) -> &Outcome {
+        &self.result.outcome
+    }
+}
