@@ -5,15 +5,20 @@ package, its own C library; message types declared as IDL with the ROS 2 type na
 subscribes /odom and /joint_states and publishes /cmd_vel. Prints one JSON line of what it
 measured; every wait is bounded and the child is always killed.
 
-Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors]
+Usage: python ros_peer.py TRACKSIM_BIN OUT_DIR [drive|sensors|urdf|team|namespace]
 
 - drive (default): packbot_flat; /cmd_vel at 0.3 m/s for 4 s at 20 Hz, then silence;
 - sensors: packbot_sensors (flippers and sensors); /imu read for its rate and gravity, flipper
   targets sent by Float64 and by a JointState naming an unknown flipper, a NaN /cmd_vel, and
   /rosout read for the warnings.
+- team: scenarios/team/corridor_head_on (robots `west` and `east`): /west/cmd_vel forward at
+  0.3 m/s and /east/cmd_vel backward at 0.2 m/s for 3 s, then only /west/cmd_vel for 2 s
+  (east's watchdog stops east alone); /west/odom, /east/odom and /tf read.
+- namespace: packbot_flat with `--namespace solo`, driven by /solo/cmd_vel for 2 s.
 """
 
 import json
+import pathlib
 import struct
 import subprocess
 import sys
@@ -109,6 +114,27 @@ class Odometry(IdlStruct, typename="nav_msgs::msg::dds_::Odometry_"):
     child_frame_id: str
     pose: PoseWithCovariance
     twist: TwistWithCovariance
+
+
+@final
+@dataclass
+class Transform(IdlStruct, typename="geometry_msgs::msg::dds_::Transform_"):
+    translation: Vector3
+    rotation: Quaternion
+
+
+@final
+@dataclass
+class TransformStamped(IdlStruct, typename="geometry_msgs::msg::dds_::TransformStamped_"):
+    header: Header
+    child_frame_id: str
+    transform: Transform
+
+
+@final
+@dataclass
+class TFMessage(IdlStruct, typename="tf2_msgs::msg::dds_::TFMessage_"):
+    transforms: sequence[TransformStamped]
 
 
 @final
@@ -431,11 +457,147 @@ def urdf(binary, out, links):
     print(json.dumps(result))
 
 
+TEAM = ("west", "east")
+TEAM_V = {"west": 0.3, "east": -0.2}  # commanded forward speeds, m/s
+TEAM_BOTH_S = 3.0  # wall seconds both robots are driven
+TEAM_ONE_S = 2.0  # then only west (east's watchdog stops it after 0.5 s)
+
+
+def team(binary, out, links):
+    """Two robots of one world on one node, each by its own namespaced topics."""
+    dp = DomainParticipant(0)
+    odom_r = {n: DataReader(dp, Topic(dp, f"rt/{n}/odom", Odometry), qos=QOS) for n in TEAM}
+    cmd_w = {n: DataWriter(dp, Topic(dp, f"rt/{n}/cmd_vel", Twist), qos=QOS) for n in TEAM}
+    tf_r = DataReader(dp, Topic(dp, "rt/tf", TFMessage), qos=QOS)
+    plain_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
+    scenario = str(pathlib.Path(__file__).resolve().parents[2] / "scenarios/team/corridor_head_on.toml")
+    child = subprocess.Popen(
+        [binary, "ros", scenario, "--out", out, "--no-plot", "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links, "scenario": scenario, "commanded": TEAM_V}
+    odom = {n: [] for n in TEAM}
+    tf, plain = [], []
+
+    def drain():
+        for n in TEAM:
+            take(odom_r[n], Odometry, odom[n])
+        take(tf_r, TFMessage, tf)
+        take(plain_r, Odometry, plain)
+
+    def state(n):
+        m = odom[n][-1]
+        return {
+            "x": m.pose.pose.position.x,
+            "v": m.twist.twist.linear.x,
+            "t": m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec,
+        }
+
+    try:
+        deadline = time.monotonic() + 20.0
+        while not all(odom.values()) and time.monotonic() < deadline:
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.05)
+        if not all(odom.values()):
+            raise RuntimeError("no /west/odom or /east/odom within 20 s")
+        start = {n: state(n) for n in TEAM}
+        for names, span in ((TEAM, TEAM_BOTH_S), (TEAM[:1], TEAM_ONE_S)):
+            t_end = time.monotonic() + span
+            while time.monotonic() < t_end:
+                for n in names:
+                    cmd_w[n].write(twist(TEAM_V[n]))
+                drain()
+                time.sleep(0.05)
+            drain()
+            if len(names) == 2:
+                both = {n: state(n) for n in TEAM}
+        one = {n: state(n) for n in TEAM}
+        frames = sorted({(t.header.frame_id, t.child_frame_id) for m in tf[-5:] for t in m.transforms})
+        result.update(
+            start=start,
+            both=both,
+            one=one,
+            frame_ids={n: odom[n][-1].header.frame_id for n in TEAM},
+            child_frame_ids={n: odom[n][-1].child_frame_id for n in TEAM},
+            tf_pairs=frames,
+            plain_odom_messages=len(plain),
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
+def namespaced(binary, out, links):
+    """One robot namespaced by `--namespace solo`: /solo/cmd_vel drives it, /solo/odom in
+    solo/odom, nothing on /odom."""
+    dp = DomainParticipant(0)
+    odom_r = DataReader(dp, Topic(dp, "rt/solo/odom", Odometry), qos=QOS)
+    plain_r = DataReader(dp, Topic(dp, "rt/odom", Odometry), qos=QOS)
+    tf_r = DataReader(dp, Topic(dp, "rt/tf", TFMessage), qos=QOS)
+    cmd_w = DataWriter(dp, Topic(dp, "rt/solo/cmd_vel", Twist), qos=QOS)
+    child = subprocess.Popen(
+        [binary, "ros", "packbot_flat", "--namespace", "solo", "--out", out, "--no-plot",
+         "--duration", "30"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links}
+    odom, plain, tf = [], [], []
+
+    def drain():
+        take(odom_r, Odometry, odom)
+        take(plain_r, Odometry, plain)
+        take(tf_r, TFMessage, tf)
+
+    try:
+        deadline = time.monotonic() + 20.0
+        while not odom and time.monotonic() < deadline:
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.05)
+        if not odom:
+            raise RuntimeError("no /solo/odom within 20 s")
+        start = odom[-1]
+        t_end = time.monotonic() + 2.0
+        while time.monotonic() < t_end:
+            cmd_w.write(twist(FORWARD_MPS))
+            drain()
+            time.sleep(0.05)
+        drain()
+        result.update(
+            frame_id=odom[-1].header.frame_id,
+            child_frame_id=odom[-1].child_frame_id,
+            odom_dx=odom[-1].pose.pose.position.x - start.pose.pose.position.x,
+            tf_pairs=sorted({(t.header.frame_id, t.child_frame_id) for m in tf[-3:]
+                             for t in m.transforms}),
+            plain_odom_messages=len(plain),
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
 def main():
     binary, out = sys.argv[1], sys.argv[2]
     mode = sys.argv[3] if len(sys.argv) > 3 else "drive"
     links = netns_setup()
-    {"drive": drive, "sensors": sensors, "urdf": urdf}[mode](binary, out, links)
+    {
+        "drive": drive,
+        "sensors": sensors,
+        "urdf": urdf,
+        "team": team,
+        "namespace": namespaced,
+    }[mode](binary, out, links)
 
 
 if __name__ == "__main__":

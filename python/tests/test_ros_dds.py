@@ -2,7 +2,9 @@
 `cyclonedds` package with its own C library), with every packet kept on this machine: the
 peer (ros_peer.py) and the node run in a network namespace made here with only `lo`
 (`unshare --net`, needs root: CI runs as root). The peer subscribes /odom and /joint_states
-(ROS 2 type names, CDR), publishes /cmd_vel at 0.3 m/s for 4 s, then goes silent.
+(ROS 2 type names, CDR), publishes /cmd_vel at 0.3 m/s for 4 s, then goes silent. In its
+`team` mode it drives the two robots of scenarios/team/corridor_head_on.toml by their own
+namespaced topics (/west/cmd_vel, /east/cmd_vel) and lets one fall silent.
 """
 
 import json
@@ -169,3 +171,81 @@ def test_elevation_map_live_in_map_frame(sensors):
     assert sensors["elevation_fields"] == ["x", "y", "z"]
     assert sensors["elevation_known"] > 1000
     assert abs(sensors["elevation_median_z"]) < 0.02, sensors["elevation_median_z"]
+
+
+@pytest.fixture(scope="module")
+def team(tmp_path_factory):
+    """corridor_head_on: two robots on one node (ros_peer.py `team`)."""
+    return _peer(tmp_path_factory, "team")
+
+
+def test_team_robots_are_namespaced_on_one_node(team):
+    assert team["links"] == ["lo"]
+    for n in ("west", "east"):
+        assert team["frame_ids"][n] == f"{n}/odom"
+        assert team["child_frame_ids"][n] == f"{n}/base_link"
+        # One /tf carries every robot's transforms.
+        assert [f"{n}/odom", f"{n}/base_link"] in team["tf_pairs"], team["tf_pairs"]
+        assert ["map", f"{n}/odom"] not in team["tf_pairs"], "map -> odom only with --map-tf"
+    # No robot on the one-robot names.
+    assert team["plain_odom_messages"] == 0
+
+
+TEAM_BOTH_S = 3.0  # ros_peer.py: both robots driven this long
+
+
+def test_team_robots_move_as_each_is_commanded(team):
+    for n, v in team["commanded"].items():
+        assert abs(team["both"][n]["v"] - v) < 0.05 * abs(v) + 0.01, (n, team["both"][n])
+        dx = team["both"][n]["x"] - team["start"][n]["x"]
+        # Odometry starts at the robot's start pose in the world: west drives forward (+x);
+        # east, facing west (-x), backs away from it (+x too). At least half of 3 s of driving.
+        assert dx > 0.5 * abs(v) * TEAM_BOTH_S, (n, dx)
+
+
+def test_team_silent_peer_stops_its_robot_only(team):
+    west, east = team["one"]["west"], team["one"]["east"]
+    assert abs(west["v"] - team["commanded"]["west"]) < 0.02, west
+    assert abs(east["v"]) < 0.02, east
+    # East coasts a few centimetres after its watchdog; west drove on for 2 s.
+    assert abs(east["x"] - team["both"]["east"]["x"]) < 0.2 * 0.7
+    assert west["x"] - team["both"]["west"]["x"] > 0.3 * 1.5
+    assert "`east`: watchdog" in team["stderr"]
+    assert "`west`: watchdog" not in team["stderr"]
+
+
+def test_team_session_writes_the_world_and_replays(team, tmp_path):
+    out = team["out"]
+    assert team["exit_code"] == 130
+    summary = json.loads((out / "team.json").read_text())
+    assert [r["name"] for r in summary["robots"]] == ["west", "east"]
+    for n in ("west", "east"):
+        assert (out / n / "trajectory.csv").exists()
+    text = (out / "commands.toml").read_text()
+    assert 'name = "west"' in text and 'name = "east"' in text
+    line = next(x for x in text.splitlines() if "tracksim run" in x)
+    duration = line.split("--duration")[1].strip()
+    again = tmp_path / "again"
+    p = subprocess.run(
+        [cli(), "run", team["scenario"], "--commands", str(out / "commands.toml"),
+         "--duration", duration, "--out", str(again), "--no-plot", "--quiet"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert p.returncode in (0, 1), p.stderr
+    for n in ("west", "east"):
+        assert (again / n / "trajectory.csv").read_text() == (out / n / "trajectory.csv").read_text(), n
+
+
+@pytest.fixture(scope="module")
+def solo(tmp_path_factory):
+    """packbot_flat with --namespace solo (ros_peer.py `namespace`)."""
+    return _peer(tmp_path_factory, "namespace")
+
+
+def test_one_robot_namespaced_on_request(solo):
+    assert solo["frame_id"] == "solo/odom"
+    assert solo["child_frame_id"] == "solo/base_link"
+    assert ["solo/odom", "solo/base_link"] in solo["tf_pairs"], solo["tf_pairs"]
+    assert solo["plain_odom_messages"] == 0
+    # 2 s of /solo/cmd_vel at 0.3 m/s drove it (less the discovery latency).
+    assert 0.2 < solo["odom_dx"] < 0.65, solo["odom_dx"]

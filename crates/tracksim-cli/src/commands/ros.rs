@@ -4,8 +4,10 @@ use super::{Failure, bad_arg, check_duration, overrides, scenario_file};
 use std::path::PathBuf;
 
 /// Run a scenario as the ROS 2 node /tracksim (no ROS installation needed; docs/ROS2.md):
-/// /cmd_vel in, /odom, /tf, /joint_states, /clock out; loopback only unless --network. On
-/// Ctrl-C, SIGTERM or --duration its outputs go to --out, as `run` writes them.
+/// /cmd_vel in, /odom, /tf, /joint_states, /clock out; loopback only unless --network. A file
+/// with several robots ([[vehicles]]) gives each its topics and frames under its name
+/// (/<name>/cmd_vel, <name>/base_link; docs/TEAMS.md). On Ctrl-C, SIGTERM or --duration its
+/// outputs go to --out, as `run` writes them.
 #[derive(clap::Args)]
 pub struct RosArgs {
     /// Scenario file (TOML), or the name of a bundled scenario.
@@ -41,6 +43,10 @@ pub struct RosArgs {
     /// Also write run.mcap.
     #[arg(long)]
     pub mcap: bool,
+    /// Namespace a one-robot file's topics and frames as a robot of several is named:
+    /// /<NAME>/cmd_vel, /<NAME>/odom, tf <NAME>/odom -> <NAME>/base_link (/clock and /tf stay).
+    #[arg(long, value_name = "NAME")]
+    pub namespace: Option<String>,
 }
 
 /// The DDS domain: the flag, else `ROS_DOMAIN_ID`, else 0.
@@ -81,6 +87,20 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         .map(|d| check_duration(d, sc.solver.dt))
         .transpose()?;
     let network = NetworkRange::parse(&a.network).map_err(|m| bad_arg("--network", m))?;
+    let team = sc.robot_count() > 1;
+    if let Some(n) = &a.namespace {
+        if team {
+            return Err(bad_arg(
+                "--namespace",
+                "names one robot's namespace; this file has several robots, each namespaced by \
+                 its name: leave it out"
+                    .into(),
+            ));
+        }
+        if let Some(why) = tracksim::model::robot_name_problem(n) {
+            return Err(bad_arg("--namespace", why));
+        }
+    }
     if !network.is_local() {
         eprintln!(
             "warning: the node is reachable on {network}: anyone who can reach it can drive the \
@@ -94,6 +114,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         domain_id: domain(a.domain_id)?,
         network,
         interrupt: Some(&super::STOP),
+        namespace: a.namespace.clone(),
     };
     super::on_stop(|| {});
     out!(
@@ -111,6 +132,9 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         "           stop: Ctrl-C or SIGTERM (the run is written to {})",
         a.out.display()
     );
+    if team {
+        return ros_team(&a, &file, &sc, &opts);
+    }
     let session = run_ros(&sc, &opts, &mut |w| eprintln!("warning: {w}"))?;
     let written = session.write(&sc, &file, &a.out, !a.no_plot, a.mcap)?;
     super::session_report(&session.result.summary);
@@ -120,6 +144,47 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         session.problems,
         session.watchdog_stops
     );
+    for w in &written {
+        out!("wrote      {}", w.display());
+    }
+    if matches!(session.result.outcome, tracksim::Outcome::Interrupted(_)) {
+        return Err(Failure::Interrupted);
+    }
+    Ok(())
+}
+
+/// `tracksim ros` of a file with several robots: each robot's topics under its name.
+fn ros_team(
+    a: &RosArgs,
+    file: &std::path::Path,
+    sc: &tracksim::Scenario,
+    opts: &tracksim::ros::RosOptions,
+) -> Result<(), Failure> {
+    out!(
+        "robots     {}: topics /<name>/cmd_vel, /<name>/odom, ...; frames <name>/odom, \
+         <name>/base_link; one /clock and /tf",
+        sc.robot_names().join(", ")
+    );
+    let session = tracksim::ros::run_ros_team(sc, opts, &mut |w| eprintln!("warning: {w}"))?;
+    let written = session.write(sc, file, &a.out, !a.no_plot, a.mcap)?;
+    out!(
+        "{}",
+        tracksim::output::team::team_report_of(
+            file,
+            sc,
+            &session.result,
+            &a.out,
+            Some("ROS 2 topics")
+        )
+    );
+    for (name, _, c) in &session.robots {
+        out!(
+            "commands   {name}: {} received, {} problems (dropped or clamped), {} watchdog stops",
+            c.received,
+            c.problems,
+            c.watchdog_stops
+        );
+    }
     for w in &written {
         out!("wrote      {}", w.display());
     }

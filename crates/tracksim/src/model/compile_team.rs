@@ -186,6 +186,11 @@ fn world_issues(spec: &ScenarioSpec) -> Vec<SpecIssue> {
 
 /// Why `name` is not a ROS-safe robot name (it becomes a topic namespace, a frame prefix and a
 /// folder), if it is not.
+pub fn robot_name_problem(name: &str) -> Option<String> {
+    name_problem(name)
+}
+
+/// [`robot_name_problem`].
 pub(crate) fn name_problem(name: &str) -> Option<String> {
     let ok_first = name.chars().next().is_some_and(|c| c.is_ascii_lowercase());
     let ok_rest = name

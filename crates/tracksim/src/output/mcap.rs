@@ -3,6 +3,10 @@
 //! and header times are the simulated time (ns from the start of the run). Messages are
 //! written in time order.
 //!
+//! A world of several robots has one `run.mcap` too ([`team_mcap_bytes`]): each robot's topics
+//! below under `/<name>/` and its frames prefixed `<name>/` ([`super::ros_names`]), one
+//! `/clock`, one `/tf` carrying every robot's transforms and one `/tf_static`; `map` is shared.
+//!
 //! Frames (REP 103 axes, REP 105 names):
 //! - `map`: the world frame (REP 105); ground truth and the elevation map are in it;
 //! - `odom`: the encoders' odometry frame (it coincides with `map` at the start; `map ->
@@ -48,6 +52,7 @@ pub use super::ros_messages::{
     joint_state, optical_rotation, pose_rotation, tf_of_sample, tf_static, track_states, transform,
     true_odometry,
 };
+use super::ros_names::Namespace;
 pub use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
 use super::ros_sensors::{Reading, SensorMessage, sensor_message};
 use crate::error::{Error, Result};
@@ -56,7 +61,7 @@ use crate::rosmsg::{
     self, Clock, Image, Imu, JointState, LaserScan, Odometry, PointCloud2, RosMessage, TFMessage,
     TrackStates,
 };
-use crate::run::RunResult;
+use crate::run::{RunResult, TeamResult};
 use crate::sensors::{LogData, SensorStream};
 use crate::world::Sample;
 use std::collections::BTreeMap;
@@ -79,14 +84,50 @@ pub fn write_mcap(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<PathB
 
 /// The bytes of `run.mcap` for a run of `sc` (an error says what could not be encoded).
 pub fn mcap_bytes(sc: &Scenario, result: &RunResult) -> std::result::Result<Vec<u8>, String> {
+    world_bytes(&[(sc, result, Namespace::none())])
+}
+
+/// Writes the world's `dir/run.mcap` (atomically) from a run of `sc`, a scenario with several
+/// robots ([`team_mcap_bytes`]); returns its path.
+pub fn write_team_mcap(sc: &Scenario, r: &TeamResult, dir: &Path) -> Result<PathBuf> {
+    let path = dir.join(MCAP_FILE);
+    let bytes = team_mcap_bytes(sc, r).map_err(|e| Error::Io {
+        path: path.clone(),
+        source: std::io::Error::other(e),
+    })?;
+    crate::files::write_atomic(&path, &bytes)?;
+    Ok(path)
+}
+
+/// The bytes of the world's `run.mcap` for a run of `sc` with several robots: every robot's
+/// topics and frames in its namespace ([`Namespace`]: `/<name>/odom`, `/<name>/joint_states`,
+/// `/<name>/<sensor>`, frames `<name>/odom`, `<name>/base_link`), as `tracksim ros` publishes
+/// them; one `/clock`, one `/tf` (every robot's transforms in one message per sample) and one
+/// `/tf_static`.
+pub fn team_mcap_bytes(sc: &Scenario, r: &TeamResult) -> std::result::Result<Vec<u8>, String> {
+    let views: Vec<Scenario> = (0..r.robots.len()).map(|k| sc.robot_view(k)).collect();
+    let robots: Vec<(&Scenario, &RunResult, Namespace)> = views
+        .iter()
+        .zip(&r.robots)
+        .map(|(v, (name, run))| (v, run, Namespace::robot(name)))
+        .collect();
+    world_bytes(&robots)
+}
+
+/// The recording of `robots` (each robot's own scenario, run and namespace) in one world.
+fn world_bytes(
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<Vec<u8>, String> {
     let mut rec = Recorder::new()?;
-    record_samples(&mut rec, sc, result)?;
-    record_static(&mut rec, sc)?;
-    for stream in &result.sensors {
-        let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
-            continue;
-        };
-        record_sensor(&mut rec, result, m, stream)?;
+    record_samples(&mut rec, robots)?;
+    record_static(&mut rec, robots)?;
+    for (sc, result, ns) in robots {
+        for stream in &result.sensors {
+            let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
+                continue;
+            };
+            record_sensor(&mut rec, (result, ns), m, stream)?;
+        }
     }
     rec.finish()
 }
@@ -192,49 +233,92 @@ fn joint_names(result: &RunResult) -> Vec<String> {
     names
 }
 
-/// `/clock`, `/tf`, `/odom`, `/ground_truth/odom`, `/joint_states` and `/tracks` at every
-/// sample.
+/// A robot's channels of its samples.
+struct SampleChannels {
+    odom: u16,
+    truth: u16,
+    joints: u16,
+    tracks: u16,
+}
+
+/// `/clock` and `/tf` (every robot's transforms) at every sample, and each robot's `/odom`,
+/// `/ground_truth/odom`, `/joint_states` and `/tracks` (in its namespace).
 fn record_samples(
     rec: &mut Recorder,
-    sc: &Scenario,
-    result: &RunResult,
+    robots: &[(&Scenario, &RunResult, Namespace)],
 ) -> std::result::Result<(), String> {
     let clock = rec.channel::<Clock>("/clock", false)?;
     let tf = rec.channel::<TFMessage>("/tf", false)?;
-    let odom = rec.channel::<Odometry>("/odom", false)?;
-    let truth = rec.channel::<Odometry>("/ground_truth/odom", false)?;
-    let joints = rec.channel::<JointState>("/joint_states", false)?;
-    let tracks = rec.channel::<TrackStates>("/tracks", false)?;
-    let model = encoder_model(sc);
-    let names = joint_names(result);
-    let mut last: Option<&Sample> = None;
-    for s in &result.samples {
+    let mut channels = Vec::new();
+    for (_, _, ns) in robots {
+        channels.push(SampleChannels {
+            odom: rec.channel::<Odometry>(&ns.topic("/odom"), false)?,
+            truth: rec.channel::<Odometry>(&ns.topic("/ground_truth/odom"), false)?,
+            joints: rec.channel::<JointState>(&ns.topic("/joint_states"), false)?,
+            tracks: rec.channel::<TrackStates>(&ns.topic("/tracks"), false)?,
+        });
+    }
+    let models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
+    let names: Vec<_> = robots.iter().map(|r| joint_names(r.1)).collect();
+    let count = robots.iter().map(|r| r.1.samples.len()).max().unwrap_or(0);
+    for i in 0..count {
+        // The robots' samples are taken at the same steps.
+        let here: Vec<(usize, &Sample, Odometry)> = robots
+            .iter()
+            .enumerate()
+            .filter_map(|(k, r)| r.1.samples.get(i).map(|s| (k, s)))
+            .map(|(k, s)| (k, s, encoder_odometry(s, &models[k])))
+            .collect();
+        let Some(t) = here.first().map(|h| h.1.t) else {
+            continue;
+        };
         rec.push(
             clock,
-            s.t,
+            t,
             &Clock {
-                clock: rosmsg::Time::from_secs(s.t),
+                clock: rosmsg::Time::from_secs(t),
             },
         )?;
-        let enc = encoder_odometry(s, &model);
-        rec.push(tf, s.t, &tf_of_sample(sc, s, &enc, true))?;
-        rec.push(odom, s.t, &enc)?;
-        rec.push(truth, s.t, &true_odometry(s))?;
-        rec.push(joints, s.t, &joint_state(&names, s, last))?;
-        rec.push(tracks, s.t, &track_states(s, &result.track_names))?;
-        last = Some(s);
+        let transforms = here
+            .iter()
+            .flat_map(|(k, s, enc)| {
+                let (sc, _, ns) = &robots[*k];
+                ns.tf(tf_of_sample(sc, s, enc, true)).transforms
+            })
+            .collect();
+        rec.push(tf, t, &TFMessage { transforms })?;
+        for (k, s, enc) in here {
+            let (_, run, ns) = &robots[k];
+            let ch = &channels[k];
+            let last = i.checked_sub(1).and_then(|j| run.samples.get(j));
+            rec.push(ch.odom, s.t, &ns.odometry(enc))?;
+            rec.push(ch.truth, s.t, &ns.odometry(true_odometry(s)))?;
+            rec.push(ch.joints, s.t, &joint_state(&names[k], s, last))?;
+            rec.push(
+                ch.tracks,
+                s.t,
+                &ns.track_states(track_states(s, &run.track_names)),
+            )?;
+        }
     }
     Ok(())
 }
 
-/// `/tf_static` ([`tf_static`]) once at t = 0, when the vehicle has sensor frames.
-fn record_static(rec: &mut Recorder, sc: &Scenario) -> std::result::Result<(), String> {
-    let msg = tf_static(sc);
-    if msg.transforms.is_empty() {
+/// `/tf_static` ([`tf_static`], every robot's in its namespace) once at t = 0, when a vehicle
+/// has sensor frames.
+fn record_static(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    let transforms: Vec<_> = robots
+        .iter()
+        .flat_map(|(sc, _, ns)| ns.tf(tf_static(sc)).transforms)
+        .collect();
+    if transforms.is_empty() {
         return Ok(());
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
-    rec.push(ch, 0.0, &msg)
+    rec.push(ch, 0.0, &TFMessage { transforms })
 }
 
 /// Reading `k` of a stream's channel called `name` (f64; empty if there is no such channel).
@@ -264,14 +348,14 @@ fn axis(stream: &SensorStream, name: &str) -> Vec<f64> {
         .unwrap_or_default()
 }
 
-/// One sensor's readings on `/<name>` ([`sensor_message`]).
+/// One sensor's readings on `/<name>` ([`sensor_message`]), in the robot's namespace.
 fn record_sensor(
     rec: &mut Recorder,
-    result: &RunResult,
+    (result, ns): (&RunResult, &Namespace),
     m: &SensorModel,
     stream: &SensorStream,
 ) -> std::result::Result<(), String> {
-    let topic = format!("/{}", m.name);
+    let topic = ns.topic(&format!("/{}", m.name));
     let names = joint_names(result);
     let axis = |name: &str| axis(stream, name);
     let mut channel = None;
@@ -281,7 +365,7 @@ fn record_sensor(
             channel: &get,
             axis: &axis,
         };
-        let msg = sensor_message(m, *t, &r, &names)?;
+        let msg = ns.sensor(sensor_message(m, *t, &r, &names)?);
         let ch = match channel {
             Some(c) => c,
             None => {

@@ -12,6 +12,7 @@
 //!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
+//! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
 
 pub mod mcap;
 pub mod plot;
@@ -19,6 +20,7 @@ pub mod plot_files;
 pub mod replay;
 pub mod report;
 pub mod ros_messages;
+pub mod ros_names;
 pub mod ros_sensors;
 pub mod sensors;
 pub mod side_line;

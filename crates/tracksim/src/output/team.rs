@@ -1,7 +1,8 @@
 //! The outputs of a world with several robots (`[[vehicles]]`): each robot's run folder
 //! (`<dir>/<name>/`, everything a one-robot run writes, so `tracksim view <dir>` replays every
 //! robot and `tracksim view <dir>/<name>` one), `team.json` (the world's outcome and each
-//! robot's), and the robots together in `team.png` / `team_signals.png`.
+//! robot's), the robots together in `team.png` / `team_signals.png`, and on request the world's
+//! `run.mcap` (every robot's topics namespaced, as the ROS 2 node names them).
 
 use super::{Outputs, write_outputs, write_team_plots};
 use crate::error::Result;
@@ -80,7 +81,10 @@ impl TeamSummary {
 }
 
 /// Writes a team run of `sc` into `dir`: each robot's outputs (`which`) in `dir/<name>/`,
-/// `team.json`, and (with `which.plots`) the robots in one figure. Returns the paths written.
+/// `team.json`, (with `which.plots`) the robots in one figure, and (with `which.mcap` or the
+/// file's `[output] mcap`) the world's `run.mcap` with every robot's topics and frames in its
+/// namespace ([`super::mcap::team_mcap_bytes`]) besides each robot's own. Returns the paths
+/// written.
 pub fn write_team(
     sc: &Scenario,
     r: &TeamResult,
@@ -96,6 +100,9 @@ pub fn write_team(
     let path = dir.join("team.json");
     crate::files::write_atomic(&path, (json + "\n").as_bytes())?;
     written.push(path);
+    if which.mcap || sc.record_mcap {
+        written.push(super::mcap::write_team_mcap(sc, r, dir)?);
+    }
     if which.plots {
         let runs: Vec<(String, &Scenario, &crate::run::RunResult)> = r
             .robots
@@ -111,6 +118,18 @@ pub fn write_team(
 /// A team run in words: the world's outcome, then a line per robot, and the `[expect]`
 /// verdict.
 pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> String {
+    team_report_of(file, sc, r, out, None)
+}
+
+/// [`team_report`] of a session whose commands came from outside (`commands_from`, e.g. "ROS 2
+/// topics"): the file's `[expect]` is not checked.
+pub fn team_report_of(
+    file: &Path,
+    sc: &Scenario,
+    r: &TeamResult,
+    out: &Path,
+    commands_from: Option<&str>,
+) -> String {
     let mut l = vec![
         format!("scenario   {}", file.display()),
         format!(
@@ -151,7 +170,9 @@ pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> St
         .is_some_and(|t| !t.expect.is_empty() || t.robots.iter().any(|x| !x.expect.is_empty()));
     if has_expect {
         let misses = crate::run::team::team_misses(sc, r);
-        l.push(if !sc.overridden.is_empty() {
+        l.push(if let Some(from) = commands_from {
+            format!("expect     not checked: the commands came from {from}")
+        } else if !sc.overridden.is_empty() {
             format!(
                 "expect     not checked: the run overrides {}",
                 sc.overridden.join(", ")

@@ -11,6 +11,7 @@
 
 use super::network::NetworkRange;
 use super::topics;
+use crate::output::ros_names::Namespace;
 use crate::rosmsg::{Clock, Float64, JointState, Odometry, TFMessage, TrackStates, Twist};
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::log::LogLevel;
@@ -172,18 +173,34 @@ impl DdsNode {
     }
 }
 
-/// The node's publishers.
-pub struct Publishers {
+/// The world's publishers, one of each whatever the robots: `/clock`, `/tf` (every robot's
+/// transforms), `/tf_static` (every robot's sensor mounts).
+pub struct WorldPublishers {
     /// `/clock`.
     pub clock: Pub<Clock>,
-    /// `/odom`.
-    pub odom: Pub<Odometry>,
-    /// `/ground_truth/odom`.
-    pub truth: Pub<Odometry>,
     /// `/tf`.
     pub tf: Pub<TFMessage>,
     /// `/tf_static`.
     pub tf_static: Pub<TFMessage>,
+}
+
+impl WorldPublishers {
+    /// Creates them on `node`.
+    pub fn new(node: &mut DdsNode) -> Result<Self, DdsError> {
+        Ok(WorldPublishers {
+            clock: node.publisher(topics::CLOCK, 1, false)?,
+            tf: node.publisher(topics::TF, 100, false)?,
+            tf_static: node.publisher(topics::TF_STATIC, 1, true)?,
+        })
+    }
+}
+
+/// A robot's publishers (in its namespace, [`Namespace::topic`]).
+pub struct Publishers {
+    /// `/odom`.
+    pub odom: Pub<Odometry>,
+    /// `/ground_truth/odom`.
+    pub truth: Pub<Odometry>,
     /// `/joint_states`.
     pub joints: Pub<JointState>,
     /// `/tracks`.
@@ -191,21 +208,18 @@ pub struct Publishers {
 }
 
 impl Publishers {
-    /// Creates them on `node`.
-    pub fn new(node: &mut DdsNode) -> Result<Self, DdsError> {
+    /// Creates them on `node` in namespace `ns`.
+    pub fn new(node: &mut DdsNode, ns: &Namespace) -> Result<Self, DdsError> {
         Ok(Publishers {
-            clock: node.publisher(topics::CLOCK, 1, false)?,
-            odom: node.publisher(topics::ODOM, 10, false)?,
-            truth: node.publisher(topics::GROUND_TRUTH, 10, false)?,
-            tf: node.publisher(topics::TF, 100, false)?,
-            tf_static: node.publisher(topics::TF_STATIC, 1, true)?,
-            joints: node.publisher(topics::JOINT_STATES, 10, false)?,
-            tracks: node.publisher(topics::TRACKS, 10, false)?,
+            odom: node.publisher(&ns.topic(topics::ODOM), 10, false)?,
+            truth: node.publisher(&ns.topic(topics::GROUND_TRUTH), 10, false)?,
+            joints: node.publisher(&ns.topic(topics::JOINT_STATES), 10, false)?,
+            tracks: node.publisher(&ns.topic(topics::TRACKS), 10, false)?,
         })
     }
 }
 
-/// The node's subscriptions.
+/// A robot's subscriptions (in its namespace).
 pub struct Subscriptions {
     /// `/cmd_vel`.
     pub cmd_vel: Sub<Twist>,
@@ -218,10 +232,12 @@ pub struct Subscriptions {
 }
 
 impl Subscriptions {
-    /// Creates them on `node` for tracks `tracks` and flippers `flippers` (names); a name
-    /// that makes no valid ROS topic is skipped and reported in the second value.
+    /// Creates them on `node` in namespace `ns` for tracks `tracks` and flippers `flippers`
+    /// (names); a name that makes no valid ROS topic is skipped and reported in the second
+    /// value.
     pub fn new(
         node: &mut DdsNode,
+        ns: &Namespace,
         tracks: &[String],
         flippers: &[String],
     ) -> Result<(Self, Vec<String>), DdsError> {
@@ -236,18 +252,18 @@ impl Subscriptions {
             };
         let track_speed = tracks
             .iter()
-            .map(|n| each(node, topics::track_speed(n)))
+            .map(|n| each(node, ns.topic(&topics::track_speed(n))))
             .collect();
         let flipper_position = flippers
             .iter()
-            .map(|n| each(node, topics::flipper_position(n)))
+            .map(|n| each(node, ns.topic(&topics::flipper_position(n))))
             .collect();
         Ok((
             Subscriptions {
-                cmd_vel: node.subscription(topics::CMD_VEL)?,
+                cmd_vel: node.subscription(&ns.topic(topics::CMD_VEL))?,
                 track_speed,
                 flipper_position,
-                flipper_positions: node.subscription(topics::FLIPPER_POSITIONS)?,
+                flipper_positions: node.subscription(&ns.topic(topics::FLIPPER_POSITIONS))?,
             },
             skipped,
         ))

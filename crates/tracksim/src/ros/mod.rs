@@ -11,7 +11,8 @@
 //!   module `run.mcap` records them with;
 //! - [`sensors`]: the vehicle's sensors on their topics, at their rates;
 //! - [`dds`]: the participant, node, publishers, subscriptions and `/rosout`;
-//! - [`session`]: the session loop and its run folder.
+//! - [`session`]: the session of one robot or of several (each robot's topics and frames in
+//!   its namespace, [`crate::output::ros_names`]) and its run folder.
 
 pub mod commands;
 pub mod dds;
@@ -23,4 +24,6 @@ pub mod topics;
 
 pub use commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
 pub use network::NetworkRange;
-pub use session::{RosOptions, RosSession, run_ros};
+pub use session::{
+    Counts, RobotControl, RosOptions, RosSession, RosTeamSession, run_ros, run_ros_team,
+};

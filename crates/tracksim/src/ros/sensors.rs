@@ -1,10 +1,12 @@
-//! The vehicle's sensors on ROS topics (`/<sensor name>`), each reading once, when it is new
+//! The vehicle's sensors on ROS topics (`/<sensor name>`, `/<robot>/<sensor name>` in a
+//! robot's namespace), each reading once, when it is new
 //! (at the sensor's own rate): the same messages and frames as `run.mcap`
 //! ([`crate::output::ros_sensors`] builds them for both), the elevation map included.
 
 use super::dds::{DdsError, DdsNode, Pub};
 use super::topics;
 use crate::model::{Scenario, SensorKind};
+use crate::output::ros_names::Namespace;
 use crate::output::ros_sensors::{Reading, SensorMessage, sensor_message};
 use crate::rosmsg::{Image, Imu, JointState, LaserScan, PointCloud2};
 use crate::sensors::{Channel, SensorSet};
@@ -23,6 +25,7 @@ pub struct SensorPublishers {
     pubs: Vec<Publisher>,
     sent: Vec<f64>,
     joint_names: Vec<String>,
+    ns: Namespace,
 }
 
 fn data(chs: &[Channel], name: &str) -> Vec<f64> {
@@ -32,11 +35,11 @@ fn data(chs: &[Channel], name: &str) -> Vec<f64> {
 }
 
 impl SensorPublishers {
-    /// A publisher per sensor of `sc`'s vehicle.
-    pub fn new(node: &mut DdsNode, sc: &Scenario) -> Result<Self, DdsError> {
+    /// A publisher per sensor of `sc`'s vehicle, in namespace `ns` (topics and frames).
+    pub fn new(node: &mut DdsNode, sc: &Scenario, ns: &Namespace) -> Result<Self, DdsError> {
         let mut pubs = Vec::new();
         for m in &sc.vehicle.sensors {
-            let t = topics::sensor(&m.name);
+            let t = ns.topic(&topics::sensor(&m.name));
             pubs.push(match m.kind {
                 SensorKind::Imu(_) => Publisher::Imu(node.publisher(&t, 10, false)?),
                 SensorKind::Lidar(p) if p.elevation_rays == 1 => {
@@ -53,6 +56,7 @@ impl SensorPublishers {
             sent: vec![f64::NEG_INFINITY; pubs.len()],
             pubs,
             joint_names: crate::output::ros_messages::joint_names(sc),
+            ns: ns.clone(),
         })
     }
 
@@ -74,7 +78,7 @@ impl SensorPublishers {
             };
             match (
                 &self.pubs[i],
-                sensor_message(s.model(), t, &r, &self.joint_names),
+                sensor_message(s.model(), t, &r, &self.joint_names).map(|m| self.ns.sensor(m)),
             ) {
                 (Publisher::Imu(p), Ok(SensorMessage::Imu(m))) => p.publish(m),
                 (Publisher::Scan(p), Ok(SensorMessage::Scan(m))) => p.publish(m),

@@ -6,9 +6,14 @@
 //! applied, changed controls go to the physics (recorded as a `[[commands]]` entry at that
 //! time, so `commands.toml` replays the session with `tracksim run`); then the world steps
 //! to the next sample, which is published.
+//!
+//! A file with several robots ([`run_ros_team`]) is one node on the same loop over the world's
+//! [`TeamRunner`]: each robot's topics and frames in its namespace
+//! ([`crate::output::ros_names::Namespace`]), its own [`RobotControl`] (command state,
+//! watchdog, counts), one `/clock`, `/tf`, `/tf_static` and `/rosout` for the world.
 
 use super::commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
-use super::dds::{DdsNode, Publishers, Subscriptions};
+use super::dds::{DdsNode, Publishers, Subscriptions, WorldPublishers};
 use super::network::NetworkRange;
 use super::sanitize::{self, Problem, Warnings};
 use super::sensors::SensorPublishers;
@@ -18,7 +23,13 @@ use crate::model::{Scenario, VehicleModel};
 use crate::output::ros_messages::{
     self as messages, encoder_model, encoder_odometry, track_states, true_odometry,
 };
-use crate::run::{CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits};
+use crate::output::ros_names::Namespace;
+use crate::rosmsg::{TFMessage, TransformStamped};
+use crate::run::{
+    CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits, TeamResult, TeamRunner,
+    WorldSource, run_world_session,
+};
+use crate::sensors::SensorSet;
 use crate::spec::{CommandSpec, PerTrack};
 use crate::world::Sample;
 use ros2_client::log::LogLevel;
@@ -40,6 +51,10 @@ pub struct RosOptions {
     pub domain_id: u16,
     /// The network the node is reachable on.
     pub network: NetworkRange,
+    /// A one-robot session's namespace: its topics under `/<namespace>/` and its frames
+    /// prefixed `<namespace>/`, as a robot of a world of several robots (None: the one-robot
+    /// names).
+    pub namespace: Option<String>,
     /// When set (by a Ctrl-C or SIGTERM handler), the session ends at the next sample as
     /// interrupted.
     pub interrupt: Option<&'static AtomicBool>,
@@ -83,11 +98,18 @@ impl Reporter<'_> {
     }
 }
 
-/// Every command received since the last call, sanitised (problems into `problems`).
-fn receive(subs: &Subscriptions, v: &VehicleModel, problems: &mut Vec<Problem>) -> Vec<Command> {
+/// Every command received since the last call on robot namespace `ns`'s topics, sanitised
+/// (problems into `problems`).
+fn receive(
+    subs: &Subscriptions,
+    ns: &Namespace,
+    v: &VehicleModel,
+    problems: &mut Vec<Problem>,
+) -> Vec<Command> {
     let mut out = Vec::new();
+    let cmd_vel = ns.topic(topics::CMD_VEL);
     for tw in subs.cmd_vel.drain() {
-        if let Some((f, w)) = sanitize::twist(topics::CMD_VEL, &tw, problems) {
+        if let Some((f, w)) = sanitize::twist(&cmd_vel, &tw, problems) {
             out.push(Command::Twist {
                 forward_mps: f,
                 yaw_rate_rad_s: w,
@@ -110,8 +132,9 @@ fn receive(subs: &Subscriptions, v: &VehicleModel, problems: &mut Vec<Problem>) 
             }
         }
     }
+    let positions = ns.topic(topics::FLIPPER_POSITIONS);
     for js in subs.flipper_positions.drain() {
-        let targets = sanitize::joint_command(topics::FLIPPER_POSITIONS, v, &js, problems);
+        let targets = sanitize::joint_command(&positions, v, &js, problems);
         out.extend(
             targets
                 .into_iter()
@@ -121,31 +144,6 @@ fn receive(subs: &Subscriptions, v: &VehicleModel, problems: &mut Vec<Problem>) 
     out
 }
 
-/// What is published at every sample.
-struct SamplePublisher {
-    pubs: Publishers,
-    encoders: crate::world::Odometry,
-    joint_names: Vec<String>,
-    track_names: Vec<String>,
-    map_tf: bool,
-}
-
-impl SamplePublisher {
-    fn publish(&self, sc: &Scenario, s: &Sample, prev: Option<&Sample>) {
-        let odom = encoder_odometry(s, &self.encoders);
-        self.pubs.clock.publish(messages::clock(s.t));
-        self.pubs
-            .tf
-            .publish(messages::tf_of_sample(sc, s, &odom, self.map_tf));
-        self.pubs.odom.publish(odom);
-        self.pubs.truth.publish(true_odometry(s));
-        self.pubs
-            .joints
-            .publish(messages::joint_state(&self.joint_names, s, prev));
-        self.pubs.tracks.publish(track_states(s, &self.track_names));
-    }
-}
-
 fn dds_error(e: String) -> Error {
     Error::Io {
         path: PathBuf::from("(ROS 2 / DDS)"),
@@ -153,33 +151,68 @@ fn dds_error(e: String) -> Error {
     }
 }
 
-/// What the session counts besides the run.
-#[derive(Default)]
-struct Counts {
-    received: u64,
-    problems: u64,
-    watchdog_stops: u64,
+/// What a robot's commands came to besides its run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Commands taken in.
+    pub received: u64,
+    /// Problems found in received messages (each dropped or clamped).
+    pub problems: u64,
+    /// Times the watchdog stopped the robot.
+    pub watchdog_stops: u64,
 }
 
-/// ROS 2 topics as a session's control source: commands received, sanitised and taken in at
-/// every sample boundary, the watchdog applied; the sensors published after every step and
-/// the state at every sample.
-struct TopicSource<'a, 'w> {
-    sc: &'a Scenario,
-    subs: Subscriptions,
+/// One robot's commands in a session, apart from DDS: its set-points ([`CommandState`]), its
+/// own watchdog, and what they came to. Each robot of a world has its own, so one robot's
+/// silent peer stops that robot only.
+pub struct RobotControl {
+    /// The robot's name in messages (`None`: the node's one robot).
+    label: Option<String>,
     state: CommandState,
-    rep: Reporter<'w>,
-    counts: Counts,
-    publisher: SamplePublisher,
-    sensors: SensorPublishers,
+    /// What the commands came to.
+    pub counts: Counts,
 }
 
-impl TopicSource<'_, '_> {
-    /// The controls in force as a command entry at `t` s: every belt speed by track name,
-    /// the commanded flipper targets in degrees.
-    fn command(&self, t: f64) -> CommandSpec {
-        let v = &self.sc.vehicle;
-        CommandSpec {
+impl RobotControl {
+    /// Nothing commanded yet to a robot of vehicle `v`, named `label` in messages.
+    pub fn new(label: Option<&str>, v: &VehicleModel) -> Self {
+        RobotControl {
+            label: label.map(str::to_string),
+            state: CommandState::new(v),
+            counts: Counts::default(),
+        }
+    }
+
+    /// Takes in `received` (sanitised) commands at simulated time `t` s, applies the watchdog
+    /// (its stops reported to `say`), and returns the controls in force as a command entry at
+    /// `t` if they changed: every belt speed by track name, the commanded flipper targets in
+    /// degrees.
+    pub fn controls(
+        &mut self,
+        v: &VehicleModel,
+        t: f64,
+        received: Vec<Command>,
+        say: &mut dyn FnMut(&str),
+    ) -> Option<CommandSpec> {
+        for c in received {
+            self.state.take(v, &c, t);
+            self.counts.received += 1;
+        }
+        let stopped = self.state.watchdog(t);
+        if !stopped.is_empty() {
+            self.counts.watchdog_stops += 1;
+            let names: Vec<&str> = stopped.iter().map(|&i| v.tracks[i].name.as_str()).collect();
+            let who = self
+                .label
+                .as_ref()
+                .map_or(String::new(), |l| format!("`{l}`: "));
+            say(&format!(
+                "{who}watchdog: no speed command for {WATCHDOG_TIMEOUT_S} s; stopping track(s) {}",
+                names.join(", ")
+            ));
+        }
+        self.state.changed_controls(v)?;
+        Some(CommandSpec {
             t_s: t,
             belt_speed_mps: Some(PerTrack::ByName(
                 v.tracks
@@ -195,114 +228,343 @@ impl TopicSource<'_, '_> {
                 .filter_map(|(f, a)| a.map(|a| (f.name.clone(), a.to_degrees())))
                 .collect(),
             ..CommandSpec::default()
-        }
+        })
     }
+}
+
+/// One robot on the node: its topics (in its namespace), commands and published state.
+struct RobotTopics {
+    ns: Namespace,
+    subs: Subscriptions,
+    control: RobotControl,
+    pubs: Publishers,
+    sensors: SensorPublishers,
+    encoders: crate::world::Odometry,
+    joint_names: Vec<String>,
+    track_names: Vec<String>,
+}
+
+impl RobotTopics {
+    /// Robot `sc` (its own scenario) on `node` in namespace `ns`, and the command topics that
+    /// make no ROS name (skipped).
+    fn new(node: &mut DdsNode, sc: &Scenario, ns: Namespace) -> Result<(Self, Vec<String>)> {
+        let track_names: Vec<String> = sc.vehicle.tracks.iter().map(|t| t.name.clone()).collect();
+        let flipper_names: Vec<String> =
+            sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect();
+        let (subs, skipped) =
+            Subscriptions::new(node, &ns, &track_names, &flipper_names).map_err(dds_error)?;
+        let topics = RobotTopics {
+            pubs: Publishers::new(node, &ns).map_err(dds_error)?,
+            sensors: SensorPublishers::new(node, sc, &ns).map_err(dds_error)?,
+            control: RobotControl::new(ns.name(), &sc.vehicle),
+            encoders: encoder_model(sc),
+            joint_names: messages::joint_names(sc),
+            track_names,
+            subs,
+            ns,
+        };
+        Ok((topics, skipped))
+    }
+
+    /// The robot's controls at `t` s (see [`RobotControl::controls`]).
+    fn controls(&mut self, v: &VehicleModel, t: f64, rep: &mut Reporter) -> Option<CommandSpec> {
+        let mut problems = Vec::new();
+        let received = receive(&self.subs, &self.ns, v, &mut problems);
+        self.control.counts.problems += problems.len() as u64;
+        rep.problems(t, &problems);
+        self.control
+            .controls(v, t, received, &mut |m| rep.say(LogLevel::Info, t, m))
+    }
+
+    /// Publishes sample `s` (after `prev`) of robot `sc`; its transforms go into `tf`.
+    fn publish(
+        &self,
+        sc: &Scenario,
+        (s, prev): (&Sample, Option<&Sample>),
+        map_tf: bool,
+        tf: &mut Vec<TransformStamped>,
+    ) {
+        let odom = encoder_odometry(s, &self.encoders);
+        let ns = &self.ns;
+        tf.extend(
+            ns.tf(messages::tf_of_sample(sc, s, &odom, map_tf))
+                .transforms,
+        );
+        self.pubs.odom.publish(ns.odometry(odom));
+        self.pubs.truth.publish(ns.odometry(true_odometry(s)));
+        self.pubs
+            .joints
+            .publish(messages::joint_state(&self.joint_names, s, prev));
+        self.pubs
+            .tracks
+            .publish(ns.track_states(track_states(s, &self.track_names)));
+    }
+
+    /// Publishes every new sensor reading of `set` at `t` s.
+    fn publish_sensors(&mut self, set: &SensorSet, t: f64, rep: &mut Reporter) {
+        self.sensors
+            .publish(set, &mut |e| rep.say(LogLevel::Warn, t, e));
+    }
+}
+
+/// The node's shared part: `/rosout` (with the rate-limited warnings), `/clock`, `/tf` and
+/// `/tf_static`.
+struct World<'w> {
+    rep: Reporter<'w>,
+    pubs: WorldPublishers,
+    map_tf: bool,
+}
+
+impl World<'_> {
+    /// `/clock` at `t` s, then `/tf` with `transforms` (every robot's).
+    fn publish(&self, t: f64, transforms: Vec<TransformStamped>) {
+        self.pubs.clock.publish(messages::clock(t));
+        self.pubs.tf.publish(TFMessage { transforms });
+    }
+}
+
+/// The last sample of `samples` and the one before it.
+fn last_two(samples: &[Sample]) -> Option<(&Sample, Option<&Sample>)> {
+    let n = samples.len();
+    samples
+        .last()
+        .map(|s| (s, n.checked_sub(2).map(|k| &samples[k])))
+}
+
+/// ROS 2 topics as a one-robot session's control source: commands received, sanitised and
+/// taken in at every sample boundary, the watchdog applied; the sensors published after every
+/// step and the state at every sample.
+struct TopicSource<'a, 'w> {
+    sc: &'a Scenario,
+    robot: RobotTopics,
+    world: World<'w>,
 }
 
 impl ControlSource for TopicSource<'_, '_> {
     fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
-        let (sc, t) = (self.sc, runner.time());
-        let mut problems = Vec::new();
-        for c in receive(&self.subs, &sc.vehicle, &mut problems) {
-            self.state.take(&sc.vehicle, &c, t);
-            self.counts.received += 1;
-        }
-        self.counts.problems += problems.len() as u64;
-        self.rep.problems(t, &problems);
-        let stopped = self.state.watchdog(t);
-        if !stopped.is_empty() {
-            self.counts.watchdog_stops += 1;
-            let names: Vec<&str> = stopped
-                .iter()
-                .map(|&i| sc.vehicle.tracks[i].name.as_str())
-                .collect();
-            self.rep.say(
-                LogLevel::Info,
-                t,
-                &format!(
-                    "watchdog: no speed command for {WATCHDOG_TIMEOUT_S} s; stopping track(s) {}",
-                    names.join(", ")
-                ),
-            );
-        }
-        self.state.changed_controls(&sc.vehicle)?;
-        Some(self.command(t))
+        self.robot
+            .controls(&self.sc.vehicle, runner.time(), &mut self.world.rep)
     }
 
     fn after_step(&mut self, runner: &Runner) {
-        let now = runner.time();
-        let rep = &mut self.rep;
-        self.sensors
-            .publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, now, e));
+        self.robot
+            .publish_sensors(runner.sensors(), runner.time(), &mut self.world.rep);
     }
 
     fn after_sample(&mut self, runner: &Runner) {
-        let samples = runner.samples();
-        if let Some(s) = samples.last() {
-            self.publisher.publish(
-                self.sc,
-                s,
-                samples.len().checked_sub(2).map(|k| &samples[k]),
-            );
+        if let Some(s) = last_two(runner.samples()) {
+            let mut tf = Vec::new();
+            self.robot.publish(self.sc, s, self.world.map_tf, &mut tf);
+            self.world.publish(s.0.t, tf);
         }
     }
 }
 
-/// Runs a session of `sc` as the ROS 2 node `/tracksim` until `opts.max_time` or the
-/// interrupt flag; `warn` receives every warning also sent to `/rosout` (rate-limited).
-pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> Result<RosSession> {
-    let mut node = DdsNode::start(opts.domain_id, &opts.network).map_err(dds_error)?;
-    let pubs = Publishers::new(&mut node).map_err(dds_error)?;
-    let track_names: Vec<String> = sc.vehicle.tracks.iter().map(|t| t.name.clone()).collect();
-    let flipper_names: Vec<String> = sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect();
-    let (subs, skipped) =
-        Subscriptions::new(&mut node, &track_names, &flipper_names).map_err(dds_error)?;
-    let publisher = SamplePublisher {
+/// ROS 2 topics as the control source of a session of several robots: each robot's own
+/// topics, commands and watchdog ([`RobotTopics`] per robot), one `/clock` and one `/tf`.
+struct TeamTopicSource<'w> {
+    robots: Vec<RobotTopics>,
+    world: World<'w>,
+}
+
+impl WorldSource<TeamRunner> for TeamTopicSource<'_> {
+    fn controls(&mut self, runner: &TeamRunner, k: usize) -> Option<CommandSpec> {
+        let v = &runner.robot_scenario(k).vehicle;
+        self.robots[k].controls(v, runner.sim().time(), &mut self.world.rep)
+    }
+
+    fn after_step(&mut self, runner: &mut TeamRunner) {
+        let t = runner.sim().time();
+        for (k, r) in self.robots.iter_mut().enumerate() {
+            r.publish_sensors(runner.view(k).sensors, t, &mut self.world.rep);
+        }
+    }
+
+    fn after_sample(&mut self, runner: &mut TeamRunner) {
+        let t = runner.sim().time();
+        let mut tf = Vec::new();
+        for (k, r) in self.robots.iter().enumerate() {
+            let view = runner.view(k);
+            if let Some(s) = last_two(view.samples) {
+                r.publish(view.scenario, s, self.world.map_tf, &mut tf);
+            }
+        }
+        self.world.publish(t, tf);
+    }
+}
+
+/// Starts the node with a robot's topics for each of `robots` (its own scenario and
+/// namespace): the shared part (reporting to `warn`) and the robots, `/tf_static` published
+/// with every robot's sensor mounts.
+fn start<'w>(
+    node: &'w mut DdsNode,
+    opts: &RosOptions,
+    robots: &[(&Scenario, Namespace)],
+    warn: &'w mut dyn FnMut(&str),
+) -> Result<(World<'w>, Vec<RobotTopics>)> {
+    let pubs = WorldPublishers::new(node).map_err(dds_error)?;
+    let mut topics = Vec::new();
+    let mut skipped = Vec::new();
+    let mut statics = Vec::new();
+    for (sc, ns) in robots {
+        let (t, s) = RobotTopics::new(node, sc, ns.clone())?;
+        topics.push(t);
+        skipped.extend(s);
+        statics.extend(ns.tf(messages::tf_static(sc)).transforms);
+    }
+    pubs.tf_static.publish(TFMessage {
+        transforms: statics,
+    });
+    let mut world = World {
+        rep: Reporter {
+            node,
+            warnings: Warnings::default(),
+            warn,
+        },
         pubs,
-        encoders: encoder_model(sc),
-        joint_names: messages::joint_names(sc),
-        track_names,
         map_tf: opts.map_tf,
     };
-    let mut sensors = SensorPublishers::new(&mut node, sc).map_err(dds_error)?;
+    for s in skipped {
+        world
+            .rep
+            .say(LogLevel::Warn, 0.0, &format!("no command topic: {s}"));
+    }
+    Ok((world, topics))
+}
+
+fn limits(opts: &RosOptions) -> SessionLimits {
+    SessionLimits {
+        max_time: opts.max_time,
+        interrupt: opts.interrupt,
+    }
+}
+
+/// Runs a session of `sc` (one robot; its names namespaced by `opts.namespace` if given) as
+/// the ROS 2 node `/tracksim` until `opts.max_time` or the interrupt flag; `warn` receives
+/// every warning also sent to `/rosout` (rate-limited).
+pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> Result<RosSession> {
+    let mut node = DdsNode::start(opts.domain_id, &opts.network).map_err(dds_error)?;
+    let ns = opts
+        .namespace
+        .as_deref()
+        .map_or_else(Namespace::none, Namespace::robot);
     let mut runner = Runner::new(sc)?.without_commands().unbounded();
     if !opts.fast {
         runner = runner.paced(1.0);
     }
-    let mut rep = Reporter {
-        node: &node,
-        warnings: Warnings::default(),
-        warn,
-    };
-    for s in skipped {
-        rep.say(LogLevel::Warn, 0.0, &format!("no command topic: {s}"));
-    }
-    publisher.pubs.tf_static.publish(messages::tf_static(sc));
-    if let Some(s) = runner.samples().last() {
-        publisher.publish(sc, s, None);
-    }
-    sensors.publish(runner.sensors(), &mut |e| rep.say(LogLevel::Warn, 0.0, e));
+    let (world, mut robots) = start(&mut node, opts, &[(sc, ns)], warn)?;
     let mut topics = TopicSource {
         sc,
-        subs,
-        state: CommandState::new(&sc.vehicle),
-        rep,
-        counts: Counts::default(),
-        publisher,
-        sensors,
+        robot: robots.remove(0),
+        world,
     };
-    let limits = SessionLimits {
-        max_time: opts.max_time,
-        interrupt: opts.interrupt,
-    };
-    let run = crate::run::run_session(runner, &mut topics, limits)?;
+    topics.after_sample(&runner);
+    topics.after_step(&runner);
+    let run = crate::run::run_session(runner, &mut topics, limits(opts))?;
+    let c = topics.robot.control.counts;
     Ok(RosSession {
         result: run.runner.finish(run.end),
         log: run.log,
-        received: topics.counts.received,
-        problems: topics.counts.problems,
-        watchdog_stops: topics.counts.watchdog_stops,
+        received: c.received,
+        problems: c.problems,
+        watchdog_stops: c.watchdog_stops,
     })
+}
+
+/// A finished session of several robots.
+pub struct RosTeamSession {
+    /// The world's run, as `tracksim run` returns it.
+    pub result: TeamResult,
+    /// Each robot's name, the changes of its controls (as its `[[vehicles.commands]]`
+    /// entries, at the simulated time each was applied) and what its commands came to.
+    pub robots: Vec<(String, CommandLog, Counts)>,
+}
+
+/// Runs a session of `sc`, a scenario with several robots (`[[vehicles]]`), as the ROS 2 node
+/// `/tracksim`: each robot's topics and frames in its namespace (`/<name>/cmd_vel`,
+/// `<name>/base_link`), its own watchdog; one `/clock`, `/tf`, `/tf_static` and `/rosout`.
+/// Ends as [`run_ros`].
+pub fn run_ros_team(
+    sc: &Scenario,
+    opts: &RosOptions,
+    warn: &mut dyn FnMut(&str),
+) -> Result<RosTeamSession> {
+    let mut node = DdsNode::start(opts.domain_id, &opts.network).map_err(dds_error)?;
+    let mut runner = TeamRunner::new(sc)?.without_commands().unbounded();
+    if !opts.fast {
+        runner = runner.paced(1.0);
+    }
+    let names = runner.sim().robot_names();
+    let robots: Vec<(&Scenario, Namespace)> = names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| (runner.robot_scenario(k), Namespace::robot(n)))
+        .collect();
+    let (world, robots) = start(&mut node, opts, &robots, warn)?;
+    let mut topics = TeamTopicSource { robots, world };
+    topics.after_sample(&mut runner);
+    topics.after_step(&mut runner);
+    let order = runner.sim().build_order().to_vec();
+    let run = run_world_session(runner, &mut topics, limits(opts), &order)?;
+    let logs = run.logs;
+    Ok(RosTeamSession {
+        result: run.world.finish(run.end),
+        robots: names
+            .into_iter()
+            .zip(logs)
+            .zip(topics.robots.iter().map(|r| r.control.counts))
+            .map(|((n, l), c)| (n, l, c))
+            .collect(),
+    })
+}
+
+impl RosTeamSession {
+    /// The session's duration, s.
+    pub fn duration(&self) -> f64 {
+        self.result
+            .robots
+            .first()
+            .and_then(|r| r.1.samples.last())
+            .map_or(0.0, |s| s.t)
+    }
+
+    /// Writes everything `tracksim run` writes for the world (a folder per robot,
+    /// `team.json`, plots unless `plots` is false, the world's `run.mcap` if `mcap`) and
+    /// `dir/commands.toml`, every robot's controls ([`crate::run::write_team_log`]: `tracksim
+    /// run FILE --commands dir/commands.toml --duration T` replays the session); returns the
+    /// paths.
+    pub fn write(
+        &self,
+        sc: &Scenario,
+        scenario_file: &Path,
+        dir: &Path,
+        plots: bool,
+        mcap: bool,
+    ) -> Result<Vec<PathBuf>> {
+        let which = crate::output::Outputs {
+            replay: true,
+            plots,
+            mcap,
+        };
+        let mut written = crate::output::write_team(sc, &self.result, dir, which)?;
+        let header = LogHeader {
+            what: RosSession::COMMANDS_HEADER,
+            notes: &[],
+        };
+        let logs: Vec<(&str, &CommandLog)> = self
+            .robots
+            .iter()
+            .map(|(n, l, _)| (n.as_str(), l))
+            .collect();
+        written.push(crate::run::write_team_log(
+            &logs,
+            header,
+            scenario_file,
+            dir,
+            self.duration(),
+        )?);
+        Ok(written)
+    }
 }
 
 impl RosSession {

@@ -42,3 +42,28 @@ pub fn flipper_position(name: &str) -> String {
 pub fn sensor(name: &str) -> String {
     format!("/{}", token(name))
 }
+
+/// Every topic of one robot of vehicle `v` in namespace `ns`, as the node creates them: its
+/// command topics (`/cmd_vel`, `/flippers/cmd_positions`, each track's speed and each
+/// flipper's target), its state (`/odom`, `/ground_truth/odom`, `/joint_states`, `/tracks`)
+/// and its sensors. The world's `/clock`, `/tf`, `/tf_static` and `/rosout` are not a robot's.
+pub fn robot_topics(
+    v: &crate::model::VehicleModel,
+    ns: &crate::output::ros_names::Namespace,
+) -> Vec<String> {
+    let mut t: Vec<String> = [
+        CMD_VEL,
+        FLIPPER_POSITIONS,
+        ODOM,
+        GROUND_TRUTH,
+        JOINT_STATES,
+        TRACKS,
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    t.extend(v.tracks.iter().map(|x| track_speed(&x.name)));
+    t.extend(v.flippers.iter().map(|x| flipper_position(&x.name)));
+    t.extend(v.sensors.iter().map(|x| sensor(&x.name)));
+    t.iter().map(|x| ns.topic(x)).collect()
+}

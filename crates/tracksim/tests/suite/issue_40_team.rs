@@ -497,3 +497,112 @@ fn a_race_on_a_course_is_ranked_by_the_course_and_its_times_follow_the_speeds() 
     let json = serde_json::to_value(tracksim::output::TeamSummary::of(&sc, &r)).unwrap();
     assert_eq!(json["standings"]["winner"], "red");
 }
+
+/// Every message's CDR bytes of a recording by topic, in log order.
+fn mcap_topics(bytes: &[u8]) -> std::collections::BTreeMap<String, Vec<Vec<u8>>> {
+    let mut out: std::collections::BTreeMap<String, Vec<Vec<u8>>> = Default::default();
+    for m in mcap::MessageStream::new(bytes).expect("mcap") {
+        let m = m.expect("message");
+        out.entry(m.channel.topic.clone())
+            .or_default()
+            .push(m.data.to_vec());
+    }
+    out
+}
+
+fn decoded<T: tracksim::rosmsg::RosMessage>(msgs: &[Vec<u8>]) -> Vec<T> {
+    msgs.iter()
+        .map(|d| tracksim::rosmsg::decode::<T>(d).expect("decodes"))
+        .collect()
+}
+
+#[test]
+fn the_worlds_mcap_holds_each_robots_namespaced_topics_and_its_trajectory() {
+    use tracksim::rosmsg::{Clock, Imu, Odometry, TFMessage};
+    let sensing = |name: &str, y: f64, cmd: &str| {
+        format!(
+            "[[vehicles]]\nname = \"{name}\"\n[vehicles.vehicle]\nfile = \"{}\"\ny_m = {y}\n\
+             [[vehicles.commands]]\nt_s = 0.0\n{cmd}\n",
+            root().join("vehicles/packbot510_sensors.toml").display()
+        )
+    };
+    let text = flat(
+        1.0,
+        &[
+            sensing("a", 0.0, "belt_speed_mps = 0.3"),
+            sensing("b", 1.5, "belt_speed_mps = -0.2"),
+        ],
+    );
+    let sc = load("mcap", &text).unwrap();
+    let r = run(&sc);
+    let msgs = mcap_topics(&tracksim::output::mcap::team_mcap_bytes(&sc, &r).unwrap());
+    let shared = ["/clock", "/tf", "/tf_static"];
+    let of = |p: &str| -> std::collections::BTreeSet<String> {
+        msgs.keys()
+            .filter_map(|t| t.strip_prefix(p).map(str::to_string))
+            .collect()
+    };
+    for t in msgs.keys() {
+        assert!(
+            shared.contains(&t.as_str()) || t.starts_with("/a/") || t.starts_with("/b/"),
+            "{t}: every topic is the world's or a robot's"
+        );
+    }
+    let (a, b) = (of("/a/"), of("/b/"));
+    assert_eq!(a, b, "the robots have the same topics, each under its name");
+    for t in ["odom", "ground_truth/odom", "joint_states", "tracks", "imu"] {
+        assert!(a.contains(t), "/a/{t} in {:?}", msgs.keys());
+    }
+    let n = r.robots[0].1.samples.len();
+    assert_eq!(decoded::<Clock>(&msgs["/clock"]).len(), n, "one /clock");
+    let tf: Vec<TFMessage> = decoded(&msgs["/tf"]);
+    assert_eq!(tf.len(), n, "one /tf message per sample, every robot in it");
+    for m in &tf {
+        let pairs: Vec<(String, String)> = m
+            .transforms
+            .iter()
+            .map(|t| (t.header.frame_id.clone(), t.child_frame_id.clone()))
+            .collect();
+        for name in ["a", "b"] {
+            let odom = format!("{name}/odom");
+            assert!(pairs.contains(&(odom.clone(), format!("{name}/base_link"))));
+            assert!(pairs.contains(&("map".into(), odom)));
+        }
+        let mut children: Vec<&String> = pairs.iter().map(|p| &p.1).collect();
+        children.sort();
+        children.dedup();
+        assert_eq!(children.len(), pairs.len(), "each frame has one parent");
+    }
+    let statics: Vec<TFMessage> = decoded(&msgs["/tf_static"]);
+    for t in &statics[0].transforms {
+        let name = &t.header.frame_id[..1];
+        assert!(t.header.frame_id.starts_with(&format!("{name}/")));
+        assert!(t.child_frame_id.starts_with(&format!("{name}/")), "{t:?}");
+    }
+    for (k, (name, run)) in r.robots.iter().enumerate() {
+        let truth: Vec<Odometry> = decoded(&msgs[&format!("/{name}/ground_truth/odom")]);
+        assert_eq!(truth.len(), run.samples.len());
+        for (m, s) in truth.iter().zip(&run.samples) {
+            assert_eq!(m.header.frame_id, "map");
+            assert_eq!(m.child_frame_id, format!("{name}/base_link"));
+            let p = &m.pose.pose.position;
+            assert_eq!(
+                [p.x, p.y, p.z],
+                [s.pose.x, s.pose.y, s.pose.z],
+                "{name} at {}",
+                s.t
+            );
+        }
+        let odom: Vec<Odometry> = decoded(&msgs[&format!("/{name}/odom")]);
+        assert_eq!(odom[0].header.frame_id, format!("{name}/odom"));
+        let last = odom.last().unwrap().pose.pose.position.x;
+        assert_eq!(last, run.samples.last().unwrap().odom[0]);
+        let imu: Vec<Imu> = decoded(&msgs[&format!("/{name}/imu")]);
+        assert!(imu[0].header.frame_id.starts_with(&format!("{name}/")));
+        let moved = run.samples.last().unwrap().pose.x - run.samples[0].pose.x;
+        assert!(
+            if k == 0 { moved > 0.15 } else { moved < -0.1 },
+            "{name} moved {moved} m as commanded"
+        );
+    }
+}
