@@ -161,12 +161,14 @@ def test_shapes_dtypes_and_results_the_same_whatever_the_threads():
 def test_speed_of_the_vector_against_lone_envs_is_printed():
     m, steps = 8, 20
     actions = [{a: np.full((m, 2), [0.6, 0.1], np.float32) for a in ("west", "east")}] * steps
-    venv = TeamVectorEnv(CORRIDOR, m)
-    venv.reset(seed=0)
-    t0 = time.perf_counter()
-    for a in actions:
-        vobs = venv.step(a)[0]
-    vec_s = time.perf_counter() - t0
+    times = {}
+    for threads in (1, os.cpu_count() or 1):
+        venv = TeamVectorEnv(CORRIDOR, m, threads=threads)
+        venv.reset(seed=0)
+        t0 = time.perf_counter()
+        for a in actions:
+            vobs = venv.step(a)[0]
+        times[threads] = time.perf_counter() - t0
     lones = [TeamParallelEnv(CORRIDOR) for _ in range(m)]
     for i, env in enumerate(lones):
         env.reset(seed=i)
@@ -174,10 +176,11 @@ def test_speed_of_the_vector_against_lone_envs_is_printed():
     for a in actions:
         last = [env.step({k: a[k][i] for k in env.agents})[0] for i, env in enumerate(lones)]
     lone_s = time.perf_counter() - t0
+    vec = ", ".join(f"{t} thread{'s' if t > 1 else ''} {s:.3f} s ({lone_s / s:.2f}x)"
+                    for t, s in times.items())
     print(f"\n{m} corridor worlds x {steps} steps ({steps * venv.control_period_s:.1f} s each): "
-          f"TeamVectorEnv on {venv.threads} threads {vec_s:.3f} s, {m} lone TeamParallelEnv "
-          f"one after another {lone_s:.3f} s: {lone_s / vec_s:.2f}x "
-          f"({os.cpu_count()} cores)")
+          f"{m} lone TeamParallelEnv one after another {lone_s:.3f} s; TeamVectorEnv on {vec} "
+          f"({os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f})")
     for i in range(m):
         for k in ("west", "east"):
             assert vobs[k][i].tobytes() == last[i][k].tobytes()
