@@ -7,6 +7,8 @@
 - :class:`TracksimEnv`: a Gymnasium environment (``config={"observation": "dict"}`` adds the
   sensors to the observation); :class:`TracksimVectorEnv`: N of them stepped on Rust threads
   behind Gymnasium's ``VectorEnv`` API;
+- :class:`TeamVectorEnv`: many worlds of several robots (``[[vehicles]]``) stepped together on
+  Rust threads, the vector form of :class:`tracksim.team_env.TeamParallelEnv` (PettingZoo);
 - :class:`ProgressReward`: the default reward (progress, tilt and effort penalties), replaceable;
 - the task suite (:mod:`tracksim.tasks`, docs/TASKS.md): ``gymnasium.make("tracksim/PackBotFlat-v0")``
   and the other ids, registered on import; :mod:`tracksim.baselines` their scripted policies;
@@ -43,6 +45,7 @@ TRAINING_PHYSICS = {"solver_iterations": 2}
 #: the steps tasks, but climbs about 8 % slower (BENCHMARKS.md "Env steps per core").
 TRAINING_PHYSICS_CLUSTERED = {"method": "okada2020_clustered", "solver_iterations": 2}
 from .vector import TracksimVectorEnv
+from .team_vector import TeamVectorEnv
 from . import tasks as _tasks
 
 _tasks.register_all()
@@ -56,6 +59,7 @@ __all__ = [
     "TRAINING_PHYSICS",
     "TRAINING_PHYSICS_CLUSTERED",
     "TracksimEnv",
+    "TeamVectorEnv",
     "TracksimVectorEnv",
     "UnstableError",
     "VecEnvCore",

@@ -15,6 +15,7 @@ mod env;
 mod live_view;
 mod scenario;
 mod simulation;
+mod team_env;
 mod vec_env;
 
 use common::{ScenarioError, UnstableError};
@@ -24,6 +25,7 @@ use live_view::PyLiveView;
 use pyo3::prelude::*;
 use scenario::PyScenario;
 use simulation::PySimulation;
+use team_env::{PyTeamEnvCore, PyTeamVecEnvCore};
 use vec_env::PyVecEnvCore;
 
 /// The extension module.
@@ -33,6 +35,8 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_class::<PyEnvCore>()?;
     m.add_class::<PyVecEnvCore>()?;
+    m.add_class::<PyTeamEnvCore>()?;
+    m.add_class::<PyTeamVecEnvCore>()?;
     m.add_class::<PyLiveView>()?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble, m)?)?;

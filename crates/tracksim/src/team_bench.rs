@@ -1,8 +1,9 @@
 //! What more robots in one world cost (issue 40): N PackBot 510s (the Table II vehicle, 40
 //! grousers a track) apart on flat ground, each driving at 0.3 m/s, timed for N = 1, 2, 4, ...
 //! in interleaved rounds in one process, so the ratios compare like with like. The figure is
-//! the step time per robot against one robot's; robots apart form separate islands, which
-//! Rapier solves one after another (its `parallel` feature is not enabled: docs/TEAMS.md).
+//! the step time per robot against one robot's. The robots are solved on one thread: Rapier's
+//! `parallel` feature is the opt-in cargo feature `parallel`, measured slower and not
+//! deterministic, so not shipped (docs/TEAMS.md, cost section).
 
 use crate::error::{Error, Result};
 use crate::model::MAX_ROBOTS;

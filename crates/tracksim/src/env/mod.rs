@@ -9,12 +9,15 @@
 //! - `learner.rs`: the learner's observation ([`LearnerObs`], `observation = "learner"`);
 //! - `record.rs`: episodes written as run folders (`record_dir`);
 //! - `sensor_obs.rs`: the sensors' arrays of a dict observation ([`Env::observe_sensors`]);
-//! - `vector.rs`: [`VecEnv`].
+//! - `vector.rs`: [`VecEnv`] (and the threads it shares with [`TeamVecEnv`]);
+//! - `team.rs`: the robots of a `[[vehicles]]` world as agents: [`TeamEnv`], and
+//!   [`TeamVecEnv`], many such worlds on threads with autoreset (issue 40).
 
 mod config;
 mod learner;
 mod record;
 mod sensor_obs;
+mod team;
 mod vector;
 
 pub use config::{
@@ -22,6 +25,10 @@ pub use config::{
 };
 pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
 pub use sensor_obs::{STATE_KEY, SensorObs};
+pub use team::{
+    AgentStep, TEAM_ACTION_SIZE, TEAM_OBS_SIZE, TEAM_OUTCOME_REWARD, TeamEnv, TeamSettings,
+    TeamVecEnv, TeamVecStep,
+};
 pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
 
 use crate::error::Result;

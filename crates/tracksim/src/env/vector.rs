@@ -105,7 +105,7 @@ impl VecEnv {
             }
         }
         let seeds = self.seeds.clone();
-        self.par(|_, env, i| env.reset(seeds[i]).map(|_| ()))?;
+        self.par(|env, i| env.reset(seeds[i]).map(|_| ()))?;
         self.ended.iter_mut().for_each(|e| *e = false);
         Ok(())
     }
@@ -182,59 +182,24 @@ impl VecEnv {
                 *s = next_seed(*s);
             }
         }
-        let mut out: Vec<Option<VecStep>> = vec![None; self.envs.len()];
-        let chunk = self.envs.len().div_ceil(self.threads);
-        let chunks = self.envs.len().div_ceil(chunk);
-        let seeds_ref = &seeds;
-        let ended_ref = &ended;
-        std::thread::scope(|scope| -> Result<()> {
-            let mut handles = Vec::new();
-            for (k, ((envs, obs), out)) in self
-                .envs
-                .chunks_mut(chunk)
-                .zip(obs.chunks_mut(chunk * no))
-                .zip(out.chunks_mut(chunk))
-                .enumerate()
-            {
-                let mut work = move || -> Result<()> {
-                    for (j, env) in envs.iter_mut().enumerate() {
-                        let i = k * chunk + j;
-                        let step = if ended_ref[i] {
-                            env.reset(seeds_ref[i])?;
-                            VecStep {
-                                info: StepInfo::default(),
-                                reset: true,
-                                seed: seeds_ref[i],
-                            }
-                        } else {
-                            let a = &actions[i * na..(i + 1) * na];
-                            VecStep {
-                                info: env.step(a),
-                                reset: false,
-                                seed: seeds_ref[i],
-                            }
-                        };
-                        env.observe(&mut obs[j * no..(j + 1) * no]);
-                        out[j] = Some(step);
-                    }
-                    Ok(())
-                };
-                if k + 1 == chunks {
-                    work()?;
-                } else {
-                    handles.push(scope.spawn(work));
+        let out = on_threads(&mut self.envs, self.threads, |i, env| {
+            Ok(if ended[i] {
+                env.reset(seeds[i])?;
+                VecStep {
+                    info: StepInfo::default(),
+                    reset: true,
+                    seed: seeds[i],
                 }
-            }
-            for h in handles {
-                h.join().expect("environment thread panicked")?;
-            }
-            Ok(())
+            } else {
+                VecStep {
+                    info: env.step(&actions[i * na..(i + 1) * na]),
+                    reset: false,
+                    seed: seeds[i],
+                }
+            })
         })?;
         self.seeds = seeds;
-        let out: Vec<VecStep> = out
-            .into_iter()
-            .map(|s| s.expect("every env stepped"))
-            .collect();
+        self.observe(obs);
         for (e, s) in self.ended.iter_mut().zip(&out) {
             *e = s.info.terminated || s.info.truncated;
         }
@@ -284,26 +249,46 @@ impl VecEnv {
     }
 
     /// Runs `f` on every environment on the threads.
-    fn par(&mut self, f: impl Fn(usize, &mut Env, usize) -> Result<()> + Sync) -> Result<()> {
-        let chunk = self.envs.len().div_ceil(self.threads).max(1);
-        let f = &f;
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = self
-                .envs
-                .chunks_mut(chunk)
-                .enumerate()
-                .map(|(k, envs)| {
-                    scope.spawn(move || {
-                        for (j, e) in envs.iter_mut().enumerate() {
-                            f(k, e, k * chunk + j)?;
-                        }
-                        Ok(())
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .try_for_each(|h| h.join().expect("environment thread panicked"))
-        })
+    fn par(&mut self, f: impl Fn(&mut Env, usize) -> Result<()> + Sync) -> Result<()> {
+        on_threads(&mut self.envs, self.threads, |i, e| f(e, i)).map(|_| ())
     }
+}
+
+/// `f(i, &mut items[i])` for every item, on up to `threads` scoped threads (the items split in
+/// contiguous chunks, the last chunk on the calling thread); the results in item order. Each
+/// item is visited by exactly one thread, so results that depend only on the item do not
+/// depend on `threads`. The first error (in chunk order) is returned. Shared by [`VecEnv`] and
+/// [`super::TeamVecEnv`].
+pub(crate) fn on_threads<T: Send, R: Send>(
+    items: &mut [T],
+    threads: usize,
+    f: impl Fn(usize, &mut T) -> Result<R> + Sync,
+) -> Result<Vec<R>> {
+    if items.is_empty() {
+        return Ok(Vec::new());
+    }
+    let chunk = items.len().div_ceil(threads.max(1));
+    let f = &f;
+    let run = move |k: usize, part: &mut [T]| -> Result<Vec<R>> {
+        part.iter_mut()
+            .enumerate()
+            .map(|(j, x)| f(k * chunk + j, x))
+            .collect()
+    };
+    let parts: Vec<Result<Vec<R>>> = std::thread::scope(|scope| {
+        let mut chunks = items.chunks_mut(chunk).enumerate();
+        let last = chunks.next_back();
+        let handles: Vec<_> = chunks
+            .map(|(k, part)| scope.spawn(move || run(k, part)))
+            .collect();
+        let mine = last.map(|(k, part)| run(k, part));
+        let mut out: Vec<_> = handles
+            .into_iter()
+            .map(|h| h.join().expect("environment thread panicked"))
+            .collect();
+        out.extend(mine);
+        out
+    });
+    let parts = parts.into_iter().collect::<Result<Vec<Vec<R>>>>()?;
+    Ok(parts.into_iter().flatten().collect())
 }

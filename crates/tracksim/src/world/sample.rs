@@ -276,11 +276,19 @@ impl Simulation {
         2.0 * v.dot(fl.axis).atan2(r.w as f64)
     }
 
+    /// The selected robot's chassis velocity (world frame): linear m/s, angular rad/s.
+    pub fn body_velocity(&self) -> ([f64; 3], [f64; 3]) {
+        let b = &self.world.bodies[self.robots[self.focus].body];
+        let (lv, av) = (b.linvel(), b.angvel());
+        (
+            [lv.x as f64, lv.y as f64, lv.z as f64],
+            [av.x as f64, av.y as f64, av.z as f64],
+        )
+    }
+
     /// Current state as a sample.
     pub fn sample(&self) -> Sample {
-        let b = &self.world.bodies[self.robots[self.focus].body];
-        let lv = b.linvel();
-        let av = b.angvel();
+        let (linvel, angvel) = self.body_velocity();
         // Before the first step the narrow phase still holds the placement's trial contacts.
         let (contacts, penetration) = if self.steps() == 0 {
             (0, 0.0)
@@ -290,8 +298,8 @@ impl Simulation {
         Sample {
             t: self.time,
             pose: self.body_pose(),
-            linvel: [lv.x as f64, lv.y as f64, lv.z as f64],
-            angvel: [av.x as f64, av.y as f64, av.z as f64],
+            linvel,
+            angvel,
             belt_speed: self
                 .rb()
                 .tracks

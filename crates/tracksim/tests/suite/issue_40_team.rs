@@ -606,3 +606,64 @@ fn the_worlds_mcap_holds_each_robots_namespaced_topics_and_its_trajectory() {
         );
     }
 }
+
+/// The team vector environment (`env::TeamVecEnv`): world `i` equals a lone `env::TeamEnv` with
+/// its seed and actions, bit for bit, on 1 or 3 threads; the step after every agent of a world
+/// ended resets it (the next seed, no rewards, no agent active) to a lone world's first state.
+#[test]
+fn team_vector_worlds_equal_lone_worlds_whatever_the_threads_and_autoreset() {
+    use std::sync::Arc;
+    use tracksim::env::{TEAM_OBS_SIZE, TeamEnv, TeamSettings, TeamVecEnv, next_seed};
+    let t = Arc::new(
+        tracksim::load_template(&root().join("scenarios/team/corridor_head_on.toml")).unwrap(),
+    );
+    let s = TeamSettings {
+        control_hz: 5.0,
+        max_time_s: Some(1.0),
+        ..TeamSettings::default()
+    };
+    let (n, agents, steps) = (3, 2, 6); // 5 periods of an episode, then an autoreset
+    let action = |k: usize, i: usize, j: usize| ((k * 7 + i * 3 + j) % 11) as f32 / 5.0 - 1.0;
+    let actions = |k: usize| -> Vec<f32> {
+        (0..n * agents * 2)
+            .map(|x| action(k, x / (agents * 2), x % (agents * 2)))
+            .collect()
+    };
+    let mut runs = Vec::new();
+    for threads in [1, 3] {
+        let mut v = TeamVecEnv::new(t.clone(), &s, n, 20, threads).unwrap();
+        let mut obs = vec![0f32; v.obs_len()];
+        let mut out = Vec::new();
+        for k in 0..steps {
+            let st = v.step(&actions(k), &mut obs).unwrap();
+            out.push((obs.clone(), format!("{st:?}")));
+        }
+        runs.push(out);
+    }
+    assert_eq!(runs[0], runs[1], "the thread count changed a result");
+    let per = agents * TEAM_OBS_SIZE;
+    for i in 0..n {
+        let mut lone = TeamEnv::new(t.clone(), &s, 20 + i as u64).unwrap();
+        let mut o = vec![0f32; per];
+        for (k, (obs, _)) in runs[0].iter().enumerate().take(steps - 1) {
+            let a = actions(k);
+            lone.step(&a[i * agents * 2..(i + 1) * agents * 2]);
+            lone.observe(&mut o);
+            assert_eq!(
+                o.as_slice(),
+                &obs[i * per..(i + 1) * per],
+                "world {i} step {k}"
+            );
+        }
+        assert!(lone.done(), "every agent truncated at 1 s");
+        let fresh = TeamEnv::new(t.clone(), &s, next_seed(20 + i as u64)).unwrap();
+        fresh.observe(&mut o);
+        assert_eq!(o.as_slice(), &runs[0][steps - 1].0[i * per..(i + 1) * per]);
+    }
+    let last = &runs[0][steps - 1].1;
+    assert!(
+        last.contains("reset: true") && !last.contains("reset: false"),
+        "{last}"
+    );
+    assert!(!last.contains("active: true"), "{last}");
+}
