@@ -112,8 +112,24 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
     session.result.summary.trainee = trainee;
     let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
     super::session_report(&session.result.summary);
-    let interrupted = matches!(session.result.outcome, tracksim::Outcome::Interrupted(_));
-    for w in &written {
+    finish(
+        &a,
+        &file,
+        &written,
+        session.duration(),
+        &session.result.outcome,
+    )
+}
+
+/// Lists what a session wrote and how to replay it; an interrupted session fails.
+fn finish(
+    a: &DriveArgs,
+    file: &std::path::Path,
+    written: &[PathBuf],
+    duration: f64,
+    outcome: &tracksim::Outcome,
+) -> Result<(), Failure> {
+    for w in written {
         out!("wrote      {}", w.display());
     }
     out!(
@@ -121,9 +137,9 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         a.out.display(),
         file.display(),
         a.out.join("commands.toml").display(),
-        session.duration()
+        duration
     );
-    if interrupted {
+    if matches!(outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
     Ok(())
@@ -181,18 +197,5 @@ fn drive_team(
     }
     let o = session.outcome();
     out!("outcome    {}: {}", o.name(), o.reason());
-    for w in &written {
-        out!("wrote      {}", w.display());
-    }
-    out!(
-        "replay     tracksim view {}   (or reproduce: tracksim run {} --commands {} --duration {})",
-        a.out.display(),
-        file.display(),
-        a.out.join("commands.toml").display(),
-        session.duration()
-    );
-    if matches!(o, tracksim::Outcome::Interrupted(_)) {
-        return Err(Failure::Interrupted);
-    }
-    Ok(())
+    finish(a, file, &written, session.duration(), o)
 }

@@ -16,6 +16,7 @@
 mod config;
 mod learner;
 mod record;
+mod seeds;
 mod sensor_obs;
 mod team;
 mod vector;
@@ -24,12 +25,13 @@ pub use config::{
     ActionMode, EnvConfig, EnvSpec, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode,
 };
 pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
+pub use seeds::{Seeds, next_seed};
 pub use sensor_obs::{STATE_KEY, SensorObs};
 pub use team::{
     AgentStep, TEAM_ACTION_SIZE, TEAM_OBS_SIZE, TEAM_OUTCOME_REWARD, TeamEnv, TeamSettings,
     TeamVecEnv, TeamVecStep,
 };
-pub use vector::{MAX_ENVS, VecEnv, VecStep, next_seed};
+pub use vector::{MAX_ENVS, VecEnv, VecStep};
 
 use crate::error::Result;
 use crate::model::{Controls, Scenario, ScenarioTemplate};

@@ -6,7 +6,8 @@
 //! one implementation, so world `i` of the vector is the lone environment with the same seed.
 
 use super::MAX_ENVS;
-use super::vector::{next_seed, on_threads};
+use super::seeds::Seeds;
+use super::vector::on_threads;
 use crate::error::{Error, Result};
 use crate::model::ScenarioTemplate;
 use crate::run::{Outcome, check_outcome};
@@ -374,12 +375,12 @@ fn wrap(a: f64) -> f64 {
 
 /// `n` team worlds of one template stepped together on threads, with autoreset as Gymnasium's
 /// "next step" mode: the step after a world's episode ended (every agent terminated or
-/// truncated) resets that world with the next seed of its sequence ([`next_seed`]) and ignores
+/// truncated) resets that world with the next seed of its sequence ([`super::next_seed`]) and ignores
 /// its actions. Each world is advanced by one thread and owns its state, so results do not
 /// depend on the thread count, and world `i` equals a lone [`TeamEnv`] with its seed.
 pub struct TeamVecEnv {
     envs: Vec<TeamEnv>,
-    seeds: Vec<u64>,
+    seeds: Seeds,
     ended: Vec<bool>,
     threads: usize,
 }
@@ -415,8 +416,9 @@ impl TeamVecEnv {
             ));
         }
         settings.check()?;
-        let seeds: Vec<u64> = (0..n as u64).map(|i| seed.wrapping_add(i)).collect();
+        let seeds = Seeds::from_base(n, seed);
         let envs = seeds
+            .as_slice()
             .iter()
             .map(|s| TeamEnv::new(template.clone(), settings, *s))
             .collect::<Result<Vec<_>>>()?;
@@ -462,11 +464,9 @@ impl TeamVecEnv {
     /// threads.
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         if let Some(s) = seed {
-            for (i, x) in self.seeds.iter_mut().enumerate() {
-                *x = s.wrapping_add(i as u64);
-            }
+            self.seeds.rebase(s);
         }
-        let seeds = &self.seeds;
+        let seeds = self.seeds.as_slice();
         on_threads(&mut self.envs, self.threads, |i, env| {
             env.reset(Some(seeds[i]))
         })?;
@@ -476,18 +476,7 @@ impl TeamVecEnv {
 
     /// Resets world `i` with `seeds[i]` (one seed per world).
     pub fn reset_seeds(&mut self, seeds: &[u64]) -> Result<()> {
-        if seeds.len() != self.envs.len() {
-            return Err(Error::setting(
-                "reset",
-                "seeds",
-                format!(
-                    "expected {} seeds (one per world), got {}",
-                    self.envs.len(),
-                    seeds.len()
-                ),
-            ));
-        }
-        self.seeds = seeds.to_vec();
+        self.seeds.replace(seeds, "world")?;
         self.reset(None)
     }
 
@@ -515,15 +504,10 @@ impl TeamVecEnv {
             }
         }
         let ended = self.ended.clone();
-        let mut seeds = self.seeds.clone();
-        for (s, e) in seeds.iter_mut().zip(&ended) {
-            if *e {
-                *s = next_seed(*s);
-            }
-        }
+        let seeds = self.seeds.after(&ended);
         let out = on_threads(&mut self.envs, self.threads, |i, env| {
             let (agents, reset) = if ended[i] {
-                env.reset(Some(seeds[i]))?;
+                env.reset(Some(seeds.as_slice()[i]))?;
                 (vec![AgentStep::default(); env.agent_count()], true)
             } else {
                 (env.step(&actions[i * per..(i + 1) * per]), false)
@@ -531,7 +515,7 @@ impl TeamVecEnv {
             Ok(TeamVecStep {
                 agents,
                 reset,
-                seed: seeds[i],
+                seed: seeds.as_slice()[i],
                 t_s: env.simulation().time(),
             })
         })?;

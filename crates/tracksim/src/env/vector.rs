@@ -2,19 +2,11 @@
 //! exactly one thread per step and owns all its state, so results do not depend on the thread
 //! count.
 
+use super::seeds::Seeds;
 use super::{Env, EnvConfig, StepInfo};
 use crate::error::{Error, Result};
 use crate::model::ScenarioTemplate;
 use std::sync::Arc;
-
-/// The seed of the episode after one with `seed` (SplitMix64): each environment's episodes
-/// follow from the seed it was reset with.
-pub fn next_seed(seed: u64) -> u64 {
-    let mut z = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
-}
 
 /// Most environments of one [`VecEnv`].
 pub const MAX_ENVS: usize = 100_000;
@@ -24,7 +16,7 @@ pub const MAX_ENVS: usize = 100_000;
 /// (with the next seed of its sequence) and ignores its action.
 pub struct VecEnv {
     envs: Vec<Env>,
-    seeds: Vec<u64>,
+    seeds: Seeds,
     ended: Vec<bool>,
     threads: usize,
 }
@@ -59,8 +51,9 @@ impl VecEnv {
             ));
         }
         cfg.check()?;
-        let seeds: Vec<u64> = (0..n as u64).map(|i| seed.wrapping_add(i)).collect();
+        let seeds = Seeds::from_base(n, seed);
         let envs = seeds
+            .as_slice()
             .iter()
             .map(|s| Env::new(template.clone(), cfg.clone(), *s))
             .collect::<Result<Vec<_>>>()?;
@@ -100,30 +93,17 @@ impl VecEnv {
     /// Resets every environment, `i` with seed `seed + i` (or its current seed with `None`).
     pub fn reset(&mut self, seed: Option<u64>) -> Result<()> {
         if let Some(s) = seed {
-            for (i, x) in self.seeds.iter_mut().enumerate() {
-                *x = s.wrapping_add(i as u64);
-            }
+            self.seeds.rebase(s);
         }
         let seeds = self.seeds.clone();
-        self.par(|env, i| env.reset(seeds[i]).map(|_| ()))?;
+        self.par(|env, i| env.reset(seeds.as_slice()[i]).map(|_| ()))?;
         self.ended.iter_mut().for_each(|e| *e = false);
         Ok(())
     }
 
     /// Resets environment `i` with `seeds[i]` (one seed per environment).
     pub fn reset_seeds(&mut self, seeds: &[u64]) -> Result<()> {
-        if seeds.len() != self.envs.len() {
-            return Err(Error::setting(
-                "reset",
-                "seeds",
-                format!(
-                    "expected {} seeds (one per environment), got {}",
-                    self.envs.len(),
-                    seeds.len()
-                ),
-            ));
-        }
-        self.seeds = seeds.to_vec();
+        self.seeds.replace(seeds, "environment")?;
         self.reset(None)
     }
 
@@ -176,25 +156,20 @@ impl VecEnv {
             }
         }
         let ended = self.ended.clone();
-        let mut seeds = self.seeds.clone();
-        for (i, s) in seeds.iter_mut().enumerate() {
-            if ended[i] {
-                *s = next_seed(*s);
-            }
-        }
+        let seeds = self.seeds.after(&ended);
         let out = on_threads(&mut self.envs, self.threads, |i, env| {
             Ok(if ended[i] {
-                env.reset(seeds[i])?;
+                env.reset(seeds.as_slice()[i])?;
                 VecStep {
                     info: StepInfo::default(),
                     reset: true,
-                    seed: seeds[i],
+                    seed: seeds.as_slice()[i],
                 }
             } else {
                 VecStep {
                     info: env.step(&actions[i * na..(i + 1) * na]),
                     reset: false,
-                    seed: seeds[i],
+                    seed: seeds.as_slice()[i],
                 }
             })
         })?;

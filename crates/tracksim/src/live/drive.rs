@@ -401,9 +401,8 @@ impl Session {
         plots: bool,
     ) -> Result<Vec<PathBuf>> {
         let which = crate::output::Outputs {
-            replay: true,
             plots,
-            mcap: false,
+            ..crate::output::Outputs::ALL
         };
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,

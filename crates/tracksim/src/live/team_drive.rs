@@ -211,12 +211,29 @@ impl TeamSession {
         dir: &Path,
         plots: bool,
     ) -> Result<Vec<PathBuf>> {
-        let which = crate::output::Outputs {
-            replay: true,
-            plots,
-            mcap: false,
+        let logs: Vec<(&str, &CommandLog)> = self
+            .result
+            .robots
+            .iter()
+            .zip(&self.logs)
+            .map(|((name, _), log)| (name.as_str(), log))
+            .collect();
+        let header = LogHeader {
+            what: Self::COMMANDS_HEADER,
+            notes: &[],
         };
-        let mut written = crate::output::write_team(sc, &self.result, dir, which)?;
+        let which = crate::output::Outputs {
+            plots,
+            ..crate::output::Outputs::ALL
+        };
+        let mut written = crate::output::write_team_session(
+            sc,
+            &self.result,
+            (&logs, header),
+            scenario_file,
+            dir,
+            which,
+        )?;
         for (k, (name, run)) in self.result.robots.iter().enumerate() {
             let view = sc.robot_view(k);
             let flippers = &view.vehicle.flippers;
@@ -234,24 +251,6 @@ impl TeamSession {
             crate::files::write_atomic(&p, text.as_bytes())?;
             written.push(p);
         }
-        let logs: Vec<(&str, &CommandLog)> = self
-            .result
-            .robots
-            .iter()
-            .zip(&self.logs)
-            .map(|((name, _), log)| (name.as_str(), log))
-            .collect();
-        let header = LogHeader {
-            what: Self::COMMANDS_HEADER,
-            notes: &[],
-        };
-        written.push(crate::run::write_team_log(
-            &logs,
-            header,
-            scenario_file,
-            dir,
-            self.duration(),
-        )?);
         Ok(written)
     }
 

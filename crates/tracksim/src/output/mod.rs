@@ -33,7 +33,7 @@ pub use plot_files::{
 };
 pub use replay::{Scene, write_replay};
 pub use report::run_report;
-pub use team::{TeamSummary, team_report, write_team};
+pub use team::{TeamSummary, team_report, write_team, write_team_session};
 
 use crate::error::{Error, Result};
 use crate::run::RunResult;

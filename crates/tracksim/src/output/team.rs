@@ -115,6 +115,35 @@ pub fn write_team(
     Ok(written)
 }
 
+/// Writes a session of several robots: what [`write_team`] writes (`which`) and every robot's
+/// controls as one `commands.toml` (`logs`, by robot name in file order, under `header`:
+/// [`crate::run::write_team_log`]; its replay command runs `scenario_file` for the session's
+/// duration). Returns the paths written. `drive` and `ros` of a file with several robots write
+/// through here.
+pub fn write_team_session(
+    sc: &Scenario,
+    r: &TeamResult,
+    (logs, header): (&[(&str, &crate::run::CommandLog)], crate::run::LogHeader),
+    scenario_file: &Path,
+    dir: &Path,
+    which: Outputs,
+) -> Result<Vec<PathBuf>> {
+    let mut written = write_team(sc, r, dir, which)?;
+    let duration = r
+        .robots
+        .first()
+        .and_then(|(_, run)| run.samples.last())
+        .map_or(0.0, |s| s.t);
+    written.push(crate::run::write_team_log(
+        logs,
+        header,
+        scenario_file,
+        dir,
+        duration,
+    )?);
+    Ok(written)
+}
+
 /// A team run in words: the world's outcome, then a line per robot, and the `[expect]`
 /// verdict.
 pub fn team_report(file: &Path, sc: &Scenario, r: &TeamResult, out: &Path) -> String {

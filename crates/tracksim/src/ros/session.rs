@@ -542,11 +542,10 @@ impl RosTeamSession {
         mcap: bool,
     ) -> Result<Vec<PathBuf>> {
         let which = crate::output::Outputs {
-            replay: true,
             plots,
             mcap,
+            ..crate::output::Outputs::ALL
         };
-        let mut written = crate::output::write_team(sc, &self.result, dir, which)?;
         let header = LogHeader {
             what: RosSession::COMMANDS_HEADER,
             notes: &[],
@@ -556,14 +555,14 @@ impl RosTeamSession {
             .iter()
             .map(|(n, l, _)| (n.as_str(), l))
             .collect();
-        written.push(crate::run::write_team_log(
-            &logs,
-            header,
+        crate::output::write_team_session(
+            sc,
+            &self.result,
+            (&logs, header),
             scenario_file,
             dir,
-            self.duration(),
-        )?);
-        Ok(written)
+            which,
+        )
     }
 }
 

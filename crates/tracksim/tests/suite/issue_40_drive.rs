@@ -4,22 +4,10 @@
 //! give up after a number of messages.
 
 use crate::common::root;
-use std::net::TcpStream;
+use crate::live::{Ws, next_json};
 use std::path::PathBuf;
 use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tungstenite::Message;
-
-type Ws = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
-
-fn next_json(ws: &mut Ws) -> serde_json::Value {
-    loop {
-        match ws.read().expect("the server keeps the socket open") {
-            Message::Text(t) => return serde_json::from_str(t.as_str()).expect("JSON"),
-            Message::Close(_) => panic!("closed by the server"),
-            _ => {}
-        }
-    }
-}
 
 /// Reads messages until one of `kind` satisfies `pred`; panics after `max` messages.
 fn until(

@@ -13,13 +13,13 @@ use std::sync::Arc;
 use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tungstenite::Message;
 
-type Ws = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
+pub(crate) type Ws = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<TcpStream>>;
 
 fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
-fn next_json(ws: &mut Ws) -> serde_json::Value {
+pub(crate) fn next_json(ws: &mut Ws) -> serde_json::Value {
     loop {
         match ws.read().expect("the server keeps the socket open") {
             Message::Text(t) => return serde_json::from_str(t.as_str()).expect("JSON"),
