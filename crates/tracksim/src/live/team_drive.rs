@@ -6,7 +6,7 @@
 //! (`[[vehicles]]`, each robot's `[[vehicles.commands]]`) replays it with
 //! `tracksim run FILE --commands DIR/commands.toml --duration T`.
 //!
-//! Each robot's state ([`super::drive::robot_state`]) goes to the pages that drive or follow
+//! Each robot's state (`drive::robot_state`) goes to the pages that drive or follow
 //! it, with `robot` (its name), `others` (every other robot's name, pose, flipper angles and
 //! belt positions, to draw them) and `team` (the world's rule and outcome, and on a course the
 //! standings: [`crate::run::Standings`]). A driver's stop

@@ -125,7 +125,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     }
     sim.focus = 0;
     if sim.robots.len() > 1 {
-        super::robot::check_overlaps(&mut sim)?;
+        check_overlaps(&mut sim)?;
     }
     Ok(sim)
 }
@@ -542,5 +542,59 @@ fn place(sim: &mut Simulation) {
         let mut p = *b.position();
         p.translation.z += dz as f32;
         b.set_position(p, true);
+    }
+}
+
+/// Refuses robots placed overlapping each other: any collider of one intersecting any of
+/// another's at the placed start poses, every such pair named at once.
+fn check_overlaps(sim: &mut Simulation) -> crate::error::Result<()> {
+    refresh_queries(&mut sim.world);
+    let colliders: Vec<Vec<ColliderHandle>> = sim
+        .robots
+        .iter()
+        .map(|r| {
+            r.bodies()
+                .iter()
+                .flat_map(|&b| sim.world.bodies[b].colliders().to_vec())
+                .collect()
+        })
+        .collect();
+    let cs = &sim.world.colliders;
+    let touch = |a: ColliderHandle, b: ColliderHandle| {
+        let (a, b) = (&cs[a], &cs[b]);
+        a.compute_aabb().intersects(&b.compute_aabb())
+            && rapier3d::parry::query::intersection_test(
+                a.position(),
+                a.shape(),
+                b.position(),
+                b.shape(),
+            )
+            .is_ok_and(|i| i.intersecting)
+    };
+    let mut issues = Vec::new();
+    for k in 0..colliders.len() {
+        for j in 0..k {
+            let hit = colliders[k]
+                .iter()
+                .any(|&a| colliders[j].iter().any(|&b| touch(a, b)));
+            if hit {
+                issues.push(crate::error::SpecIssue::new(
+                    format!("vehicles[{k}].vehicle.x_m"),
+                    format!(
+                        "`{}` overlaps `{}` (vehicles[{j}]) where they start: move one of them \
+                         (x_m, y_m, yaw_deg)",
+                        sim.robots[k].name, sim.robots[j].name
+                    ),
+                ));
+            }
+        }
+    }
+    if issues.is_empty() {
+        Ok(())
+    } else {
+        Err(crate::error::Error::Invalid {
+            path: sim.scenario.source.clone().unwrap_or_default(),
+            issues,
+        })
     }
 }

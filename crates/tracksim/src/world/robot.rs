@@ -5,7 +5,7 @@
 
 use super::drawbar::DrawbarState;
 use super::track_loads::LoadWindow;
-use super::{Flipper, Odometry, Simulation};
+use super::{Flipper, Odometry};
 use crate::model::{MAX_ROBOTS, Scenario};
 use crate::tracks::{Track, VEHICLE_GROUP, WORLD_GROUP};
 use rapier3d::prelude::*;
@@ -96,106 +96,5 @@ impl RobotCollision {
                 ));
             }
         }
-    }
-}
-
-impl Simulation {
-    /// The robot the per-robot queries and controls act on.
-    pub(crate) fn rb(&self) -> &Robot {
-        &self.robots[self.focus]
-    }
-
-    /// Robots in the world.
-    pub fn robot_count(&self) -> usize {
-        self.robots.len()
-    }
-
-    /// The robots' names, in file order.
-    pub fn robot_names(&self) -> Vec<String> {
-        self.robots.iter().map(|r| r.name.clone()).collect()
-    }
-
-    /// Selects robot `k` for the per-robot queries and controls (`sample`, `body_pose`,
-    /// `set_belt_speed`, `apply`, `scenario`, ...). Panics if `k` >= [`Simulation::robot_count`].
-    pub fn select(&mut self, k: usize) {
-        assert!(k < self.robots.len(), "robot {k} of {}", self.robots.len());
-        self.focus = k;
-    }
-
-    /// The robots' indices in the order they were built (by start pose, whatever the file's
-    /// order): a caller that sets several robots' controls at once sets them in this order, so
-    /// that Rapier's internal order (its modified joints, hence its solver's) does not follow
-    /// the file's.
-    pub fn build_order(&self) -> &[usize] {
-        &self.order
-    }
-
-    /// The selected robot's index.
-    pub fn selected(&self) -> usize {
-        self.focus
-    }
-
-    /// The selected robot's name.
-    pub fn robot_name(&self) -> &str {
-        &self.rb().name
-    }
-
-    /// What the selected robot's sensors see ([`RobotCollision::sensor_filter`]).
-    pub fn sensor_filter(&self) -> InteractionGroups {
-        RobotCollision::sensor_filter(self.focus)
-    }
-}
-
-/// Refuses robots placed overlapping each other: any collider of one intersecting any of
-/// another's at the placed start poses, every such pair named at once.
-pub(crate) fn check_overlaps(sim: &mut Simulation) -> crate::error::Result<()> {
-    super::build::refresh_queries(&mut sim.world);
-    let colliders: Vec<Vec<ColliderHandle>> = sim
-        .robots
-        .iter()
-        .map(|r| {
-            r.bodies()
-                .iter()
-                .flat_map(|&b| sim.world.bodies[b].colliders().to_vec())
-                .collect()
-        })
-        .collect();
-    let cs = &sim.world.colliders;
-    let touch = |a: ColliderHandle, b: ColliderHandle| {
-        let (a, b) = (&cs[a], &cs[b]);
-        a.compute_aabb().intersects(&b.compute_aabb())
-            && rapier3d::parry::query::intersection_test(
-                a.position(),
-                a.shape(),
-                b.position(),
-                b.shape(),
-            )
-            .is_ok_and(|i| i.intersecting)
-    };
-    let mut issues = Vec::new();
-    for k in 0..colliders.len() {
-        for j in 0..k {
-            let hit = colliders[k]
-                .iter()
-                .any(|&a| colliders[j].iter().any(|&b| touch(a, b)));
-            if hit {
-                issues.push(crate::error::SpecIssue::new(
-                    format!("vehicles[{k}].vehicle.x_m"),
-                    format!(
-                        "`{}` overlaps `{}` (vehicles[{j}]) where they start: move one of them \
-                         (x_m, y_m, yaw_deg)",
-                        sim.robots[k].name, sim.robots[j].name
-                    ),
-                ));
-            }
-        }
-    }
-    if issues.is_empty() {
-        Ok(())
-    } else {
-        Err(crate::error::Error::Invalid {
-            path: sim.scenario.source.clone().unwrap_or_default(),
-            issues,
-        })
     }
 }

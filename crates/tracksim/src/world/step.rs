@@ -1,15 +1,10 @@
 //! One step of the world, as named stages: keep the ground tile under the vehicle, step the
 //! physics with the contact hook, the tracks' after-step work, and the stability check.
 
+use super::at_rest::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
 use super::contacts::ContactHooks;
 use super::{MAX_SPEED_MPS, Simulation};
 use crate::error::{Error, Result};
-
-/// Chassis speed below which a braked vehicle counts as at rest, m/s: 50x the creep it had
-/// (0.2 mm/s), far below any driving speed.
-pub const STICK_SPEED_MPS: f32 = 0.01;
-/// Chassis turn rate below which a braked vehicle counts as at rest, rad/s.
-pub const STICK_RATE_RAD_S: f32 = 0.01;
 
 impl Simulation {
     /// Advances the simulation by one time step with the controls set so far (every robot).
