@@ -19,7 +19,7 @@ use crate::run::{
 };
 use crate::spec::CommandSpec;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Shortest wall time between two published states, s (at most 60 states per second).
 pub const PUBLISH_INTERVAL_S: f64 = 1.0 / 60.0;
@@ -309,8 +309,8 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         flipper_angle_deg: vec![None; sc.vehicle.flippers.len()],
         ..DriveControl::default()
     };
-    while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
-        std::thread::sleep(Duration::from_millis(10));
+    if opts.wait_for_page {
+        hub.wait_for_page();
     }
     let runner = Runner::new(sc)?
         .without_commands()

@@ -302,6 +302,14 @@ impl Hub {
         self.stop.store(true, Ordering::Relaxed);
     }
 
+    /// Waits until a page has connected (or a stop is asked): a session started with
+    /// `--wait-for-page` starts its clock then.
+    pub fn wait_for_page(&self) {
+        while self.connections() == 0 && !self.stop_requested() {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+    }
+
     /// Whether the session should end.
     pub fn stop_requested(&self) -> bool {
         self.stop.load(Ordering::Relaxed)
@@ -557,6 +565,57 @@ fn socket_loop(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A session of several robots: a page asking for a robot gets its seat, another page the
+    /// first free one; each seat its own token; a stop closes one seat and the session ends
+    /// only once every taken seat has stopped; with every driver gone past the grace (0 here)
+    /// and no page connected, the session is left.
+    #[test]
+    fn a_seat_per_robot_each_with_its_token_and_its_own_end() {
+        let names = vec!["a".to_string(), "b".to_string(), "c".to_string()];
+        let hub = Hub::team(names.clone(), 0.0);
+        let (robot, watch) = query_seat("robot=b", &names);
+        assert_eq!((robot, watch), (Ok(Some(1)), false));
+        assert!(query_seat("robot=zz&watch=1", &names).0.is_err());
+        let (kb, tb) = hub.claim(1, None, &[1]).expect("b's seat");
+        let (ka, ta) = hub.claim(2, None, &[0, 1, 2]).expect("the first free seat");
+        assert_eq!((kb, ka), (1, 0));
+        assert_ne!(ta, tb, "a token per seat");
+        assert!(
+            hub.claim(3, Some(&tb), &[1]).is_none(),
+            "b's seat is driven"
+        );
+        // A control goes to the sender's robot only.
+        let ctl = r#"{"type":"control","forward_mps":0.2,"yaw_rate_rad_s":0.0}"#;
+        assert_eq!(hub.receive(1, ctl), None);
+        assert!(hub.take_control_of(0).is_none());
+        assert_eq!(hub.take_control_of(1).map(|c| c.forward_mps), Some(0.2));
+        assert!(hub.receive(3, ctl).unwrap().contains("only watches"));
+        assert!(
+            hub.receive(1, r#"{"type":"reset"}"#)
+                .unwrap()
+                .contains("every robot")
+        );
+        // b stops: its seat closes (nobody takes it again), a drives on.
+        assert_eq!(hub.receive(1, r#"{"type":"stop"}"#), None);
+        assert!(hub.driver_status_of(1).finished && !hub.all_stopped());
+        assert!(
+            hub.claim(4, None, &[1]).is_none(),
+            "a closed seat stays closed"
+        );
+        assert!(
+            !hub.stop_requested(),
+            "one driver's stop is not the session's"
+        );
+        // a's page drops: with no grace and no page connected, the session is left.
+        hub.seats.lock().unwrap()[0].leave(2);
+        assert!(hub.abandoned());
+        // a stops instead: every taken seat has stopped (c was never taken).
+        let hub = Hub::team(names, 0.0);
+        hub.claim(1, None, &[0]).unwrap();
+        assert_eq!(hub.receive(1, r#"{"type":"stop"}"#), None);
+        assert!(hub.all_stopped());
+    }
 
     /// A page that connects late gets every rut made before; one that has them gets only the
     /// new ones; after a reset (a new epoch) it gets the new log from its start.

@@ -26,7 +26,7 @@ use crate::run::{
 use crate::spec::CommandSpec;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// A finished session of several robots.
 pub struct TeamSession {
@@ -146,8 +146,8 @@ impl Seats<'_> {
 /// (see the module docs): a [`TeamRunner`] paced to the wall clock at `opts.speed`, without
 /// the robots' commands, each seat's controls applied at sample boundaries.
 pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<TeamSession> {
-    while opts.wait_for_page && hub.connections() == 0 && !hub.stop_requested() {
-        std::thread::sleep(Duration::from_millis(10));
+    if opts.wait_for_page {
+        hub.wait_for_page();
     }
     let world = TeamRunner::new(sc)?
         .without_commands()

@@ -667,3 +667,35 @@ fn team_vector_worlds_equal_lone_worlds_whatever_the_threads_and_autoreset() {
     );
     assert!(!last.contains("active: true"), "{last}");
 }
+
+/// A team run started again (`TeamRunner::reset`, what a session's restart does) runs exactly
+/// as a fresh one: every robot's samples are byte-identical (the world, its commands, sensors
+/// and outcomes all start over).
+#[test]
+fn a_team_run_reset_runs_as_a_fresh_one() {
+    let sc = tracksim::load_scenario(&root().join("scenarios/team/convoy.toml")).unwrap();
+    let run_for = |r: &mut tracksim::run::TeamRunner, steps: usize| {
+        for _ in 0..steps {
+            r.step().unwrap();
+        }
+    };
+    let mut fresh = tracksim::run::TeamRunner::new(&sc).unwrap();
+    run_for(&mut fresh, 1500);
+    let mut again = tracksim::run::TeamRunner::new(&sc).unwrap();
+    run_for(&mut again, 700);
+    again.reset().unwrap();
+    assert_eq!(again.sim().time(), 0.0);
+    run_for(&mut again, 1500);
+    let (a, b) = (
+        fresh.finish(tracksim::run::End::Reached),
+        again.finish(tracksim::run::End::Reached),
+    );
+    for ((name, ra), (_, rb)) in a.robots.iter().zip(&b.robots) {
+        assert_eq!(
+            tracksim::output::trajectory_csv(ra),
+            tracksim::output::trajectory_csv(rb),
+            "robot {name}"
+        );
+    }
+    assert!(a.robots[0].1.summary.final_pose.x > 0.2, "the leader drove");
+}
