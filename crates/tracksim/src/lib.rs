@@ -46,6 +46,7 @@ pub mod geometry;
 pub mod live;
 pub mod model;
 pub mod output;
+pub mod render;
 #[cfg(feature = "ros")]
 pub mod ros;
 pub mod rosmsg;

@@ -69,6 +69,7 @@ fn spec_of(s: &dyn Sensor) -> SensorObs {
         ),
         SensorKind::Lidar(p) => (&["range"], 0.0, p.max_range),
         SensorKind::DepthCamera(p) => (&["depth"], 0.0, p.max_range),
+        SensorKind::RgbCamera(_) => (&["rgb"], 0.0, 255.0),
         SensorKind::ElevationMap(_) => (&["height"], f64::NEG_INFINITY, f64::INFINITY),
     };
     let shape = match names {
@@ -117,6 +118,7 @@ fn fill(s: &dyn Sensor, cfg: &EnvConfig, out: &mut [f32]) {
         ),
         SensorKind::Lidar(p) => (&["range"], p.max_range, f64::NAN),
         SensorKind::DepthCamera(p) => (&["depth"], p.max_range, f64::NAN),
+        SensorKind::RgbCamera(_) => (&["rgb"], 255.0, f64::NAN),
         SensorKind::ElevationMap(_) => (&["height"], f64::INFINITY, cfg.no_terrain_m),
     };
     let mut k = 0;

@@ -3,8 +3,8 @@
 //! with the kind's keys listed), then the kind's parameters with their defaults and limits.
 
 use super::sensor::{
-    DepthCameraModel, ElevationMapModel, EncodersModel, ImuModel, LidarModel, Mount, SensorKind,
-    SensorModel,
+    DepthCameraModel, ElevationMapModel, EncodersModel, ImuModel, LidarModel, Mount,
+    RgbCameraModel, SensorKind, SensorModel,
 };
 use crate::check::{Checker, unknown_name, v3};
 use crate::spec::SensorSpec;
@@ -20,7 +20,14 @@ pub const MAX_SENSOR_RANGE_M: f64 = 1000.0;
 pub const MAX_RATE_HZ: f64 = 100_000.0;
 
 /// The kinds, as written in files.
-pub const SENSOR_KINDS: &[&str] = &["imu", "encoders", "lidar", "depth_camera", "elevation_map"];
+pub const SENSOR_KINDS: &[&str] = &[
+    "imu",
+    "encoders",
+    "lidar",
+    "depth_camera",
+    "rgb_camera",
+    "elevation_map",
+];
 
 /// Keys every kind takes.
 const COMMON_KEYS: &[&str] = &["name", "kind", "mount", "xyz_m", "rpy_deg", "rate_hz"];
@@ -51,6 +58,16 @@ fn kind_keys(kind: &str) -> &'static [&'static str] {
             "min_range_m",
             "max_range_m",
             "range_noise_m",
+        ],
+        "rgb_camera" => &[
+            "width_px",
+            "height_px",
+            "horizontal_fov_deg",
+            "min_range_m",
+            "max_range_m",
+            "pixel_noise",
+            "shadows",
+            "threads",
         ],
         "elevation_map" => &[
             "size_m",
@@ -87,6 +104,9 @@ fn keys_given(s: &SensorSpec) -> Vec<&'static str> {
         ("height_above_m", s.height_above_m.is_some()),
         ("depth_below_m", s.depth_below_m.is_some()),
         ("occlusion", s.occlusion.is_some()),
+        ("pixel_noise", s.pixel_noise.is_some()),
+        ("shadows", s.shadows.is_some()),
+        ("threads", s.threads.is_some()),
     ];
     given.iter().filter(|(_, g)| *g).map(|(k, _)| *k).collect()
 }
@@ -186,6 +206,7 @@ fn sensor(
         "encoders" => SensorKind::Encoders(encoders(c, k, s)),
         "lidar" => SensorKind::Lidar(lidar(c, k, s)),
         "depth_camera" => SensorKind::DepthCamera(depth_camera(c, k, s)),
+        "rgb_camera" => SensorKind::RgbCamera(rgb_camera(c, k, s)),
         _ => SensorKind::ElevationMap(elevation_map(c, k, s)),
     };
     Some(SensorModel {
@@ -340,7 +361,8 @@ fn lidar(c: &mut Checker, k: &str, s: &SensorSpec) -> LidarModel {
     }
 }
 
-fn depth_camera(c: &mut Checker, k: &str, s: &SensorSpec) -> DepthCameraModel {
+/// A camera's image keys: width and height (pixels) and horizontal field of view (rad).
+fn image(c: &mut Checker, k: &str, s: &SensorSpec) -> (usize, usize, f64) {
     let w = count(c, &format!("{k}.width_px"), s.width_px, None);
     let h = count(c, &format!("{k}.height_px"), s.height_px, None);
     total_rays(c, &format!("{k}.height_px"), w.saturating_mul(h), "pixels");
@@ -351,14 +373,53 @@ fn depth_camera(c: &mut Checker, k: &str, s: &SensorSpec) -> DepthCameraModel {
         170.0,
         false,
     );
+    (w, h, horizontal_fov)
+}
+
+fn depth_camera(c: &mut Checker, k: &str, s: &SensorSpec) -> DepthCameraModel {
+    let (width, height, horizontal_fov) = image(c, k, s);
     let (min_range, max_range) = ranges(c, k, s, 5.0);
     DepthCameraModel {
-        width: w,
-        height: h,
+        width,
+        height,
         horizontal_fov,
         min_range,
         max_range,
         range_noise: noise(c, k, "range_noise_m", s.range_noise_m, "m"),
+    }
+}
+
+/// Most threads a colour camera may ask for.
+const MAX_RENDER_THREADS: usize = 256;
+
+fn rgb_camera(c: &mut Checker, k: &str, s: &SensorSpec) -> RgbCameraModel {
+    let (width, height, horizontal_fov) = image(c, k, s);
+    let (min_range, max_range) = ranges(c, k, s, 30.0);
+    let pixel_noise = s.pixel_noise.unwrap_or(0.0);
+    if !(pixel_noise.is_finite() && (0.0..=255.0).contains(&pixel_noise)) {
+        c.push(
+            format!("{k}.pixel_noise"),
+            format!("must be 0 to 255 (8-bit levels), got {pixel_noise}"),
+        );
+    }
+    let threads = s.threads.unwrap_or(1);
+    if threads > MAX_RENDER_THREADS {
+        c.push(
+            format!("{k}.threads"),
+            format!("must be 0 (every core) to {MAX_RENDER_THREADS}, got {threads}"),
+        );
+    }
+    RgbCameraModel {
+        intrinsics: crate::render::Intrinsics {
+            width,
+            height,
+            horizontal_fov,
+        },
+        min_range,
+        max_range,
+        pixel_noise,
+        shadows: s.shadows.unwrap_or(true),
+        threads,
     }
 }
 

@@ -114,8 +114,10 @@ pub fn compile_vehicle_with(
         c.positive("odometry.track_separation_m", b, "m");
     }
     let sensors = super::compile_sensor::compile_sensors(&mut c, &spec.sensors, &mounts);
+    let colors = vehicle_colors(&mut c, spec, robot);
     if c.issues.is_empty() {
         Ok(VehicleModel {
+            colors,
             name: spec.name.clone(),
             description: spec.description.clone(),
             body,
@@ -297,4 +299,37 @@ fn check_track_names(c: &mut Checker, tracks: &[TrackModel]) {
             );
         }
     }
+}
+
+/// The vehicle's `[colors]`: each given colour, else the URDF root link's material colour for
+/// the chassis, else the palette's.
+fn vehicle_colors(
+    c: &mut Checker,
+    spec: &VehicleSpec,
+    robot: Option<&UrdfRobot>,
+) -> super::vehicle::VehicleColors {
+    use crate::render::Rgb;
+    let mut out = super::vehicle::VehicleColors::default();
+    if let Some(urdf) = robot.and_then(|r| r.root_color()) {
+        out.body = urdf;
+    }
+    let Some(s) = &spec.colors else { return out };
+    let mut read = |key: &str, v: &Option<String>, into: &mut Rgb| {
+        let Some(v) = v else { return };
+        match Rgb::parse(v) {
+            Some(rgb) => *into = rgb,
+            None => c.push(
+                format!("colors.{key}"),
+                format!(
+                    "{:?} is not a colour: write \"#rrggbb\", six hexadecimal digits after a \
+                     '#' (e.g. \"#5b633a\")",
+                    crate::check::echoed(v)
+                ),
+            ),
+        }
+    };
+    read("body", &s.body, &mut out.body);
+    read("tracks", &s.tracks, &mut out.tracks);
+    read("flippers", &s.flippers, &mut out.flippers);
+    out
 }

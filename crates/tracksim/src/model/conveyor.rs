@@ -107,6 +107,7 @@ pub(super) fn compile_loose_boxes(c: &mut Checker, specs: &[LooseBoxSpec]) -> Ve
                     yaw: s.yaw_deg.to_radians(),
                     pitch: 0.0,
                     friction: s.friction,
+                    color: crate::render::palette::LOOSE_BOX,
                     soil: None,
                 },
                 mass: s.mass_kg,

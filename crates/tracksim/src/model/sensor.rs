@@ -70,6 +70,24 @@ pub struct DepthCameraModel {
     pub range_noise: f64,
 }
 
+/// A colour camera: a pinhole camera looking along the sensor's x axis, ray traced
+/// (`crate::render`), with the depth of each pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RgbCameraModel {
+    /// The image: width, height (pixels) and horizontal field of view (rad).
+    pub intrinsics: crate::render::Intrinsics,
+    /// Nearest depth reported, m (nearer: `-inf`).
+    pub min_range: f64,
+    /// Farthest surface seen, m (beyond: the sky or the far ground; depth `+inf`).
+    pub max_range: f64,
+    /// Gaussian noise per channel and pixel, 8-bit levels (standard deviation).
+    pub pixel_noise: f64,
+    /// Shadow rays towards the sun.
+    pub shadows: bool,
+    /// Threads to render on (0: every core).
+    pub threads: usize,
+}
+
 /// A body-yaw-aligned grid of terrain heights around the sensor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ElevationMapModel {
@@ -96,6 +114,8 @@ pub enum SensorKind {
     Lidar(LidarModel),
     /// A depth image.
     DepthCamera(DepthCameraModel),
+    /// A colour image (rgb8) and its depth.
+    RgbCamera(RgbCameraModel),
     /// Terrain heights relative to the sensor.
     ElevationMap(ElevationMapModel),
 }
@@ -108,6 +128,7 @@ impl SensorKind {
             SensorKind::Encoders(_) => "encoders",
             SensorKind::Lidar(_) => "lidar",
             SensorKind::DepthCamera(_) => "depth_camera",
+            SensorKind::RgbCamera(_) => "rgb_camera",
             SensorKind::ElevationMap(_) => "elevation_map",
         }
     }

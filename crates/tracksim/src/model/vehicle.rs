@@ -128,6 +128,8 @@ pub struct TrackModel {
 /// A compiled vehicle.
 #[derive(Clone, Debug)]
 pub struct VehicleModel {
+    /// Colours of the parts in camera images.
+    pub colors: VehicleColors,
     /// Name.
     pub name: String,
     /// Description.
@@ -162,5 +164,27 @@ impl VehicleModel {
     /// Index of the flipper called `name`.
     pub fn flipper_index(&self, name: &str) -> Option<usize> {
         self.flippers.iter().position(|f| f.name == name)
+    }
+}
+
+/// Colours of a vehicle's parts in camera images (`[colors]` of the vehicle file).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct VehicleColors {
+    /// The chassis.
+    pub body: crate::render::Rgb,
+    /// Belts and grousers.
+    pub tracks: crate::render::Rgb,
+    /// Flipper arms.
+    pub flippers: crate::render::Rgb,
+}
+
+impl Default for VehicleColors {
+    fn default() -> Self {
+        use crate::render::palette;
+        VehicleColors {
+            body: palette::BODY,
+            tracks: palette::TRACK,
+            flippers: palette::FLIPPER,
+        }
     }
 }

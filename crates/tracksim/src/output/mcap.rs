@@ -335,6 +335,10 @@ fn reading(stream: &SensorStream, name: &str, k: usize) -> Vec<f64> {
             .iter()
             .map(|x| *x as f64)
             .collect(),
+        LogData::Png(v) => v
+            .get(k)
+            .and_then(|b| crate::render::encode::decode_values(b))
+            .unwrap_or_default(),
     }
 }
 

@@ -157,6 +157,7 @@ pub fn sensor_message(
             step: 4 * p.width as u32,
             data: f32_bytes((r.channel)("depth")),
         }),
+        SensorKind::RgbCamera(p) => rgb_image(&m.name, t, &p, (r.channel)("rgb")),
         SensorKind::Encoders(_) => {
             let mut position = (r.channel)("flipper_angle");
             let mut velocity = vec![f64::NAN; position.len()];
@@ -200,5 +201,23 @@ pub fn sensor_message(
             }
             SensorMessage::Cloud(cloud(Header::new(t, MAP_FRAME), xs.len(), ys.len(), xyz))
         }
+    })
+}
+
+/// A colour camera's reading as `sensor_msgs/Image` (`rgb8`, rows from the top) in its
+/// optical frame.
+fn rgb_image(name: &str, t: f64, p: &crate::model::RgbCameraModel, rgb: Vec<f64>) -> SensorMessage {
+    let w = p.intrinsics.width as u32;
+    SensorMessage::Image(Image {
+        header: Header::new(t, &optical_frame(name)),
+        height: p.intrinsics.height as u32,
+        width: w,
+        encoding: "rgb8".into(),
+        is_bigendian: 0,
+        step: 3 * w,
+        data: rgb
+            .iter()
+            .map(|v| v.round().clamp(0.0, 255.0) as u8)
+            .collect(),
     })
 }

@@ -4,7 +4,9 @@
 //! `KEY` of shape (N, ...) in float32 (`range_m`, `points_m`, `depth_m`, `height_m`, the
 //! sensor's world `position_m` and `orientation` quaternion x, y, z, w) and the fixed axes
 //! (`azimuth_rad`, `elevation_rad`, `x_m`, `y_m`, `focal_length_px`). `docs/SENSORS.md` says what
-//! each holds.
+//! each holds. Colour cameras write a PNG per reading under `sensors/NAME/` (`NNNNNN.png`
+//! rgb8, `NNNNNN_depth.png` 16-bit millimetres) and `sensors/NAME.csv` (`t_s`, both files,
+//! the sensor's position and orientation).
 
 use crate::error::{Error, Result};
 use crate::sensors::{LogData, SensorStream, StreamFormat};
@@ -26,8 +28,11 @@ pub fn write_sensor_streams(streams: &[SensorStream], dir: &Path) -> Result<Vec<
     let mut written = Vec::new();
     for s in streams {
         let path = dir.join(s.file_name());
+        if s.format == StreamFormat::Png {
+            written.extend(write_frames(s, dir)?);
+        }
         let bytes = match s.format {
-            StreamFormat::Csv => csv_bytes(s),
+            StreamFormat::Csv | StreamFormat::Png => csv_bytes(s),
             StreamFormat::Npz => npz_bytes(s),
         }
         .map_err(|e| Error::Io {
@@ -45,7 +50,14 @@ fn csv_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["t_s".to_string()];
     for c in &s.channels {
-        header.extend(c.channel.columns.iter().cloned());
+        match &c.values {
+            LogData::Png(_) => header.push(format!("{}_file", c.channel.name)),
+            _ if c.channel.columns.is_empty() => {
+                let key = c.channel.key();
+                header.extend((0..c.channel.data.len()).map(|i| format!("{key}_{i}")));
+            }
+            _ => header.extend(c.channel.columns.iter().cloned()),
+        }
     }
     w.write_record(&header).map_err(|e| e.to_string())?;
     for (k, t) in s.times.iter().enumerate() {
@@ -55,6 +67,7 @@ fn csv_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
             match &c.values {
                 LogData::F64(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
                 LogData::F32(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
+                LogData::Png(_) => row.push(frame_file(s, &c.channel, k)),
             }
         }
         w.write_record(&row).map_err(|e| e.to_string())?;
@@ -82,6 +95,7 @@ fn npz_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
                 let a = ArrayD::from_shape_vec(IxDyn(&shape), v.clone()).map_err(|e| err(&e))?;
                 npz.add_array(key.as_str(), &a).map_err(|e| err(&e))?;
             }
+            LogData::Png(_) => return Err(format!("{}: images are written as PNG", s.name)),
         }
     }
     for a in &s.axes {
@@ -89,4 +103,35 @@ fn npz_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
         npz.add_array(a.key().as_str(), &arr).map_err(|e| err(&e))?;
     }
     Ok(npz.finish().map_err(|e| err(&e))?.into_inner())
+}
+
+/// The file of reading `k` of image channel `c`, relative to the run folder:
+/// `sensors/NAME/NNNNNN.png` (colour) or `sensors/NAME/NNNNNN_depth.png`.
+fn frame_file(s: &SensorStream, c: &crate::sensors::Channel, k: usize) -> String {
+    let suffix = if c.name == "rgb" {
+        String::new()
+    } else {
+        format!("_{}", c.name)
+    };
+    format!("sensors/{}/{k:06}{suffix}.png", s.name)
+}
+
+/// Writes every image of a colour camera's stream under `dir/sensors/NAME/`.
+fn write_frames(s: &SensorStream, dir: &Path) -> Result<Vec<PathBuf>> {
+    let folder = dir.join("sensors").join(&s.name);
+    std::fs::create_dir_all(&folder).map_err(|source| Error::Io {
+        path: folder.clone(),
+        source,
+    })?;
+    let mut written = Vec::new();
+    for c in &s.channels {
+        if let LogData::Png(frames) = &c.values {
+            for (k, bytes) in frames.iter().enumerate() {
+                let path = dir.join(frame_file(s, &c.channel, k));
+                crate::files::write_atomic(&path, bytes)?;
+                written.push(path);
+            }
+        }
+    }
+    Ok(written)
 }

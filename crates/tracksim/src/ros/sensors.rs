@@ -48,7 +48,9 @@ impl SensorPublishers {
                 SensorKind::Lidar(_) | SensorKind::ElevationMap(_) => {
                     Publisher::Cloud(node.publisher(&t, 10, false)?)
                 }
-                SensorKind::DepthCamera(_) => Publisher::Image(node.publisher(&t, 10, false)?),
+                SensorKind::DepthCamera(_) | SensorKind::RgbCamera(_) => {
+                    Publisher::Image(node.publisher(&t, 10, false)?)
+                }
                 SensorKind::Encoders(_) => Publisher::Joints(node.publisher(&t, 10, false)?),
             });
         }

@@ -11,7 +11,10 @@
 //! - `mount.rs`: the sensor's frame and motion, the filter that keeps the robot out of its rays;
 //! - `noise.rs`: seeded Gaussian noise;
 //! - `scene.rs`: what a sensor's rays can hit at an update, gathered once through the broad phase;
-//! - `imu.rs`, `encoders.rs`, `lidar.rs`, `depth_camera.rs`, `elevation_map.rs`: the kinds;
+//! - `imu.rs`, `encoders.rs`, `lidar.rs`, `depth_camera.rs`, `rgb_camera.rs`,
+//!   `elevation_map.rs`: the kinds;
+//! - `sim_scene.rs`: the world as a scene for the colour tracer (`crate::render`), and the
+//!   chase camera;
 //! - `sensor.rs`: the [`Sensor`] trait, [`Channel`] and [`StreamFormat`];
 //! - `set.rs`: [`SensorSet`], which builds every kind and runs them;
 //! - `stream.rs`: the log of a run's readings.
@@ -26,9 +29,11 @@ mod imu;
 mod lidar;
 pub mod mount;
 mod noise;
+mod rgb_camera;
 pub mod scene;
 mod sensor;
 mod set;
+pub mod sim_scene;
 mod stream;
 
 pub use elevation_map::ElevationMap;

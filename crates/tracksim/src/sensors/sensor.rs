@@ -12,6 +12,9 @@ pub enum StreamFormat {
     Csv,
     /// `sensors/NAME.npz`: `t_s` (N), each channel (N x its shape, float32) and the axes.
     Npz,
+    /// `sensors/NAME/NNNNNN.png` (rgb8) and `NNNNNN_depth.png` (16-bit, mm) per reading, and
+    /// `sensors/NAME.csv` (`t_s`, the frame's file, position and orientation): colour cameras.
+    Png,
 }
 
 /// One named array of a reading, row-major (C order).
@@ -92,5 +95,9 @@ pub trait Sensor: Send + Sync {
     /// Fixed arrays describing the reading (a lidar's ray angles, a map's cell centres).
     fn axes(&self) -> Vec<Channel> {
         Vec::new()
+    }
+    /// The latest image of a colour camera (rgb8 and depth), `None` for other kinds.
+    fn frame(&self) -> Option<&crate::render::Frame> {
+        None
     }
 }

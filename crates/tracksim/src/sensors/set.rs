@@ -3,7 +3,7 @@
 
 use super::sensor::Sensor;
 use super::stream::SensorStream;
-use super::{depth_camera, elevation_map, encoders, imu, lidar};
+use super::{depth_camera, elevation_map, encoders, imu, lidar, rgb_camera};
 use crate::model::{SensorKind, SensorModel};
 use crate::world::Simulation;
 use std::time::Instant;
@@ -18,6 +18,7 @@ fn build(m: &SensorModel, sim: &Simulation, index: usize) -> Box<dyn Sensor> {
         SensorKind::DepthCamera(p) => {
             Box::new(depth_camera::DepthCamera::new(m.clone(), p, seed, index))
         }
+        SensorKind::RgbCamera(p) => Box::new(rgb_camera::RgbCamera::new(m.clone(), p, seed, index)),
         SensorKind::ElevationMap(p) => Box::new(elevation_map::ElevationMap::new(m.clone(), p)),
     }
 }

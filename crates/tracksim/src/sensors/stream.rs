@@ -10,6 +10,8 @@ pub enum LogData {
     F64(Vec<f64>),
     /// Single precision (array streams: the ray casts are f32).
     F32(Vec<f32>),
+    /// One PNG per reading (a colour camera's `rgb`, rgb8, and `depth`, 16-bit mm).
+    Png(Vec<Vec<u8>>),
 }
 
 /// One channel's log: its description and values, reading after reading.
@@ -58,7 +60,8 @@ impl SensorStream {
                 .map(|c| ChannelLog {
                     channel: c.clone(),
                     values: match format {
-                        StreamFormat::Csv => LogData::F64(Vec::new()),
+                        StreamFormat::Png if c.shape.len() >= 2 => LogData::Png(Vec::new()),
+                        StreamFormat::Csv | StreamFormat::Png => LogData::F64(Vec::new()),
                         StreamFormat::Npz => LogData::F32(Vec::new()),
                     },
                 })
@@ -71,7 +74,7 @@ impl SensorStream {
     /// Its file name in the run folder: `sensors/NAME.csv` or `sensors/NAME.npz`.
     pub fn file_name(&self) -> String {
         let ext = match self.format {
-            StreamFormat::Csv => "csv",
+            StreamFormat::Csv | StreamFormat::Png => "csv",
             StreamFormat::Npz => "npz",
         };
         format!("sensors/{}.{ext}", self.name)
@@ -84,7 +87,26 @@ impl SensorStream {
             match &mut log.values {
                 LogData::F64(v) => v.extend_from_slice(&c.data),
                 LogData::F32(v) => v.extend(c.data.iter().map(|x| *x as f32)),
+                LogData::Png(v) => v.push(png_of(c)),
             }
         }
+    }
+}
+
+/// A colour camera's image channel as PNG bytes: `[H, W, 3]` 8-bit levels as rgb8, `[H, W]`
+/// depths (m) as 16-bit millimetres.
+fn png_of(c: &Channel) -> Vec<u8> {
+    use crate::render::encode;
+    let (h, w) = (c.shape[0], c.shape[1]);
+    if c.shape.len() == 3 {
+        let rgb: Vec<u8> = c
+            .data
+            .iter()
+            .map(|v| v.round().clamp(0.0, 255.0) as u8)
+            .collect();
+        encode::rgb8_png(w, h, &rgb)
+    } else {
+        let d: Vec<f32> = c.data.iter().map(|v| *v as f32).collect();
+        encode::depth16_png(w, h, &d)
     }
 }

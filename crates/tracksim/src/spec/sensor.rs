@@ -70,13 +70,25 @@ pub struct SensorSpec {
     #[serde(default)]
     pub range_noise_m: Option<f64>,
 
-    /// Depth camera: image width, pixels.
+    /// Colour camera: standard deviation of the Gaussian noise added to each channel of each
+    /// pixel, 8-bit levels (default 0).
+    #[serde(default)]
+    pub pixel_noise: Option<f64>,
+    /// Colour camera: shadow rays towards the sun (default true).
+    #[serde(default)]
+    pub shadows: Option<bool>,
+    /// Colour camera: threads its rows are rendered on (default 1; 0: every core). The image
+    /// is the same whatever the count.
+    #[serde(default)]
+    pub threads: Option<usize>,
+
+    /// Depth and colour cameras: image width, pixels.
     #[serde(default)]
     pub width_px: Option<usize>,
-    /// Depth camera: image height, pixels.
+    /// Depth and colour cameras: image height, pixels.
     #[serde(default)]
     pub height_px: Option<usize>,
-    /// Depth camera: horizontal field of view, degrees (default 90; the vertical one follows
+    /// Depth and colour cameras: horizontal field of view, degrees (default 90; the vertical one follows
     /// from the image's aspect with square pixels).
     #[serde(default)]
     pub horizontal_fov_deg: Option<f64>,

@@ -74,6 +74,9 @@ pub struct GroundSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
     /// Height of the surface, m.
     #[serde(default)]
     pub z_m: f64,
@@ -100,6 +103,9 @@ pub struct BoxSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
     /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
     #[serde(default)]
     pub soil: Option<SoilSpec>,
@@ -141,6 +147,9 @@ pub struct StaircaseSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// An inclined plane: a thin tilted box whose top surface starts on the floor along its lower
@@ -172,6 +181,9 @@ pub struct InclineSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
     /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
     #[serde(default)]
     pub soil: Option<SoilSpec>,
@@ -208,6 +220,9 @@ pub struct HeightFieldSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// Procedurally generated rough ground, built as a height field. White noise from a
@@ -252,6 +267,9 @@ pub struct RoughSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 fn default_cell() -> f64 {
     0.05
@@ -294,6 +312,9 @@ pub struct MeshSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// A stepfield after ASTM E2828 (Standard Test Method for Evaluating Emergency Response Robot
@@ -344,6 +365,9 @@ pub struct StepfieldSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 fn default_post() -> f64 {
     0.1
@@ -404,6 +428,9 @@ pub struct PitchRollRampSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 fn default_ramp_angle() -> f64 {
     15.0
@@ -450,6 +477,9 @@ pub struct HurdleSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// A gap after ASTM E2801 (Mobility: Confined Area Obstacles: Gaps): two platforms
@@ -483,6 +513,9 @@ pub struct GapSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// Deformable soil (issue 30): Bekker's pressure-sinkage law, the Mohr-Coulomb shear strength

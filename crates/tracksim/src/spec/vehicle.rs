@@ -41,6 +41,24 @@ pub struct VehicleSpec {
     /// Sensors on the chassis or a flipper (`[[sensors]]`, `docs/SENSORS.md`).
     #[serde(default)]
     pub sensors: Vec<super::SensorSpec>,
+    /// Colours of the parts in camera images (`[colors]`).
+    #[serde(default)]
+    pub colors: Option<ColorsSpec>,
+}
+
+/// Colours of a vehicle's parts in camera images, each `"#rrggbb"` (`[colors]`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColorsSpec {
+    /// The chassis (default: the URDF root link's `<material><color>`, else olive drab).
+    #[serde(default)]
+    pub body: Option<String>,
+    /// Belts and grousers (default black).
+    #[serde(default)]
+    pub tracks: Option<String>,
+    /// Flipper arms (default dark olive).
+    #[serde(default)]
+    pub flippers: Option<String>,
 }
 
 /// The position controller of a URDF revolute joint (`[joints.NAME]`).

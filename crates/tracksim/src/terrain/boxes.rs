@@ -3,6 +3,7 @@
 use super::solids::BoxModel;
 use super::terrain_model::TerrainModel;
 use crate::check::{Checker, v3};
+use crate::render::Rgb;
 use crate::spec::BoxSpec;
 
 /// Checks one `[[terrain.boxes]]` entry (key `k`) and adds its box to `t`.
@@ -23,6 +24,7 @@ pub(super) fn compile(c: &mut Checker, k: &str, b: &BoxSpec, t: &mut TerrainMode
         yaw: b.yaw_deg.to_radians(),
         pitch: b.pitch_deg.to_radians(),
         friction: b.friction,
+        color: Rgb::default(),
         soil,
     });
 }

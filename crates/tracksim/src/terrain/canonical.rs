@@ -28,8 +28,18 @@ fn box_key(b: &BoxModel, soils: &[super::SoilModel]) -> (Vec<f64>, String) {
     let soil = b.soil.and_then(|i| soils.get(i));
     (
         vec![
-            b.centre.x, b.centre.y, b.centre.z, b.half.x, b.half.y, b.half.z, b.yaw, b.pitch,
+            b.centre.x,
+            b.centre.y,
+            b.centre.z,
+            b.half.x,
+            b.half.y,
+            b.half.z,
+            b.yaw,
+            b.pitch,
             b.friction,
+            b.color.0[0] as f64,
+            b.color.0[1] as f64,
+            b.color.0[2] as f64,
         ],
         format!("{soil:?}"),
     )
@@ -44,6 +54,9 @@ fn cylinder_key(c: &CylinderModel) -> Vec<f64> {
         c.half_length,
         c.radius,
         c.friction,
+        c.color.0[0] as f64,
+        c.color.0[1] as f64,
+        c.color.0[2] as f64,
     ]
 }
 
@@ -58,6 +71,9 @@ fn heightfield_key(h: &HeightFieldModel) -> Vec<f64> {
         h.rows as f64,
         h.cols as f64,
         h.friction,
+        h.color.0[0] as f64,
+        h.color.0[1] as f64,
+        h.color.0[2] as f64,
     ];
     k.extend_from_slice(&h.heights);
     k
@@ -67,6 +83,7 @@ fn mesh_key(m: &MeshModel) -> Vec<f64> {
     let mut k = Vec::with_capacity(2 + m.vertices.len() * 3 + m.triangles.len() * 3);
     k.push(m.vertices.len() as f64);
     k.push(m.friction);
+    k.extend(m.color.0.map(f64::from));
     for v in &m.vertices {
         k.extend_from_slice(&[v.x, v.y, v.z]);
     }
@@ -141,6 +158,7 @@ mod tests {
             yaw: 0.0,
             pitch: 0.0,
             friction: 0.6,
+            color: crate::render::Rgb::default(),
             soil: None,
         }
     }

@@ -8,6 +8,7 @@ use super::{
 };
 use crate::check::Checker;
 use crate::error::SpecIssue;
+use crate::render::{Rgb, palette};
 use crate::spec::TerrainSpec;
 use std::path::Path;
 
@@ -25,44 +26,74 @@ pub fn compile_terrain(
         if let Some(s) = &g.soil {
             terrain.ground_soil = terrain.add_soil(&mut c, "terrain.ground.soil", s);
         }
+        let default = match g.soil {
+            Some(_) => palette::SOIL,
+            None => palette::GROUND,
+        };
+        terrain.ground_color = color(&mut c, "terrain.ground", &g.color, default);
     }
+    let t = &mut terrain;
     for (i, s) in spec.boxes.iter().enumerate() {
-        boxes::compile(&mut c, &format!("terrain.boxes[{i}]"), s, &mut terrain);
+        let k = format!("terrain.boxes[{i}]");
+        entry(&mut c, t, &k, &s.color, palette::BOX, |c, t| {
+            boxes::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.staircases.iter().enumerate() {
-        staircase::compile(&mut c, &format!("terrain.staircases[{i}]"), s, &mut terrain);
+        let k = format!("terrain.staircases[{i}]");
+        entry(&mut c, t, &k, &s.color, palette::STAIRCASE, |c, t| {
+            staircase::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.inclines.iter().enumerate() {
-        incline::compile(&mut c, &format!("terrain.inclines[{i}]"), s, &mut terrain);
+        let k = format!("terrain.inclines[{i}]");
+        entry(&mut c, t, &k, &s.color, palette::INCLINE, |c, t| {
+            incline::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.heightfields.iter().enumerate() {
         let k = format!("terrain.heightfields[{i}]");
-        if let Some(h) = heightfield::compile(&mut c, &k, s, base_dir) {
-            terrain.heightfields.push(h);
-        }
+        entry(&mut c, t, &k, &s.color, palette::HEIGHTFIELD, |c, t| {
+            t.heightfields
+                .extend(heightfield::compile(c, &k, s, base_dir))
+        });
     }
     for (i, s) in spec.rough.iter().enumerate() {
-        if let Some(h) = rough::compile(&mut c, &format!("terrain.rough[{i}]"), s) {
-            terrain.heightfields.push(h);
-        }
+        let k = format!("terrain.rough[{i}]");
+        entry(&mut c, t, &k, &s.color, palette::ROUGH, |c, t| {
+            t.heightfields.extend(rough::compile(c, &k, s))
+        });
     }
     for (i, s) in spec.meshes.iter().enumerate() {
-        if let Some(m) = mesh::compile(&mut c, &format!("terrain.meshes[{i}]"), s, base_dir) {
-            terrain.meshes.push(m);
-        }
+        let k = format!("terrain.meshes[{i}]");
+        entry(&mut c, t, &k, &s.color, palette::MESH, |c, t| {
+            t.meshes.extend(mesh::compile(c, &k, s, base_dir))
+        });
     }
+    let obstacle = palette::TEST_OBSTACLE;
     for (i, s) in spec.stepfields.iter().enumerate() {
-        stepfield::compile(&mut c, &format!("terrain.stepfields[{i}]"), s, &mut terrain);
+        let k = format!("terrain.stepfields[{i}]");
+        entry(&mut c, t, &k, &s.color, obstacle, |c, t| {
+            stepfield::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.pitch_roll_ramps.iter().enumerate() {
         let k = format!("terrain.pitch_roll_ramps[{i}]");
-        ramps::compile(&mut c, &k, s, &mut terrain);
+        entry(&mut c, t, &k, &s.color, obstacle, |c, t| {
+            ramps::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.hurdles.iter().enumerate() {
-        hurdle::compile(&mut c, &format!("terrain.hurdles[{i}]"), s, &mut terrain);
+        let k = format!("terrain.hurdles[{i}]");
+        entry(&mut c, t, &k, &s.color, obstacle, |c, t| {
+            hurdle::compile(c, &k, s, t)
+        });
     }
     for (i, s) in spec.gaps.iter().enumerate() {
-        gap::compile(&mut c, &format!("terrain.gaps[{i}]"), s, &mut terrain);
+        let k = format!("terrain.gaps[{i}]");
+        entry(&mut c, t, &k, &s.color, obstacle, |c, t| {
+            gap::compile(c, &k, s, t)
+        });
     }
     terrain.canonicalize();
     check_not_empty(&mut c, &terrain);
@@ -119,5 +150,79 @@ fn check_not_empty(c: &mut Checker, terrain: &TerrainModel) {
              [[terrain.rough]], [[terrain.meshes]] or a test obstacle ([[terrain.stepfields]], \
              [[terrain.pitch_roll_ramps]], [[terrain.hurdles]], [[terrain.gaps]])",
         );
+    }
+}
+
+/// Compiles one terrain entry at key `k` and paints the pieces it added (`given`: its
+/// `color` key; `default`: its kind's colour).
+fn entry(
+    c: &mut Checker,
+    t: &mut TerrainModel,
+    k: &str,
+    given: &Option<String>,
+    default: Rgb,
+    compile: impl FnOnce(&mut Checker, &mut TerrainModel),
+) {
+    let since = Counts::of(t);
+    compile(c, t);
+    let chosen = color(c, k, given, default);
+    since.paint(t, given.is_some(), chosen);
+}
+
+/// Reads an entry's `color` key (`k.color`): its colour, or `default` when absent or wrong
+/// (reported).
+fn color(c: &mut Checker, k: &str, given: &Option<String>, default: Rgb) -> Rgb {
+    let Some(v) = given else { return default };
+    Rgb::parse(v).unwrap_or_else(|| {
+        c.push(
+            format!("{k}.color"),
+            format!(
+                "{v:?} is not a colour: write \"#rrggbb\", six hexadecimal digits after a '#' \
+                 (e.g. \"#b8b0a2\")"
+            ),
+        );
+        default
+    })
+}
+
+/// How many pieces of each kind the terrain held before an entry was compiled.
+#[derive(Clone, Copy)]
+struct Counts {
+    boxes: usize,
+    cylinders: usize,
+    heightfields: usize,
+    meshes: usize,
+}
+
+impl Counts {
+    fn of(t: &TerrainModel) -> Counts {
+        Counts {
+            boxes: t.boxes.len(),
+            cylinders: t.cylinders.len(),
+            heightfields: t.heightfields.len(),
+            meshes: t.meshes.len(),
+        }
+    }
+
+    /// Gives the pieces the entry added colour `chosen`: stair nosings keep
+    /// [`palette::NOSING`] and boxes with soil [`palette::SOIL`] unless the entry `given` its
+    /// own colour.
+    fn paint(self, t: &mut TerrainModel, given: bool, chosen: Rgb) {
+        for b in &mut t.boxes[self.boxes..] {
+            b.color = if !given && b.soil.is_some() {
+                palette::SOIL
+            } else {
+                chosen
+            };
+        }
+        for cy in &mut t.cylinders[self.cylinders..] {
+            cy.color = if given { chosen } else { palette::NOSING };
+        }
+        for h in &mut t.heightfields[self.heightfields..] {
+            h.color = chosen;
+        }
+        for m in &mut t.meshes[self.meshes..] {
+            m.color = chosen;
+        }
     }
 }

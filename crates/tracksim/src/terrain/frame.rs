@@ -3,6 +3,7 @@
 //! travel, local y to its left, z up.
 
 use super::BoxModel;
+use crate::render::Rgb;
 use glam::{DQuat, DVec3};
 
 /// A local frame on the floor: origin and yaw.
@@ -33,6 +34,7 @@ impl Frame {
             yaw: self.yaw,
             pitch: 0.0,
             friction,
+            color: Rgb::default(),
             soil: None,
         }
     }
@@ -59,6 +61,7 @@ impl Frame {
             yaw: self.yaw + dir_yaw,
             pitch: -angle,
             friction,
+            color: Rgb::default(),
             soil: None,
         }
     }

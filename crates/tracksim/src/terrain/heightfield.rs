@@ -4,6 +4,7 @@
 use super::checks::MAX_GRID_VERTICES;
 use super::parse;
 use crate::check::Checker;
+use crate::render::Rgb;
 use crate::spec::HeightFieldSpec;
 use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
@@ -28,6 +29,8 @@ pub struct HeightFieldModel {
     pub heights: Vec<f64>,
     /// Friction coefficient.
     pub friction: f64,
+    /// Colour in camera images.
+    pub color: crate::render::Rgb,
     /// The file it was read from (None for generated fields).
     pub source: Option<PathBuf>,
 }
@@ -100,6 +103,7 @@ pub(super) fn compile(
         cols: w,
         heights: vals.iter().map(|v| s.min_z_m + span * v).collect(),
         friction: s.friction,
+        color: Rgb::default(),
         source: Some(path),
     })
 }

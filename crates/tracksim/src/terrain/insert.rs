@@ -4,6 +4,7 @@
 
 use super::{HeightFieldModel, TerrainModel};
 use crate::check::{f, q};
+use crate::render::Rgb;
 use glam::{DQuat, DVec3};
 use rapier3d::parry::shape::TriMeshFlags;
 use rapier3d::prelude::*;
@@ -24,6 +25,15 @@ pub const GROUND_RECENTRE_M: f64 = 4.0;
 /// Thickness of the ground tile, m.
 const GROUND_TILE_THICKNESS_M: f64 = 1.0;
 
+/// What [`TerrainModel::insert_into`] put in the world.
+#[derive(Clone, Debug)]
+pub struct InsertedTerrain {
+    /// The flat-ground tile's body, if one was asked for and the terrain has ground.
+    pub ground_tile: Option<RigidBodyHandle>,
+    /// Every collider inserted, with its colour in camera images.
+    pub colors: Vec<(ColliderHandle, Rgb)>,
+}
+
 impl TerrainModel {
     /// Inserts the terrain as colliders on one fixed body of `world`, in collision `groups`,
     /// in coordinates relative to `origin` (the world point, m, that is the Rapier world's
@@ -32,14 +42,15 @@ impl TerrainModel {
     /// `[terrain.ground]` becomes an infinite half-space, or, with `ground_tile`, a
     /// [`GROUND_TILE_HALF_M`] box on its own fixed body centred at (x, y) = `ground_tile`
     /// (Rapier coordinates), whose handle is returned (move it with
-    /// [`Self::recentre_ground_tile`]).
+    /// [`Self::recentre_ground_tile`]) with the colour of every collider inserted.
     pub fn insert_into(
         &self,
         world: &mut PhysicsWorld,
         groups: InteractionGroups,
         ground_tile: Option<(f64, f64)>,
         origin: DVec3,
-    ) -> Option<RigidBodyHandle> {
+    ) -> InsertedTerrain {
+        let mut colors = Vec::new();
         let fixed = world.bodies.insert(RigidBodyBuilder::fixed());
         let mut tile = None;
         if let Some((z, mu)) = self.ground {
@@ -70,16 +81,18 @@ impl TerrainModel {
                     h
                 }
             };
-            world
+            let h = world
                 .colliders
                 .insert_with_parent(c, parent, &mut world.bodies);
+            colors.push((h, self.ground_color));
         }
-        let mut add = |c: ColliderBuilder, friction: f64, soil: Option<usize>| {
+        let mut add = |c: ColliderBuilder, friction: f64, soil: Option<usize>, color: Rgb| {
             let c = with_soil(c, soil);
             let c = c.friction(friction as f32).collision_groups(groups);
-            world
+            let h = world
                 .colliders
                 .insert_with_parent(c, fixed, &mut world.bodies);
+            colors.push((h, color));
         };
         for b in &self.boxes {
             add(
@@ -87,6 +100,7 @@ impl TerrainModel {
                     .position(Pose::from_parts(f(b.centre - origin), q(b.rotation()))),
                 b.friction,
                 b.soil,
+                b.color,
             );
         }
         for cy in &self.cylinders {
@@ -97,6 +111,7 @@ impl TerrainModel {
                 ),
                 cy.friction,
                 None,
+                cy.color,
             );
         }
         for h in &self.heightfields {
@@ -116,6 +131,7 @@ impl TerrainModel {
                 .position(Pose::from_parts(f(h.centre - origin), q(h.pose()))),
                 h.friction,
                 None,
+                h.color,
             );
         }
         for m in &self.meshes {
@@ -126,10 +142,13 @@ impl TerrainModel {
                 m.triangles.clone(),
                 TriMeshFlags::FIX_INTERNAL_EDGES | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
             ) {
-                add(b, m.friction, None);
+                add(b, m.friction, None, m.color);
             }
         }
-        tile
+        InsertedTerrain {
+            ground_tile: tile,
+            colors,
+        }
     }
 
     /// Moves the ground tile of [`Self::insert_into`] under (x, y) when that point is more than

@@ -5,6 +5,7 @@ use super::parse::RawMesh;
 use super::parse::obj::parse_obj;
 use super::parse::stl::parse_stl;
 use crate::check::{Checker, v3};
+use crate::render::Rgb;
 use crate::spec::{MeshSpec, UpAxis};
 use glam::{DQuat, DVec3};
 use std::path::{Path, PathBuf};
@@ -18,6 +19,8 @@ pub struct MeshModel {
     pub triangles: Vec<[u32; 3]>,
     /// Friction coefficient.
     pub friction: f64,
+    /// Colour in camera images.
+    pub color: crate::render::Rgb,
     /// The file it was read from.
     pub source: PathBuf,
 }
@@ -120,6 +123,7 @@ pub(super) fn compile(
         vertices,
         triangles,
         friction: s.friction,
+        color: Rgb::default(),
         source: path,
     })
 }

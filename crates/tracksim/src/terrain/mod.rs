@@ -51,7 +51,7 @@ mod terrain_model;
 
 pub use compile::compile_terrain;
 pub use heightfield::HeightFieldModel;
-pub use insert::{GROUND_RECENTRE_M, GROUND_TILE_HALF_M};
+pub use insert::{GROUND_RECENTRE_M, GROUND_TILE_HALF_M, InsertedTerrain};
 pub use mesh::MeshModel;
 pub use soil::{SoilModel, soil_tag, tagged_soil};
 pub use solids::{BoxModel, CylinderModel};

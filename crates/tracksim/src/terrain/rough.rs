@@ -5,6 +5,7 @@ use super::HeightFieldModel;
 use super::checks::MAX_GRID_VERTICES;
 use super::rng::SplitMix64;
 use crate::check::Checker;
+use crate::render::Rgb;
 use crate::spec::RoughSpec;
 use glam::DVec3;
 
@@ -138,6 +139,7 @@ pub(super) fn compile(c: &mut Checker, k: &str, s: &RoughSpec) -> Option<HeightF
         cols,
         heights: g.iter().map(|v| s.mean_z_m + v * factor).collect(),
         friction: s.friction,
+        color: Rgb::default(),
         source: None,
     })
 }

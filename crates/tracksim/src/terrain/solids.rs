@@ -1,6 +1,7 @@
 //! The compiled solids every box-built terrain is made of: [`BoxModel`] (boxes, also generated
 //! by staircases, inclines and the test obstacles) and [`CylinderModel`] (stair nosings).
 
+use crate::render::Rgb;
 use glam::{DQuat, DVec3};
 
 /// A box obstacle, compiled.
@@ -18,6 +19,8 @@ pub struct BoxModel {
     pub friction: f64,
     /// Index of its soil in [`TerrainModel::soils`] (None: rigid).
     pub soil: Option<usize>,
+    /// Colour in camera images.
+    pub color: Rgb,
 }
 
 impl BoxModel {
@@ -40,4 +43,6 @@ pub struct CylinderModel {
     pub radius: f64,
     /// Friction coefficient.
     pub friction: f64,
+    /// Colour in camera images.
+    pub color: Rgb,
 }

@@ -5,6 +5,7 @@ use super::checks::{check_count, check_place};
 use super::frame::Frame;
 use super::{CylinderModel, TerrainModel};
 use crate::check::Checker;
+use crate::render::Rgb;
 use crate::spec::StaircaseSpec;
 use glam::DVec3;
 
@@ -66,6 +67,7 @@ pub(super) fn compile(c: &mut Checker, k: &str, s: &StaircaseSpec, t: &mut Terra
                 half_length: hw,
                 radius: r,
                 friction: s.friction,
+                color: Rgb::default(),
             });
         } else {
             t.boxes.push(fr.aabb(

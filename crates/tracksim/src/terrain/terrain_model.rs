@@ -24,6 +24,8 @@ pub struct TerrainModel {
     pub soils: Vec<SoilModel>,
     /// The soil of `[terrain.ground]`, if it has one.
     pub ground_soil: Option<usize>,
+    /// Colour of the ground in camera images.
+    pub ground_color: crate::render::Rgb,
 }
 
 impl TerrainModel {

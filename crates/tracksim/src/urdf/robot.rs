@@ -26,6 +26,32 @@ pub struct UrdfRobot {
 }
 
 impl UrdfRobot {
+    /// The colour of the root link's first `<visual>` with a `<material>` whose colour is
+    /// given there or in the robot's named `<material>`s.
+    pub fn root_color(&self) -> Option<crate::render::Rgb> {
+        let robot = &self.source.robot;
+        let root = robot
+            .links
+            .iter()
+            .find(|l| Some(&l.name) == self.links.first().map(|r| &r.name))?;
+        root.visual.iter().find_map(|v| {
+            let m = v.material.as_ref()?;
+            let rgba = m.color.as_ref().or_else(|| {
+                robot
+                    .materials
+                    .iter()
+                    .find(|n| n.name == m.name)?
+                    .color
+                    .as_ref()
+            })?;
+            let [r, g, b, _] = rgba.rgba.0;
+            [r, g, b]
+                .iter()
+                .all(|v| v.is_finite())
+                .then(|| crate::render::Rgb::from_unit(r, g, b))
+        })
+    }
+
     /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
     pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
         let src = UrdfSource::read(path)?;

@@ -45,12 +45,13 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
     let centre = start_centre(&views);
     let origin = DVec3::new(shift_for(centre.0), shift_for(centre.1), 0.0);
     insert_order_salt(&mut world, sc.solver.order_salt);
-    let ground_tile = sc.terrain.insert_into(
+    let inserted = sc.terrain.insert_into(
         &mut world,
         world_groups(),
         Some((centre.0 - origin.x, centre.1 - origin.y)),
         origin,
     );
+    let ground_tile = inserted.ground_tile;
     if let Some(tile) = ground_tile {
         for &c in world.bodies[tile].colliders().to_vec().iter() {
             world.colliders[c].set_collision_groups(flat_ground_groups());
@@ -74,6 +75,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         RobotCollision::apply(&mut world, k, &robots[k].bodies());
     }
     let conveyors = super::conveyor::build_conveyors(&mut world, &sc, origin)?;
+    let appearance = build_appearance(&world, &inserted.colors, &robots, &views, &conveyors, &sc);
     let mut sim = Simulation {
         world,
         origin,
@@ -92,6 +94,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         scenario: sc.clone(),
         conveyors,
         soil: None,
+        appearance,
     };
     for k in 0..sim.robots.len() {
         sim.focus = k;
@@ -597,4 +600,36 @@ fn check_overlaps(sim: &mut Simulation) -> crate::error::Result<()> {
             issues,
         })
     }
+}
+
+/// The colour of every collider: the terrain's, each robot's parts by its own vehicle's
+/// colours, the conveyors' and the loose boxes'.
+fn build_appearance(
+    world: &PhysicsWorld,
+    terrain: &[(ColliderHandle, crate::render::Rgb)],
+    robots: &[Robot],
+    views: &[Arc<Scenario>],
+    conveyors: &super::conveyor::Conveyors,
+    sc: &Scenario,
+) -> super::Appearance {
+    let parts: Vec<_> = robots
+        .iter()
+        .zip(views)
+        .map(|(r, v)| {
+            (
+                r.body,
+                r.flippers.iter().map(|f| f.body).collect(),
+                r.tracks.iter().flat_map(|t| t.bodies()).collect(),
+                v.vehicle.colors,
+            )
+        })
+        .collect();
+    let belts: Vec<_> = conveyors.belts.iter().flat_map(|t| t.bodies()).collect();
+    let loose: Vec<_> = conveyors
+        .loose
+        .iter()
+        .zip(&sc.loose_boxes)
+        .map(|(&b, m)| (b, m.solid.color))
+        .collect();
+    super::appearance::appearance(world, terrain, &parts, &belts, &loose)
 }

@@ -9,7 +9,8 @@
 //! Two kinds of files, so that no two import each other: the types of [`Simulation`]'s fields
 //! (they import nothing of it) and the `impl Simulation` blocks (never named here).
 //!
-//! - Types: `flipper` (a flipper arm), `robot` (one robot's bodies, tracks, flippers,
+//! - Types: `appearance` (the colour of every collider in camera images), `flipper` (a
+//!   flipper arm), `robot` (one robot's bodies, tracks, flippers,
 //!   odometry, drawbar and loads; [`RobotCollision`]), `drawbar` (a drawbar's state),
 //!   `conveyor` (conveyors and loose boxes, built), `compliance` (grousers and belts as springs
 //!   and dampers), `odometry` (what the encoders report), `origin` (the floating origin's
@@ -27,6 +28,7 @@
 
 #![warn(clippy::too_many_lines)]
 
+mod appearance;
 mod at_rest;
 mod build;
 mod compliance;
@@ -52,6 +54,7 @@ mod soil;
 mod step;
 mod track_loads;
 
+pub use appearance::Appearance;
 pub use at_rest::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
 pub(crate) use flipper::Flipper;
 pub use mass::{MIN_PARENT_MASS_FRACTION, MassReport, PartMass};
@@ -114,4 +117,6 @@ pub struct Simulation {
     conveyors: conveyor::Conveyors,
     /// Deformable soil, when the terrain has some.
     soil: Option<soil::SoilState>,
+    /// The colour of every collider in camera images.
+    appearance: Appearance,
 }

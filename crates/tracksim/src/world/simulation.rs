@@ -100,6 +100,11 @@ impl Simulation {
         self.method
     }
 
+    /// The colour of every collider in camera images.
+    pub fn appearance(&self) -> &super::Appearance {
+        &self.appearance
+    }
+
     /// Seed of this run (the scenario's unless [`Simulation::reset`] gave another).
     pub fn seed(&self) -> u64 {
         self.seed

@@ -67,6 +67,7 @@ fn slope(angle_deg: f64, x0: f64, t: f64) -> ScenarioSpec {
         pitch_deg: -angle_deg,
         friction: 0.6,
         soil: None,
+        color: None,
     }];
     s.vehicle.pitch_deg = -angle_deg;
     s.vehicle.x_m = x0;

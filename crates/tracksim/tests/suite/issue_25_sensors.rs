@@ -279,6 +279,7 @@ fn lidar_reads_the_distance_to_walls_wherever_the_robot_is() {
                 pitch_deg: 0.0,
                 friction: 0.6,
                 soil: None,
+                color: None,
             },
             BoxSpec {
                 centre_m: [-1.55, 0.0, 0.5],
@@ -287,6 +288,7 @@ fn lidar_reads_the_distance_to_walls_wherever_the_robot_is() {
                 pitch_deg: 0.0,
                 friction: 0.6,
                 soil: None,
+                color: None,
             },
         ]
     };
@@ -387,6 +389,7 @@ max_range_m = 5.0
         pitch_deg: 0.0,
         friction: 0.6,
         soil: None,
+        color: None,
     };
     let (mut sim, mut set) = flat_with(cam, vec![wall], 0.0);
     settle(&mut sim, &mut set, 1.0);

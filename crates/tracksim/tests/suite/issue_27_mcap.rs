@@ -522,6 +522,7 @@ fn a_3d_lidar_is_an_organised_point_cloud_of_its_points() {
     let values: Vec<f32> = match &points.values {
         tracksim::sensors::LogData::F64(v) => v.iter().map(|x| *x as f32).collect(),
         tracksim::sensors::LogData::F32(v) => v.clone(),
+        tracksim::sensors::LogData::Png(_) => panic!("a lidar's points are numbers"),
     };
     for (k, c) in clouds.iter().enumerate() {
         assert_eq!(

@@ -23,6 +23,7 @@ fn speed_along_slope(deg: f64) -> f64 {
                 pitch_deg: -deg,
                 friction: 0.6,
                 soil: None,
+                color: None,
             });
             s.vehicle.pitch_deg = -deg;
             s.outcome.fail_off_terrain = false;

@@ -45,6 +45,7 @@ pub fn step_box(edge_x: f64, depth: f64, h: f64) -> tracksim::spec::BoxSpec {
         pitch_deg: 0.0,
         friction: 0.6,
         soil: None,
+        color: None,
     }
 }
 
