@@ -35,6 +35,7 @@
 
 pub mod bench;
 pub mod bundled;
+pub mod camera_bench;
 pub mod cases;
 pub(crate) mod check;
 pub mod compare;

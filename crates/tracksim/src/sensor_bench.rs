@@ -70,8 +70,8 @@ fn time_one(sc: &Scenario) -> Result<(f64, f64, Vec<f64>)> {
     Ok((r.time() / r.stepping(), r.stepping() * 1e6 / steps, costs))
 }
 
-/// Times `without` and `with` `repeat` times each, interleaved.
-fn pair(case: &str, without: &Scenario, with: &Scenario, repeat: usize) -> Result<Pair> {
+/// Times `without` and `with` `repeat` times each, interleaved (without, with, without, ...).
+pub fn pair(case: &str, without: &Scenario, with: &Scenario, repeat: usize) -> Result<Pair> {
     let mut runs = [Vec::new(), Vec::new()];
     for _ in 0..repeat {
         runs[0].push(time_one(without)?);

@@ -36,6 +36,11 @@ pub struct BenchArgs {
     /// the stairs without and with every sensor, interleaved (docs/SENSORS.md).
     #[arg(long)]
     pub sensors: bool,
+    /// What a colour camera costs: the PackBot flat case without and with a 160 x 120 camera
+    /// at 10 Hz, interleaved, and frame times at three sizes on one thread and every core
+    /// (docs/SENSORS.md).
+    #[arg(long)]
+    pub camera: bool,
     /// What more robots in one world cost: worlds of these many PackBots apart on flat ground
     /// (e.g. `--robots 1,2,4,8`), timed in interleaved rounds (--repeat) for --duration s;
     /// prints the step time per robot against one robot's (docs/TEAMS.md).
@@ -114,6 +119,15 @@ pub fn bench(a: BenchArgs) -> Result<(), Failure> {
             );
         } else {
             out!("{}", tracksim::team_bench::to_markdown(&rows));
+        }
+        return Ok(());
+    }
+    if a.camera {
+        let b = tracksim::camera_bench::bench_camera(&data_root()?, a.duration, a.repeat, 21)?;
+        if a.json {
+            out!("{}", serde_json::to_string_pretty(&b).expect("serialises"));
+        } else {
+            out!("{}", tracksim::camera_bench::to_markdown(&b));
         }
         return Ok(());
     }

@@ -39,5 +39,5 @@ mod stream;
 pub use elevation_map::ElevationMap;
 pub use mount::SensorFrame;
 pub use sensor::{Channel, Sensor, StreamFormat};
-pub use set::SensorSet;
+pub use set::{SensorSet, build};
 pub use stream::{LogData, SensorStream};

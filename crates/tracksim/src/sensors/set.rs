@@ -8,8 +8,9 @@ use crate::model::{SensorKind, SensorModel};
 use crate::world::Simulation;
 use std::time::Instant;
 
-/// Builds the sensor of `m`, sensor `index` of a run with `seed`.
-fn build(m: &SensorModel, sim: &Simulation, index: usize) -> Box<dyn Sensor> {
+/// Builds the sensor of `m`, sensor `index` of the run `sim` is (its seed), without a first
+/// reading (benchmarks time its updates alone).
+pub fn build(m: &SensorModel, sim: &Simulation, index: usize) -> Box<dyn Sensor> {
     let seed = sim.seed();
     match m.kind {
         SensorKind::Imu(p) => Box::new(imu::Imu::new(m.clone(), p, seed, index)),

@@ -35,7 +35,7 @@ static GLOBAL: Counting = Counting;
 const G: f64 = 9.81;
 
 /// The sensors of a `[[sensors]]` TOML text, compiled on the vehicle file `vehicle`.
-fn sensors(vehicle: &str, text: &str) -> Vec<SensorModel> {
+pub(crate) fn sensors(vehicle: &str, text: &str) -> Vec<SensorModel> {
     #[derive(serde::Deserialize)]
     struct File {
         sensors: Vec<SensorSpec>,
@@ -46,7 +46,7 @@ fn sensors(vehicle: &str, text: &str) -> Vec<SensorModel> {
 }
 
 /// Channel `name` of `s`'s latest reading.
-fn ch<'a>(s: &'a dyn Sensor, name: &str) -> &'a [f64] {
+pub(crate) fn ch<'a>(s: &'a dyn Sensor, name: &str) -> &'a [f64] {
     &s.channels()
         .iter()
         .find(|c| c.name == name)
@@ -55,7 +55,7 @@ fn ch<'a>(s: &'a dyn Sensor, name: &str) -> &'a [f64] {
 }
 
 /// Steps `sim` for `t` s, updating `set` after every step.
-fn settle(sim: &mut Simulation, set: &mut SensorSet, t: f64) {
+pub(crate) fn settle(sim: &mut Simulation, set: &mut SensorSet, t: f64) {
     let n = (t / sim.dt()).round() as u64;
     for _ in 0..n {
         sim.step().expect("stable");
@@ -64,7 +64,7 @@ fn settle(sim: &mut Simulation, set: &mut SensorSet, t: f64) {
 }
 
 /// The bundled flat PackBot with `extra` terrain boxes and the sensors of `text`, belts at rest.
-fn flat_with(text: &str, boxes: Vec<BoxSpec>, x0: f64) -> (Simulation, SensorSet) {
+pub(crate) fn flat_with(text: &str, boxes: Vec<BoxSpec>, x0: f64) -> (Simulation, SensorSet) {
     let s = sensors("vehicles/packbot510.toml", text);
     let sc = common::packbot(
         |spec| {

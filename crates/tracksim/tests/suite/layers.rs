@@ -33,6 +33,7 @@ pub(crate) const LAYERS: &[&[&str]] = &[
         "team_bench",
     ],
     &["sensor_bench"],
+    &["camera_bench"],
     &["live"],
     &["ros"],
 ];
