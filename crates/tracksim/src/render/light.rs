@@ -51,9 +51,10 @@ impl Light {
         self.ambient + if lit { self.diffuse * cos } else { 0.0 }
     }
 
-    /// Colour `c` under brightness factor `f`, rounded to 8 bits.
+    /// Colour `c` under brightness factor `f` (>= 0), rounded half up to 8 bits (the cast
+    /// saturates at 255).
     pub fn apply(c: Rgb, f: f32) -> [u8; 3] {
-        c.0.map(|v| (v as f32 * f).round().clamp(0.0, 255.0) as u8)
+        c.0.map(|v| (v as f32 * f + 0.5) as u8)
     }
 
     /// What a ray of unit direction `d` sees when it hits nothing.
@@ -63,7 +64,7 @@ impl Light {
         }
         let t = d.z.clamp(0.0, 1.0);
         let (h, z) = (palette::SKY_HORIZON.0, palette::SKY_ZENITH.0);
-        std::array::from_fn(|i| (h[i] as f32 + (z[i] as f32 - h[i] as f32) * t).round() as u8)
+        std::array::from_fn(|i| (h[i] as f32 + (z[i] as f32 - h[i] as f32) * t + 0.5) as u8)
     }
 }
 

@@ -209,13 +209,13 @@ fn band_of_tiles(
                     hit.t
                 };
                 let color = scene.color(id);
-                rgb[3 * i..3 * i + 3].copy_from_slice(&Light::apply(color, light.factor(n, false)));
-                if n.dot(light.sun) > 0.0 {
+                // Facing the sun: lit unless a shadow ray says otherwise (below).
+                let facing = n.dot(light.sun) > 0.0;
+                rgb[3 * i..3 * i + 3]
+                    .copy_from_slice(&Light::apply(color, light.factor(n, facing)));
+                if facing {
                     let p = view.origin + d * hit.t + n * SHADOW_BIAS_M;
                     hits.push((i, p, n, color));
-                    // Lit unless a shadow ray says otherwise (below).
-                    rgb[3 * i..3 * i + 3]
-                        .copy_from_slice(&Light::apply(color, light.factor(n, true)));
                 }
             }
         }
@@ -305,15 +305,10 @@ fn slab_box(mins: Vec3, maxs: Vec3, o: Vec3, d: Vec3, max: f32) -> Option<f32> {
     let t1 = (maxs - o) * inv;
     let lo = t0.min(t1);
     let hi = t0.max(t1);
-    // NaN (0 * inf, a ray in a box's face plane) counts as inside that slab.
-    let enter = [lo.x, lo.y, lo.z, 0.0]
-        .into_iter()
-        .filter(|v| !v.is_nan())
-        .fold(0.0f32, f32::max);
-    let exit = [hi.x, hi.y, hi.z, max]
-        .into_iter()
-        .filter(|v| !v.is_nan())
-        .fold(max, f32::min);
+    // NaN (0 * inf, a ray in a box's face plane) counts as inside that slab: `f32::max` and
+    // `f32::min` return the other operand.
+    let enter = lo.x.max(lo.y).max(lo.z).max(0.0);
+    let exit = hi.x.min(hi.y).min(hi.z).min(max);
     (enter <= exit).then_some(enter)
 }
 
