@@ -403,3 +403,56 @@ range_noise_m = 0.01
     }
     assert_eq!(Rgb::parse("#ff0000"), Some(Rgb([255, 0, 0])));
 }
+
+/// A URDF robot's body takes its root link's material colour (given in the visual or named in
+/// the robot); the vehicle file's `[colors] body` wins over it.
+#[test]
+fn a_urdf_body_takes_its_root_material_colour() {
+    let dir = std::env::temp_dir().join(format!("tracksim_urdf_colour_{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("urdf")).unwrap();
+    let urdf =
+        std::fs::read_to_string(common::root().join("vehicles/urdf/packbot510_flippers.urdf"))
+            .unwrap();
+    let toml =
+        std::fs::read_to_string(common::root().join("vehicles/packbot510_urdf.toml")).unwrap();
+    let shape = "<geometry><box size=\"0.50 0.25 0.10\"/></geometry>\n    </visual>";
+    assert!(urdf.contains(shape));
+    let cases = [
+        (
+            "<material name=\"red\"><color rgba=\"1 0 0 1\"/></material>",
+            "",
+            Rgb([255, 0, 0]),
+        ),
+        (
+            "<material name=\"teal\"/>",
+            "<material name=\"teal\"><color rgba=\"0 0.5 0.5 1\"/></material>",
+            Rgb([0, 128, 128]),
+        ),
+    ];
+    for (material, named, want) in cases {
+        let text = urdf.replacen(
+            shape,
+            &format!(
+                "<geometry><box size=\"0.50 0.25 0.10\"/></geometry>{material}\n    </visual>"
+            ),
+            1,
+        );
+        let text = text.replacen(
+            "<link name=\"base_link\">",
+            &format!("{named}\n  <link name=\"base_link\">"),
+            1,
+        );
+        std::fs::write(dir.join("urdf/packbot510_flippers.urdf"), &text).unwrap();
+        std::fs::write(dir.join("v.toml"), &toml).unwrap();
+        let v = tracksim::load_vehicle(&dir.join("v.toml")).expect("loads");
+        assert_eq!(v.colors.body, want);
+        std::fs::write(
+            dir.join("v.toml"),
+            format!("{toml}\n[colors]\nbody = \"#010203\"\n"),
+        )
+        .unwrap();
+        let v = tracksim::load_vehicle(&dir.join("v.toml")).expect("loads");
+        assert_eq!(v.colors.body, Rgb([1, 2, 3]));
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
