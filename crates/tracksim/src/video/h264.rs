@@ -49,7 +49,7 @@ pub struct Mp4Encoder {
 impl Mp4Encoder {
     /// An encoder of `width` x `height` (even, at most 3840 x 2160) frames at `fps`.
     pub fn new(width: usize, height: usize, fps: u32) -> Result<Mp4Encoder> {
-        if width % 2 != 0 || height % 2 != 0 || width == 0 || height == 0 {
+        if !width.is_multiple_of(2) || !height.is_multiple_of(2) || width == 0 || height == 0 {
             return Err(codec(
                 "size",
                 format!("{width}x{height}: H.264 4:2:0 needs an even width and height"),

@@ -85,7 +85,7 @@ impl VideoOptions {
             ));
         }
         for (k, v) in [("width", self.width), ("height", self.height)] {
-            if v == 0 || v % 2 != 0 || v > MAX_SIDE {
+            if v == 0 || !v.is_multiple_of(2) || v > MAX_SIDE {
                 out.push(SpecIssue::new(
                     "--size",
                     format!(
