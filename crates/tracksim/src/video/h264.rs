@@ -3,8 +3,10 @@
 //! build or run time), muxed by the `mp4` crate (pure Rust, the muxer openh264's own example
 //! uses; chosen over `muxide` for its reader too, which the tests use to check the files).
 //!
-//! The encoder runs on one thread with frame skipping off and an IDR frame every two seconds,
-//! so the same frames give the same bytes (the MP4's creation times are 0). Width and height
+//! The encoder runs on one thread, rate control off (every frame at the fixed quantiser
+//! [`QP`]: constant quality, the size follows the picture), frame skipping off (a sample per
+//! frame) and an IDR frame every two seconds (a player can seek), so the same frames give the
+//! same bytes (the MP4's creation times are 0). Width and height
 //! must be even (4:2:0 chroma). [`decode_mp4`] reads such a file back to rgb8 frames with
 //! OpenH264's decoder (for checks and tests).
 
@@ -13,7 +15,7 @@ use bytes::Bytes;
 use openh264::OpenH264API;
 use openh264::decoder::Decoder;
 use openh264::encoder::{
-    BitRate, Encoder, EncoderConfig, FrameRate, FrameType, IntraFramePeriod, QpRange,
+    Encoder, EncoderConfig, FrameRate, FrameType, IntraFramePeriod, QpRange,
     RateControlMode,
 };
 use openh264::formats::{RgbSliceU8, YUVBuffer, YUVSource};
@@ -22,13 +24,6 @@ use std::io::Cursor;
 /// Quantisation parameter of every frame (rate control off: constant quality; 0 best, 51
 /// coarsest).
 pub const QP: u8 = 24;
-
-/// Target bit rate for `width` x `height` pixels at `fps` frames per second, bit/s: 0.1 bit
-/// per pixel per frame, at least 200 kbit/s (the scenes are flat-shaded: this keeps edges and
-/// the HUD's text sharp).
-pub fn bitrate_bps(width: usize, height: usize, fps: u32) -> u32 {
-    ((width * height) as f64 * fps as f64 * 0.1).max(200_000.0) as u32
-}
 
 fn codec(what: &str, e: impl std::fmt::Display) -> Error {
     Error::Video(format!("{what}: {e}"))
@@ -56,7 +51,6 @@ impl Mp4Encoder {
             ));
         }
         let config = EncoderConfig::new()
-            .bitrate(BitRate::from_bps(bitrate_bps(width, height, fps)))
             .max_frame_rate(FrameRate::from_hz(fps as f32))
             .rate_control_mode(RateControlMode::Off)
             .qp(QpRange::new(QP, QP))
