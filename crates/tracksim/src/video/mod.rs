@@ -15,6 +15,8 @@ pub mod hud;
 pub mod record;
 pub mod replay_scene;
 
+pub use h264::psnr;
+
 use crate::error::{Error, Result, SpecIssue};
 use crate::render::{self, CameraPose, ChaseCamera, Frame, Intrinsics, Light};
 use crate::sensors::sim_scene::CHASE_RANGE_M;
@@ -32,6 +34,8 @@ pub const DEFAULT_FPS: u32 = 25;
 pub const MAX_FPS: u32 = 120;
 /// Largest frame side accepted, pixels (OpenH264's limit is 3840 x 2160).
 pub const MAX_SIDE: usize = 3840;
+/// Most frames a video holds (10 hours at 25 fps).
+pub const MAX_FRAMES: usize = 900_000;
 /// Horizontal field of view of an onboard camera without one in `scene.json`, degrees.
 pub const ONBOARD_FOV_DEG: f64 = 80.0;
 
@@ -206,11 +210,19 @@ impl Replay {
         &self.runs[self.focus]
     }
 
-    /// Times of the frames at `fps`, s: from the first sample to the last, both included.
-    pub fn frame_times(&self, fps: u32) -> Vec<f64> {
+    /// Number of frames at `fps`: from the first sample to the last, both included.
+    pub fn frame_count(&self, fps: u32) -> usize {
         let r = self.focus();
-        let (t0, t1) = (r.start_s(), r.end_s());
-        let n = ((t1 - t0) * fps as f64 + 1e-6).floor().max(0.0) as usize + 1;
+        let span = (r.end_s() - r.start_s()) * fps as f64 + 1e-6;
+        // `as` saturates: a NaN span gives 0, a huge one usize::MAX (refused by the caller).
+        (span.floor().max(0.0) as usize).saturating_add(1)
+    }
+
+    /// Times of the frames at `fps`, s: from the first sample to the last, both included (at
+    /// most [`MAX_FRAMES`]).
+    pub fn frame_times(&self, fps: u32) -> Vec<f64> {
+        let t0 = self.focus().start_s();
+        let n = self.frame_count(fps).min(MAX_FRAMES);
         (0..n).map(|k| t0 + k as f64 / fps as f64).collect()
     }
 
@@ -389,6 +401,17 @@ pub fn render_video(dir: &Path, opts: &VideoOptions) -> Result<(Vec<u8>, VideoRe
     }
     let replay = Replay::open(dir, opts.robot.as_deref())?;
     replay.check_camera(&opts.camera)?;
+    let n = replay.frame_count(opts.fps);
+    if n > MAX_FRAMES {
+        return Err(settings(
+            "--fps",
+            format!(
+                "{n} frames: more than {MAX_FRAMES} ({} to {} s); give a lower --fps",
+                replay.focus().start_s(),
+                replay.focus().end_s()
+            ),
+        ));
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads)
         .build()
@@ -429,20 +452,4 @@ pub fn write_video(dir: &Path, out: &Path, opts: &VideoOptions) -> Result<VideoR
     }
     crate::files::write_atomic(out, &bytes)?;
     Ok(report)
-}
-
-/// Peak signal-to-noise ratio of two 8-bit images of the same size, dB (`inf` when equal).
-pub fn psnr(a: &[u8], b: &[u8]) -> f64 {
-    let n = a.len().min(b.len()).max(1);
-    let mse = a
-        .iter()
-        .zip(b)
-        .map(|(&x, &y)| (x as f64 - y as f64).powi(2))
-        .sum::<f64>()
-        / n as f64;
-    if mse == 0.0 {
-        f64::INFINITY
-    } else {
-        10.0 * (255.0f64 * 255.0 / mse).log10()
-    }
 }

@@ -412,7 +412,7 @@ pub fn missing(dir: &Path, file: &str) -> Error {
         &dir.join(file),
         "",
         format!(
-            "not found: {} is not the output folder of a finished run (`tracksim run FILE --out DIR`, `tracksim drive`, an environment's episode folder); give such a folder",
+            "not found: {} is not the output folder of a finished run (`tracksim run FILE --out DIR`, `tracksim drive`, an environment's episode folder, a team run's folder); give such a folder (of a `tracksim compare` folder, one method's subfolder)",
             dir.display()
         ),
     )
