@@ -68,8 +68,9 @@ impl ViewVideo {
             return r.clone();
         }
         let command = format!("tracksim video {}", self.dir.display());
+        let said = |e: crate::error::Error| format!("{e} (`{command}` says the same)");
         let r = crate::video::Replay::open(&self.dir, None)
-            .map_err(|e| e.to_string())
+            .map_err(said)
             .and_then(|replay| {
                 let f = replay.focus();
                 let length = f.end_s() - f.start_s();
@@ -80,7 +81,7 @@ impl ViewVideo {
                 }
                 crate::video::render_video(&self.dir, &crate::video::VideoOptions::default())
                     .map(|(b, _)| Arc::new(b))
-                    .map_err(|e| format!("{e} (`{command}` says the same)"))
+                    .map_err(said)
             });
         *made = Some(r.clone());
         r
