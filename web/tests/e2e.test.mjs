@@ -935,3 +935,53 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
     view.child.kill();
   }
 });
+
+test('view: the replay page offers the run as an MP4 that the browser plays (issue 41)', async () => {
+  const dir = path.join(tmp, 'video-run');
+  execFileSync(bin, ['run', 'packbot_step', '--out', dir, '--duration', '1'], { cwd: root });
+  const view = start(['view', dir, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, url);
+    assert.equal(await page.evaluate(() => window.tracksim.video), true);
+    assert.ok(await page.isVisible('#video-link'));
+    assert.equal(await page.getAttribute('#video-link', 'href'), '/video.mp4');
+    // The server renders it on the first request: H.264 in MP4, played by the page's browser.
+    const got = await page.evaluate(async () => {
+      const r = await fetch('/video.mp4');
+      const blob = await r.blob();
+      const v = document.createElement('video');
+      v.muted = true;
+      v.src = URL.createObjectURL(blob);
+      const ok = await new Promise((resolve) => {
+        v.onloadeddata = () => resolve(true);
+        v.onerror = () => resolve(`error ${v.error?.code} ${v.error?.message}`);
+        setTimeout(() => resolve('timeout'), 30000);
+      });
+      let std = 0;
+      if (ok === true) {
+        // A frame in the middle, once the element has it.
+        await new Promise((resolve) => { v.onseeked = resolve; v.currentTime = 0.5; setTimeout(resolve, 10000); });
+        const c = document.createElement('canvas');
+        c.width = v.videoWidth; c.height = v.videoHeight;
+        const g = c.getContext('2d');
+        g.drawImage(v, 0, 0);
+        const d = g.getImageData(0, 0, c.width, c.height).data;
+        let s = 0, s2 = 0, n = 0;
+        for (let i = 0; i < d.length; i += 16) { const y = (d[i] + d[i + 1] + d[i + 2]) / 3; s += y; s2 += y * y; n++; }
+        std = Math.sqrt(s2 / n - (s / n) ** 2);
+      }
+      return { status: r.status, type: r.headers.get('content-type'), size: blob.size, ok, w: v.videoWidth, h: v.videoHeight, duration: v.duration, std };
+    });
+    assert.equal(got.status, 200);
+    assert.equal(got.type, 'video/mp4');
+    assert.equal(got.ok, true, `the browser does not play it: ${got.ok}`);
+    assert.deepEqual([got.w, got.h], [640, 480]);
+    assert.ok(Math.abs(got.duration - 1.04) < 0.05, `duration ${got.duration}`);
+    assert.ok(got.std > 5, `blank first frame (std ${got.std})`);
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});

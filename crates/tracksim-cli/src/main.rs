@@ -49,6 +49,7 @@ enum Cmd {
     Validate(validate::ValidateArgs),
     Drive(drive::DriveArgs),
     View(view::ViewArgs),
+    Video(video::VideoArgs),
     Ros(ros::RosArgs),
     Check(check::CheckArgs),
     /// Run a randomised scenario many times (a dataset): one folder per run and a manifest
@@ -68,6 +69,7 @@ fn main() -> ExitCode {
         Cmd::Validate(a) => validate::validate(a),
         Cmd::Drive(a) => drive::drive(a),
         Cmd::View(a) => view::view(a),
+        Cmd::Video(a) => video::video(a),
         Cmd::Ros(a) => ros::ros(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Sweep(a) => sweep::sweep(a),

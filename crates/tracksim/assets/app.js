@@ -985,6 +985,9 @@ if (!live) {
   await loadReplaySensors();
   api.replayEnd = replay.end;
   $('bar').classList.remove('hidden');
+  // The run as an MP4 (`/video.mp4`, rendered by the server on the first request).
+  if (session.video) $('video-link').classList.remove('hidden');
+  api.video = Boolean(session.video);
   $('play').addEventListener('click', togglePlay);
   $('scrub').addEventListener('input', (e) => { playTime = Number(e.target.value) * replay.end; });
   const mk = $('markers');

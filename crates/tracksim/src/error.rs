@@ -98,6 +98,10 @@ pub enum Error {
     /// The vehicle cannot be built with the chosen track method.
     #[error("cannot build the vehicle: {0}")]
     Build(String),
+    /// A video could not be encoded or read (`crate::video`): the codec's or the muxer's
+    /// message.
+    #[error("video: {0}")]
+    Video(String),
     /// A run went past what one world holds exactly (robots spread further apart than
     /// `model::MAX_ROBOT_SPREAD_M`): the run stops.
     #[error("run stopped at t = {time_s:.3} s: {what}")]

@@ -26,6 +26,7 @@
 //! - [`env`]: learning environments (one, and many stepped on threads) over the stepping API;
 //! - [`sessions`]: the runs of a folder tabulated (trainee, course, score, date);
 //! - [`sweep`]: datasets: many runs of a randomised scenario, sharded, with a manifest;
+//! - [`video`]: a finished run rendered to an MP4 (chase or onboard camera, HUD burnt in);
 //! - `live`: `drive` and `view`, the 3-D page;
 //! - `ros` (feature `ros`): `tracksim ros`, the scenario as a ROS 2 node.
 //!
@@ -62,6 +63,7 @@ pub mod terrain;
 pub mod tracks;
 pub mod urdf;
 pub mod validate;
+pub mod video;
 pub mod world;
 
 pub use error::{Error, Result, SpecIssue};

@@ -14,6 +14,7 @@ pub mod run;
 pub mod sessions;
 pub mod sweep;
 pub mod validate;
+pub mod video;
 pub mod view;
 
 use std::path::{Path, PathBuf};

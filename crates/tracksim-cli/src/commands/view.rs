@@ -20,9 +20,10 @@ pub struct ViewArgs {
 
 /// `tracksim view`: serves until Ctrl-C or SIGTERM.
 pub fn view(a: ViewArgs) -> Result<(), Failure> {
-    use tracksim::live::{Mode, Server};
+    use tracksim::live::{Mode, Server, ViewVideo};
     let files = tracksim::live::view_files(&a.dir)?;
-    let server = Server::start(bind_address(a.bind), a.port, Mode::View { files })?;
+    let video = ViewVideo::of(&a.dir);
+    let server = Server::start(bind_address(a.bind), a.port, Mode::View { files, video })?;
     out!("view       open {} in a browser; Ctrl-C ends", server.url());
     let (tx, rx) = std::sync::mpsc::channel();
     super::on_stop(move || {

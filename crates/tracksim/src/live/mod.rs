@@ -26,7 +26,7 @@ pub mod watch;
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
 pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};
-pub use server::{Mode, Server, view_files};
+pub use server::{Mode, Server, ViewVideo, view_files};
 pub use team_drive::{TeamSession, run_team_session};
 pub use watch::Watch;
 

@@ -34,7 +34,58 @@ pub enum Mode {
     View {
         /// (URL path, content type, bytes), e.g. `/run/trajectory.csv`.
         files: Vec<(String, &'static str, Vec<u8>)>,
+        /// The run's video, `/video.mp4` (`None`: not offered, e.g. a compare folder).
+        video: Option<ViewVideo>,
     },
+}
+
+/// Longest run whose video the page renders, s of simulated time (a longer one: the page
+/// names the `tracksim video` command instead).
+pub const MAX_PAGE_VIDEO_S: f64 = 600.0;
+
+/// A replay's video (`/video.mp4`): the run folder, rendered with the default settings
+/// ([`crate::video::VideoOptions::default`]) on the first request and kept in memory;
+/// requests meanwhile wait for it. Nothing is written into the folder.
+pub struct ViewVideo {
+    dir: std::path::PathBuf,
+    made: std::sync::Mutex<Option<std::result::Result<Arc<Vec<u8>>, String>>>,
+}
+
+impl ViewVideo {
+    /// The video of the run (or team run) in `dir`, if it is one a video can be made of.
+    pub fn of(dir: &std::path::Path) -> Option<ViewVideo> {
+        let run = dir.join("scene.json").is_file() && dir.join("trajectory.csv").is_file();
+        (run || dir.join("team.json").is_file()).then(|| ViewVideo {
+            dir: dir.to_path_buf(),
+            made: std::sync::Mutex::new(None),
+        })
+    }
+
+    /// The MP4's bytes, rendered on the first call; the error is the page's message.
+    pub fn bytes(&self) -> std::result::Result<Arc<Vec<u8>>, String> {
+        let mut made = self.made.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(r) = made.as_ref() {
+            return r.clone();
+        }
+        let command = format!("tracksim video {}", self.dir.display());
+        let said = |e: crate::error::Error| format!("{e} (`{command}` says the same)");
+        let r = crate::video::Replay::open(&self.dir, None)
+            .map_err(said)
+            .and_then(|replay| {
+                let f = replay.focus();
+                let length = f.end_s() - f.start_s();
+                if length > MAX_PAGE_VIDEO_S {
+                    return Err(format!(
+                        "the run lasts {length:.0} s, longer than the page renders ({MAX_PAGE_VIDEO_S:.0} s): run `{command}`"
+                    ));
+                }
+                crate::video::render_video(&self.dir, &crate::video::VideoOptions::default())
+                    .map(|(b, _)| Arc::new(b))
+                    .map_err(said)
+            });
+        *made = Some(r.clone());
+        r
+    }
 }
 
 impl Mode {
@@ -209,7 +260,8 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
         return respond_to(&mut stream, get, "200 OK", a.content_type, a.bytes);
     }
     if path == "/session.json" {
-        let body = serde_json::json!({ "mode": mode.name() }).to_string();
+        let video = matches!(mode, Mode::View { video: Some(_), .. });
+        let body = serde_json::json!({ "mode": mode.name(), "video": video }).to_string();
         return respond(&mut stream, "200 OK", "application/json", body.as_bytes());
     }
     match mode {
@@ -223,7 +275,16 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
                 .map_or("{}", String::as_str);
             respond(&mut stream, "200 OK", "application/json", body.as_bytes())
         }
-        Mode::View { files } => match files.iter().find(|f| f.0 == path) {
+        Mode::View { video: Some(v), .. } if path == "/video.mp4" => match v.bytes() {
+            Ok(b) => respond_to(&mut stream, method == "GET", "200 OK", "video/mp4", &b),
+            Err(e) => respond(
+                &mut stream,
+                "503 Service Unavailable",
+                "text/plain; charset=utf-8",
+                format!("no video: {e}\n").as_bytes(),
+            ),
+        },
+        Mode::View { files, .. } => match files.iter().find(|f| f.0 == path) {
             Some((_, ctype, bytes)) => respond(&mut stream, "200 OK", ctype, bytes),
             None => respond(&mut stream, "404 Not Found", "text/plain", b"not found\n"),
         },

@@ -105,6 +105,8 @@ pub struct SceneBox {
     pub half_m: [f64; 3],
     /// Orientation as a quaternion x y z w.
     pub quat_xyzw: [f64; 4],
+    /// Colour in camera images, `"#rrggbb"`.
+    pub color: String,
 }
 
 /// A horizontal cylinder of the terrain (a stair nosing): axis along y rotated by `yaw_rad`.
@@ -118,6 +120,8 @@ pub struct SceneCylinder {
     pub half_length_m: f64,
     /// Radius, m.
     pub radius_m: f64,
+    /// Colour in camera images, `"#rrggbb"`.
+    pub color: String,
 }
 
 /// The terrain as the page draws it.
@@ -131,6 +135,10 @@ pub struct SceneTerrain {
     pub cylinders: Vec<SceneCylinder>,
     /// Height fields (PNG and rough fields) and meshes (STL, OBJ) as world-frame triangles.
     pub meshes: Vec<MeshData>,
+    /// Colour of the flat ground in camera images, `"#rrggbb"`.
+    pub ground_color: String,
+    /// Colour of each of `meshes` in camera images, `"#rrggbb"`, in the same order.
+    pub mesh_colors: Vec<String>,
 }
 
 /// A flipper arm: it turns by its angle about `axis` through `pivot_m` (body frame).
@@ -213,6 +221,19 @@ pub struct SceneLooseBox {
     pub centre_m: [f64; 3],
     /// Yaw at the start, rad.
     pub yaw_rad: f64,
+    /// Colour in camera images, `"#rrggbb"`.
+    pub color: String,
+}
+
+/// The colours of a vehicle's parts in camera images, `"#rrggbb"` each.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneVehicleColors {
+    /// The chassis.
+    pub body: String,
+    /// Belts and grousers.
+    pub tracks: String,
+    /// Flipper arms.
+    pub flippers: String,
 }
 
 /// The vehicle as the page draws it (body frame).
@@ -226,6 +247,8 @@ pub struct SceneVehicle {
     pub flippers: Vec<SceneFlipper>,
     /// Tracks in output order.
     pub tracks: Vec<SceneTrack>,
+    /// Colours of its parts.
+    pub colors: SceneVehicleColors,
 }
 
 /// A lidar's scan pattern (`lidar` of a [`SceneSensor`]).
@@ -285,6 +308,9 @@ pub struct SceneSensor {
     /// The image of a depth camera.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub depth_camera: Option<SceneDepthCamera>,
+    /// The image of a colour camera (`rgb_camera`): the same fields as a depth camera's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rgb_camera: Option<SceneDepthCamera>,
 }
 
 /// A gate of a course as the page draws it: a waypoint's circle or a gate line.
@@ -415,6 +441,7 @@ fn terrain(t: &TerrainModel) -> SceneTerrain {
         .iter()
         .map(|m| MeshData::from_points(&m.vertices, &m.triangles))
         .collect();
+    let mut mesh_colors: Vec<String> = t.meshes.iter().map(|m| m.color.to_string()).collect();
     for h in &t.heightfields {
         let mut pts = Vec::with_capacity(h.rows * h.cols);
         for r in 0..h.rows {
@@ -432,6 +459,7 @@ fn terrain(t: &TerrainModel) -> SceneTerrain {
             }
         }
         meshes.push(MeshData::from_points(&pts, &tris));
+        mesh_colors.push(h.color.to_string());
     }
     SceneTerrain {
         ground_z_m: t.ground.map(|(z, _)| z),
@@ -444,6 +472,7 @@ fn terrain(t: &TerrainModel) -> SceneTerrain {
                     centre_m: arr(b.centre),
                     half_m: arr(b.half),
                     quat_xyzw: [q.x, q.y, q.z, q.w],
+                    color: b.color.to_string(),
                 }
             })
             .collect(),
@@ -455,9 +484,12 @@ fn terrain(t: &TerrainModel) -> SceneTerrain {
                 yaw_rad: c.yaw,
                 half_length_m: c.half_length,
                 radius_m: c.radius,
+                color: c.color.to_string(),
             })
             .collect(),
         meshes,
+        ground_color: t.ground_color.to_string(),
+        mesh_colors,
     }
 }
 
@@ -542,6 +574,11 @@ fn vehicle(v: &VehicleModel) -> SceneVehicle {
                 scene_track(t, parent)
             })
             .collect(),
+        colors: SceneVehicleColors {
+            body: v.colors.body.to_string(),
+            tracks: v.colors.tracks.to_string(),
+            flippers: v.colors.flippers.to_string(),
+        },
     }
 }
 
@@ -583,6 +620,16 @@ fn sensors(v: &VehicleModel) -> Vec<SceneSensor> {
                     }),
                     _ => None,
                 },
+                rgb_camera: match m.kind {
+                    SensorKind::RgbCamera(p) => Some(SceneDepthCamera {
+                        width_px: p.intrinsics.width,
+                        height_px: p.intrinsics.height,
+                        horizontal_fov_rad: p.intrinsics.horizontal_fov,
+                        min_range_m: p.min_range,
+                        max_range_m: p.max_range,
+                    }),
+                    _ => None,
+                },
             }
         })
         .collect()
@@ -616,6 +663,7 @@ impl Scene {
                     half_m: arr(b.solid.half),
                     centre_m: arr(b.solid.centre),
                     yaw_rad: b.solid.yaw,
+                    color: b.solid.color.to_string(),
                 })
                 .collect(),
             sensors: sensors(&sc.vehicle),

@@ -31,6 +31,7 @@ pub(crate) const LAYERS: &[&[&str]] = &[
         "bundled",
         "sessions",
         "team_bench",
+        "video",
     ],
     &["sensor_bench"],
     &["camera_bench"],

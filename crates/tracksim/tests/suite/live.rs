@@ -243,7 +243,12 @@ fn view_serves_only_its_own_files() {
     std::fs::write(base.join("secret.txt"), "SECRET-OUTSIDE").unwrap();
     std::fs::write(run.join("secret.txt"), "SECRET-INSIDE").unwrap();
     let files = tracksim::live::view_files(&run).unwrap();
-    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::View { files, video: None },
+    )
+    .unwrap();
     let addr = server.addr();
     let (ok, body) = get(addr, "/run/trajectory.csv");
     assert!(ok.contains("200"), "{ok}");
@@ -294,7 +299,12 @@ fn view_serves_a_compare_folder_by_index() {
     .unwrap();
     std::fs::write(base.join("secret.txt"), "SECRET").unwrap();
     let files = tracksim::live::view_files(&base).unwrap();
-    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::View { files, video: None },
+    )
+    .unwrap();
     let addr = server.addr();
     let (ok, body) = get(addr, "/runs.json");
     assert!(ok.contains("200"), "{ok}");
@@ -498,7 +508,12 @@ fn view_serves_the_listed_sensor_streams_only() {
     let summary = serde_json::json!({ "sensors": sensors }).to_string();
     std::fs::write(run.join("summary.json"), summary).unwrap();
     let files = tracksim::live::view_files(&run).unwrap();
-    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, Mode::View { files }).unwrap();
+    let server = Server::start(
+        tracksim::live::DEFAULT_BIND,
+        0,
+        Mode::View { files, video: None },
+    )
+    .unwrap();
     let addr = server.addr();
     let (ok, body) = get(addr, "/run/sensors/scan.npz");
     assert!(ok.contains("200") && body.ends_with("NPZ-SCAN"), "{ok}");
