@@ -72,7 +72,10 @@ impl FrameSource {
                         if cameras.is_empty() {
                             " (the vehicle has no rgb_camera)".to_string()
                         } else {
-                            format!(" or one of the vehicle's rgb cameras: {}", cameras.join(", "))
+                            format!(
+                                " or one of the vehicle's rgb cameras: {}",
+                                cameras.join(", ")
+                            )
                         }
                     ),
                 ))

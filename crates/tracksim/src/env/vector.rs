@@ -224,8 +224,11 @@ impl VecEnv {
         let per = 3 * w * h;
         out.clear();
         out.resize(self.envs.len() * per, 0);
-        let mut parts: Vec<(&mut Env, &mut [u8])> =
-            self.envs.iter_mut().zip(out.chunks_mut(per.max(1))).collect();
+        let mut parts: Vec<(&mut Env, &mut [u8])> = self
+            .envs
+            .iter_mut()
+            .zip(out.chunks_mut(per.max(1)))
+            .collect();
         on_threads(&mut parts, self.threads, |_, (env, o)| {
             let f = env.render();
             if f.rgb.len() == o.len() {

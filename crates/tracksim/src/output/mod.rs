@@ -306,6 +306,9 @@ pub struct Outputs {
     pub plots: bool,
     /// `run.mcap`, the run as a ROS 2 recording ([`mod@mcap`]).
     pub mcap: bool,
+    /// Colour cameras' raw `sensor_msgs/Image` in `run.mcap` besides their compressed ones
+    /// ([`mcap::McapOptions::raw_images`]; off by default: about 10 times the bytes).
+    pub raw_images: bool,
 }
 
 impl Outputs {
@@ -314,6 +317,7 @@ impl Outputs {
         replay: true,
         plots: true,
         mcap: false,
+        raw_images: false,
     };
 }
 
@@ -355,7 +359,10 @@ pub fn write_outputs(
         written.extend(write_run_plots(sc, result, dir)?);
     }
     if which.mcap || sc.record_mcap {
-        written.push(mcap::write_mcap(sc, result, dir)?);
+        let opts = mcap::McapOptions {
+            raw_images: which.raw_images,
+        };
+        written.push(mcap::write_mcap(sc, result, dir, opts)?);
     }
     Ok(written)
 }

@@ -51,6 +51,7 @@ mod issue_38_soil_balance;
 mod issue_39_session;
 mod issue_40_drive;
 mod issue_40_team;
+mod issue_41_camera;
 mod layers;
 mod live;
 mod methods;
