@@ -24,7 +24,14 @@ enum Publisher {
     Image(Pub<Image>),
     Joints(Pub<JointState>),
     /// A colour camera: raw images (with `raw_images`), compressed images, calibration.
-    Camera(Option<Pub<Image>>, Pub<CompressedImage>, Pub<CameraInfo>),
+    Camera(Box<CameraPubs>),
+}
+
+/// A colour camera's publishers.
+struct CameraPubs {
+    raw: Option<Pub<Image>>,
+    compressed: Pub<CompressedImage>,
+    info: Pub<CameraInfo>,
 }
 
 /// The sensors' publishers and the time of the reading each sent last.
@@ -62,14 +69,14 @@ impl SensorPublishers {
                     Publisher::Cloud(node.publisher(&t, 10, false)?)
                 }
                 SensorKind::DepthCamera(_) => Publisher::Image(node.publisher(&t, 10, false)?),
-                SensorKind::RgbCamera(_) => Publisher::Camera(
-                    match raw_images {
+                SensorKind::RgbCamera(_) => Publisher::Camera(Box::new(CameraPubs {
+                    raw: match raw_images {
                         true => Some(node.publisher(&t, 10, false)?),
                         false => None,
                     },
-                    node.publisher(&compressed_topic(&t), 10, false)?,
-                    node.publisher(&camera_info_topic(&t), 10, false)?,
-                ),
+                    compressed: node.publisher(&compressed_topic(&t), 10, false)?,
+                    info: node.publisher(&camera_info_topic(&t), 10, false)?,
+                })),
                 SensorKind::Encoders(_) => Publisher::Joints(node.publisher(&t, 10, false)?),
             });
         }
@@ -107,13 +114,13 @@ impl SensorPublishers {
                 (Publisher::Cloud(p), Ok(SensorMessage::Cloud(m))) => p.publish(m),
                 (Publisher::Image(p), Ok(SensorMessage::Image(m))) => p.publish(m),
                 (Publisher::Joints(p), Ok(SensorMessage::Joints(m))) => p.publish(m),
-                (Publisher::Camera(raw, compressed, info), Ok(SensorMessage::Camera(m))) => {
+                (Publisher::Camera(p), Ok(SensorMessage::Camera(m))) => {
                     let m = *m;
-                    if let Some(p) = raw {
-                        p.publish(m.image);
+                    if let Some(raw) = &p.raw {
+                        raw.publish(m.image);
                     }
-                    compressed.publish(m.compressed);
-                    info.publish(m.info);
+                    p.compressed.publish(m.compressed);
+                    p.info.publish(m.info);
                 }
                 (_, Err(e)) => warn(&e),
                 _ => warn(&format!(

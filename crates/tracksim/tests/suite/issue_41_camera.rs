@@ -180,14 +180,19 @@ fn an_rgb_camera_is_a_dict_observation_entry_of_its_image() {
     );
 }
 
+/// Messages of a topic: (log time ns, CDR bytes) each.
+type Messages = Vec<(u64, Vec<u8>)>;
+/// Frames by reading time: (t s, rgb8 bytes) each.
+type Frames = Vec<(f64, Vec<u8>)>;
+
 /// A run of the camera scenario for `duration` s, stepped by hand to keep every frame the
 /// camera rendered (by reading time), and the bytes of its `run.mcap` (with `raw_images`)
 /// and of its run folder's PNG of reading 3.
-fn camera_run(duration: f64, raw_images: bool) -> (Vec<(f64, Vec<u8>)>, Vec<u8>, Vec<u8>) {
+fn camera_run(duration: f64, raw_images: bool) -> (Frames, Vec<u8>, Vec<u8>) {
     let mut sc = tracksim::load_scenario(&common::root().join(CAMERA)).unwrap();
     sc.duration = duration;
     let mut runner = tracksim::run::runner::Runner::new(&sc).unwrap();
-    let mut frames: Vec<(f64, Vec<u8>)> = Vec::new();
+    let mut frames: Frames = Vec::new();
     while !runner.finished() {
         runner.step().unwrap();
         let t = runner.sensors().reading_time(0);
@@ -214,8 +219,8 @@ fn camera_run(duration: f64, raw_images: bool) -> (Vec<(f64, Vec<u8>)>, Vec<u8>,
 }
 
 /// Every topic's schema name and messages (log time, CDR bytes).
-fn topics(bytes: &[u8]) -> BTreeMap<String, (String, Vec<(u64, Vec<u8>)>)> {
-    let mut out: BTreeMap<String, (String, Vec<(u64, Vec<u8>)>)> = BTreeMap::new();
+fn topics(bytes: &[u8]) -> BTreeMap<String, (String, Messages)> {
+    let mut out: BTreeMap<String, (String, Messages)> = BTreeMap::new();
     for m in mcap::MessageStream::new(bytes).expect("mcap") {
         let m = m.expect("message");
         let schema = m.channel.schema.as_ref().expect("schema");
