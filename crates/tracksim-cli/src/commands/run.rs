@@ -40,8 +40,8 @@ pub struct RunArgs {
     #[arg(long)]
     pub mcap: bool,
     /// With --mcap, also record colour cameras' raw sensor_msgs/Image (rgb8) on /<camera>,
-    /// besides their CompressedImage (PNG) on /<camera>/compressed and CameraInfo (about ten
-    /// times the bytes; Foxglove shows the compressed topic).
+    /// besides their CompressedImage (PNG) on /<camera>/compressed and CameraInfo (57.6 kB a
+    /// 160 x 120 frame against a few kB of PNG; Foxglove shows the compressed topic).
     #[arg(long)]
     pub raw_images: bool,
     /// Replace the scenario's `[[commands]]` by those of this file (e.g. the

@@ -83,7 +83,8 @@ pub const MCAP_FILE: &str = "run.mcap";
 pub struct McapOptions {
     /// Colour cameras' raw `sensor_msgs/Image` (`rgb8`) on `/<sensor>` besides their
     /// `CompressedImage` (PNG) on `/<sensor>/compressed`: 57.6 kB per 160 x 120 frame against
-    /// the PNG's few kB; Foxglove shows the compressed topic, so it is off by default.
+    /// 3 to 37 kB of PNG (docs/MCAP.md); Foxglove shows the compressed topic, so it is off by
+    /// default.
     pub raw_images: bool,
 }
 

@@ -51,7 +51,7 @@ pub struct RosOptions {
     pub domain_id: u16,
     /// Also publish colour cameras' raw `sensor_msgs/Image` (`rgb8`) on `/<sensor>`, besides
     /// their `CompressedImage` (PNG) on `/<sensor>/compressed` and `CameraInfo` (off by
-    /// default: Foxglove shows the compressed topic at a tenth of the bytes; RViz's Image
+    /// default: Foxglove shows the compressed topic, a few times to 20 times smaller; RViz's Image
     /// display and `cv_bridge` nodes want the raw one, or `image_transport republish`).
     pub raw_images: bool,
     /// The network the node is reachable on.

@@ -330,3 +330,34 @@ fn raw_images_add_the_rgb8_image_topic_equal_to_the_png() {
     }
     assert!(with_raw.len() > without.len() + frames.len() * 57_600);
 }
+
+/// The stated bound of docs/MCAP.md: a 160 x 120 frame's PNG (rgb8) is at most
+/// [`PNG_BOUND_160X120`] bytes even when nothing compresses (random pixels), and its depth PNG
+/// at most [`DEPTH_PNG_BOUND_160X120`].
+const PNG_BOUND_160X120: usize = 60_000;
+const DEPTH_PNG_BOUND_160X120: usize = 40_000;
+
+#[test]
+fn incompressible_160x120_frames_stay_within_the_stated_png_bound() {
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut next = || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    let rgb: Vec<u8> = (0..160 * 120 * 3).map(|_| next() as u8).collect();
+    let png = tracksim::render::encode::rgb8_png(160, 120, &rgb);
+    let depth: Vec<f32> = (0..160 * 120)
+        .map(|_| (next() % 65_000) as f32 / 1000.0 + 0.001)
+        .collect();
+    let dpng = tracksim::render::encode::depth16_png(160, 120, &depth);
+    println!(
+        "random 160 x 120: rgb PNG {} bytes, depth PNG {} bytes",
+        png.len(),
+        dpng.len()
+    );
+    assert!(png.len() <= PNG_BOUND_160X120, "{}", png.len());
+    assert!(dpng.len() <= DEPTH_PNG_BOUND_160X120, "{}", dpng.len());
+    assert_eq!(decode_png(&png).0, rgb);
+}
