@@ -146,3 +146,13 @@ def test_an_rgb_camera_is_in_the_dict_observation_with_its_box():
     obs, _ = v.reset(seed=0)
     assert obs["front_rgb"].shape == (2, 120, 160, 3)
     v.close()
+
+
+def test_a_registered_task_renders_through_gymnasium_make():
+    env = gym.make("tracksim/PackBotSteps-v0", render_mode="rgb_array", render_size=(32, 24))
+    assert env.render_mode == "rgb_array"
+    env.reset(seed=0)
+    f = env.render()
+    assert f.dtype == np.uint8 and f.shape == (24, 32, 3)
+    check_env(env.unwrapped, skip_render_check=False)
+    env.close()
