@@ -4,8 +4,7 @@
 //! ([`crate::render`]) on demand, or the latest frame of one of the vehicle's `rgb_camera`
 //! sensors (`render_camera` = its name). rgb8, rows from the top.
 
-use super::EnvConfig;
-use super::config::CHASE_CAMERA;
+use super::config::{CHASE_CAMERA, EnvConfig};
 use crate::error::{Error, Result};
 use crate::model::{Scenario, SensorKind};
 use crate::render::{ChaseCamera, Frame, Intrinsics};
