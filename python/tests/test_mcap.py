@@ -201,3 +201,48 @@ def test_sensor_messages_decode_to_their_data(recording):
         assert np.abs(near[:, 2]).max() < 0.02
     encoders = msgs["/encoders"][-1][1]
     assert list(encoders.name) == JOINTS and encoders.position[2] > 0.1
+
+
+def test_a_colour_camera_is_png_compressed_images_with_camera_info(tmp_path):
+    """Issue 41: a 160 x 120 colour camera at 10 Hz (scenarios/packbot_camera.toml) in run.mcap:
+    CompressedImage PNG on /front_rgb/compressed, CameraInfo on /front_rgb/camera_info, each
+    decoded by both decoders from the file's own schemas; the PNG is the run folder's frame of
+    the same time, K follows from the 70 deg field of view; no raw topic by default."""
+    from PIL import Image
+    import io
+
+    out = tmp_path / "cam"
+    r = run_cli("run", SCENARIOS / "packbot_camera.toml", "--out", out, "--mcap", "--duration",
+                0.5, "--no-plot", "--quiet", timeout=300)
+    assert r.returncode == 0, r.stderr
+    store = get_typestore(Stores.EMPTY) if get_typestore else None
+    msgs = collections.defaultdict(list)
+    with open(out / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for schema in reader.get_summary().schemas.values() if store else ():
+            store.register(get_types_from_msg(schema.data.decode(), schema.name))
+        for schema, channel, message, decoded in reader.iter_decoded_messages(log_time_order=True):
+            other = store.deserialize_cdr(message.data, schema.name) if store else decoded
+            msgs[channel.topic].append((schema.name, message.log_time, decoded, other))
+    assert "/front_rgb" not in msgs
+    images, infos = msgs["/front_rgb/compressed"], msgs["/front_rgb/camera_info"]
+    with open(out / "sensors" / "front_rgb.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(images) == len(infos) == len(rows) == 6  # t = 0, 0.1, ..., 0.5 s
+    f_px = 80.0 / math.tan(math.radians(35.0))
+    k = [f_px, 0.0, 80.0, 0.0, f_px, 60.0, 0.0, 0.0, 1.0]
+    for (ty, t, img, img2), (ty2, t2, info, info2), row in zip(images, infos, rows):
+        assert ty == "sensor_msgs/msg/CompressedImage" and ty2 == "sensor_msgs/msg/CameraInfo"
+        assert t == t2 == round(float(row["t_s"]) * 1e9)
+        assert img.header.frame_id == info.header.frame_id == "front_rgb_optical_frame"
+        assert img.format == img2.format == "rgb8; png compressed bgr8"
+        data = bytes(img.data)
+        assert data == bytes(img2.data) == (out / row["rgb_file"]).read_bytes()
+        pixels = np.asarray(Image.open(io.BytesIO(data)).convert("RGB"))
+        assert pixels.shape == (120, 160, 3) and pixels.std() > 5
+        assert (info.width, info.height) == (160, 120)
+        assert info.distortion_model == info2.distortion_model == "plumb_bob"
+        assert list(info.d) == list(info2.d) == [0.0] * 5
+        assert np.allclose(info.k, k) and np.allclose(info2.k, k)
+        assert np.allclose(info.p, [k[0], 0, 80, 0, 0, k[4], 60, 0, 0, 0, 1, 0])
+        assert np.allclose(info2.p, info.p) and np.allclose(info.r, np.eye(3).ravel())

@@ -249,3 +249,27 @@ def test_one_robot_namespaced_on_request(solo):
     assert solo["plain_odom_messages"] == 0
     # 2 s of /solo/cmd_vel at 0.3 m/s drove it (less the discovery latency).
     assert 0.2 < solo["odom_dx"] < 0.65, solo["odom_dx"]
+
+
+@pytest.fixture(scope="module")
+def camera(tmp_path_factory):
+    """packbot_camera: a colour camera's compressed images and calibration (issue 41)."""
+    return _peer(tmp_path_factory, "camera")
+
+
+def test_colour_camera_publishes_png_and_camera_info(camera):
+    import math
+
+    assert camera["links"] == ["lo"]
+    assert camera["images"] >= 5 and camera["infos"] >= 5, camera
+    assert camera["raw_images"] == 0  # the raw topic only with --raw-images
+    assert camera["stamps_paired"]
+    assert camera["format"] == "rgb8; png compressed bgr8"
+    assert camera["frame_id"] == camera["info_frame_id"] == "front_rgb_optical_frame"
+    assert camera["png_signature"] == "89504e470d0a1a0a"
+    assert camera["png_size"] == [160, 120] and camera["png_mode"] == "RGB"
+    assert camera["info_size"] == [160, 120]
+    f = 80.0 / math.tan(math.radians(35.0))
+    assert camera["k"] == pytest.approx([f, 0, 80, 0, f, 60, 0, 0, 1])
+    assert camera["p"] == pytest.approx([f, 0, 80, 0, 0, f, 60, 0, 0, 0, 1, 0])
+    assert camera["distortion_model"] == "plumb_bob" and camera["d"] == [0.0] * 5

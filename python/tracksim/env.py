@@ -39,28 +39,36 @@ class ProgressReward:
                 - self.energy_penalty * np.asarray(effort) * control_period_s)
 
 
-#: What ``render_mode="rgb_array"`` would need and what to use instead.
-RGB_ARRAY_REFUSAL = (
-    "render_mode='rgb_array' is not supported: tracksim has no offscreen renderer (its 3-D view "
-    "is a browser page, three.js over WebGL; frames for gymnasium's RecordVideo would need a "
-    "GPU or software GL stack inside the simulator, which the wheel does not carry). To watch "
-    "episodes use render_mode='human' (the live 3-D page on loopback, its URL printed), "
-    "config={'record_dir': DIR} (every episode written as a run folder; open one with "
-    "`tracksim view DIR/seed<SEED>-ep<K>`), or `tracksim view` of any run folder."
-)
-
-#: The render modes the environments support.
-RENDER_MODES = ["human"]
+#: The render modes the environments support: ``"human"`` (the live 3-D page) and
+#: ``"rgb_array"`` (frames as uint8 arrays, for ``gymnasium.wrappers.RecordVideo``).
+RENDER_MODES = ["human", "rgb_array"]
 
 
 def check_render_mode(render_mode: Optional[str]) -> None:
-    """Refuses a render mode other than None and "human", naming the alternatives."""
-    if render_mode is None or render_mode == "human":
+    """Refuses a render mode other than None, "human" and "rgb_array"."""
+    if render_mode is None or render_mode in RENDER_MODES:
         return
-    if render_mode == "rgb_array":
-        raise ValueError(RGB_ARRAY_REFUSAL)
-    raise ValueError(f"render_mode={render_mode!r} is not supported: use None or 'human' "
-                     f"(the live 3-D page); {RGB_ARRAY_REFUSAL}")
+    raise ValueError(f"render_mode={render_mode!r} is not supported: use None, 'human' (the "
+                     f"live 3-D page on loopback) or 'rgb_array' (uint8 frames of the chase "
+                     f"camera or an rgb_camera sensor, for gymnasium.wrappers.RecordVideo)")
+
+
+def render_config(config: dict, render_camera: Optional[str],
+                  render_size: Optional[tuple]) -> dict:
+    """``config`` with the ``render_camera`` and ``render_size`` arguments as its settings
+    ``render_camera`` and ``render_size_px`` (an argument given twice, differently, is
+    refused)."""
+    c = dict(config)
+    for key, arg, value in (("render_camera", "render_camera", render_camera),
+                            ("render_size_px", "render_size", render_size)):
+        if value is None:
+            continue
+        if isinstance(value, (list, tuple)):
+            value = tuple(value)
+        if key in c and (tuple(c[key]) if isinstance(c[key], (list, tuple)) else c[key]) != value:
+            raise ValueError(f"{arg}={value!r} and config[{key!r}]={c[key]!r}: give one")
+        c[key] = value
+    return c
 
 
 def plain_config(config: Optional[dict]) -> dict:
@@ -139,7 +147,7 @@ class TracksimEnv(gym.Env):
     ``config`` keys: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s,
     max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m,
     no_terrain_m, observation, flipper_action, max_flipper_rate_rad_s, map_shape,
-    map_resolution_m, map_reach_m, goal_xy_m, record_dir.
+    map_resolution_m, map_reach_m, goal_xy_m, record_dir, render_camera, render_size_px.
 
     ``observation="vector"`` (the default) gives the state vector above. ``observation="dict"``
     gives a ``gymnasium.spaces.Dict``: ``"state"``, that vector, and one float32 entry per
@@ -154,6 +162,8 @@ class TracksimEnv(gym.Env):
     - ``lidar``: shape (elevation_rays, azimuth_rays): ranges (m), no return as the lidar's
       ``max_range_m``, nearer than ``min_range_m`` as 0 (bounds [0, max_range_m]);
     - ``depth_camera``: shape (height_px, width_px): depth along the optical axis (m), likewise;
+    - ``rgb_camera``: shape (height_px, width_px, 3): the colour image, 8-bit levels 0..255
+      as float32 (bounds [0, 255]; ``astype(np.uint8)`` gives the frame's bytes);
     - ``elevation_map``: shape (nx, ny): terrain heights relative to the sensor (m), cell ``[i,
       j]`` ahead ``x[i]`` and left ``y[j]`` (``Simulation.sensor_axes``), ``no_terrain_m``
       where there is no terrain.
@@ -196,8 +206,21 @@ class TracksimEnv(gym.Env):
     ``DIR/seed<SEED>-ep<K>`` (summary.json, trajectory.csv, scene.json, belts.csv,
     commands.toml) when the next one starts or the env closes: ``tracksim view`` opens it and
     ``tracksim run FILE --commands DIR/.../commands.toml --duration T`` replays it byte for
-    byte (a file without ``[randomize]``, or the episode's seed the file's). ``rgb_array`` is
-    refused (:data:`RGB_ARRAY_REFUSAL` says why and the alternatives).
+    byte (a file without ``[randomize]``, or the episode's seed the file's).
+
+    Frames: ``render_mode="rgb_array"`` makes :meth:`render` return the current state as a
+    ``numpy.uint8`` array of shape (height, width, 3), RGB, rows from the top, traced by
+    tracksim's CPU ray tracer (no GPU or GL needed; ``docs/SENSORS.md`` has the light model).
+    ``render_camera="chase"`` (the default) is a camera 1.6 m behind and 0.9 m above the robot
+    following its heading, 70 deg across, of ``render_size=(width, height)`` pixels (default
+    (160, 120); a few ms per frame at that size); the name of an ``rgb_camera`` sensor of the
+    vehicle gives that sensor's latest frame instead (its own size and rate; the vehicle's
+    sensors then run). Both are also the settings ``render_camera`` and ``render_size_px`` of
+    ``config``. ``metadata["render_fps"]`` is the control rate (``1 / control_period_s``: one
+    frame per step), so ``gymnasium.wrappers.RecordVideo`` writes videos in simulated real
+    time. Rendering never changes the simulation. An ``rgb_camera`` sensor with
+    ``observation="dict"`` is also an entry of the observation: float32 (height, width, 3)
+    levels 0..255.
     """
 
     metadata = {"render_modes": RENDER_MODES}
@@ -206,10 +229,11 @@ class TracksimEnv(gym.Env):
                  config: Optional[dict] = None,
                  reward: Optional[Callable[..., Any]] = None,
                  render_mode: Optional[str] = None, render_port: int = 0,
-                 render_speed: Optional[float] = 1.0):
+                 render_speed: Optional[float] = 1.0, render_camera: Optional[str] = None,
+                 render_size: Optional[tuple] = None):
         check_render_mode(render_mode)
         self.scenario = as_scenario(scenario)
-        self.config = plain_config(config)
+        self.config = render_config(plain_config(config), render_camera, render_size)
         self.reward_fn = reward if reward is not None else ProgressReward()
         self.render_mode = render_mode
         self._core = EnvCore(self.scenario, self.scenario.file_seed, self.config)
@@ -250,8 +274,12 @@ class TracksimEnv(gym.Env):
         return self._obs(state), reward, bool(terminated), bool(truncated), info
 
     def render(self):
-        """With ``render_mode="human"`` the page is fed at every step already (this publishes
-        the current state again); otherwise nothing to render (returns None)."""
+        """With ``render_mode="rgb_array"`` the current state as a ``numpy.uint8`` array
+        (height, width, 3) (see the class's text); with ``"human"`` the page is fed at every
+        step already (this publishes the current state again) and None is returned; without a
+        render mode None."""
+        if self.render_mode == "rgb_array":
+            return self._core.render()
         if self._view is not None:
             self._view.show(self._core)
         return None

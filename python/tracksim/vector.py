@@ -12,7 +12,7 @@ from gymnasium.vector.utils import batch_space
 
 from ._tracksim import Scenario, VecEnvCore
 from .env import (ProgressReward, as_scenario, check_render_mode, learner_obs,
-                  observation_space, plain_config)
+                  observation_space, plain_config, render_config)
 
 
 class TracksimVectorEnv(gym.vector.VectorEnv):
@@ -32,30 +32,37 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     in :class:`tracksim.TracksimEnv`; with ``"learner"`` a dict of the learner's entries
     stacked (num_envs, *shape). ``flipper_action``, ``record_dir`` (each environment's
     episodes written as run folders at autoreset and on ``close()``) work as there.
-    ``render_mode`` is refused: watch one :class:`tracksim.TracksimEnv` with
-    ``render_mode="human"``, or record episodes with ``record_dir``.
+    ``render_mode="rgb_array"``: :meth:`render` returns every environment's frame as one
+    ``numpy.uint8`` array (num_envs, height, width, 3), rendered on the Rust threads;
+    ``render_camera`` and ``render_size`` as in :class:`tracksim.TracksimEnv`.
+    ``metadata["render_fps"]`` is the control rate. ``"human"`` is refused: watch one
+    :class:`tracksim.TracksimEnv` with ``render_mode="human"``, or record episodes with
+    ``record_dir``.
     """
 
-    metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
+    metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": ["rgb_array"]}
 
     def __init__(self, scenario: Union[str, os.PathLike, Scenario], num_envs: int,
                  threads: int = 1, config: Optional[dict] = None,
                  reward: Optional[Callable[..., Any]] = None,
-                 render_mode: Optional[str] = None):
-        if render_mode is not None:
+                 render_mode: Optional[str] = None, render_camera: Optional[str] = None,
+                 render_size: Optional[tuple] = None):
+        if render_mode not in (None, "rgb_array"):
             check_render_mode(render_mode)
             raise ValueError(
-                f"render_mode={render_mode!r}: the vector environment renders nothing; watch "
-                "one tracksim.TracksimEnv with render_mode='human', or write episodes with "
-                "config={'record_dir': DIR} and open them with `tracksim view`")
-        self.render_mode = None
+                f"render_mode={render_mode!r}: the vector environment renders frames only "
+                "(render_mode='rgb_array'); watch one tracksim.TracksimEnv with "
+                "render_mode='human', or write episodes with config={'record_dir': DIR} and "
+                "open them with `tracksim view`")
+        self.render_mode = render_mode
         self.scenario = as_scenario(scenario)
-        self.config = plain_config(config)
+        self.config = render_config(plain_config(config), render_camera, render_size)
         self.reward_fn = reward if reward is not None else ProgressReward()
         self._core = VecEnvCore(self.scenario, int(num_envs), self.scenario.file_seed,
                                 int(threads), self.config)
         self.num_envs = int(num_envs)
         self.control_period_s = self._core.control_period_s
+        self.metadata = {**self.metadata, "render_fps": 1.0 / self.control_period_s}
         self.obs_names = self._core.obs_names
         self.dict_obs = self._core.observation == "dict"
         self.learner_spec = self._core.learner_obs_spec
@@ -102,6 +109,13 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         infos = {k: d[k] for k in ("progress_m", "progress_delta_m", "effort", "seed",
                                    "autoreset", "outcome", "reason")}
         return obs, rewards, d["terminated"].copy(), d["truncated"].copy(), infos
+
+    def render(self):
+        """With ``render_mode="rgb_array"`` every environment's frame of its current state as
+        a ``numpy.uint8`` array (num_envs, height, width, 3); else None."""
+        if self.render_mode == "rgb_array":
+            return self._core.render()
+        return None
 
     def close_extras(self, **kwargs):
         """Writes every environment's episode in progress as a run folder (``record_dir``)."""

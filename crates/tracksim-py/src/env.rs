@@ -219,6 +219,24 @@ impl PyEnvCore {
         Ok(dir.map(|d| d.display().to_string()))
     }
 
+    /// A frame of the current state as a uint8 array (height, width, 3), rgb (the setting
+    /// `render_camera`: the chase camera traced now, or an rgb_camera sensor's latest frame;
+    /// GIL released while tracing).
+    fn render<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray3<u8>>> {
+        let env = self.env.get_mut();
+        let (rgb, w, h) = py.detach(|| {
+            let f = env.render();
+            (f.rgb.clone(), f.width, f.height)
+        });
+        PyArray1::from_vec(py, rgb).reshape([h, w, 3])
+    }
+
+    /// Width and height of the rendered frames, pixels.
+    #[getter]
+    fn render_size(&self) -> (usize, usize) {
+        self.env.get().render_size()
+    }
+
     /// Action length.
     #[getter]
     fn action_dim(&self) -> usize {

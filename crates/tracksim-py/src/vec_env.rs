@@ -200,6 +200,22 @@ impl PyVecEnvCore {
         Ok(dirs.iter().map(|d| d.display().to_string()).collect())
     }
 
+    /// Every environment's frame of its current state as a uint8 array (num_envs, height,
+    /// width, 3), rgb (see `EnvCore.render`), rendered on the threads with the GIL released.
+    fn render<'py>(&mut self, py: Python<'py>) -> PyResult<Bound<'py, numpy::PyArray4<u8>>> {
+        let v = self.v.get_mut();
+        let n = v.len();
+        let mut out = Vec::new();
+        let (w, h) = py.detach(|| v.render(&mut out)).map_err(py_err)?;
+        PyArray1::from_vec(py, out).reshape([n, h, w, 3])
+    }
+
+    /// Width and height of the rendered frames, pixels.
+    #[getter]
+    fn render_size(&self) -> (usize, usize) {
+        self.v.get().render_size()
+    }
+
     /// Action length.
     #[getter]
     fn action_dim(&self) -> usize {

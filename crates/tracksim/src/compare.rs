@@ -100,6 +100,7 @@ pub fn run_compare(
                 replay: true,
                 plots: false,
                 mcap: false,
+                raw_images: false,
             };
             crate::output::write_outputs(&sc, &r, &out.join(m.name()), which)?;
             Ok(r)

@@ -43,6 +43,12 @@ pub struct RosArgs {
     /// Also write run.mcap.
     #[arg(long)]
     pub mcap: bool,
+    /// Also publish colour cameras' raw sensor_msgs/Image (rgb8) on /<camera> (and record it
+    /// in run.mcap with --mcap), besides CompressedImage (PNG) on /<camera>/compressed and
+    /// CameraInfo on /<camera>/camera_info: for RViz's Image display and cv_bridge nodes
+    /// (Foxglove shows the compressed topic).
+    #[arg(long)]
+    pub raw_images: bool,
     /// Namespace a one-robot file's topics and frames as a robot of several is named:
     /// /<NAME>/cmd_vel, /<NAME>/odom, tf <NAME>/odom -> <NAME>/base_link (/clock and /tf stay).
     #[arg(long, value_name = "NAME")]
@@ -112,6 +118,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         map_tf: a.map_tf,
         max_time,
         domain_id: domain(a.domain_id)?,
+        raw_images: a.raw_images,
         network,
         interrupt: Some(&super::STOP),
         namespace: a.namespace.clone(),
@@ -136,7 +143,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         return ros_team(&a, &file, &sc, &opts);
     }
     let session = run_ros(&sc, &opts, &mut |w| eprintln!("warning: {w}"))?;
-    let written = session.write(&sc, &file, &a.out, !a.no_plot, a.mcap)?;
+    let written = session.write(&sc, &file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
     super::session_report(&session.result.summary);
     out!(
         "commands   {} received, {} problems (dropped or clamped), {} watchdog stops",
@@ -166,7 +173,7 @@ fn ros_team(
         sc.robot_names().join(", ")
     );
     let session = tracksim::ros::run_ros_team(sc, opts, &mut |w| eprintln!("warning: {w}"))?;
-    let written = session.write(sc, file, &a.out, !a.no_plot, a.mcap)?;
+    let written = session.write(sc, file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
     out!(
         "{}",
         tracksim::output::team::team_report_of(

@@ -39,6 +39,11 @@ pub struct RunArgs {
     /// for Foxglove and the ROS 2 bag tools.
     #[arg(long)]
     pub mcap: bool,
+    /// With --mcap, also record colour cameras' raw sensor_msgs/Image (rgb8) on /<camera>,
+    /// besides their CompressedImage (PNG) on /<camera>/compressed and CameraInfo (57.6 kB a
+    /// 160 x 120 frame against a few kB of PNG; Foxglove shows the compressed topic).
+    #[arg(long)]
+    pub raw_images: bool,
     /// Replace the scenario's `[[commands]]` by those of this file (e.g. the
     /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
     #[arg(long)]
@@ -120,6 +125,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         replay: true,
         plots: !a.no_plot,
         mcap: a.mcap,
+        raw_images: a.raw_images,
     };
     let written = tracksim::output::write_outputs(&sc, &result, &a.out, which)?;
     if a.json {
@@ -166,6 +172,7 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
         replay: true,
         plots: !a.no_plot,
         mcap: a.mcap,
+        raw_images: a.raw_images,
     };
     tracksim::output::write_team(sc, &result, &a.out, which)?;
     if a.json {

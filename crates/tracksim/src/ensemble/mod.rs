@@ -184,6 +184,7 @@ fn run_member(
                     replay,
                     plots: false,
                     mcap: false,
+                    raw_images: false,
                 };
                 crate::output::write_outputs(&msc, &result, dir, which)?;
             }

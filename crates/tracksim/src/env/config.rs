@@ -160,7 +160,21 @@ pub struct EnvConfig {
     /// Write each episode as a run folder under this folder (`None`: record nothing); see
     /// the env's `record.rs`.
     pub record_dir: Option<std::path::PathBuf>,
+    /// The camera of [`Env::render`](super::Env::render): [`CHASE_CAMERA`] (behind and above
+    /// the robot, following its heading) or the name of an `rgb_camera` sensor of the vehicle
+    /// (its latest frame, at its own rate and size; the sensors then run whatever the
+    /// observation).
+    pub render_camera: String,
+    /// Size of the chase camera's frames, pixels (width, height).
+    pub render_size_px: (usize, usize),
 }
+
+/// [`EnvConfig::render_camera`]'s name of the chase camera.
+pub const CHASE_CAMERA: &str = "chase";
+
+/// Most pixels of a rendered frame (`render_size_px` width times height): a 1024 x 1024 image,
+/// as for a camera sensor.
+pub const MAX_RENDER_PIXELS: usize = crate::model::MAX_RAYS;
 
 impl Default for EnvConfig {
     fn default() -> Self {
@@ -183,6 +197,8 @@ impl Default for EnvConfig {
             map_reach_m: 1.0,
             goal_xy_m: None,
             record_dir: None,
+            render_camera: CHASE_CAMERA.to_string(),
+            render_size_px: (160, 120),
         }
     }
 }
@@ -264,6 +280,8 @@ impl EnvConfig {
         "map_reach_m",
         "goal_xy_m",
         "record_dir",
+        "render_camera",
+        "render_size_px",
     ];
 
     /// The default configuration with `settings` applied in order, then checked: every
@@ -300,7 +318,8 @@ impl EnvConfig {
     /// and > 0; `flipper_range_rad`, `grid_ahead_m` and `no_terrain_m` finite; at most
     /// [`MAX_GRID_CELLS`] grid cells; `max_flipper_rate_rad_s` finite, > 0 and at most 1000
     /// rad/s; `map_shape` 1 to [`MAX_GRID_CELLS`] cells; `map_resolution_m` and `map_reach_m`
-    /// finite and > 0; `goal_xy_m` finite.
+    /// finite and > 0; `goal_xy_m` finite; `render_size_px` 1 to [`MAX_RENDER_PIXELS`] pixels;
+    /// `render_camera` not empty (the vehicle's sensors are checked by [`super::Env::new`]).
     pub fn check(&self) -> Result<()> {
         let mut c = Checker::default();
         c.positive("control_period_s", self.control_period_s, "s");
@@ -359,6 +378,22 @@ impl EnvConfig {
         if let Some((x, y)) = self.goal_xy_m {
             c.finite("goal_xy_m", &[x, y]);
         }
+        let (w, h) = self.render_size_px;
+        if w == 0 || h == 0 || w.checked_mul(h).is_none_or(|n| n > MAX_RENDER_PIXELS) {
+            c.push(
+                "render_size_px",
+                format!(
+                    "from 1 x 1 to {MAX_RENDER_PIXELS} pixels (width times height: a ray each \
+                     per frame), got ({w}, {h})"
+                ),
+            );
+        }
+        if self.render_camera.trim().is_empty() {
+            c.push(
+                "render_camera",
+                format!("an empty name: use {CHASE_CAMERA:?} or an rgb_camera sensor's name"),
+            );
+        }
         if c.issues.is_empty() {
             Ok(())
         } else {
@@ -412,6 +447,10 @@ pub struct EnvSpec {
     pub goal_xy_m: Option<(f64, f64)>,
     /// [`EnvConfig::record_dir`]: a folder.
     pub record_dir: Option<std::path::PathBuf>,
+    /// [`EnvConfig::render_camera`]: `"chase"` or an rgb_camera sensor's name.
+    pub render_camera: Option<String>,
+    /// [`EnvConfig::render_size_px`]: two whole numbers (width, height), pixels.
+    pub render_size_px: Option<(usize, usize)>,
 }
 
 impl EnvSpec {
@@ -459,6 +498,8 @@ impl EnvSpec {
             "grid_spacing_m" => "two numbers (along, across), m",
             "goal_xy_m" => "two numbers (x, y), m",
             "record_dir" => "a folder (a path as a string)",
+            "render_camera" => "a name: \"chase\" or an rgb_camera sensor of the vehicle",
+            "render_size_px" => "two whole numbers (width, height), pixels, e.g. (160, 120)",
             _ => "a number",
         }
     }
@@ -509,6 +550,8 @@ impl EnvSpec {
             map_reach_m,
             goal_xy_m,
             record_dir,
+            render_camera,
+            render_size_px,
         } = self;
         let set = |slot: &mut f64, v: Option<f64>| {
             if let Some(v) = v {
@@ -537,6 +580,10 @@ impl EnvSpec {
         if record_dir.is_some() {
             c.record_dir = record_dir;
         }
+        if let Some(r) = render_camera {
+            c.render_camera = r;
+        }
+        c.render_size_px = render_size_px.unwrap_or(c.render_size_px);
     }
 }
 

@@ -6,6 +6,8 @@
 //!
 //! - `config.rs`: [`EnvConfig`] (built from named settings and checked);
 //! - `mod.rs`: [`Env`], [`StepInfo`], the state vector's layout and the actions;
+//! - `frames.rs`: frames of the current state ([`Env::render`]: the chase camera or an
+//!   rgb_camera sensor);
 //! - `learner.rs`: the learner's observation ([`LearnerObs`], `observation = "learner"`);
 //! - `record.rs`: episodes written as run folders (`record_dir`);
 //! - `sensor_obs.rs`: the sensors' arrays of a dict observation ([`Env::observe_sensors`]);
@@ -14,6 +16,7 @@
 //!   [`TeamVecEnv`], many such worlds on threads with autoreset (issue 40).
 
 mod config;
+mod frames;
 mod learner;
 mod record;
 mod seeds;
@@ -22,7 +25,8 @@ mod team;
 mod vector;
 
 pub use config::{
-    ActionMode, EnvConfig, EnvSpec, EnvValue, FlipperAction, MAX_GRID_CELLS, ObservationMode,
+    ActionMode, CHASE_CAMERA, EnvConfig, EnvSpec, EnvValue, FlipperAction, MAX_GRID_CELLS,
+    MAX_RENDER_PIXELS, ObservationMode,
 };
 pub use learner::{DEFAULT_GOAL_AHEAD_M, LearnerEntry, LearnerObs};
 pub use seeds::{Seeds, next_seed};
@@ -119,6 +123,8 @@ pub struct Env {
     flipper_deg: Vec<f64>,
     /// The recording of the episode (`record_dir`).
     record: Option<record::EpisodeRecord>,
+    /// Where [`Env::render`]'s frames come from (`render_camera`).
+    frames: frames::FrameSource,
 }
 
 impl Env {
@@ -143,7 +149,8 @@ impl Env {
         if cfg.record_dir.is_none() {
             runner = runner.unrecorded();
         }
-        if cfg.observation != ObservationMode::Dict {
+        let frames = frames::FrameSource::of(&cfg, &scenario)?;
+        if cfg.observation != ObservationMode::Dict && !frames.needs_sensors() {
             // Nothing reads the sensors: they cost nothing (the learner's map is its own).
             runner = runner.without_sensors();
         }
@@ -173,6 +180,7 @@ impl Env {
             done: false,
             learner,
             flipper_deg,
+            frames,
         })
     }
 
@@ -538,6 +546,24 @@ impl Env {
 }
 
 impl Env {
+    /// A frame of the current state, rgb8 rows from the top (`3 * width * height` bytes, see
+    /// [`Env::render_size`]): with `render_camera = "chase"` (the default) the chase camera
+    /// traced now (behind and above the robot, turning with its heading, `render_size_px`
+    /// pixels, 70 deg across; a few ms at 160 x 120); with the name of an rgb_camera sensor,
+    /// its latest frame (taken at its own rate). Rendering changes nothing in the simulation.
+    pub fn render(&mut self) -> &crate::render::Frame {
+        static EMPTY: std::sync::OnceLock<crate::render::Frame> = std::sync::OnceLock::new();
+        match self.frames.render(self.runner.sim(), self.runner.sensors()) {
+            Some(f) => f,
+            None => EMPTY.get_or_init(|| crate::render::Frame::new(0, 0)),
+        }
+    }
+
+    /// Width and height of [`Env::render`]'s frames, pixels.
+    pub fn render_size(&self) -> (usize, usize) {
+        self.frames.size(&self.scenario)
+    }
+
     /// The sensor entries of the observation (empty unless `observation = "dict"`), in the
     /// order of the vehicle's `[[sensors]]`; see [`Env::observe_sensors`].
     pub fn sensor_obs_spec(&self) -> Vec<SensorObs> {

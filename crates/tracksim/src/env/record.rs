@@ -116,6 +116,7 @@ impl EpisodeRecord {
             replay: true,
             plots: false,
             mcap: false,
+            raw_images: false,
         };
         let what = format!("The controls of a learning environment's episode (seed {seed})");
         let notes = if sc.randomized.is_empty() {

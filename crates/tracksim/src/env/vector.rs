@@ -211,6 +211,34 @@ impl VecEnv {
         }
     }
 
+    /// Width and height of every environment's frames ([`Env::render_size`]), pixels.
+    pub fn render_size(&self) -> (usize, usize) {
+        self.envs.first().map_or((0, 0), |e| e.render_size())
+    }
+
+    /// Every environment's frame of its current state ([`Env::render`]) on the threads, one
+    /// after the other into `out` (resized to `len() * height * width * 3` bytes: shape
+    /// `(n, height, width, 3)`, rgb8); returns `(width, height)`.
+    pub fn render(&mut self, out: &mut Vec<u8>) -> Result<(usize, usize)> {
+        let (w, h) = self.render_size();
+        let per = 3 * w * h;
+        out.clear();
+        out.resize(self.envs.len() * per, 0);
+        let mut parts: Vec<(&mut Env, &mut [u8])> = self
+            .envs
+            .iter_mut()
+            .zip(out.chunks_mut(per.max(1)))
+            .collect();
+        on_threads(&mut parts, self.threads, |_, (env, o)| {
+            let f = env.render();
+            if f.rgb.len() == o.len() {
+                o.copy_from_slice(&f.rgb);
+            }
+            Ok(())
+        })?;
+        Ok((w, h))
+    }
+
     /// Writes every environment's episode so far as a run folder (with `record_dir`, see
     /// [`Env::flush_record`]; closing a recording vector environment); returns the folders.
     /// An environment whose episode had ended starts its next one at the next step as usual;

@@ -15,7 +15,7 @@
 //! - `<flipper>_flipper_link`: each flipper, origin at its pivot, axes those of `base_link` at
 //!   angle 0, turned by the flipper angle about its axis;
 //! - `<sensor>_link`: each sensor's frame (`xyz_m`, `rpy_deg` of the vehicle file) on its
-//!   mount (`base_link` or the flipper's link); a depth camera also has
+//!   mount (`base_link` or the flipper's link); a depth or colour camera also has
 //!   `<sensor>_optical_frame` (z forward, x right, y down), the frame of its images.
 //!
 //! Topics (one message per output sample unless said otherwise):
@@ -42,7 +42,12 @@
 //!   a lidar as `sensor_msgs/LaserScan` with one scan line, else `sensor_msgs/PointCloud2`
 //!   (organised: elevation rows of azimuth columns, x y z float32 in `<sensor>_link`, NaN for
 //!   no return); a depth camera as `sensor_msgs/Image` `32FC1` (m along the optical axis, REP
-//!   117 infinities) in `<sensor>_optical_frame`; an elevation map as `sensor_msgs/PointCloud2`
+//!   117 infinities) in `<sensor>_optical_frame`; a colour camera as
+//!   `sensor_msgs/CompressedImage` (its PNG frames, format `"rgb8; png compressed bgr8"`) on
+//!   `/<sensor>/compressed` and `sensor_msgs/CameraInfo` (K from its field of view, plumb bob
+//!   with zero distortion) on `/<sensor>/camera_info`, both in `<sensor>_optical_frame` with
+//!   the reading's stamp, and with [`McapOptions::raw_images`] the raw `sensor_msgs/Image`
+//!   (`rgb8`) on `/<sensor>`; an elevation map as `sensor_msgs/PointCloud2`
 //!   of its cells' surface points in `map` (organised: `x` rows of `y` columns, NaN where a
 //!   cell is unknown); encoders as `sensor_msgs/JointState` with the names of `/joint_states`
 //!   (their quantised readings; the flippers' velocity NaN: not measured).
@@ -54,12 +59,14 @@ pub use super::ros_messages::{
 };
 use super::ros_names::Namespace;
 pub use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
-use super::ros_sensors::{Reading, SensorMessage, sensor_message};
+use super::ros_sensors::{
+    Reading, SensorMessage, camera_info_topic, compressed_topic, sensor_message,
+};
 use crate::error::{Error, Result};
 use crate::model::{Scenario, SensorModel};
 use crate::rosmsg::{
-    self, Clock, Image, Imu, JointState, LaserScan, Odometry, PointCloud2, RosMessage, TFMessage,
-    TrackStates,
+    self, CameraInfo, Clock, CompressedImage, Image, Imu, JointState, LaserScan, Odometry,
+    PointCloud2, RosMessage, TFMessage, TrackStates,
 };
 use crate::run::{RunResult, TeamResult};
 use crate::sensors::{LogData, SensorStream};
@@ -71,10 +78,25 @@ use std::path::{Path, PathBuf};
 /// The file name of the recording in a run folder.
 pub const MCAP_FILE: &str = "run.mcap";
 
+/// What `run.mcap` holds besides what every recording has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct McapOptions {
+    /// Colour cameras' raw `sensor_msgs/Image` (`rgb8`) on `/<sensor>` besides their
+    /// `CompressedImage` (PNG) on `/<sensor>/compressed`: 57.6 kB per 160 x 120 frame against
+    /// 3 to 37 kB of PNG (docs/MCAP.md); Foxglove shows the compressed topic, so it is off by
+    /// default.
+    pub raw_images: bool,
+}
+
 /// Writes `dir/run.mcap` (atomically) from a run of `sc`; returns its path.
-pub fn write_mcap(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<PathBuf> {
+pub fn write_mcap(
+    sc: &Scenario,
+    result: &RunResult,
+    dir: &Path,
+    opts: McapOptions,
+) -> Result<PathBuf> {
     let path = dir.join(MCAP_FILE);
-    let bytes = mcap_bytes(sc, result).map_err(|e| Error::Io {
+    let bytes = mcap_bytes_with(sc, result, opts).map_err(|e| Error::Io {
         path: path.clone(),
         source: std::io::Error::other(e),
     })?;
@@ -82,16 +104,31 @@ pub fn write_mcap(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<PathB
     Ok(path)
 }
 
-/// The bytes of `run.mcap` for a run of `sc` (an error says what could not be encoded).
+/// The bytes of `run.mcap` for a run of `sc` (an error says what could not be encoded), with
+/// the default [`McapOptions`].
 pub fn mcap_bytes(sc: &Scenario, result: &RunResult) -> std::result::Result<Vec<u8>, String> {
-    world_bytes(&[(sc, result, Namespace::none())])
+    mcap_bytes_with(sc, result, McapOptions::default())
+}
+
+/// [`mcap_bytes`] with `opts`.
+pub fn mcap_bytes_with(
+    sc: &Scenario,
+    result: &RunResult,
+    opts: McapOptions,
+) -> std::result::Result<Vec<u8>, String> {
+    world_bytes(&[(sc, result, Namespace::none())], opts)
 }
 
 /// Writes the world's `dir/run.mcap` (atomically) from a run of `sc`, a scenario with several
 /// robots ([`team_mcap_bytes`]); returns its path.
-pub fn write_team_mcap(sc: &Scenario, r: &TeamResult, dir: &Path) -> Result<PathBuf> {
+pub fn write_team_mcap(
+    sc: &Scenario,
+    r: &TeamResult,
+    dir: &Path,
+    opts: McapOptions,
+) -> Result<PathBuf> {
     let path = dir.join(MCAP_FILE);
-    let bytes = team_mcap_bytes(sc, r).map_err(|e| Error::Io {
+    let bytes = team_bytes(sc, r, opts).map_err(|e| Error::Io {
         path: path.clone(),
         source: std::io::Error::other(e),
     })?;
@@ -105,18 +142,28 @@ pub fn write_team_mcap(sc: &Scenario, r: &TeamResult, dir: &Path) -> Result<Path
 /// them; one `/clock`, one `/tf` (every robot's transforms in one message per sample) and one
 /// `/tf_static`.
 pub fn team_mcap_bytes(sc: &Scenario, r: &TeamResult) -> std::result::Result<Vec<u8>, String> {
+    team_bytes(sc, r, McapOptions::default())
+}
+
+/// [`team_mcap_bytes`] with `opts`.
+fn team_bytes(
+    sc: &Scenario,
+    r: &TeamResult,
+    opts: McapOptions,
+) -> std::result::Result<Vec<u8>, String> {
     let views: Vec<Scenario> = (0..r.robots.len()).map(|k| sc.robot_view(k)).collect();
     let robots: Vec<(&Scenario, &RunResult, Namespace)> = views
         .iter()
         .zip(&r.robots)
         .map(|(v, (name, run))| (v, run, Namespace::robot(name)))
         .collect();
-    world_bytes(&robots)
+    world_bytes(&robots, opts)
 }
 
 /// The recording of `robots` (each robot's own scenario, run and namespace) in one world.
 fn world_bytes(
     robots: &[(&Scenario, &RunResult, Namespace)],
+    opts: McapOptions,
 ) -> std::result::Result<Vec<u8>, String> {
     let mut rec = Recorder::new()?;
     record_samples(&mut rec, robots)?;
@@ -126,7 +173,7 @@ fn world_bytes(
             let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
                 continue;
             };
-            record_sensor(&mut rec, (result, ns), m, stream)?;
+            record_sensor(&mut rec, (result, ns), m, stream, opts)?;
         }
     }
     rec.finish()
@@ -342,6 +389,19 @@ fn reading(stream: &SensorStream, name: &str, k: usize) -> Vec<f64> {
     }
 }
 
+/// Reading `k` of a stream's image channel called `name` as its stored PNG bytes.
+fn reading_png(stream: &SensorStream, name: &str, k: usize) -> Option<Vec<u8>> {
+    match &stream
+        .channels
+        .iter()
+        .find(|c| c.channel.name == name)?
+        .values
+    {
+        LogData::Png(v) => v.get(k).cloned(),
+        _ => None,
+    }
+}
+
 /// A fixed axis of a stream (`azimuth`, `x`, ...).
 fn axis(stream: &SensorStream, name: &str) -> Vec<f64> {
     stream
@@ -352,44 +412,73 @@ fn axis(stream: &SensorStream, name: &str) -> Vec<f64> {
         .unwrap_or_default()
 }
 
-/// One sensor's readings on `/<name>` ([`sensor_message`]), in the robot's namespace.
+/// The channels of one sensor's messages, made at its first reading.
+enum SensorChannels {
+    /// One topic.
+    One(u16),
+    /// A colour camera: raw images (with `raw_images`), compressed images, calibration.
+    Camera(Option<u16>, u16, u16),
+}
+
+/// One sensor's readings on `/<name>` ([`sensor_message`]), in the robot's namespace; a colour
+/// camera's on `/<name>/compressed` and `/<name>/camera_info` (and `/<name>` with
+/// `raw_images`).
 fn record_sensor(
     rec: &mut Recorder,
     (result, ns): (&RunResult, &Namespace),
     m: &SensorModel,
     stream: &SensorStream,
+    opts: McapOptions,
 ) -> std::result::Result<(), String> {
     let topic = ns.topic(&format!("/{}", m.name));
     let names = joint_names(result);
     let axis = |name: &str| axis(stream, name);
-    let mut channel = None;
+    let mut channels = None;
     for (k, t) in stream.times.iter().enumerate() {
         let get = |name: &str| reading(stream, name, k);
+        let png = |name: &str| reading_png(stream, name, k);
         let r = Reading {
             channel: &get,
             axis: &axis,
+            png: &png,
         };
         let msg = ns.sensor(sensor_message(m, *t, &r, &names)?);
-        let ch = match channel {
+        let ch = match &channels {
             Some(c) => c,
             None => {
+                let one = |c| Ok::<_, String>(SensorChannels::One(c));
                 let c = match &msg {
-                    SensorMessage::Imu(_) => rec.channel::<Imu>(&topic, false)?,
-                    SensorMessage::Scan(_) => rec.channel::<LaserScan>(&topic, false)?,
-                    SensorMessage::Cloud(_) => rec.channel::<PointCloud2>(&topic, false)?,
-                    SensorMessage::Image(_) => rec.channel::<Image>(&topic, false)?,
-                    SensorMessage::Joints(_) => rec.channel::<JointState>(&topic, false)?,
+                    SensorMessage::Imu(_) => one(rec.channel::<Imu>(&topic, false)?)?,
+                    SensorMessage::Scan(_) => one(rec.channel::<LaserScan>(&topic, false)?)?,
+                    SensorMessage::Cloud(_) => one(rec.channel::<PointCloud2>(&topic, false)?)?,
+                    SensorMessage::Image(_) => one(rec.channel::<Image>(&topic, false)?)?,
+                    SensorMessage::Joints(_) => one(rec.channel::<JointState>(&topic, false)?)?,
+                    SensorMessage::Camera(_) => SensorChannels::Camera(
+                        match opts.raw_images {
+                            true => Some(rec.channel::<Image>(&topic, false)?),
+                            false => None,
+                        },
+                        rec.channel::<CompressedImage>(&compressed_topic(&topic), false)?,
+                        rec.channel::<CameraInfo>(&camera_info_topic(&topic), false)?,
+                    ),
                 };
-                channel = Some(c);
-                c
+                channels.insert(c)
             }
         };
-        match &msg {
-            SensorMessage::Imu(x) => rec.push(ch, *t, x)?,
-            SensorMessage::Scan(x) => rec.push(ch, *t, x)?,
-            SensorMessage::Cloud(x) => rec.push(ch, *t, x)?,
-            SensorMessage::Image(x) => rec.push(ch, *t, x)?,
-            SensorMessage::Joints(x) => rec.push(ch, *t, x)?,
+        match (ch, &msg) {
+            (SensorChannels::One(c), SensorMessage::Imu(x)) => rec.push(*c, *t, x)?,
+            (SensorChannels::One(c), SensorMessage::Scan(x)) => rec.push(*c, *t, x)?,
+            (SensorChannels::One(c), SensorMessage::Cloud(x)) => rec.push(*c, *t, x)?,
+            (SensorChannels::One(c), SensorMessage::Image(x)) => rec.push(*c, *t, x)?,
+            (SensorChannels::One(c), SensorMessage::Joints(x)) => rec.push(*c, *t, x)?,
+            (SensorChannels::Camera(raw, compressed, info), SensorMessage::Camera(x)) => {
+                if let Some(c) = raw {
+                    rec.push(*c, *t, &x.image)?;
+                }
+                rec.push(*compressed, *t, &x.compressed)?;
+                rec.push(*info, *t, &x.info)?;
+            }
+            _ => return Err(format!("sensor {}: its messages changed type", m.name)),
         }
     }
     Ok(())

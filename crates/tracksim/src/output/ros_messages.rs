@@ -235,7 +235,7 @@ pub fn joint_state(names: &[String], s: &Sample, prev: Option<&Sample>) -> Joint
 }
 
 /// `/tf_static`: each sensor's frame on its mount (`base_link` or the flipper's link) and the
-/// depth cameras' optical frames (encoders have no frame).
+/// cameras' (depth and colour) optical frames (encoders have no frame).
 pub fn tf_static(sc: &Scenario) -> TFMessage {
     let mut transforms = Vec::new();
     for m in &sc.vehicle.sensors {
@@ -251,7 +251,10 @@ pub fn tf_static(sc: &Scenario) -> TFMessage {
         };
         let frame = sensor_frame(&m.name);
         transforms.push(transform(0.0, &parent, &frame, at, m.rotation));
-        if matches!(m.kind, SensorKind::DepthCamera(_)) {
+        if matches!(
+            m.kind,
+            SensorKind::DepthCamera(_) | SensorKind::RgbCamera(_)
+        ) {
             transforms.push(transform(
                 0.0,
                 &frame,

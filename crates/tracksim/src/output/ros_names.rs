@@ -98,6 +98,12 @@ impl Namespace {
                 self.header(&mut x.header);
                 SensorMessage::Image(x)
             }
+            SensorMessage::Camera(mut x) => {
+                self.header(&mut x.image.header);
+                self.header(&mut x.compressed.header);
+                self.header(&mut x.info.header);
+                SensorMessage::Camera(x)
+            }
             SensorMessage::Joints(mut x) => {
                 self.header(&mut x.header);
                 SensorMessage::Joints(x)

@@ -7,6 +7,11 @@
 //!   `<sensor>_link`, NaN for no return);
 //! - depth camera: `sensor_msgs/Image` `32FC1` (m along the optical axis, REP 117
 //!   infinities) in `<sensor>_optical_frame`;
+//! - colour camera ([`CameraMessages`]): `sensor_msgs/CompressedImage` (PNG,
+//!   `"rgb8; png compressed bgr8"` as `compressed_image_transport` names it) on
+//!   `/<sensor>/compressed` and `sensor_msgs/CameraInfo` (K from the field of view, no
+//!   distortion) on `/<sensor>/camera_info`, both in `<sensor>_optical_frame` with the same
+//!   stamp, and on request (`raw_images`) the raw `sensor_msgs/Image` `rgb8` on `/<sensor>`;
 //! - elevation map: `sensor_msgs/PointCloud2` of its cells' surface points in `map`
 //!   (organised: `x` rows of `y` columns, NaN where a cell is unknown);
 //! - encoders: `sensor_msgs/JointState` with the names of `/joint_states` (quantised; the
@@ -14,7 +19,8 @@
 
 use crate::model::{SensorKind, SensorModel};
 use crate::rosmsg::{
-    Header, Image, Imu, JointState, LaserScan, PointCloud2, PointField, Quaternion, Vector3,
+    CameraInfo, CompressedImage, Header, Image, Imu, JointState, LaserScan, PointCloud2,
+    PointField, Quaternion, Vector3,
 };
 use glam::{DQuat, DVec3};
 
@@ -26,9 +32,36 @@ pub fn sensor_frame(name: &str) -> String {
     format!("{name}_link")
 }
 
-/// The optical frame of depth camera `name` (z forward, x right, y down).
+/// The optical frame of camera `name` (z forward, x right, y down).
 pub fn optical_frame(name: &str) -> String {
     format!("{name}_optical_frame")
+}
+
+/// The `format` of a colour camera's `sensor_msgs/CompressedImage`: a PNG of an rgb8 image,
+/// named as ROS's `compressed_image_transport` names it (the `bgr8` is OpenCV's order before
+/// encoding; the PNG holds ordinary RGB).
+pub const PNG_FORMAT: &str = "rgb8; png compressed bgr8";
+
+/// The topic of a colour camera's compressed images, from its image topic (`/<sensor>`).
+pub fn compressed_topic(image_topic: &str) -> String {
+    format!("{image_topic}/compressed")
+}
+
+/// The topic of a colour camera's calibration, from its image topic (`/<sensor>`).
+pub fn camera_info_topic(image_topic: &str) -> String {
+    format!("{image_topic}/camera_info")
+}
+
+/// A colour camera's reading: the image (raw and PNG) and the camera's calibration, all in
+/// its optical frame with the same stamp.
+#[derive(Clone, Debug)]
+pub struct CameraMessages {
+    /// The raw image (`rgb8`; published on `/<sensor>` only with `raw_images`).
+    pub image: Image,
+    /// The image as PNG ([`PNG_FORMAT`]), on `/<sensor>/compressed`.
+    pub compressed: CompressedImage,
+    /// The calibration (K from the field of view), on `/<sensor>/camera_info`.
+    pub info: CameraInfo,
 }
 
 /// One reading as its message.
@@ -42,17 +75,23 @@ pub enum SensorMessage {
     Cloud(PointCloud2),
     /// A depth image.
     Image(Image),
+    /// A colour camera's image and calibration.
+    Camera(Box<CameraMessages>),
     /// An encoder reading.
     Joints(JointState),
 }
 
 /// Where a reading's values come from: `channel(name)` one reading of a channel (empty if
-/// there is none), `axis(name)` a fixed axis of the sensor (`azimuth`, `x`, `y`).
+/// there is none), `axis(name)` a fixed axis of the sensor (`azimuth`, `x`, `y`), `png(name)`
+/// an image channel's reading as the PNG bytes already made of it (`None`: encoded from
+/// `channel`).
 pub struct Reading<'a> {
     /// A channel's values at this reading.
     pub channel: &'a dyn Fn(&str) -> Vec<f64>,
     /// A fixed axis.
     pub axis: &'a dyn Fn(&str) -> Vec<f64>,
+    /// An image channel's PNG bytes, when stored as such (a run's stream).
+    pub png: &'a dyn Fn(&str) -> Option<Vec<u8>>,
 }
 
 /// Little-endian float32 bytes of `values`.
@@ -157,7 +196,13 @@ pub fn sensor_message(
             step: 4 * p.width as u32,
             data: f32_bytes((r.channel)("depth")),
         }),
-        SensorKind::RgbCamera(p) => rgb_image(&m.name, t, &p, (r.channel)("rgb")),
+        SensorKind::RgbCamera(p) => {
+            let msgs = camera_messages(&m.name, t, &p, (r.channel)("rgb"), (r.png)("rgb"));
+            if msgs.image.data.len() != 3 * p.intrinsics.width * p.intrinsics.height {
+                return Err(incomplete());
+            }
+            SensorMessage::Camera(Box::new(msgs))
+        }
         SensorKind::Encoders(_) => {
             let mut position = (r.channel)("flipper_angle");
             let mut velocity = vec![f64::NAN; position.len()];
@@ -204,20 +249,38 @@ pub fn sensor_message(
     })
 }
 
-/// A colour camera's reading as `sensor_msgs/Image` (`rgb8`, rows from the top) in its
-/// optical frame.
-fn rgb_image(name: &str, t: f64, p: &crate::model::RgbCameraModel, rgb: Vec<f64>) -> SensorMessage {
-    let w = p.intrinsics.width as u32;
-    SensorMessage::Image(Image {
-        header: Header::new(t, &optical_frame(name)),
-        height: p.intrinsics.height as u32,
-        width: w,
-        encoding: "rgb8".into(),
-        is_bigendian: 0,
-        step: 3 * w,
-        data: rgb
-            .iter()
-            .map(|v| v.round().clamp(0.0, 255.0) as u8)
-            .collect(),
-    })
+/// A colour camera's reading (`rgb`: 8-bit levels, rows from the top; `png`: the same image
+/// as PNG bytes if already encoded) as its messages in its optical frame.
+fn camera_messages(
+    name: &str,
+    t: f64,
+    p: &crate::model::RgbCameraModel,
+    rgb: Vec<f64>,
+    png: Option<Vec<u8>>,
+) -> CameraMessages {
+    let i = p.intrinsics;
+    let (w, h) = (i.width as u32, i.height as u32);
+    let header = Header::new(t, &optical_frame(name));
+    let data: Vec<u8> = rgb
+        .iter()
+        .map(|v| v.round().clamp(0.0, 255.0) as u8)
+        .collect();
+    let png = png.unwrap_or_else(|| crate::render::encode::rgb8_png(i.width, i.height, &data));
+    CameraMessages {
+        compressed: CompressedImage {
+            header: header.clone(),
+            format: PNG_FORMAT.into(),
+            data: png,
+        },
+        info: CameraInfo::pinhole(header.clone(), w, h, i.k_matrix()),
+        image: Image {
+            header,
+            height: h,
+            width: w,
+            encoding: "rgb8".into(),
+            is_bigendian: 0,
+            step: 3 * w,
+            data,
+        },
+    }
 }

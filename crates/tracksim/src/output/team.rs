@@ -101,7 +101,10 @@ pub fn write_team(
     crate::files::write_atomic(&path, (json + "\n").as_bytes())?;
     written.push(path);
     if which.mcap || sc.record_mcap {
-        written.push(super::mcap::write_team_mcap(sc, r, dir)?);
+        let opts = super::mcap::McapOptions {
+            raw_images: which.raw_images,
+        };
+        written.push(super::mcap::write_team_mcap(sc, r, dir, opts)?);
     }
     if which.plots {
         let runs: Vec<(String, &Scenario, &crate::run::RunResult)> = r

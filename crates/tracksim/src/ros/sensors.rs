@@ -1,14 +1,19 @@
 //! The vehicle's sensors on ROS topics (`/<sensor name>`, `/<robot>/<sensor name>` in a
 //! robot's namespace), each reading once, when it is new
 //! (at the sensor's own rate): the same messages and frames as `run.mcap`
-//! ([`crate::output::ros_sensors`] builds them for both), the elevation map included.
+//! ([`crate::output::ros_sensors`] builds them for both), the elevation map included. A colour
+//! camera publishes `sensor_msgs/CompressedImage` (PNG) on `/<sensor>/compressed` and
+//! `sensor_msgs/CameraInfo` on `/<sensor>/camera_info`, and with `raw_images` the raw
+//! `sensor_msgs/Image` (`rgb8`) on `/<sensor>`.
 
 use super::dds::{DdsError, DdsNode, Pub};
 use super::topics;
 use crate::model::{Scenario, SensorKind};
 use crate::output::ros_names::Namespace;
-use crate::output::ros_sensors::{Reading, SensorMessage, sensor_message};
-use crate::rosmsg::{Image, Imu, JointState, LaserScan, PointCloud2};
+use crate::output::ros_sensors::{
+    Reading, SensorMessage, camera_info_topic, compressed_topic, sensor_message,
+};
+use crate::rosmsg::{CameraInfo, CompressedImage, Image, Imu, JointState, LaserScan, PointCloud2};
 use crate::sensors::{Channel, SensorSet};
 
 /// A sensor's publisher, by the message its readings become.
@@ -18,6 +23,15 @@ enum Publisher {
     Cloud(Pub<PointCloud2>),
     Image(Pub<Image>),
     Joints(Pub<JointState>),
+    /// A colour camera: raw images (with `raw_images`), compressed images, calibration.
+    Camera(Box<CameraPubs>),
+}
+
+/// A colour camera's publishers.
+struct CameraPubs {
+    raw: Option<Pub<Image>>,
+    compressed: Pub<CompressedImage>,
+    info: Pub<CameraInfo>,
 }
 
 /// The sensors' publishers and the time of the reading each sent last.
@@ -35,8 +49,14 @@ fn data(chs: &[Channel], name: &str) -> Vec<f64> {
 }
 
 impl SensorPublishers {
-    /// A publisher per sensor of `sc`'s vehicle, in namespace `ns` (topics and frames).
-    pub fn new(node: &mut DdsNode, sc: &Scenario, ns: &Namespace) -> Result<Self, DdsError> {
+    /// A publisher per sensor of `sc`'s vehicle, in namespace `ns` (topics and frames);
+    /// colour cameras' raw images too with `raw_images`.
+    pub fn new(
+        node: &mut DdsNode,
+        sc: &Scenario,
+        ns: &Namespace,
+        raw_images: bool,
+    ) -> Result<Self, DdsError> {
         let mut pubs = Vec::new();
         for m in &sc.vehicle.sensors {
             let t = ns.topic(&topics::sensor(&m.name));
@@ -48,9 +68,15 @@ impl SensorPublishers {
                 SensorKind::Lidar(_) | SensorKind::ElevationMap(_) => {
                     Publisher::Cloud(node.publisher(&t, 10, false)?)
                 }
-                SensorKind::DepthCamera(_) | SensorKind::RgbCamera(_) => {
-                    Publisher::Image(node.publisher(&t, 10, false)?)
-                }
+                SensorKind::DepthCamera(_) => Publisher::Image(node.publisher(&t, 10, false)?),
+                SensorKind::RgbCamera(_) => Publisher::Camera(Box::new(CameraPubs {
+                    raw: match raw_images {
+                        true => Some(node.publisher(&t, 10, false)?),
+                        false => None,
+                    },
+                    compressed: node.publisher(&compressed_topic(&t), 10, false)?,
+                    info: node.publisher(&camera_info_topic(&t), 10, false)?,
+                })),
                 SensorKind::Encoders(_) => Publisher::Joints(node.publisher(&t, 10, false)?),
             });
         }
@@ -77,6 +103,7 @@ impl SensorPublishers {
             let r = Reading {
                 channel: &|name| data(chs, name),
                 axis: &|name| data(&axes, name),
+                png: &|_| None,
             };
             match (
                 &self.pubs[i],
@@ -87,6 +114,14 @@ impl SensorPublishers {
                 (Publisher::Cloud(p), Ok(SensorMessage::Cloud(m))) => p.publish(m),
                 (Publisher::Image(p), Ok(SensorMessage::Image(m))) => p.publish(m),
                 (Publisher::Joints(p), Ok(SensorMessage::Joints(m))) => p.publish(m),
+                (Publisher::Camera(p), Ok(SensorMessage::Camera(m))) => {
+                    let m = *m;
+                    if let Some(raw) = &p.raw {
+                        raw.publish(m.image);
+                    }
+                    p.compressed.publish(m.compressed);
+                    p.info.publish(m.info);
+                }
                 (_, Err(e)) => warn(&e),
                 _ => warn(&format!(
                     "sensor {}: its message does not match its topic",

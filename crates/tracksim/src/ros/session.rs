@@ -49,6 +49,11 @@ pub struct RosOptions {
     pub max_time: Option<f64>,
     /// The DDS domain (`ROS_DOMAIN_ID`).
     pub domain_id: u16,
+    /// Also publish colour cameras' raw `sensor_msgs/Image` (`rgb8`) on `/<sensor>`, besides
+    /// their `CompressedImage` (PNG) on `/<sensor>/compressed` and `CameraInfo` (off by
+    /// default: Foxglove shows the compressed topic, a few times to 20 times smaller; RViz's Image
+    /// display and `cv_bridge` nodes want the raw one, or `image_transport republish`).
+    pub raw_images: bool,
     /// The network the node is reachable on.
     pub network: NetworkRange,
     /// A one-robot session's namespace: its topics under `/<namespace>/` and its frames
@@ -247,7 +252,12 @@ struct RobotTopics {
 impl RobotTopics {
     /// Robot `sc` (its own scenario) on `node` in namespace `ns`, and the command topics that
     /// make no ROS name (skipped).
-    fn new(node: &mut DdsNode, sc: &Scenario, ns: Namespace) -> Result<(Self, Vec<String>)> {
+    fn new(
+        node: &mut DdsNode,
+        sc: &Scenario,
+        ns: Namespace,
+        raw_images: bool,
+    ) -> Result<(Self, Vec<String>)> {
         let track_names: Vec<String> = sc.vehicle.tracks.iter().map(|t| t.name.clone()).collect();
         let flipper_names: Vec<String> =
             sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect();
@@ -255,7 +265,7 @@ impl RobotTopics {
             Subscriptions::new(node, &ns, &track_names, &flipper_names).map_err(dds_error)?;
         let topics = RobotTopics {
             pubs: Publishers::new(node, &ns).map_err(dds_error)?,
-            sensors: SensorPublishers::new(node, sc, &ns).map_err(dds_error)?,
+            sensors: SensorPublishers::new(node, sc, &ns, raw_images).map_err(dds_error)?,
             control: RobotControl::new(ns.name(), &sc.vehicle),
             encoders: encoder_model(sc),
             joint_names: messages::joint_names(sc),
@@ -407,7 +417,7 @@ fn start<'w>(
     let mut skipped = Vec::new();
     let mut statics = Vec::new();
     for (sc, ns) in robots {
-        let (t, s) = RobotTopics::new(node, sc, ns.clone())?;
+        let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images)?;
         topics.push(t);
         skipped.extend(s);
         statics.extend(ns.tf(messages::tf_static(sc)).transforms);
@@ -529,7 +539,8 @@ impl RosTeamSession {
     }
 
     /// Writes everything `tracksim run` writes for the world (a folder per robot,
-    /// `team.json`, plots unless `plots` is false, the world's `run.mcap` if `mcap`) and
+    /// `team.json`, plots unless `plots` is false, the world's `run.mcap` if `mcap`, with colour
+    /// cameras' raw images if `raw_images`) and
     /// `dir/commands.toml`, every robot's controls ([`crate::run::write_team_log`]: `tracksim
     /// run FILE --commands dir/commands.toml --duration T` replays the session); returns the
     /// paths.
@@ -539,11 +550,12 @@ impl RosTeamSession {
         scenario_file: &Path,
         dir: &Path,
         plots: bool,
-        mcap: bool,
+        (mcap, raw_images): (bool, bool),
     ) -> Result<Vec<PathBuf>> {
         let which = crate::output::Outputs {
             plots,
             mcap,
+            raw_images,
             ..crate::output::Outputs::ALL
         };
         let header = LogHeader {
@@ -576,19 +588,20 @@ impl RosSession {
     pub const COMMANDS_HEADER: &'static str = "The commands a `tracksim ros` session received";
 
     /// Writes everything `tracksim run` writes (plots unless `plots` is false, `run.mcap` if
-    /// `mcap`) and `commands.toml` into `dir`; returns the paths.
+    /// `mcap`, with colour cameras' raw images if `raw_images`) and `commands.toml` into `dir`; returns the paths.
     pub fn write(
         &self,
         sc: &Scenario,
         scenario_file: &Path,
         dir: &Path,
         plots: bool,
-        mcap: bool,
+        (mcap, raw_images): (bool, bool),
     ) -> Result<Vec<PathBuf>> {
         let which = crate::output::Outputs {
             replay: true,
             plots,
             mcap,
+            raw_images,
         };
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,

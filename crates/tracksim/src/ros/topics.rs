@@ -46,7 +46,7 @@ pub fn sensor(name: &str) -> String {
 /// Every topic of one robot of vehicle `v` in namespace `ns`, as the node creates them: its
 /// command topics (`/cmd_vel`, `/flippers/cmd_positions`, each track's speed and each
 /// flipper's target), its state (`/odom`, `/ground_truth/odom`, `/joint_states`, `/tracks`)
-/// and its sensors. The world's `/clock`, `/tf`, `/tf_static` and `/rosout` are not a robot's.
+/// and its sensors (a colour camera's `compressed` and `camera_info` topics). The world's `/clock`, `/tf`, `/tf_static` and `/rosout` are not a robot's.
 pub fn robot_topics(
     v: &crate::model::VehicleModel,
     ns: &crate::output::ros_names::Namespace,
@@ -64,6 +64,15 @@ pub fn robot_topics(
     .collect();
     t.extend(v.tracks.iter().map(|x| track_speed(&x.name)));
     t.extend(v.flippers.iter().map(|x| flipper_position(&x.name)));
-    t.extend(v.sensors.iter().map(|x| sensor(&x.name)));
+    for x in &v.sensors {
+        let s = sensor(&x.name);
+        if matches!(x.kind, crate::model::SensorKind::RgbCamera(_)) {
+            // The raw image topic is there only with `raw_images`.
+            t.push(crate::output::ros_sensors::compressed_topic(&s));
+            t.push(crate::output::ros_sensors::camera_info_topic(&s));
+        } else {
+            t.push(s);
+        }
+    }
     t.iter().map(|x| ns.topic(x)).collect()
 }

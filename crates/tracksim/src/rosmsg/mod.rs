@@ -13,7 +13,7 @@
 //! - `nav.rs`: `nav_msgs/Odometry`;
 //! - `std_msgs.rs`: `std_msgs/Float64` (the ROS node's per-track and per-flipper commands);
 //! - `sensor.rs`: `sensor_msgs` (`JointState`, `Imu`, `LaserScan`, `PointField`,
-//!   `PointCloud2`, `Image`);
+//!   `PointCloud2`, `Image`, `CompressedImage`, `RegionOfInterest`, `CameraInfo`);
 //! - `track.rs`: `tracksim_msgs/TrackStates`, tracksim's own message of per-track figures
 //!   (slip, traction, normal load, belt speed and position, motor figures).
 //!
@@ -37,7 +37,10 @@ pub use geometry::{
 };
 pub use nav::Odometry;
 pub use schema::{MsgDef, RosMessage};
-pub use sensor::{Image, Imu, JointState, LaserScan, PointCloud2, PointField};
+pub use sensor::{
+    CameraInfo, CompressedImage, Image, Imu, JointState, LaserScan, PointCloud2, PointField,
+    RegionOfInterest,
+};
 pub use std_msgs::Float64;
 pub use track::TrackStates;
 

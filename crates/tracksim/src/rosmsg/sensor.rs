@@ -1,4 +1,5 @@
-//! `sensor_msgs`: `JointState`, `Imu`, `LaserScan`, `PointField`, `PointCloud2`, `Image`.
+//! `sensor_msgs`: `JointState`, `Imu`, `LaserScan`, `PointField`, `PointCloud2`, `Image`,
+//! `CompressedImage`, `RegionOfInterest`, `CameraInfo`.
 
 use super::builtin::{HEADER, Header};
 use super::cdr::{byte_seq, fixed_array};
@@ -149,6 +150,89 @@ pub struct Image {
     pub data: Vec<u8>,
 }
 
+/// `sensor_msgs/CompressedImage`: an image as the bytes of an image file (`format`, as
+/// ROS's `compressed_image_transport` writes it: `"rgb8; png compressed bgr8"` for a PNG of an
+/// rgb8 image).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CompressedImage {
+    /// Time and the camera's optical frame.
+    pub header: Header,
+    /// The encoding and the compression (`"rgb8; png compressed bgr8"`, `"jpeg"`, ...).
+    pub format: String,
+    /// The file's bytes.
+    #[serde(with = "byte_seq")]
+    pub data: Vec<u8>,
+}
+
+/// `sensor_msgs/RegionOfInterest`: a window of an image (all 0: the whole image).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RegionOfInterest {
+    /// Leftmost column, pixels.
+    pub x_offset: u32,
+    /// Top row, pixels.
+    pub y_offset: u32,
+    /// Rows, pixels.
+    pub height: u32,
+    /// Columns, pixels.
+    pub width: u32,
+    /// Whether the window is to be rectified.
+    pub do_rectify: bool,
+}
+
+/// `sensor_msgs/CameraInfo`: a camera's calibration for the images of the same stamp and
+/// frame (its optical frame: z forward, x right, y down).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CameraInfo {
+    /// Time and the camera's optical frame.
+    pub header: Header,
+    /// Rows, pixels.
+    pub height: u32,
+    /// Columns, pixels.
+    pub width: u32,
+    /// Distortion model (`"plumb_bob"`).
+    pub distortion_model: String,
+    /// Distortion coefficients (plumb bob: k1, k2, t1, t2, k3; zeros for a pinhole).
+    pub d: Vec<f64>,
+    /// Intrinsic matrix K (row-major 3 x 3): `[fx 0 cx; 0 fy cy; 0 0 1]`, pixels.
+    #[serde(with = "fixed_array")]
+    pub k: [f64; 9],
+    /// Rectification rotation (row-major 3 x 3; identity for a monocular camera).
+    #[serde(with = "fixed_array")]
+    pub r: [f64; 9],
+    /// Projection matrix P (row-major 3 x 4): `[fx 0 cx Tx; 0 fy cy Ty; 0 0 1 0]`, pixels.
+    #[serde(with = "fixed_array")]
+    pub p: [f64; 12],
+    /// Horizontal binning (0 or 1: none).
+    pub binning_x: u32,
+    /// Vertical binning (0 or 1: none).
+    pub binning_y: u32,
+    /// Region of interest (all 0: the whole image).
+    pub roi: RegionOfInterest,
+}
+
+impl CameraInfo {
+    /// A distortion-free pinhole camera of `width` x `height` pixels with intrinsic matrix `k`
+    /// (row-major), stamped `header`: plumb bob with zero coefficients, R the identity, P
+    /// `[K | 0]`.
+    pub fn pinhole(header: Header, width: u32, height: u32, k: [f64; 9]) -> Self {
+        CameraInfo {
+            header,
+            height,
+            width,
+            distortion_model: "plumb_bob".into(),
+            d: vec![0.0; 5],
+            k,
+            r: [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            p: [
+                k[0], k[1], k[2], 0.0, k[3], k[4], k[5], 0.0, k[6], k[7], k[8], 0.0,
+            ],
+            binning_x: 0,
+            binning_y: 0,
+            roi: RegionOfInterest::default(),
+        }
+    }
+}
+
 /// `sensor_msgs/JointState`.
 pub const JOINT_STATE: MsgDef = MsgDef {
     name: "sensor_msgs/JointState",
@@ -186,6 +270,34 @@ pub const IMAGE: MsgDef = MsgDef {
     deps: &[&HEADER],
 };
 
+/// `sensor_msgs/CompressedImage`.
+pub const COMPRESSED_IMAGE: MsgDef = MsgDef {
+    name: "sensor_msgs/CompressedImage",
+    text: "std_msgs/Header header\nstring format\nuint8[] data\n",
+    deps: &[&HEADER],
+};
+/// `sensor_msgs/RegionOfInterest`.
+pub const REGION_OF_INTEREST: MsgDef = MsgDef {
+    name: "sensor_msgs/RegionOfInterest",
+    text: "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify\n",
+    deps: &[],
+};
+/// `sensor_msgs/CameraInfo`.
+pub const CAMERA_INFO: MsgDef = MsgDef {
+    name: "sensor_msgs/CameraInfo",
+    text: "std_msgs/Header header\nuint32 height\nuint32 width\nstring distortion_model\nfloat64[] d\nfloat64[9] k\nfloat64[9] r\nfloat64[12] p\nuint32 binning_x\nuint32 binning_y\nsensor_msgs/RegionOfInterest roi\n",
+    deps: &[&HEADER, &REGION_OF_INTEREST],
+};
+
+impl RosMessage for CompressedImage {
+    const DEF: &'static MsgDef = &COMPRESSED_IMAGE;
+}
+impl RosMessage for RegionOfInterest {
+    const DEF: &'static MsgDef = &REGION_OF_INTEREST;
+}
+impl RosMessage for CameraInfo {
+    const DEF: &'static MsgDef = &CAMERA_INFO;
+}
 impl RosMessage for JointState {
     const DEF: &'static MsgDef = &JOINT_STATE;
 }

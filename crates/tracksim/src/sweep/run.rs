@@ -180,6 +180,7 @@ fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path) -> Result<
                 replay: false,
                 plots: false,
                 mcap: false,
+                raw_images: false,
             };
             crate::output::write_outputs(&sc, &result, &tmp, which)?;
             ManifestLine::of_run(r, &sc, &result)

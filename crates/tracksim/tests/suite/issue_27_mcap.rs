@@ -31,6 +31,7 @@ fn recorded_with_csv() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>, Str
         replay: false,
         plots: false,
         mcap: true,
+        raw_images: false,
     };
     let written = tracksim::output::write_outputs(&sc, &r, &dir, which).expect("writes");
     assert!(written.contains(&dir.join(MCAP_FILE)));
@@ -447,6 +448,7 @@ fn output_key_of_a_scenario_records_mcap_for_every_front_end() {
         replay: false,
         plots: false,
         mcap: false,
+        raw_images: false,
     };
     let out = dir.join("out");
     let written = tracksim::output::write_outputs(&sc, &r, &out, none).unwrap();

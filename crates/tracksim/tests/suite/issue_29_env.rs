@@ -369,6 +369,7 @@ fn record_and_replay(name: &str, settings: &[(&str, EnvValue)], actions: &[Vec<f
             replay: true,
             plots: false,
             mcap: false,
+            raw_images: false,
         },
     )
     .unwrap();

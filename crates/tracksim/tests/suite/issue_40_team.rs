@@ -358,6 +358,7 @@ fn a_team_run_folder_is_written_per_robot_and_viewed_whole() {
         replay: true,
         plots: false,
         mcap: false,
+        raw_images: false,
     };
     tracksim::output::write_team(&sc, &r, &dir, which).unwrap();
     let team: serde_json::Value =

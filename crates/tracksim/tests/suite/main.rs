@@ -52,6 +52,7 @@ mod issue_39_session;
 mod issue_40_drive;
 mod issue_40_team;
 mod issue_41_camera;
+mod issue_41_frames;
 mod issue_41_video;
 mod layers;
 mod live;
