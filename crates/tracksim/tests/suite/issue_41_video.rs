@@ -38,6 +38,7 @@ fn the_view_server_renders_the_runs_video_on_request() {
         replay: true,
         plots: false,
         mcap: false,
+        raw_images: false,
     };
     tracksim::output::write_outputs(&sc, &r, &dir, which).unwrap();
     let files = tracksim::live::view_files(&dir).unwrap();
