@@ -9,41 +9,36 @@ use glam::Vec3;
 /// Ray `o + s * d`, `0 <= s <= max`, against the box `-half..half`: time of impact and outward
 /// normal.
 pub fn ray_box(half: Vec3, o: Vec3, d: Vec3, max: f32) -> Option<(f32, Vec3)> {
-    let mut enter = 0.0f32;
-    let mut exit = max;
-    let mut axis = None;
-    for k in 0..3 {
-        let (ok, dk, hk) = (o[k], d[k], half[k]);
-        if dk == 0.0 {
-            if ok < -hk || ok > hk {
-                return None;
-            }
-            continue;
-        }
-        let inv = 1.0 / dk;
-        let (mut t0, mut t1) = ((-hk - ok) * inv, (hk - ok) * inv);
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
-        if t0 > enter {
-            enter = t0;
-            axis = Some(k);
-        }
-        exit = exit.min(t1);
-        if enter > exit {
-            return None;
-        }
+    // Slabs on all three axes at once; a zero direction component gives +-inf (or NaN for a
+    // ray in a face's plane, which f32::max/min pass over: inside that slab).
+    let inv = d.recip();
+    let t0 = (-half - o) * inv;
+    let t1 = (half - o) * inv;
+    let near = t0.min(t1);
+    let far = t0.max(t1);
+    let exit = far.x.min(far.y).min(far.z).min(max);
+    let enter = near.x.max(near.y).max(near.z);
+    if enter > exit || exit < 0.0 {
+        return None;
     }
-    let normal = match axis {
+    // A ray parallel to a slab and outside it: its near and far are both +inf or both -inf.
+    if (0..3).any(|k| d[k] == 0.0 && (o[k] < -half[k] || o[k] > half[k])) {
+        return None;
+    }
+    if enter <= 0.0 {
         // Inside at the start: the surface facing the ray.
-        None => -d.normalize_or_zero(),
-        Some(k) => {
-            let mut n = Vec3::ZERO;
-            n[k] = -d[k].signum();
-            n
-        }
+        return Some((0.0, -d.normalize_or_zero()));
+    }
+    let k = if enter == near.x {
+        0
+    } else if enter == near.y {
+        1
+    } else {
+        2
     };
-    Some((enter, normal))
+    let mut n = Vec3::ZERO;
+    n[k] = -d[k].signum();
+    Some((enter, n))
 }
 
 /// Ray `o + s * d`, `0 <= s <= max`, against the cylinder of axis y, `|y| <= half_height`,

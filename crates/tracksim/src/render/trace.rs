@@ -5,10 +5,11 @@
 //! Work is done by tiles of [`TILE`] x [`TILE`] pixels. For each tile, the shapes whose boxes
 //! meet the tile's frustum (four planes through the camera) are kept; each pixel's ray is then
 //! tested against those boxes only (a slab test) and cast against the shapes whose box it
-//! crosses, nearest first wins. The tile's shadow rays start at its lit hit points: a shape
-//! can shadow them only if its box, grown by the half size of the box around those points,
-//! is crossed by the ray from their centre towards the sun; only those are tested. A
-//! scene of a few hundred shapes costs a few tests per ray. Tiles are independent, so a rayon
+//! crosses, nearest first wins. The tile's shadow rays start at its lit hit points and are
+//! parallel: a shape can shadow them only if its box, seen along the sun, overlaps those
+//! points and lies between the nearest of them and the farthest plus the shadow range; the
+//! tree is walked with that test and only those shapes are tried. A scene of a few hundred
+//! shapes costs a few tests per ray. Tiles are independent, so a rayon
 //! pool renders rows of tiles in parallel into the same bytes as one thread.
 
 use super::camera::{CameraPose, Intrinsics};
@@ -56,6 +57,11 @@ pub trait RenderScene: Sync {
     fn meets(&self, id: u32, origin: Vec3, dir: Vec3, max: f32) -> bool;
     /// The colour of shape `id`.
     fn color(&self, id: u32) -> Rgb;
+    /// Whether shape `id` is convex: a ray leaving its surface outwards cannot meet it again,
+    /// so it cannot shadow itself (default false: it is tested).
+    fn convex(&self, _id: u32) -> bool {
+        false
+    }
 }
 
 /// An image and its depth, row-major from the top-left pixel.
@@ -82,6 +88,20 @@ impl Frame {
             depth: vec![f32::INFINITY; width * height],
         }
     }
+}
+
+/// A hit facing the sun, waiting for its shadow ray.
+struct Lit {
+    /// Its pixel in the band.
+    pixel: usize,
+    /// Where the shadow ray starts (the hit, raised along the normal), m.
+    point: Vec3,
+    /// The surface normal, towards the viewer.
+    normal: Vec3,
+    /// The surface's colour.
+    color: Rgb,
+    /// The shape hit.
+    id: u32,
 }
 
 /// Offset of a shadow ray's origin along the surface normal, m (clears f32 rounding of the
@@ -172,7 +192,7 @@ fn band_of_tiles(
     let rows = depth.len() / w;
     let mut near: Vec<Candidate> = Vec::new();
     let mut casters: Vec<Candidate> = Vec::new();
-    let mut hits: Vec<(usize, Vec3, Vec3, Rgb)> = Vec::new();
+    let mut hits: Vec<Lit> = Vec::new();
     for u0 in (0..w).step_by(TILE) {
         let u1 = (u0 + TILE).min(w);
         let planes = frustum(view, u0, u1, v0, v0 + rows);
@@ -215,7 +235,13 @@ fn band_of_tiles(
                     .copy_from_slice(&Light::apply(color, light.factor(n, facing)));
                 if facing {
                     let p = view.origin + d * hit.t + n * SHADOW_BIAS_M;
-                    hits.push((i, p, n, color));
+                    hits.push(Lit {
+                        pixel: i,
+                        point: p,
+                        normal: n,
+                        color,
+                        id,
+                    });
                 }
             }
         }
@@ -228,44 +254,55 @@ fn shade_shadows(
     scene: &dyn RenderScene,
     tree: &Bvh,
     light: &Light,
-    hits: &[(usize, Vec3, Vec3, Rgb)],
+    hits: &[Lit],
     casters: &mut Vec<Candidate>,
     rgb: &mut [u8],
 ) {
     if hits.is_empty() || scene.shadow_casters().is_empty() {
         return;
     }
-    let (lo, hi) = hits.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), (_, p, _, _)| (lo.min(*p), hi.max(*p)),
-    );
-    let (centre, half) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+    // The tile's hits seen along the sun: their bounds across it (`e1`, `e2`) and along it.
+    let sun = light.sun;
+    let (e1, e2) = sun.any_orthonormal_pair();
+    let axes = [e1, e2, sun];
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for h in hits {
+        for k in 0..3 {
+            let x = h.point.dot(axes[k]);
+            lo[k] = lo[k].min(x);
+            hi[k] = hi[k].max(x);
+        }
+    }
+    hi[2] += light.shadow_range;
     casters.clear();
     let all = scene.shadow_casters();
     casters.extend(
         tree.leaves(|n| {
+            // A box can shadow a hit only if it overlaps the hits across the sun and lies
+            // between the nearest hit and the farthest one plus the shadow range along it.
             let b = n.aabb();
-            slab_box(
-                b.mins - half,
-                b.maxs + half,
-                centre,
-                light.sun,
-                light.shadow_range,
-            )
-            .is_some()
+            let (c, h) = ((b.mins + b.maxs) / 2.0, (b.maxs - b.mins) / 2.0);
+            (0..3).all(|k| {
+                let (x, r) = (c.dot(axes[k]), h.dot(axes[k].abs()));
+                x + r >= lo[k] && x - r <= hi[k]
+            })
         })
         .map(|leaf| all[leaf as usize]),
     );
     if casters.is_empty() {
         return;
     }
-    for &(i, p, n, color) in hits {
-        let shadowed = casters.iter().any(|c| {
-            slab(c, p, light.sun, light.shadow_range).is_some()
-                && scene.meets(c.id, p, light.sun, light.shadow_range)
-        });
+    for h in hits {
+        let own = scene.convex(h.id).then_some(h.id);
+        let (p, s, r) = (h.point, light.sun, light.shadow_range);
+        let shadowed = casters
+            .iter()
+            .any(|c| Some(c.id) != own && slab(c, p, s, r).is_some() && scene.meets(c.id, p, s, r));
         if shadowed {
-            rgb[3 * i..3 * i + 3].copy_from_slice(&Light::apply(color, light.factor(n, false)));
+            let i = h.pixel;
+            rgb[3 * i..3 * i + 3]
+                .copy_from_slice(&Light::apply(h.color, light.factor(h.normal, false)));
         }
     }
 }
@@ -295,14 +332,9 @@ fn nearest(
 
 /// Entry time of ray `o + s * d` into box `c` within `0..=max`, if it enters.
 fn slab(c: &Candidate, o: Vec3, d: Vec3, max: f32) -> Option<f32> {
-    slab_box(c.mins, c.maxs, o, d, max)
-}
-
-/// Entry time of ray `o + s * d` into the box `mins..maxs` within `0..=max`, if it enters.
-fn slab_box(mins: Vec3, maxs: Vec3, o: Vec3, d: Vec3, max: f32) -> Option<f32> {
     let inv = d.recip();
-    let t0 = (mins - o) * inv;
-    let t1 = (maxs - o) * inv;
+    let t0 = (c.mins - o) * inv;
+    let t1 = (c.maxs - o) * inv;
     let lo = t0.min(t1);
     let hi = t0.max(t1);
     // NaN (0 * inf, a ray in a box's face plane) counts as inside that slab: `f32::max` and

@@ -14,10 +14,26 @@ use glam::{DQuat, DVec3, Vec3};
 use rapier3d::parry::bounding_volume::Aabb;
 use rapier3d::prelude::*;
 
+/// A gathered collider's shape, with what its closed-form ray test needs (no collider lookup
+/// per ray).
+#[derive(Clone, Copy)]
+enum Prim {
+    /// A box not turned in the world (the ground tile, most terrain boxes): centre and half
+    /// extents, m.
+    AxisBox(Vec3, Vec3),
+    /// A box: half extents, m.
+    Cuboid(Vec3),
+    /// A cylinder along its local y: half height and radius, m.
+    Cylinder(f32, f32),
+    /// Any other shape: through parry.
+    Other,
+}
+
 /// The colliders of one frame (buffers reused between frames).
 #[derive(Default)]
 pub struct WorldShapes {
     handles: Vec<ColliderHandle>,
+    prims: Vec<(Prim, Pose)>,
     colors: Vec<Rgb>,
     primary: Vec<Candidate>,
     casters: Vec<Candidate>,
@@ -43,6 +59,7 @@ impl WorldShapes {
         shadow_range: f64,
     ) {
         self.handles.clear();
+        self.prims.clear();
         self.colors.clear();
         self.primary.clear();
         self.casters.clear();
@@ -69,6 +86,19 @@ impl WorldShapes {
                 continue;
             }
             self.handles.push(h);
+            let pose = *co.position();
+            let prim = if let Some(b) = co.shape().as_cuboid() {
+                if pose.rotation == glam::Quat::IDENTITY {
+                    Prim::AxisBox(pose.translation, b.half_extents)
+                } else {
+                    Prim::Cuboid(b.half_extents)
+                }
+            } else if let Some(c) = co.shape().as_cylinder() {
+                Prim::Cylinder(c.half_height, c.radius)
+            } else {
+                Prim::Other
+            };
+            self.prims.push((prim, pose));
             self.colors.push(sim.appearance().color(h));
             if seen {
                 self.primary.push(cand);
@@ -98,48 +128,66 @@ impl RenderScene for WorldScene<'_> {
     }
 
     fn cast(&self, id: u32, origin: Vec3, dir: Vec3, max: f32) -> Option<Hit> {
-        let co = &self.sim.world.colliders[self.shapes.handles[id as usize]];
-        let pose = co.position();
+        let (prim, pose) = &self.shapes.prims[id as usize];
+        let local = || {
+            (
+                pose.inverse_transform_point(origin),
+                pose.inverse_transform_vector(dir),
+            )
+        };
         let closed = |hit: Option<(f32, Vec3)>| {
             hit.map(|(t, n)| Hit {
                 t,
                 normal: pose.rotation * n,
             })
         };
-        let (o, d) = (
-            pose.inverse_transform_point(origin),
-            pose.inverse_transform_vector(dir),
-        );
-        if let Some(c) = co.shape().as_cuboid() {
-            return closed(shapes::ray_box(c.half_extents, o, d, max));
+        match *prim {
+            Prim::AxisBox(c, half) => {
+                shapes::ray_box(half, origin - c, dir, max).map(|(t, normal)| Hit { t, normal })
+            }
+            Prim::Cuboid(half) => {
+                let (o, d) = local();
+                closed(shapes::ray_box(half, o, d, max))
+            }
+            Prim::Cylinder(hh, r) => {
+                let (o, d) = local();
+                closed(shapes::ray_cylinder(hh, r, o, d, max))
+            }
+            Prim::Other => {
+                let co = &self.sim.world.colliders[self.shapes.handles[id as usize]];
+                let i = co.shape().cast_ray_and_get_normal(
+                    pose,
+                    &Ray::new(v(origin), v(dir)),
+                    max,
+                    true,
+                )?;
+                Some(Hit {
+                    t: i.time_of_impact,
+                    normal: g(i.normal),
+                })
+            }
         }
-        if let Some(c) = co.shape().as_cylinder() {
-            return closed(shapes::ray_cylinder(c.half_height, c.radius, o, d, max));
-        }
-        let i = co.shape().cast_ray_and_get_normal(
-            co.position(),
-            &Ray::new(v(origin), v(dir)),
-            max,
-            true,
-        )?;
-        Some(Hit {
-            t: i.time_of_impact,
-            normal: g(i.normal),
-        })
     }
 
     fn meets(&self, id: u32, origin: Vec3, dir: Vec3, max: f32) -> bool {
-        let co = &self.sim.world.colliders[self.shapes.handles[id as usize]];
-        let pose = co.position();
-        if let Some(c) = co.shape().as_cuboid() {
+        let (prim, pose) = &self.shapes.prims[id as usize];
+        if let Prim::AxisBox(c, half) = *prim {
+            return shapes::ray_box(half, origin - c, dir, max).is_some();
+        }
+        if let Prim::Cuboid(half) = *prim {
             let (o, d) = (
                 pose.inverse_transform_point(origin),
                 pose.inverse_transform_vector(dir),
             );
-            return shapes::ray_box(c.half_extents, o, d, max).is_some();
+            return shapes::ray_box(half, o, d, max).is_some();
         }
+        let co = &self.sim.world.colliders[self.shapes.handles[id as usize]];
         co.shape()
-            .intersects_ray(co.position(), &Ray::new(v(origin), v(dir)), max)
+            .intersects_ray(pose, &Ray::new(v(origin), v(dir)), max)
+    }
+
+    fn convex(&self, id: u32) -> bool {
+        !matches!(self.shapes.prims[id as usize].0, Prim::Other)
     }
 
     fn color(&self, id: u32) -> Rgb {
