@@ -29,6 +29,12 @@ fn parse_with_table<T: serde::de::DeserializeOwned>(
         path: path.to_path_buf(),
         message: explain(&message),
     };
+    if let Some(m) = xml_model(text) {
+        return Err(Error::Parse {
+            path: path.to_path_buf(),
+            message: m,
+        });
+    }
     let doc: toml::Table = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
     let typed: T = toml::from_str(text).map_err(|e| parse(e.to_string()))?;
     crate::spec::strict::from_value::<T>(&toml::Value::Table(doc.clone()))
@@ -111,4 +117,25 @@ fn parse_scenario(path: &Path, text: &str) -> Result<(ScenarioSpec, toml::Table)
 pub(crate) fn read_scenario_table(path: &Path) -> Result<(ScenarioSpec, toml::Table)> {
     let text = crate::files::read_text_bounded(path, crate::files::MAX_TOML_BYTES)?;
     parse_scenario(path, &text)
+}
+
+/// What to do with an XML robot model (URDF, SDF, xacro) given where a tracksim TOML file is
+/// read, or `None` for text that is not XML.
+fn xml_model(text: &str) -> Option<String> {
+    let start = text.trim_start_matches('\u{feff}').trim_start();
+    if !start.starts_with('<') {
+        return None;
+    }
+    let kind = if start.contains("<sdf") {
+        "an SDF model or world"
+    } else if start.contains("<robot") {
+        "a URDF robot"
+    } else {
+        "an XML file"
+    };
+    Some(format!(
+        "this is {kind}, not a tracksim TOML file: a vehicle file names a URDF robot with \
+         `urdf = \"robot.urdf\"` beside its `[[tracks]]` (docs/URDF.md; SDF is not read yet), \
+         and a scenario names the vehicle file in `[vehicle] file`"
+    ))
 }

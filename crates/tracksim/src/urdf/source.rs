@@ -41,15 +41,30 @@ impl UrdfSource {
                 "cannot read the URDF file: {e}; the path is relative to the vehicle file's folder"
             ))
         })?;
-        if text.contains("xmlns:xacro") || text.contains("<xacro:") {
-            return Err(fail(format!(
+        let xacro = || {
+            fail(format!(
                 "{} is a xacro file; expand it first (`xacro robot.urdf.xacro > robot.urdf`) and \
                  name the result",
                 path.display()
-            )));
+            ))
+        };
+        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+            // An element with the xacro prefix and no namespace declared for it.
+            if matches!(&e, roxmltree::Error::UnknownNamespace(p, _) if p == "xacro") {
+                return xacro();
+            }
+            fail(format!("{} is not well-formed XML: {e}", path.display()))
+        })?;
+        // xacro by its elements and attributes (in the xacro namespace), not by its text: an
+        // expanded file may keep the namespace declaration or commented-out xacro lines.
+        let in_xacro = |ns: Option<&str>| ns.is_some_and(|n| n.contains("ros.org/wiki/xacro"));
+        if doc.descendants().any(|n| {
+            n.is_element()
+                && (in_xacro(n.tag_name().namespace())
+                    || n.attributes().any(|a| in_xacro(a.namespace())))
+        }) {
+            return Err(xacro());
         }
-        let doc = roxmltree::Document::parse(&text)
-            .map_err(|e| fail(format!("{} is not well-formed XML: {e}", path.display())))?;
         let root = doc.root_element();
         if root.tag_name().name() != "robot" {
             return Err(fail(format!(

@@ -160,9 +160,18 @@ pub(super) fn walk(
                 ));
                 continue;
             }
-            let frame = parent_pose * pose(&j.origin);
+            let mut frame = parent_pose * pose(&j.origin);
             let (kind, owner) = match j.joint_type {
                 JointType::Fixed => (LinkJoint::Fixed, parent_owner),
+                // A revolute joint locked at one angle (gz-sim's `<limit lower="a" upper="a">`)
+                // is rigid: fixed at that angle.
+                JointType::Revolute if locked(j) => {
+                    let axis = DVec3::from_array(j.axis.xyz.0);
+                    if let Some(a) = axis.try_normalize() {
+                        frame = frame * DAffine3::from_axis_angle(a, j.limit.lower);
+                    }
+                    (LinkJoint::Fixed, parent_owner)
+                }
                 JointType::Continuous => (LinkJoint::Continuous, parent_owner),
                 JointType::Revolute => {
                     if let Owner::Arm(i) = parent_owner {
@@ -282,4 +291,9 @@ fn arm(
         limits,
         effort: l.effort,
     })
+}
+
+/// A revolute joint whose limits are one finite angle: locked there.
+fn locked(j: &urdf_rs::Joint) -> bool {
+    j.limit.lower.is_finite() && j.limit.lower == j.limit.upper
 }

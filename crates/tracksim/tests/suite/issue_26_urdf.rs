@@ -533,9 +533,13 @@ fn refused_tracks_and_forms(case: RefusalCase, u: &str, t: &str) {
     case(
         "xacro",
         &edit(
-            u,
-            "<robot name=",
-            "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\" name=",
+            &edit(
+                u,
+                "<robot name=",
+                "<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\" name=",
+            ),
+            "</robot>",
+            "<xacro:property name=\"wheel_radius\" value=\"0.1\"/></robot>",
         ),
         t,
         &["xacro"],
