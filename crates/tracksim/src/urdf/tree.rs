@@ -168,7 +168,7 @@ pub(super) fn walk(
                 JointType::Revolute if locked(j) => {
                     let axis = DVec3::from_array(j.axis.xyz.0);
                     if let Some(a) = axis.try_normalize() {
-                        frame = frame * DAffine3::from_axis_angle(a, j.limit.lower);
+                        frame *= DAffine3::from_axis_angle(a, j.limit.lower);
                     }
                     (LinkJoint::Fixed, parent_owner)
                 }
