@@ -32,6 +32,13 @@ impl Intrinsics {
         2.0 * (self.height as f64 / 2.0 / self.focal_px()).atan()
     }
 
+    /// How far the image's corner ray reaches per metre of depth (>= 1): a camera that sees
+    /// `d` m of depth needs the scene within `d * corner_factor()` m.
+    pub fn corner_factor(&self) -> f64 {
+        let (w, h) = (self.width as f64, self.height as f64);
+        (1.0 + (w * w + h * h) / (4.0 * self.focal_px().powi(2))).sqrt()
+    }
+
     /// The ray of every pixel in the camera frame (x = 1), row by row from the top.
     pub fn pixel_rays(&self) -> Vec<DVec3> {
         let f = self.focal_px();

@@ -30,19 +30,7 @@ pub struct DepthCamera {
 impl DepthCamera {
     /// The camera of `model`, sensor `index` of a run with `seed`.
     pub fn new(model: SensorModel, p: DepthCameraModel, seed: u64, index: usize) -> Self {
-        let f = focal_px(&p);
-        let (w, h) = (p.width as f64, p.height as f64);
-        let dirs = (0..p.height)
-            .flat_map(|v| {
-                (0..p.width).map(move |u| {
-                    DVec3::new(
-                        1.0,
-                        -(u as f64 + 0.5 - w / 2.0) / f,
-                        -(v as f64 + 0.5 - h / 2.0) / f,
-                    )
-                })
-            })
-            .collect();
+        let dirs = intrinsics(&p).pixel_rays();
         DepthCamera {
             model,
             p,
@@ -58,9 +46,18 @@ impl DepthCamera {
     }
 }
 
+/// The camera's image (the colour camera's pinhole model, `crate::render::Intrinsics`).
+fn intrinsics(p: &DepthCameraModel) -> crate::render::Intrinsics {
+    crate::render::Intrinsics {
+        width: p.width,
+        height: p.height,
+        horizontal_fov: p.horizontal_fov,
+    }
+}
+
 /// Focal length of the camera, pixels.
 pub(crate) fn focal_px(p: &DepthCameraModel) -> f64 {
-    p.width as f64 / 2.0 / (p.horizontal_fov / 2.0).tan()
+    intrinsics(p).focal_px()
 }
 
 impl Sensor for DepthCamera {

@@ -48,11 +48,7 @@ impl RgbCamera {
             p,
             noise: Noise::new(seed, index),
             rays: i.pixel_rays_f32(),
-            corner: i
-                .pixel_rays()
-                .iter()
-                .map(|d| d.length())
-                .fold(1.0, f64::max),
+            corner: i.corner_factor(),
             shapes: WorldShapes::default(),
             frame: Frame::new(i.width, i.height),
             pool,

@@ -224,9 +224,7 @@ pub fn render_chase(
     let pose: CameraPose = chase.pose(p, q);
     let light = Light::default();
     let i = chase.intrinsics;
-    let corner = (1.0
-        + ((i.width * i.width + i.height * i.height) as f64) / (4.0 * i.focal_px().powi(2)))
-    .sqrt();
+    let corner = i.corner_factor();
     shapes.gather(
         sim,
         pose.position,

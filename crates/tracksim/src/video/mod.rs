@@ -362,9 +362,7 @@ impl Replay {
     ) {
         let states: Vec<RobotState> = self.runs.iter().map(|r| r.state_at(t)).collect();
         let (pose, i, range) = self.camera(&opts.camera, &states, opts.width, opts.height);
-        let corner = (1.0
-            + ((i.width * i.width + i.height * i.height) as f64) / (4.0 * i.focal_px().powi(2)))
-        .sqrt();
+        let corner = i.corner_factor();
         let hide = matches!(opts.camera, Camera::Sensor(_)).then_some(self.focus);
         let scene = self
             .world
