@@ -70,18 +70,6 @@ pub struct SensorSpec {
     #[serde(default)]
     pub range_noise_m: Option<f64>,
 
-    /// Colour camera: standard deviation of the Gaussian noise added to each channel of each
-    /// pixel, 8-bit levels (default 0).
-    #[serde(default)]
-    pub pixel_noise: Option<f64>,
-    /// Colour camera: shadow rays towards the sun (default true).
-    #[serde(default)]
-    pub shadows: Option<bool>,
-    /// Colour camera: threads its rows are rendered on (default 1; 0: every core). The image
-    /// is the same whatever the count.
-    #[serde(default)]
-    pub threads: Option<usize>,
-
     /// Depth and colour cameras: image width, pixels.
     #[serde(default)]
     pub width_px: Option<usize>,
@@ -109,4 +97,16 @@ pub struct SensorSpec {
     /// surface is blocked) are NaN (default false: every cell is known).
     #[serde(default)]
     pub occlusion: Option<bool>,
+
+    /// Colour camera: standard deviation of the Gaussian noise added to each channel of each
+    /// pixel, 8-bit levels (default 0).
+    #[serde(default)]
+    pub pixel_noise: Option<f64>,
+    /// Colour camera: shadow rays towards the sun (default true).
+    #[serde(default)]
+    pub shadows: Option<bool>,
+    /// Colour camera: threads its rows are rendered on (default 1; 0: every core). The image
+    /// is the same whatever the count.
+    #[serde(default)]
+    pub threads: Option<usize>,
 }

@@ -74,9 +74,6 @@ pub struct GroundSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
-    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
-    #[serde(default)]
-    pub color: Option<String>,
     /// Height of the surface, m.
     #[serde(default)]
     pub z_m: f64,
@@ -84,6 +81,9 @@ pub struct GroundSpec {
     /// (docs/SOIL.md). Absent: rigid.
     #[serde(default)]
     pub soil: Option<SoilSpec>,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// A box obstacle.
@@ -103,12 +103,12 @@ pub struct BoxSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
-    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
-    #[serde(default)]
-    pub color: Option<String>,
     /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
     #[serde(default)]
     pub soil: Option<SoilSpec>,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 
 /// A straight staircase of `count` equal steps, built from boxes (exact edges). In its own
@@ -181,12 +181,12 @@ pub struct InclineSpec {
     /// Friction coefficient.
     #[serde(default = "default_friction")]
     pub friction: f64,
-    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
-    #[serde(default)]
-    pub color: Option<String>,
     /// Deformable soil on this surface (docs/SOIL.md). Absent: rigid.
     #[serde(default)]
     pub soil: Option<SoilSpec>,
+    /// Colour in camera images, `"#rrggbb"` (default: the kind's colour, `render::palette`).
+    #[serde(default)]
+    pub color: Option<String>,
 }
 fn default_incline_thickness() -> f64 {
     0.05
