@@ -432,8 +432,8 @@ impl Env {
                     a(0) * self.cfg.max_forward_mps,
                     a(1) * self.cfg.max_yaw_rate_rad_s,
                 );
-                for (b, t) in c.belt_speed.iter_mut().zip(&v.tracks) {
-                    *b = Some(fwd - yaw * t.lateral_offset());
+                for (i, b) in c.belt_speed.iter_mut().enumerate() {
+                    *b = Some(v.twist_belt_speed(i, fwd, yaw));
                 }
                 2
             }

@@ -113,6 +113,7 @@ pub fn compile_vehicle_with(
     if let Some(b) = odometry_separation {
         c.positive("odometry.track_separation_m", b, "m");
     }
+    let steering = steering(&mut c, spec, robot, separation, &tracks);
     let sensors = super::compile_sensor::compile_sensors(&mut c, &spec.sensors, &mounts);
     let colors = vehicle_colors(&mut c, spec, robot);
     if c.issues.is_empty() {
@@ -124,11 +125,55 @@ pub fn compile_vehicle_with(
             flippers,
             tracks,
             odometry_separation,
+            steering,
             sensors,
             urdf,
         })
     } else {
         Err(c.issues)
+    }
+}
+
+/// The twist rule of `spec` (`[steering]`): per side by default when the robot's
+/// tracked-vehicle plugin names sides (its `tracks_separation` the default B), else per track.
+fn steering(
+    c: &mut Checker,
+    spec: &VehicleSpec,
+    robot: Option<&UrdfRobot>,
+    plugin_separation: Option<f64>,
+    tracks: &[TrackModel],
+) -> super::Steering {
+    let given = spec.steering.clone().unwrap_or_default();
+    let plugin_sides = robot
+        .and_then(|r| r.plugin.as_ref())
+        .is_some_and(|p| !p.left_tracks.is_empty() || !p.right_tracks.is_empty());
+    let per_side = given.one_speed_per_side.unwrap_or(plugin_sides);
+    if !per_side {
+        if given.track_separation_m.is_some() {
+            c.push(
+                "steering.track_separation_m",
+                "is the separation of the per-side rule: set `one_speed_per_side = true` or \
+                 remove it",
+            );
+        }
+        return super::Steering::PER_TRACK;
+    }
+    let offsets: Vec<f64> = tracks.iter().map(TrackModel::lateral_offset).collect();
+    let separation = given
+        .track_separation_m
+        .or(plugin_separation)
+        .unwrap_or_else(|| super::side_separation(&offsets));
+    if separation <= 0.0 && given.track_separation_m.is_none() && !tracks.is_empty() {
+        c.push(
+            "steering.one_speed_per_side",
+            "needs tracks on both sides of the chassis (or `track_separation_m`)",
+        );
+    } else {
+        c.positive("steering.track_separation_m", separation, "m");
+    }
+    super::Steering {
+        per_side,
+        separation,
     }
 }
 

@@ -77,13 +77,12 @@ impl Controls {
 
     /// Body-level skid steering without slip: forward speed `forward` m/s and yaw rate
     /// `yaw_rate` rad/s (REP 103, positive turns left) about the body origin; each belt runs at
-    /// `forward - yaw_rate * y` for its track's mid-plane at lateral offset `y` m.
+    /// `forward - yaw_rate * y` for its track's mid-plane at lateral offset `y` m, or, with
+    /// one speed per side ([`super::Steering`]), at `forward -+ yaw_rate * B / 2`.
     pub fn twist(v: &VehicleModel, forward: f64, yaw_rate: f64) -> Self {
         Controls {
-            belt_speed: v
-                .tracks
-                .iter()
-                .map(|t| Some(forward - yaw_rate * t.lateral_offset()))
+            belt_speed: (0..v.tracks.len())
+                .map(|i| Some(v.twist_belt_speed(i, forward, yaw_rate)))
                 .collect(),
             ..Controls::keep(v)
         }

@@ -14,6 +14,7 @@
 //! - `course.rs`: a scenario's `[course]` ([`CourseModel`]: gates, repetitions, penalties);
 //! - `expect.rs`: a scenario's `[expect]` table ([`Expectation`]);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
+//! - `steering.rs`: a twist command as belt speeds, per track or per side ([`Steering`]);
 //! - `method.rs`: the track method as data ([`Method`]: names, what it models);
 //! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
 //! - `compile_scenario.rs`: [`compile_scenario`] (vehicle overrides, terrain, simulation
@@ -59,6 +60,7 @@ mod read;
 mod robot_view;
 mod scenario;
 mod sensor;
+mod steering;
 mod team;
 mod template;
 mod vehicle;
@@ -94,6 +96,7 @@ pub use randomize::*;
 pub use read::{parse_toml, read_scenario_spec, read_toml};
 pub use scenario::*;
 pub use sensor::*;
+pub use steering::{SIDE_EPSILON_M, Steering, side_of, side_separation};
 pub use team::{DEFAULT_ROBOT_NAME, MAX_ROBOT_SPREAD_M, MAX_ROBOTS, RobotModel, Team, TeamRule};
 pub use template::*;
 pub use vehicle::*;

@@ -142,6 +142,8 @@ pub struct VehicleModel {
     pub tracks: Vec<TrackModel>,
     /// Effective track separation of the skid-steer odometry, m (`None`: geometric).
     pub odometry_separation: Option<f64>,
+    /// How twist commands become belt speeds.
+    pub steering: super::Steering,
     /// Sensors (`[[sensors]]`), in file order.
     pub sensors: Vec<super::SensorModel>,
     /// What was imported from a URDF file (`urdf`), for `tracksim check`.
@@ -149,7 +151,8 @@ pub struct VehicleModel {
 }
 
 impl TrackModel {
-    /// Lateral position (y) of the track's mid-plane in its parent frame, m.
+    /// Lateral position (y) of the track's mid-plane in its parent frame, m (a flipper's frame
+    /// is the chassis frame at angle 0, so this is the chassis-frame offset).
     pub fn lateral_offset(&self) -> f64 {
         let segs = self.path.segments();
         segs.iter().map(|s| s.start().y).sum::<f64>() / segs.len() as f64
@@ -164,6 +167,19 @@ impl VehicleModel {
     /// Index of the flipper called `name`.
     pub fn flipper_index(&self, name: &str) -> Option<usize> {
         self.flippers.iter().position(|f| f.name == name)
+    }
+
+    /// Each track's mid-plane offset y in the chassis frame, m (a flipper track's at angle 0;
+    /// turning an arm about its y axis does not move it sideways).
+    pub fn track_offsets(&self) -> Vec<f64> {
+        self.tracks.iter().map(TrackModel::lateral_offset).collect()
+    }
+
+    /// Belt speed of track `i`, m/s, for forward speed `forward` m/s and yaw rate `yaw_rate`
+    /// rad/s by the vehicle's [`super::Steering`] rule.
+    pub fn twist_belt_speed(&self, i: usize, forward: f64, yaw_rate: f64) -> f64 {
+        self.steering
+            .belt_speed(self.tracks[i].lateral_offset(), forward, yaw_rate)
     }
 }
 

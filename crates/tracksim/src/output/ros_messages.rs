@@ -4,7 +4,7 @@
 //! are listed in [`super::mcap`]'s documentation.
 
 use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
-use crate::model::{Parent, Scenario, SensorKind};
+use crate::model::{Scenario, SensorKind};
 use crate::rosmsg::{
     self, Clock, Header, JointState, Odometry, PoseWithCovariance, Quaternion, TFMessage, Time,
     TrackStates, Transform, TransformStamped, Twist, TwistWithCovariance, Vector3,
@@ -63,19 +63,9 @@ pub fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> Tr
     }
 }
 
-/// The skid-steer odometry of `sc`'s chassis tracks (for the encoders' twist).
+/// The skid-steer odometry of `sc`'s tracks (for the encoders' twist).
 pub fn encoder_model(sc: &Scenario) -> EncoderOdometry {
-    let offsets: Vec<Option<f64>> = sc
-        .vehicle
-        .tracks
-        .iter()
-        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
-        .collect();
-    let b = sc
-        .vehicle
-        .odometry_separation
-        .unwrap_or_else(|| EncoderOdometry::geometric_separation(&offsets));
-    EncoderOdometry::new(&offsets, b, 0.0, 0.0, 0.0)
+    EncoderOdometry::of_vehicle(&sc.vehicle, 0.0, 0.0, 0.0)
 }
 
 /// The encoder odometry of sample `s` (frame `odom`, child `base_link`).

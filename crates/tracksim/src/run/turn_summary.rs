@@ -2,7 +2,7 @@
 //! with constant belt commands that asks the chassis to turn, with the turn its belt commands
 //! describe (the skid-steer kinematics the commands were made with) and the turn it drove.
 
-use crate::model::{Parent, VehicleModel};
+use crate::model::VehicleModel;
 use crate::world::{Odometry, Sample};
 use serde::Serialize;
 
@@ -31,11 +31,7 @@ pub struct TurnSummary {
 /// The turns of a run of `v` recorded as `samples`: stretches of at least four samples with
 /// constant belt commands and a commanded yaw rate of at least 0.01 rad/s.
 pub fn turn_summaries(v: &VehicleModel, samples: &[Sample]) -> Vec<TurnSummary> {
-    let offsets: Vec<Option<f64>> = v
-        .tracks
-        .iter()
-        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
-        .collect();
+    let offsets = Odometry::counted_offsets(v);
     let kin = Odometry::new(
         &offsets,
         Odometry::geometric_separation(&offsets),

@@ -44,6 +44,24 @@ pub struct VehicleSpec {
     /// Colours of the parts in camera images (`[colors]`).
     #[serde(default)]
     pub colors: Option<ColorsSpec>,
+    /// How twist commands become belt speeds (`[steering]`).
+    #[serde(default)]
+    pub steering: Option<SteeringSpec>,
+}
+
+/// How a twist command (forward speed, yaw rate) becomes belt speeds (`[steering]`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteeringSpec {
+    /// One speed per side for every track on it, `v -+ w B / 2`, as Gazebo's `TrackedVehicle`
+    /// (default: true when the URDF/SDF tracked-vehicle plugin names the sides, else false:
+    /// each belt at `v - w y` for its own mid-plane).
+    #[serde(default)]
+    pub one_speed_per_side: Option<bool>,
+    /// B of the per-side rule, m (default: the plugin's `tracks_separation`, else the
+    /// distance between the mean left and mean right track mid-planes).
+    #[serde(default)]
+    pub track_separation_m: Option<f64>,
 }
 
 /// Colours of a vehicle's parts in camera images, each `"#rrggbb"` (`[colors]`).

@@ -230,20 +230,11 @@ fn check_method(sc: &Scenario) -> Result<()> {
     }
 }
 
-/// Odometry at the placed start pose over the chassis tracks (REP 105: the odom frame
-/// coincides with the world at the start).
+/// Odometry at the placed start pose over every track (REP 105: the odom frame coincides
+/// with the world at the start).
 fn start_odometry(sim: &Simulation) -> Odometry {
-    let v = &sim.rb().view.vehicle;
-    let offsets: Vec<Option<f64>> = v
-        .tracks
-        .iter()
-        .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
-        .collect();
-    let b = v
-        .odometry_separation
-        .unwrap_or_else(|| Odometry::geometric_separation(&offsets));
     let p = sim.body_pose();
-    Odometry::new(&offsets, b, p.x, p.y, p.yaw)
+    Odometry::of_vehicle(&sim.rb().view.vehicle, p.x, p.y, p.yaw)
 }
 
 /// An empty world with the scenario's solver settings, z up.

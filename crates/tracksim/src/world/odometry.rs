@@ -1,10 +1,17 @@
 //! What the robot's own encoders would report (issue 14.3): the measured belt speeds of the
-//! chassis's left and right tracks integrated with the skid-steer model,
-//! `v = (v_l + v_r) / 2`, `w = (v_r - v_l) / B`, with `B` the effective track separation
-//! (`[odometry] track_separation_m` of the vehicle file; by default the distance between the
-//! left and right tracks' mid-planes). The pose lives in an `odom` frame (ROS REP 105) that
+//! left and right tracks integrated with
+//! the skid-steer model, `v = (v_l + v_r) / 2`, `w = (v_r - v_l) / B`, with `v_l`, `v_r` the
+//! mean belt speed of each side and `B` the effective track separation (`[odometry]
+//! track_separation_m` of the vehicle file; by default the distance between the mean left and
+//! mean right mid-planes). The encoders counted are the chassis tracks' when the chassis has
+//! tracks on both sides (a PackBot's main tracks, as its own odometry does), else every
+//! track's, wherever it rides (issue 42: four tracks on flippers, a robot's track on a
+//! flipper link). A robot whose tracks are not on both sides (one track on the mid-plane)
+//! measures forward speed only: `v` the mean belt speed, `w = 0`. The pose lives in an `odom` frame (ROS REP 105) that
 //! coincides with the world frame at the start, so it compares directly with the ground truth;
 //! it is planar (x, y, yaw), as a wheel-odometry node publishes it.
+
+use crate::model::{Parent, VehicleModel, side_of, side_separation};
 
 /// Planar odometry state, integrated every physics step.
 #[derive(Clone, Debug, PartialEq)]
@@ -13,6 +20,8 @@ pub struct Odometry {
     left: Vec<usize>,
     /// Track indices on the chassis's right (-y) side.
     right: Vec<usize>,
+    /// Every counted track's index (for the forward speed without both sides).
+    all: Vec<usize>,
     /// Effective track separation B, m.
     separation: f64,
     /// x in the odom frame, m.
@@ -24,19 +33,22 @@ pub struct Odometry {
 }
 
 impl Odometry {
-    /// Odometry over the chassis tracks at lateral offsets `offsets` (m, `None` for tracks not
-    /// on the chassis), with separation `separation` m, starting at (x, y, yaw).
+    /// Odometry over the tracks at lateral offsets `offsets` (m, chassis frame; `None` for
+    /// tracks not counted), with separation `separation` m, starting at (x, y, yaw).
     pub fn new(offsets: &[Option<f64>], separation: f64, x: f64, y: f64, yaw: f64) -> Self {
-        let side = |pick: fn(f64) -> bool| -> Vec<usize> {
+        let side = |s: f64| -> Vec<usize> {
             offsets
                 .iter()
                 .enumerate()
-                .filter_map(|(i, o)| o.filter(|&y| pick(y)).map(|_| i))
+                .filter_map(|(i, o)| o.filter(|&y| side_of(y) == s).map(|_| i))
                 .collect()
         };
         Odometry {
-            left: side(|y| y > 0.0),
-            right: side(|y| y < 0.0),
+            left: side(1.0),
+            right: side(-1.0),
+            all: (0..offsets.len())
+                .filter(|&i| offsets[i].is_some())
+                .collect(),
             separation,
             x,
             y,
@@ -44,22 +56,37 @@ impl Odometry {
         }
     }
 
-    /// Default effective separation, m: the distance between the mean left and mean right
-    /// mid-planes of the chassis tracks (0 if a side has none).
-    pub fn geometric_separation(offsets: &[Option<f64>]) -> f64 {
-        let mean = |pick: fn(f64) -> bool| {
-            let v: Vec<f64> = offsets
-                .iter()
-                .flatten()
-                .copied()
-                .filter(|&y| pick(y))
-                .collect();
-            (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
-        };
-        match (mean(|y| y > 0.0), mean(|y| y < 0.0)) {
-            (Some(l), Some(r)) => l - r,
-            _ => 0.0,
+    /// The encoders of `v` (see the module: the chassis tracks when they are on both sides,
+    /// else every track), with the vehicle's `[odometry]` separation or the geometric one,
+    /// starting at (x, y, yaw).
+    pub fn of_vehicle(v: &VehicleModel, x: f64, y: f64, yaw: f64) -> Self {
+        let offsets = Odometry::counted_offsets(v);
+        let b = v
+            .odometry_separation
+            .unwrap_or_else(|| Odometry::geometric_separation(&offsets));
+        Odometry::new(&offsets, b, x, y, yaw)
+    }
+
+    /// Each track's lateral offset, m, `None` for a track the encoders do not count.
+    pub fn counted_offsets(v: &VehicleModel) -> Vec<Option<f64>> {
+        let on_body: Vec<Option<f64>> = v
+            .tracks
+            .iter()
+            .map(|t| (t.parent == Parent::Body).then(|| t.lateral_offset()))
+            .collect();
+        let sides = |s: f64| on_body.iter().flatten().any(|&y| side_of(y) == s);
+        if sides(1.0) && sides(-1.0) {
+            on_body
+        } else {
+            v.track_offsets().into_iter().map(Some).collect()
         }
+    }
+
+    /// Default effective separation, m: the distance between the mean left and mean right
+    /// mid-planes of the counted tracks (0 if a side has none).
+    pub fn geometric_separation(offsets: &[Option<f64>]) -> f64 {
+        let counted: Vec<f64> = offsets.iter().flatten().copied().collect();
+        side_separation(&counted)
     }
 
     /// Forward speed (m/s) and yaw rate (rad/s) the encoders imply for belt speeds `belt` m/s.
@@ -70,8 +97,12 @@ impl Odometry {
     /// [`Odometry::twist`] with track `i`'s belt speed given by `belt(i)`, m/s.
     fn twist_of(&self, belt: impl Fn(usize) -> f64) -> (f64, f64) {
         let mean = |ix: &[usize]| ix.iter().map(|&i| belt(i)).sum::<f64>() / ix.len() as f64;
-        if self.left.is_empty() || self.right.is_empty() || self.separation <= 0.0 {
+        if self.all.is_empty() {
             return (0.0, 0.0);
+        }
+        if self.left.is_empty() || self.right.is_empty() || self.separation <= 0.0 {
+            // No yaw from the encoders: one track, or tracks on one side only.
+            return (mean(&self.all), 0.0);
         }
         let (l, r) = (mean(&self.left), mean(&self.right));
         (0.5 * (l + r), (r - l) / self.separation)
@@ -110,5 +141,19 @@ mod tests {
         }
         assert!((o.yaw - std::f64::consts::PI).abs() < 1e-9);
         assert!(o.x.abs() < 1e-6 && (o.y - 1.5).abs() < 1e-6, "{o:?}");
+    }
+
+    #[test]
+    fn one_track_on_the_mid_plane_measures_forward_speed_and_no_yaw() {
+        let o = Odometry::new(&[Some(0.0)], 0.0, 0.0, 0.0, 0.0);
+        assert_eq!(o.twist(&[0.25]), (0.25, 0.0));
+        // Flipper tracks count with their side: left 0.1, 0.3 and right 0.2, 0.4 m/s.
+        let offsets = [Some(0.2), Some(0.3), Some(-0.2), Some(-0.3)];
+        let o = Odometry::new(&offsets, 0.5, 0.0, 0.0, 0.0);
+        let (v, w) = o.twist(&[0.1, 0.3, 0.2, 0.4]);
+        assert!(
+            (v - 0.25).abs() < 1e-12 && (w - 0.2).abs() < 1e-12,
+            "{v} {w}"
+        );
     }
 }
