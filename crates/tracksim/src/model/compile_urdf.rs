@@ -299,6 +299,7 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
                 .map_or("not given".to_string(), |s| format!("{s} m (odometry)"))
         ));
     }
+    notes.extend(robot.warnings.iter().map(|w| format!("warning: {w}")));
     notes.push(
         "not used from URDF: <visual>, <dynamics>, <mimic>, <safety_controller>, velocity \
          limits; meshes collide as their convex hull"

@@ -54,9 +54,24 @@ pub fn compile_vehicle_in(
     match &spec.urdf {
         None => compile_vehicle_with(spec, None),
         Some(file) => {
-            let robot = UrdfRobot::load(&dir.join(file))?;
+            let robot = UrdfRobot::load_with(&dir.join(file), &joint_roles(spec))?;
             compile_vehicle_with(spec, Some(&robot))
         }
+    }
+}
+
+/// What `spec` says of its URDF robot's joints: `rigid_joints`, `flipper_joints` and the
+/// links its tracks hang on.
+pub fn joint_roles(spec: &VehicleSpec) -> crate::urdf::JointRoles {
+    crate::urdf::JointRoles {
+        rigid: spec.rigid_joints.clone(),
+        flippers: spec.flipper_joints.clone(),
+        track_links: spec
+            .tracks
+            .iter()
+            .flat_map(|t| [t.link.clone(), t.mirror_link.clone()])
+            .flatten()
+            .collect(),
     }
 }
 
@@ -192,11 +207,14 @@ fn file_parts(
     for (key, given) in [
         ("body_friction", spec.body_friction.is_some()),
         ("joints", !spec.joints.is_empty()),
+        ("rigid_joints", !spec.rigid_joints.is_empty()),
+        ("flipper_joints", spec.flipper_joints.is_some()),
     ] {
         if given {
             c.push(
                 key,
-                "only used with `urdf` (the body's friction is [body] friction)",
+                "only used with `urdf` (without it the chassis is [body], with its own friction, \
+                 and the arms [[flippers]])",
             );
         }
     }

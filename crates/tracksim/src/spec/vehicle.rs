@@ -47,6 +47,14 @@ pub struct VehicleSpec {
     /// How twist commands become belt speeds (`[steering]`).
     #[serde(default)]
     pub steering: Option<SteeringSpec>,
+    /// URDF/SDF joints kept rigid (fixed at angle 0), e.g. a lidar gimbal's revolute joint.
+    #[serde(default)]
+    pub rigid_joints: Vec<String>,
+    /// URDF/SDF joints that are the flipper arms (revolute or continuous); every other
+    /// revolute joint is kept rigid (default: every revolute joint on the chassis, and every
+    /// continuous joint whose link carries a track).
+    #[serde(default)]
+    pub flipper_joints: Option<Vec<String>>,
 }
 
 /// How a twist command (forward speed, yaw rate) becomes belt speeds (`[steering]`).

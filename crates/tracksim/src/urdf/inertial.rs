@@ -6,7 +6,7 @@
 use super::Owner;
 use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
-use super::{ImportedLink, MassPart};
+use super::{ImportedLink, LinkJoint, MassPart};
 use crate::error::SpecIssue;
 use glam::{DMat3, DVec3};
 
@@ -18,8 +18,15 @@ fn tensor(i: &urdf_rs::Inertia) -> DMat3 {
     )
 }
 
-/// Checks the `<inertial>` of link `l` (if it has one) and sets its mass.
-pub(super) fn link_mass(src: &UrdfSource, l: &mut ImportedLink, issues: &mut Vec<SpecIssue>) {
+/// Checks the `<inertial>` of link `l` (if it has one) and sets its mass. A link merged into
+/// its parent (fixed or continuous joint) with an all-zero `<inertia>` is taken as a point
+/// mass, with a line in `warnings`.
+pub(super) fn link_mass(
+    src: &UrdfSource,
+    l: &mut ImportedLink,
+    issues: &mut Vec<SpecIssue>,
+    warnings: &mut Vec<String>,
+) {
     if !src.with_inertial.contains(&l.name) {
         return;
     }
@@ -50,10 +57,18 @@ pub(super) fn link_mass(src: &UrdfSource, l: &mut ImportedLink, issues: &mut Vec
     let d = [i.ixx, i.iyy, i.izz];
     let minor2 = i.ixx * i.iyy - i.ixy * i.ixy;
     let all = [i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz];
+    let merged = matches!(l.kind, LinkJoint::Fixed | LinkJoint::Continuous);
     if all.iter().any(|v| !v.is_finite()) {
         issues.push(SpecIssue::new(
             &at,
             "<inertia> has a number that is not finite",
+        ));
+    } else if merged && all.iter().all(|v| *v == 0.0) {
+        warnings.push(format!(
+            "{} <inertial>: <inertia> is all zero; taken as a point mass of {} kg merged into \
+             its parent (give its inertia if it is a large part)",
+            src.link(&l.name),
+            crate::check::num(m)
         ));
     } else if !(i.ixx > 0.0 && minor2 > 0.0 && t.determinant() > 0.0) {
         issues.push(SpecIssue::new(
@@ -136,7 +151,52 @@ pub(super) fn merged(
                     - DMat3::from_cols(d * d.x, d * d.y, d * d.z);
                 inertia += p.inertia + shift * p.mass;
             }
+            if inertia.determinant() <= 0.0 {
+                let first = links.iter().find(|l| l.owner == owner);
+                let what = first.map_or("urdf".to_string(), |l| key(&src.link(&l.name)));
+                issues.push(SpecIssue::new(
+                    what,
+                    "this body's merged inertia is not positive definite (its links are point \
+                     masses on one line): give its links their <inertia>",
+                ));
+            }
             MassPart { mass, com, inertia }
         }
+    }
+}
+
+/// A line in `warnings` for link `l` whose centre of mass (m, chassis frame) lies far outside
+/// its collision shapes' box (by more than 0.1 m and their size), or, without shapes, over
+/// 1 m from its frame: usually an `<inertial><origin>` in the wrong frame or units.
+pub(super) fn far_com(src: &UrdfSource, l: &ImportedLink, warnings: &mut Vec<String>) {
+    if l.mass <= 0.0 {
+        return;
+    }
+    let Some(u) = src.robot.links.iter().find(|k| k.name == l.name) else {
+        return;
+    };
+    let com = (l.pose * pose(&u.inertial.origin)).translation;
+    let (lo, hi, size) = match l
+        .shapes
+        .iter()
+        .map(|s| s.bounds())
+        .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    {
+        Some((lo, hi)) => (lo, hi, (hi - lo).length().max(0.1)),
+        None => (l.pose.translation, l.pose.translation, 1.0),
+    };
+    let outside = (com - com.clamp(lo, hi)).length();
+    if outside > size {
+        warnings.push(format!(
+            "{} <inertial>: the centre of mass is {:.3} m outside the link's {} (check the \
+             <origin>'s frame and units)",
+            src.link(&l.name),
+            outside,
+            if l.shapes.is_empty() {
+                "frame"
+            } else {
+                "collision shapes"
+            }
+        ));
     }
 }

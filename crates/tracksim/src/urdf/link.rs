@@ -28,6 +28,31 @@ pub enum LinkJoint {
     Revolute,
 }
 
+/// What the vehicle file says about the robot's joints before the tree is walked.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointRoles {
+    /// Joints kept rigid (fixed at angle 0): a lidar gimbal, a pan-tilt head (`rigid_joints`).
+    pub rigid: Vec<String>,
+    /// If given, the only revolute or continuous joints that are flipper arms; every other
+    /// revolute joint is kept rigid (`flipper_joints`).
+    pub flippers: Option<Vec<String>>,
+    /// Links that carry a track of the vehicle file: a continuous joint on the chassis whose
+    /// child carries a track is a flipper arm without limits (not a wheel inside a track).
+    pub track_links: Vec<String>,
+}
+
+impl JointRoles {
+    /// Whether joint `name` is kept rigid.
+    pub fn is_rigid(&self, name: &str) -> bool {
+        self.rigid.iter().any(|j| j == name)
+    }
+
+    /// Whether joint `name` is named a flipper (`None`: no list given).
+    pub fn named_flipper(&self, name: &str) -> Option<bool> {
+        self.flippers.as_ref().map(|f| f.iter().any(|j| j == name))
+    }
+}
+
 /// One imported link.
 #[derive(Clone, Debug)]
 pub struct ImportedLink {

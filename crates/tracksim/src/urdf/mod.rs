@@ -33,6 +33,6 @@ mod source;
 mod tree;
 
 pub use gazebo::TrackedVehiclePlugin;
-pub use link::{ImportedArm, ImportedLink, LinkJoint, MassPart, Owner};
+pub use link::{ImportedArm, ImportedLink, JointRoles, LinkJoint, MassPart, Owner};
 pub use report::{LinkLine, UrdfReport};
 pub use robot::UrdfRobot;

@@ -1,6 +1,6 @@
 //! A URDF robot read, walked and checked ([`UrdfRobot`]).
 
-use super::link::{ImportedArm, ImportedLink, MassPart, Owner};
+use super::link::{ImportedArm, ImportedLink, JointRoles, MassPart, Owner};
 use super::source::{self, UrdfSource};
 use super::{TrackedVehiclePlugin, inertial, tree};
 use crate::error::SpecIssue;
@@ -21,6 +21,8 @@ pub struct UrdfRobot {
     pub plugin: Option<TrackedVehiclePlugin>,
     /// Gazebo `<mu1>` of the root link.
     pub root_friction: Option<f64>,
+    /// What was read but is probably a mistake (printed by `tracksim check`).
+    pub warnings: Vec<String>,
     /// Line-numbered names of links and joints, for messages.
     source: std::sync::Arc<UrdfSource>,
 }
@@ -54,6 +56,12 @@ impl UrdfRobot {
 
     /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
     pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        UrdfRobot::load_with(path, &JointRoles::default())
+    }
+
+    /// [`UrdfRobot::load`] with the vehicle file's joint roles (rigid joints, named flippers,
+    /// the links carrying tracks).
+    pub fn load_with(path: &Path, roles: &JointRoles) -> Result<UrdfRobot, Vec<SpecIssue>> {
         let src = UrdfSource::read(path)?;
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
@@ -62,7 +70,8 @@ impl UrdfRobot {
                 format!("`{}` is not a number", crate::check::echoed(text)),
             ));
         }
-        let (links, arms) = tree::walk(&src, &mut issues);
+        let mut warnings = Vec::new();
+        let (links, arms) = tree::walk(&src, roles, &mut issues, &mut warnings);
         if let Some(p) = &src.gazebo.plugin {
             for (tag, l) in p.track_links() {
                 // Against the file's links, not the tree walked: a broken tree is its own
@@ -91,6 +100,7 @@ impl UrdfRobot {
             arms,
             plugin: src.gazebo.plugin.clone(),
             root_friction,
+            warnings,
             source: std::sync::Arc::new(src),
         })
     }

@@ -6,7 +6,7 @@
 use super::Owner;
 use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
-use super::{ImportedArm, ImportedLink, LinkJoint};
+use super::{ImportedArm, ImportedLink, JointRoles, LinkJoint};
 use crate::error::SpecIssue;
 use glam::{DAffine3, DVec3};
 use std::collections::HashMap;
@@ -118,11 +118,74 @@ fn root_link(src: &UrdfSource, issues: &mut Vec<SpecIssue>) -> Option<String> {
     }
 }
 
+/// The joint names of `roles` that are not joints of the robot, refused with the list.
+fn check_roles(src: &UrdfSource, roles: &JointRoles, issues: &mut Vec<SpecIssue>) {
+    let names: Vec<&str> = src.robot.joints.iter().map(|j| j.name.as_str()).collect();
+    let lists = [
+        ("rigid_joints", Some(&roles.rigid)),
+        ("flipper_joints", roles.flippers.as_ref()),
+    ];
+    for (k, list) in lists {
+        for (i, j) in list.into_iter().flatten().enumerate() {
+            if !names.contains(&j.as_str()) {
+                issues.push(SpecIssue::new(
+                    format!("{k}[{i}]"),
+                    crate::check::unknown_name("joint", j, &names),
+                ));
+            } else if k == "flipper_joints" && roles.is_rigid(j) {
+                issues.push(SpecIssue::new(
+                    format!("{k}[{i}]"),
+                    format!("joint \"{j}\" is also in `rigid_joints`: name it in one list"),
+                ));
+            }
+        }
+    }
+}
+
+/// How joint `j` (frame `frame` of its child at angle 0) joins its child to a parent owned by
+/// `parent_owner`: its kind, whether it is an arm, and the child frame (a locked or rigid
+/// revolute joint turns it to its angle).
+fn role(
+    j: &urdf_rs::Joint,
+    roles: &JointRoles,
+    frame: &mut DAffine3,
+) -> Result<(LinkJoint, bool), ()> {
+    let named = roles.named_flipper(&j.name);
+    Ok(match j.joint_type {
+        JointType::Fixed => (LinkJoint::Fixed, false),
+        // A revolute joint locked at one angle (gz-sim's `<limit lower="a" upper="a">`) is
+        // rigid: fixed at that angle.
+        JointType::Revolute if locked(j) => {
+            let axis = DVec3::from_array(j.axis.xyz.0);
+            if let Some(a) = axis.try_normalize() {
+                *frame *= DAffine3::from_axis_angle(a, j.limit.lower);
+            }
+            (LinkJoint::Fixed, false)
+        }
+        // Kept rigid by the vehicle file (any type), or a revolute joint not among its named
+        // flippers: fixed at angle 0.
+        _ if roles.is_rigid(&j.name) => (LinkJoint::Fixed, false),
+        JointType::Revolute if named == Some(false) => (LinkJoint::Fixed, false),
+        JointType::Continuous
+            if named == Some(true)
+                || named.is_none() && roles.track_links.contains(&j.child.link) =>
+        {
+            (LinkJoint::Revolute, true)
+        }
+        JointType::Continuous => (LinkJoint::Continuous, false),
+        JointType::Revolute => (LinkJoint::Revolute, true),
+        _ => return Err(()),
+    })
+}
+
 /// Walks the joint tree from the root: every link with its owner and frame, and the arms.
 pub(super) fn walk(
     src: &UrdfSource,
+    roles: &JointRoles,
     issues: &mut Vec<SpecIssue>,
+    warnings: &mut Vec<String>,
 ) -> (Vec<ImportedLink>, Vec<ImportedArm>) {
+    check_roles(src, roles, issues);
     let Some(root) = root_link(src, issues) else {
         return (Vec::new(), Vec::new());
     };
@@ -161,25 +224,15 @@ pub(super) fn walk(
                 continue;
             }
             let mut frame = parent_pose * pose(&j.origin);
-            let (kind, owner) = match j.joint_type {
-                JointType::Fixed => (LinkJoint::Fixed, parent_owner),
-                // A revolute joint locked at one angle (gz-sim's `<limit lower="a" upper="a">`)
-                // is rigid: fixed at that angle.
-                JointType::Revolute if locked(j) => {
-                    let axis = DVec3::from_array(j.axis.xyz.0);
-                    if let Some(a) = axis.try_normalize() {
-                        frame *= DAffine3::from_axis_angle(a, j.limit.lower);
-                    }
-                    (LinkJoint::Fixed, parent_owner)
-                }
-                JointType::Continuous => (LinkJoint::Continuous, parent_owner),
-                JointType::Revolute => {
+            let (kind, owner) = match role(j, roles, &mut frame) {
+                Ok((kind, false)) => (kind, parent_owner),
+                Ok((kind, true)) => {
                     if let Owner::Arm(i) = parent_owner {
                         issues.push(SpecIssue::new(
                             &at,
                             format!(
                                 "a revolute joint on arm \"{}\": tracksim's arms hang on the \
-                                 chassis; make this joint fixed",
+                                 chassis; make this joint fixed (or list it in `rigid_joints`)",
                                 arms[i].joint
                             ),
                         ));
@@ -189,16 +242,17 @@ pub(super) fn walk(
                         Some(a) => arms.push(a),
                         None => continue,
                     }
-                    (LinkJoint::Revolute, Owner::Arm(arms.len() - 1))
+                    (kind, Owner::Arm(arms.len() - 1))
                 }
-                ref other => {
+                Err(()) => {
                     issues.push(SpecIssue::new(
                         &at,
                         format!(
                             "type \"{}\" is not simulated: tracksim has a chassis with \
                              revolute arms (fixed joints are merged, continuous ones are \
-                             wheels inside a track); make it fixed or revolute",
-                            format!("{other:?}").to_ascii_lowercase()
+                             wheels inside a track); make it fixed or revolute, or list it in \
+                             `rigid_joints`",
+                            format!("{:?}", j.joint_type).to_ascii_lowercase()
                         ),
                     ));
                     continue;
@@ -233,8 +287,9 @@ pub(super) fn walk(
         ));
     }
     for l in &mut links {
-        super::inertial::link_mass(src, l, issues);
+        super::inertial::link_mass(src, l, issues, warnings);
         super::shapes::link_shapes(src, l, issues);
+        super::inertial::far_com(src, l, warnings);
     }
     (links, arms)
 }
@@ -257,9 +312,11 @@ fn arm(
         ));
     }
     let l = &j.limit;
-    if !(l.lower.is_finite() || l.lower == f64::NEG_INFINITY)
-        || !(l.upper.is_finite() || l.upper == f64::INFINITY)
-        || l.lower >= l.upper
+    let continuous = j.joint_type == JointType::Continuous;
+    if !continuous
+        && (!(l.lower.is_finite() || l.lower == f64::NEG_INFINITY)
+            || !(l.upper.is_finite() || l.upper == f64::INFINITY)
+            || l.lower >= l.upper)
     {
         issues.push(SpecIssue::new(
             &at,
@@ -282,7 +339,8 @@ fn arm(
     if issues.len() != n {
         return None;
     }
-    let limits = (l.lower.is_finite() && l.upper.is_finite()).then_some([l.lower, l.upper]);
+    let limits =
+        (!continuous && l.lower.is_finite() && l.upper.is_finite()).then_some([l.lower, l.upper]);
     Some(ImportedArm {
         joint: j.name.clone(),
         link: j.child.link.clone(),
