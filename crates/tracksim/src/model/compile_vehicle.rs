@@ -52,9 +52,17 @@ pub fn compile_vehicle_in(
     dir: &std::path::Path,
 ) -> Result<VehicleModel, Vec<SpecIssue>> {
     match &spec.urdf {
-        None => compile_vehicle_with(spec, None),
+        None => {
+            if spec.sdf_model.is_some() {
+                return Err(vec![SpecIssue::new(
+                    "sdf_model",
+                    "only used with `urdf` naming an SDF file: remove it",
+                )]);
+            }
+            compile_vehicle_with(spec, None)
+        }
         Some(file) => {
-            let robot = UrdfRobot::load(&dir.join(file))?;
+            let robot = UrdfRobot::load_model(&dir.join(file), spec.sdf_model.as_deref())?;
             compile_vehicle_with(spec, Some(&robot))
         }
     }

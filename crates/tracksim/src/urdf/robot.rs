@@ -19,8 +19,11 @@ pub struct UrdfRobot {
     pub arms: Vec<ImportedArm>,
     /// The tracked-vehicle plugin block, if any.
     pub plugin: Option<TrackedVehiclePlugin>,
-    /// Gazebo `<mu1>` of the root link.
+    /// Gazebo `<mu1>` of the root link (SDF: its collisions' `<surface><friction><ode><mu>`).
     pub root_friction: Option<f64>,
+    /// An SDF model's `<pose>` in its world: where the robot starts (m, rad; the vehicle
+    /// itself is built in the model frame). `None` for a URDF, or a model without a pose.
+    pub start_pose: Option<glam::DAffine3>,
     /// Line-numbered names of links and joints, for messages.
     source: std::sync::Arc<UrdfSource>,
 }
@@ -52,9 +55,19 @@ impl UrdfRobot {
         })
     }
 
-    /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
+    /// Reads and checks `path`, a URDF or an SDF file told by its root element (relative
+    /// paths inside it, meshes, are relative to its folder); an SDF file's model is chosen as
+    /// [`UrdfRobot::load_model`] does without a name.
     pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
-        let src = UrdfSource::read(path)?;
+        Self::load_model(path, None)
+    }
+
+    /// Reads and checks `path` (URDF or SDF); `sdf_model` names the SDF `<model>` to read
+    /// (the vehicle file's `sdf_model`). Without it: the one model with a tracked-vehicle
+    /// plugin, else the only non-static model (docs/URDF.md, "SDF"). A name given for a URDF
+    /// file is refused.
+    pub fn load_model(path: &Path, sdf_model: Option<&str>) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        let src = UrdfSource::read(path, sdf_model)?;
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
             issues.push(SpecIssue::new(
@@ -91,6 +104,7 @@ impl UrdfRobot {
             arms,
             plugin: src.gazebo.plugin.clone(),
             root_friction,
+            start_pose: src.start_pose,
             source: std::sync::Arc::new(src),
         })
     }

@@ -15,13 +15,16 @@ pub(crate) struct UrdfSource {
     /// The robot as urdf-rs reads it.
     pub robot: urdf_rs::Robot,
     /// Line of each `<link>`, by name.
-    link_lines: HashMap<String, u32>,
+    pub(super) link_lines: HashMap<String, u32>,
     /// Line of each `<joint>`, by name.
-    joint_lines: HashMap<String, u32>,
+    pub(super) joint_lines: HashMap<String, u32>,
     /// Links that have an `<inertial>` element.
     pub with_inertial: HashSet<String>,
     /// The Gazebo extensions.
     pub gazebo: super::gazebo::GazeboExtensions,
+    /// An SDF model's `<pose>` in its world (the robot's start pose), m and rad; `None` for a
+    /// URDF or a model without a pose.
+    pub start_pose: Option<glam::DAffine3>,
 }
 
 /// Largest URDF file read, bytes (a robot description is kilobytes; meshes are separate).
@@ -33,8 +36,10 @@ pub(crate) fn key(element: &str) -> String {
 }
 
 impl UrdfSource {
-    /// Reads and parses `path`; problems are keyed `urdf` (the vehicle file's key).
-    pub fn read(path: &Path) -> Result<UrdfSource, Vec<SpecIssue>> {
+    /// Reads and parses `path`, a URDF `<robot>` or an SDF `<sdf>` file (told by its root
+    /// element; `sdf_model` chooses the SDF's model); problems are keyed `urdf` (the vehicle
+    /// file's key).
+    pub fn read(path: &Path, sdf_model: Option<&str>) -> Result<UrdfSource, Vec<SpecIssue>> {
         let fail = |m: String| vec![SpecIssue::new("urdf", m)];
         let text = crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
             fail(format!(
@@ -66,9 +71,22 @@ impl UrdfSource {
             return Err(xacro());
         }
         let root = doc.root_element();
+        if root.tag_name().name() == "sdf" {
+            return super::sdf::read_model(path, &doc, sdf_model);
+        }
+        if sdf_model.is_some() {
+            return Err(vec![SpecIssue::new(
+                "sdf_model",
+                format!(
+                    "{} is a URDF robot, not an SDF file: `sdf_model` chooses a model of an SDF \
+                     file; remove it",
+                    path.display()
+                ),
+            )]);
+        }
         if root.tag_name().name() != "robot" {
             return Err(fail(format!(
-                "{}: the root element is <{}>, a URDF file's is <robot>",
+                "{}: the root element is <{}>, a URDF file's is <robot> (an SDF file's <sdf>)",
                 path.display(),
                 root.tag_name().name()
             )));
@@ -113,6 +131,7 @@ impl UrdfSource {
             joint_lines,
             with_inertial,
             gazebo,
+            start_pose: None,
         })
     }
 
