@@ -23,6 +23,8 @@ mod model;
 mod pose;
 mod world;
 
+pub use world::ROTATION_TOLERANCE;
+
 pub(in crate::urdf) use model::read_model;
 
 use crate::error::SpecIssue;

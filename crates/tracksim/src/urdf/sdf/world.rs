@@ -17,6 +17,11 @@ use glam::{DAffine3, DMat3, DQuat, DVec3, EulerRot};
 /// (tracksim's default; gz-sim's would be 1).
 const DEFAULT_FRICTION: f64 = 0.6;
 
+/// How far (rad, and in a rotation matrix's entries) a rotation may be from a yaw and a pitch
+/// and still be read as one: SDF files write 1.5708 for pi/2 (3.7e-6 rad off), and 1e-4 rad
+/// moves a corner of a 1 m box by 0.1 mm.
+pub const ROTATION_TOLERANCE: f64 = 1e-4;
+
 /// The yaw and pitch (rad, `R = Rz(yaw) Ry(pitch)`) and the full sizes (m, permuted) of a box
 /// of `size` turned by `r`, when a swap of the box's axes makes `r` a yaw and a pitch.
 pub(super) fn box_yaw_pitch(r: DMat3, size: [f64; 3]) -> Option<(f64, f64, [f64; 3])> {
@@ -44,9 +49,13 @@ pub(super) fn box_yaw_pitch(r: DMat3, size: [f64; 3]) -> Option<(f64, f64, [f64;
             }
             let q = r * p;
             let (yaw, pitch, roll) = DQuat::from_mat3(&q).to_euler(EulerRot::ZYX);
-            if roll.abs() < 1e-9 {
+            if roll.abs() < ROTATION_TOLERANCE {
                 let rebuilt = DMat3::from_quat(DQuat::from_euler(EulerRot::ZYX, yaw, pitch, 0.0));
-                if (rebuilt - q).to_cols_array().iter().all(|v| v.abs() < 1e-9) {
+                if (rebuilt - q)
+                    .to_cols_array()
+                    .iter()
+                    .all(|v| v.abs() < ROTATION_TOLERANCE)
+                {
                     return Some((yaw, pitch, perm.map(|k| size[k])));
                 }
             }
@@ -58,7 +67,7 @@ pub(super) fn box_yaw_pitch(r: DMat3, size: [f64; 3]) -> Option<(f64, f64, [f64;
 /// The yaw (rad) of `r` when it turns about z only.
 fn yaw_only(r: DMat3) -> Option<f64> {
     let (yaw, pitch, roll) = DQuat::from_mat3(&r).to_euler(EulerRot::ZYX);
-    (pitch.abs() < 1e-9 && roll.abs() < 1e-9).then_some(yaw)
+    (pitch.abs() < ROTATION_TOLERANCE && roll.abs() < ROTATION_TOLERANCE).then_some(yaw)
 }
 
 /// `<surface><friction><ode><mu>` of a collision.
