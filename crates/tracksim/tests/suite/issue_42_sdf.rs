@@ -20,6 +20,10 @@ use tracksim::urdf::{LinkJoint, Owner, UrdfRobot};
 
 const TOL: f64 = 1e-9;
 
+/// The quarter turn as the gz-sim file writes it, rad (not pi/2 exactly).
+#[allow(clippy::approx_constant)]
+const FILE_QUARTER_TURN: f64 = 1.5708;
+
 fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("tracksim-issue42sdf-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
@@ -128,7 +132,7 @@ fn the_gz_sim_tracked_vehicle_loads_as_its_file_says() {
         0.0195 + 0.33 * 0.5f64.sin(),
     );
     assert!(near(small.0, want, TOL), "{:?} vs {want:?}", small.0);
-    let a = 1.5708f64;
+    let a = FILE_QUARTER_TURN;
     let axis = DVec3::new(
         a.cos() * (-0.5f64).sin(),
         -a.sin(),
@@ -316,7 +320,7 @@ fn the_world_gives_terrain_entries() {
     assert_eq!(t.boxes.len(), 21);
     // Stairs_3_Collision_13: <pose>0 -0.6125 1.0125 0 0 0</pose> in a model at 7 0 0 turned
     // 1.5708 about z: centre (7 + 0.6125 sin 1.5708, -0.6125 cos 1.5708, 1.0125).
-    let y = 1.5708f64;
+    let y = FILE_QUARTER_TURN;
     let want = DVec3::new(7.0 + 0.6125 * y.sin(), -0.6125 * y.cos(), 1.0125);
     let b = t
         .boxes
