@@ -67,7 +67,23 @@ impl UrdfRobot {
     /// plugin, else the only non-static model (docs/URDF.md, "SDF"). A name given for a URDF
     /// file is refused.
     pub fn load_model(path: &Path, sdf_model: Option<&str>) -> Result<UrdfRobot, Vec<SpecIssue>> {
-        let src = UrdfSource::read(path, sdf_model)?;
+        let text = UrdfSource::read_text(path)?;
+        let src = match roxmltree::Document::parse(&text) {
+            Ok(doc) if doc.root_element().has_tag_name("sdf") => {
+                super::sdf::read_model(path, &doc, sdf_model)?
+            }
+            _ if sdf_model.is_some() => {
+                return Err(vec![SpecIssue::new(
+                    "sdf_model",
+                    format!(
+                        "{} is not an SDF file: `sdf_model` chooses a model of an SDF file; \
+                         remove it",
+                        path.display()
+                    ),
+                )]);
+            }
+            _ => UrdfSource::parse(path, &text)?,
+        };
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
             issues.push(SpecIssue::new(

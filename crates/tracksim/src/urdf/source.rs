@@ -36,16 +36,22 @@ pub(crate) fn key(element: &str) -> String {
 }
 
 impl UrdfSource {
-    /// Reads and parses `path`, a URDF `<robot>` or an SDF `<sdf>` file (told by its root
-    /// element; `sdf_model` chooses the SDF's model); problems are keyed `urdf` (the vehicle
-    /// file's key).
-    pub fn read(path: &Path, sdf_model: Option<&str>) -> Result<UrdfSource, Vec<SpecIssue>> {
+    /// Reads the text of `path` (a URDF or SDF file), bounded; problems are keyed `urdf`.
+    pub fn read_text(path: &Path) -> Result<String, Vec<SpecIssue>> {
+        crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
+            vec![SpecIssue::new(
+                "urdf",
+                format!(
+                    "cannot read the URDF file: {e}; the path is relative to the vehicle file's \
+                     folder"
+                ),
+            )]
+        })
+    }
+
+    /// Parses `text`, the URDF file `path`; problems are keyed `urdf` (the vehicle file's key).
+    pub fn parse(path: &Path, text: &str) -> Result<UrdfSource, Vec<SpecIssue>> {
         let fail = |m: String| vec![SpecIssue::new("urdf", m)];
-        let text = crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
-            fail(format!(
-                "cannot read the URDF file: {e}; the path is relative to the vehicle file's folder"
-            ))
-        })?;
         let xacro = || {
             fail(format!(
                 "{} is a xacro file; expand it first (`xacro robot.urdf.xacro > robot.urdf`) and \
@@ -53,7 +59,7 @@ impl UrdfSource {
                 path.display()
             ))
         };
-        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+        let doc = roxmltree::Document::parse(text).map_err(|e| {
             // An element with the xacro prefix and no namespace declared for it.
             if matches!(&e, roxmltree::Error::UnknownNamespace(p, _) if p == "xacro") {
                 return xacro();
@@ -71,19 +77,6 @@ impl UrdfSource {
             return Err(xacro());
         }
         let root = doc.root_element();
-        if root.tag_name().name() == "sdf" {
-            return super::sdf::read_model(path, &doc, sdf_model);
-        }
-        if sdf_model.is_some() {
-            return Err(vec![SpecIssue::new(
-                "sdf_model",
-                format!(
-                    "{} is a URDF robot, not an SDF file: `sdf_model` chooses a model of an SDF \
-                     file; remove it",
-                    path.display()
-                ),
-            )]);
-        }
         if root.tag_name().name() != "robot" {
             return Err(fail(format!(
                 "{}: the root element is <{}>, a URDF file's is <robot> (an SDF file's <sdf>)",
@@ -117,7 +110,7 @@ impl UrdfSource {
                 .map(|f| f.to_string_lossy().into_owned())
                 .unwrap_or_default();
         }
-        let robot = urdf_rs::read_from_string(&text).map_err(|e| {
+        let robot = urdf_rs::read_from_string(text).map_err(|e| {
             fail(format!(
                 "{}: not a valid URDF robot: {}",
                 path.display(),
