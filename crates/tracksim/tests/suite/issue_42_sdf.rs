@@ -522,3 +522,49 @@ fn a_vehicle_file_naming_the_sdf_compiles() {
         .to_string();
     assert!(e.contains("static"), "{e}");
 }
+
+#[test]
+fn joints_without_links_and_nested_models_are_refused() {
+    let text = model(&format!(
+        "{}{}<model name=\"inner\"/>",
+        link("base", "", ""),
+        "<joint name=\"j\" type=\"fixed\"><parent>base</parent></joint>\n"
+    ));
+    let e = problems(UrdfRobot::load(&sdf("no_child", &text)));
+    assert!(
+        e.contains("<joint name=\"j\"> (robot.sdf line 5): has no <child> link"),
+        "{e}"
+    );
+    assert!(
+        e.contains("<model name=\"inner\"> (robot.sdf line 6)"),
+        "{e}"
+    );
+    // A joint to the world, and a type tracksim does not simulate.
+    let text = model(&format!(
+        "{}{}{}",
+        link("base", "", ""),
+        link("w", "", ""),
+        joint("j", "universal", "base", "w", "")
+    ));
+    let e = problems(UrdfRobot::load(&sdf("universal", &text)));
+    assert!(
+        e.contains("<joint name=\"j\"> (robot.sdf line 6): type \"universal\""),
+        "{e}"
+    );
+    // Revolute without <limit>, or with SDF's 1e16 "no limit": a continuous wheel, merged.
+    let text = model(&format!(
+        "{}{}{}",
+        link("base", "", ""),
+        link("wheel", "<pose>0.2 0 0 0 0 0</pose>", ""),
+        joint(
+            "j",
+            "revolute",
+            "base",
+            "wheel",
+            "<axis><xyz>0 1 0</xyz><limit><lower>-1e16</lower><upper>1e16</upper></limit></axis>"
+        )
+    ));
+    let r = UrdfRobot::load(&sdf("wheel", &text)).unwrap();
+    assert!(r.arms.is_empty());
+    assert_eq!(r.link("wheel").unwrap().kind, LinkJoint::Continuous);
+}

@@ -51,22 +51,9 @@ pub(in crate::urdf) fn read_model(
     };
     let m = choose_model(&ctx, wanted).map_err(|e| vec![e])?;
     let mut issues = Vec::new();
-    for n in m.children().filter(|c| c.has_tag_name("include")) {
-        issues.push(ctx.issue(
-            n,
-            format!(
-                "an <include> is not read: expand it, e.g. `gz sdf -p {} > expanded.sdf`, and \
-                 name the result",
-                ctx.file()
-            ),
-        ));
-    }
-    for n in children(m, "model") {
-        issues.push(ctx.issue(
-            n,
-            "a nested <model> is not read: tracksim reads one model's links and joints; merge \
-             it into its parent model",
-        ));
+    refuse_parts(&ctx, m, &mut issues);
+    if !issues.is_empty() {
+        return Err(issues);
     }
     let frames = Frames::read(&ctx, m, &mut issues);
     let child_links: HashSet<&str> = children(m, "joint")
@@ -126,6 +113,40 @@ pub(in crate::urdf) fn read_model(
         Ok(src)
     } else {
         Err(issues)
+    }
+}
+
+/// The parts of a model tracksim does not read: `<include>`, nested `<model>`s, links and
+/// joints without a name.
+fn refuse_parts(ctx: &Ctx, m: Node, issues: &mut Vec<SpecIssue>) {
+    for n in children(m, "include") {
+        issues.push(ctx.issue(
+            n,
+            format!(
+                "an <include> is not read: expand it, e.g. `gz sdf -p {} > expanded.sdf`, and \
+                 name the result",
+                ctx.file()
+            ),
+        ));
+    }
+    for n in children(m, "model") {
+        issues.push(ctx.issue(
+            n,
+            "a nested <model> is not read: tracksim reads one model's links and joints; merge \
+             it into its parent model",
+        ));
+    }
+    for n in children(m, "link").chain(children(m, "joint")) {
+        if n.attribute("name").is_none_or(|v| v.trim().is_empty()) {
+            issues.push(ctx.issue(n, "has no name"));
+        }
+    }
+    for j in children(m, "joint") {
+        for tag in ["parent", "child"] {
+            if child(j, tag).is_none_or(|c| text(c).is_empty()) {
+                issues.push(ctx.issue(j, format!("has no <{tag}> link")));
+            }
+        }
     }
 }
 
