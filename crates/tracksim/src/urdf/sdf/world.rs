@@ -2,7 +2,8 @@
 //! included) as tracksim terrain entries in the world frame. A box becomes a box (its
 //! rotation as yaw and pitch after swapping its axes if need be; a roll no swap removes is
 //! refused), a plane facing up the ground, a mesh a mesh (STL or OBJ, turned about z only,
-//! scaled uniformly), a heightmap a height field (a PNG, turned about z only). Cylinders,
+//! scaled uniformly), a heightmap a height field (a PNG, turned about z only; row 0 at +y and
+//! white at `<size>` z above the base are assumed to be gz-sim's, not checked). Cylinders,
 //! spheres and capsules are refused: tracksim's terrain has no such entry. Non-static models
 //! (the robot, loose objects) are not terrain and are skipped; `<include>` is refused.
 
