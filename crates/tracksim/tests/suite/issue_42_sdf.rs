@@ -568,3 +568,116 @@ fn joints_without_links_and_nested_models_are_refused() {
     assert!(r.arms.is_empty());
     assert_eq!(r.link("wheel").unwrap().kind, LinkJoint::Continuous);
 }
+
+/// An ASCII STL of the box from `lo` to `hi` (12 triangles), m.
+fn box_stl(lo: DVec3, hi: DVec3) -> String {
+    let c = |k: usize| {
+        DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let faces = [
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    let mut s = String::from("solid box\n");
+    for f in faces {
+        s.push_str("facet normal 0 0 0\nouter loop\n");
+        for k in f {
+            let v = c(k);
+            s.push_str(&format!("vertex {} {} {}\n", v.x, v.y, v.z));
+        }
+        s.push_str("endloop\nendfacet\n");
+    }
+    s.push_str("endsolid box\n");
+    s
+}
+
+#[test]
+fn model_uris_and_a_small_world() {
+    // models/wheel/meshes/w.stl, named from models/robot/robot.sdf as model://wheel/...
+    let dir = scratch("model_uri");
+    let meshes = dir.join("models/wheel/meshes");
+    std::fs::create_dir_all(&meshes).unwrap();
+    std::fs::create_dir_all(dir.join("models/robot")).unwrap();
+    let stl = box_stl(DVec3::splat(-0.1), DVec3::splat(0.1));
+    std::fs::write(meshes.join("w.stl"), &stl).unwrap();
+    let mesh = |uri: &str| {
+        format!(
+            "<collision name=\"c\"><pose>0 0 0.5 0 0 0</pose><geometry><mesh><uri>{uri}</uri>\
+             </mesh></geometry></collision>"
+        )
+    };
+    let text = model(&link("base", "", &mesh("model://wheel/meshes/w.stl")));
+    let p = dir.join("models/robot/robot.sdf");
+    std::fs::write(&p, text).unwrap();
+    let r = UrdfRobot::load(&p).unwrap();
+    let CollisionShape::Convex(pts) = &r.links[0].shapes[0] else {
+        panic!("a hull")
+    };
+    let top = pts.iter().map(|v| v.z).fold(f64::MIN, f64::max);
+    assert!((top - 0.6).abs() < 1e-6, "{top}"); // f32 hull: 1e-6 m
+    let text = model(&link("base", "", &mesh("model://nowhere/w.stl")));
+    std::fs::write(&p, text).unwrap();
+    let e = problems(UrdfRobot::load(&p));
+    assert!(
+        e.contains("model \"nowhere\"") && e.contains("line 4"),
+        "{e}"
+    );
+    // A world: a ground plane at z = 0.2, a box pitched 0.3 rad, a mesh turned 30 deg about
+    // z, a sphere (refused) and the robot (not terrain).
+    let world = format!(
+        "<sdf version=\"1.9\"><world name=\"w\">\n\
+         <model name=\"g\"><static>true</static><pose>0 0 0.2 0 0 0</pose><link name=\"l\">\
+         <collision name=\"p\"><geometry><plane><normal>0 0 1</normal></plane></geometry>\
+         <surface><friction><ode><mu>0.8</mu></ode></friction></surface></collision></link></model>\n\
+         <model name=\"b\"><static>1</static><pose>1 2 0 0 0.3 0</pose><link name=\"l\">\
+         <collision name=\"bx\"><geometry><box><size>1 2 3</size></box></geometry></collision>\
+         </link></model>\n\
+         <model name=\"m\"><static>1</static><pose degrees=\"true\">0 0 0 0 0 30</pose>\
+         <link name=\"l\"><collision name=\"mc\"><geometry><mesh><uri>w.stl</uri><scale>2 2 2\
+         </scale></mesh></geometry></collision></link></model>\n\
+         <model name=\"s\"><static>1</static><link name=\"l\"><collision name=\"sp\"><geometry>\
+         <sphere><radius>1</radius></sphere></geometry></collision></link></model>\n\
+         <model name=\"robot\"><link name=\"base\"/></model>\n\
+         </world></sdf>\n"
+    );
+    let wdir = scratch("world");
+    std::fs::write(wdir.join("w.stl"), &stl).unwrap();
+    let wp = wdir.join("world.sdf");
+    std::fs::write(&wp, world).unwrap();
+    let e = problems(tracksim::urdf::sdf::world_terrain(&wp));
+    assert!(
+        e.contains("<collision name=\"sp\"> (world.sdf line 5): a sphere"),
+        "{e}"
+    );
+    let w = tracksim::urdf::sdf::world_terrain_lenient(&wp).unwrap();
+    assert_eq!(w.left_out.len(), 1);
+    let g = w.terrain.ground.as_ref().unwrap();
+    assert_eq!((g.z_m, g.friction), (0.2, 0.8));
+    let b = &w.terrain.boxes[0];
+    assert_eq!((b.centre_m, b.size_m), ([1.0, 2.0, 0.0], [1.0, 2.0, 3.0]));
+    assert!(b.yaw_deg.abs() < 1e-9 && (b.pitch_deg - 0.3f64.to_degrees()).abs() < 1e-9);
+    let m = &w.terrain.meshes[0];
+    assert_eq!(m.scale, 2.0);
+    assert!(
+        (m.yaw_deg - 30.0).abs() < 1e-9 && m.file == wdir.join("w.stl"),
+        "{m:?}"
+    );
+    assert_eq!(
+        tracksim::urdf::sdf::model_start_pose(&wp, Some("robot")).unwrap(),
+        Some(glam::DAffine3::IDENTITY)
+    );
+}
