@@ -638,8 +638,7 @@ fn model_uris_and_a_small_world() {
     );
     // A world: a ground plane at z = 0.2, a box pitched 0.3 rad, a mesh turned 30 deg about
     // z, a sphere (refused) and the robot (not terrain).
-    let world = format!(
-        "<sdf version=\"1.9\"><world name=\"w\">\n\
+    let world = "<sdf version=\"1.9\"><world name=\"w\">\n\
          <model name=\"g\"><static>true</static><pose>0 0 0.2 0 0 0</pose><link name=\"l\">\
          <collision name=\"p\"><geometry><plane><normal>0 0 1</normal></plane></geometry>\
          <surface><friction><ode><mu>0.8</mu></ode></friction></surface></collision></link></model>\n\
@@ -652,8 +651,7 @@ fn model_uris_and_a_small_world() {
          <model name=\"s\"><static>1</static><link name=\"l\"><collision name=\"sp\"><geometry>\
          <sphere><radius>1</radius></sphere></geometry></collision></link></model>\n\
          <model name=\"robot\"><link name=\"base\"/></model>\n\
-         </world></sdf>\n"
-    );
+         </world></sdf>\n";
     let wdir = scratch("world");
     std::fs::write(wdir.join("w.stl"), &stl).unwrap();
     let wp = wdir.join("world.sdf");
