@@ -11,8 +11,10 @@ use std::path::Path;
 pub struct UrdfRobot {
     /// The file.
     pub file: std::path::PathBuf,
-    /// `<robot name>`.
+    /// `<robot name>` (an SDF file's `<model name>`).
     pub name: String,
+    /// The file's format: `"URDF"` or `"SDF"`.
+    pub format: &'static str,
     /// Every link, the root first, then in joint-tree order.
     pub links: Vec<ImportedLink>,
     /// The arms (flippers), in joint-tree order.
@@ -68,8 +70,10 @@ impl UrdfRobot {
     /// file is refused.
     pub fn load_model(path: &Path, sdf_model: Option<&str>) -> Result<UrdfRobot, Vec<SpecIssue>> {
         let text = UrdfSource::read_text(path)?;
+        let mut format = "URDF";
         let src = match roxmltree::Document::parse(&text) {
             Ok(doc) if doc.root_element().has_tag_name("sdf") => {
+                format = "SDF";
                 super::sdf::read_model(path, &doc, sdf_model)?
             }
             _ if sdf_model.is_some() => {
@@ -116,6 +120,7 @@ impl UrdfRobot {
         Ok(UrdfRobot {
             file: path.to_path_buf(),
             name: src.robot.name.clone(),
+            format,
             links,
             arms,
             plugin: src.gazebo.plugin.clone(),

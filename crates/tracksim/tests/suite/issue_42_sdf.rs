@@ -501,7 +501,10 @@ fn a_vehicle_file_naming_the_sdf_compiles() {
     assert_eq!(v.odometry_separation, Some(0.4));
     let report = v.urdf.as_ref().unwrap().lines().join("\n");
     assert!(
-        report.contains("robot \"simple_tracked\"") && report.contains("front_left_flipper_j"),
+        report.starts_with("SDF ")
+            && report.contains("robot \"simple_tracked\"")
+            && report.contains("fixed joint front_left_flipper_j")
+            && report.contains("(3.000, 0.000, 0.100) m"),
         "{report}"
     );
     // `sdf_model` names the model; an unknown one is refused with the models listed.
