@@ -423,6 +423,9 @@ fn bad_sdf_is_refused_with_the_file_element_and_line() {
         e.contains("<uri> (robot.sdf line 4)") && e.contains("downloads nothing"),
         "{e}"
     );
+    let old = model(&link("base", "", "")).replace("version=\"1.9\"", "version=\"1.4\"");
+    let e = problems(UrdfRobot::load(&sdf("old", &old)));
+    assert!(e.contains("<sdf> (robot.sdf line 2): version 1.4"), "{e}");
     if let Some(p) = shared("track_drive.sdf") {
         let e = problems(UrdfRobot::load(&p));
         assert!(e.contains("\"vehicle_blue\", \"vehicle_green\""), "{e}");

@@ -51,6 +51,7 @@ pub(in crate::urdf) fn read_model(
     };
     let m = choose_model(&ctx, wanted).map_err(|e| vec![e])?;
     let mut issues = Vec::new();
+    old_version(&ctx, &mut issues);
     refuse_parts(&ctx, m, &mut issues);
     if !issues.is_empty() {
         return Err(issues);
@@ -113,6 +114,25 @@ pub(in crate::urdf) fn read_model(
         Ok(src)
     } else {
         Err(issues)
+    }
+}
+
+/// SDFormat before 1.5 (a joint axis in the model frame) is refused: `gz sdf -p` upgrades it.
+fn old_version(ctx: &Ctx, issues: &mut Vec<SpecIssue>) {
+    let root = ctx.doc.root_element();
+    let v = root.attribute("version").unwrap_or_default();
+    let mut parts = v.split('.').map(|p| p.trim().parse::<u32>().ok());
+    if let (Some(Some(major)), Some(Some(minor))) = (parts.next(), parts.next())
+        && (major, minor) < (1, 5)
+    {
+        issues.push(ctx.issue(
+            root,
+            format!(
+                "version {v}: SDFormat before 1.5 puts joint axes in the model frame; upgrade \
+                 it with `gz sdf -p {}` (tracksim reads 1.5 to 1.9)",
+                ctx.file()
+            ),
+        ));
     }
 }
 
