@@ -177,7 +177,12 @@ fn poses_follow_the_sdformat_frame_rules() {
     // (relative_to="a"), so at (1, 1, 0); its sphere 0.5 m along b's x: (1, 1.5, 0).
     let text = model(&format!(
         "{}{}{}{}{}",
-        link("base", "<pose>0 0 0.1 0 0 0</pose>", ""),
+        link(
+            "base",
+            "<pose>0 0 0.1 0 0 0</pose>",
+            "<collision name=\"c\"><geometry><plane/></geometry><surface><friction><ode>\
+             <mu>0.9</mu></ode></friction></surface></collision>"
+        ),
         link("a", &format!("<pose>1 0 0 0 0 {q}</pose>"), ""),
         link(
             "b",
@@ -207,6 +212,9 @@ fn poses_follow_the_sdformat_frame_rules() {
     };
     assert!(near(centre, DVec3::new(1.0, 1.5, 0.0), TOL), "{centre:?}");
     assert_eq!(r.start_pose, None, "a model file's model without <pose>");
+    // The root link's <mu> is the body's friction; its <plane> is no shape of a robot.
+    assert_eq!(r.root_friction, Some(0.9));
+    assert!(r.links[0].shapes.is_empty());
 }
 
 /// A chassis and one revolute arm on a link turned 90 deg about z at (0.3, 0.2, 0), with
