@@ -300,13 +300,31 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
         ));
     }
     notes.extend(robot.warnings.iter().map(|w| format!("warning: {w}")));
-    notes.push(
-        "not used from URDF: <visual>, <dynamics>, <mimic>, <safety_controller>, velocity \
-         limits; meshes collide as their convex hull"
-            .into(),
-    );
+    if robot.format == "SDF" {
+        notes.push(
+            "not used from SDF: <visual>, <sensor>, <dynamics>, velocity limits, plugins other \
+             than TrackedVehicle (TrackController: tracksim simulates the belt); meshes collide \
+             as their convex hull"
+                .into(),
+        );
+        if let Some(x) = robot.start_pose {
+            let t = x.translation;
+            notes.push(format!(
+                "the model's pose in its world, ({:.3}, {:.3}, {:.3}) m, is not used: the \
+                 scenario places the vehicle",
+                t.x, t.y, t.z
+            ));
+        }
+    } else {
+        notes.push(
+            "not used from URDF: <visual>, <dynamics>, <mimic>, <safety_controller>, velocity \
+             limits; meshes collide as their convex hull"
+                .into(),
+        );
+    }
     UrdfReport {
         file: robot.file.clone(),
+        format: robot.format,
         robot: robot.name.clone(),
         links,
         arms,

@@ -52,9 +52,21 @@ pub fn compile_vehicle_in(
     dir: &std::path::Path,
 ) -> Result<VehicleModel, Vec<SpecIssue>> {
     match &spec.urdf {
-        None => compile_vehicle_with(spec, None),
+        None => {
+            if spec.sdf_model.is_some() {
+                return Err(vec![SpecIssue::new(
+                    "sdf_model",
+                    "only used with `urdf` naming an SDF file: remove it",
+                )]);
+            }
+            compile_vehicle_with(spec, None)
+        }
         Some(file) => {
-            let robot = UrdfRobot::load_with(&dir.join(file), &joint_roles(spec))?;
+            let robot = UrdfRobot::load_with(
+                &dir.join(file),
+                spec.sdf_model.as_deref(),
+                &joint_roles(spec),
+            )?;
             compile_vehicle_with(spec, Some(&robot))
         }
     }

@@ -135,7 +135,8 @@ fn xml_model(text: &str) -> Option<String> {
     };
     Some(format!(
         "this is {kind}, not a tracksim TOML file: a vehicle file names a URDF robot with \
-         `urdf = \"robot.urdf\"` beside its `[[tracks]]` (docs/URDF.md; SDF is not read yet), \
+         `urdf = \"robot.urdf\"` (or an SDF file, `urdf = \"robot.sdf\"`, with `sdf_model = \
+         \"NAME\"` when it has several models) beside its `[[tracks]]` (docs/URDF.md), \
          and a scenario names the vehicle file in `[vehicle] file`"
     ))
 }

@@ -13,7 +13,8 @@ pub struct VehicleSpec {
     /// One-line description.
     #[serde(default)]
     pub description: String,
-    /// The robot's URDF file (path relative to this file): the chassis and the flipper arms
+    /// The robot's URDF or SDF file (path relative to this file; told by its root element,
+    /// `<robot>` or `<sdf>`, not by its extension): the chassis and the flipper arms
     /// (masses, inertias, collision shapes, revolute joints with limits and effort) come from
     /// it instead of `[body]` and `[[flippers]]`, and each track names the URDF link that
     /// carries it (`link`). `docs/URDF.md`.
@@ -55,6 +56,12 @@ pub struct VehicleSpec {
     /// continuous joint whose link carries a track).
     #[serde(default)]
     pub flipper_joints: Option<Vec<String>>,
+    /// The `<model name>` to read when `urdf` names an SDF file (default: the one model with
+    /// a tracked-vehicle plugin, else the only non-static model). Not with a URDF file.
+    /// `docs/URDF.md`, "SDF". (New keys go last: a table written as an array keeps its old
+    /// fields' order.)
+    #[serde(default)]
+    pub sdf_model: Option<String>,
 }
 
 /// How a twist command (forward speed, yaw rate) becomes belt speeds (`[steering]`).

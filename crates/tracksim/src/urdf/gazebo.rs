@@ -1,7 +1,10 @@
 //! The Gazebo extensions of a URDF file that tracksim reads: the `TrackedVehicle` plugin
 //! block (which links are tracks and flippers, `tracks_separation`) and each link's friction
 //! (`<gazebo reference="LINK"><mu1>`). Everything else under `<gazebo>` is Gazebo's own and
-//! ignored.
+//! ignored. The plugin block is read the same way inside an SDF `<model>` (`sdf/`): gz-sim's
+//! form (`<left_track><link>NAME</link></left_track>`) and Gazebo classic's
+//! `SimpleTrackedVehiclePlugin` form (`<left_track>NAME</left_track>`). `TrackController`
+//! plugins (the belt's speed in gz-sim) are not read: tracksim simulates the belt itself.
 
 use std::collections::HashMap;
 
@@ -18,9 +21,12 @@ pub struct TrackedVehiclePlugin {
     pub right_flippers: Vec<String>,
     /// `<tracks_separation>`, m.
     pub tracks_separation: Option<f64>,
+    /// `<tracks_height>`, m (gz-sim's height of the tracks, for its steering; read, not used
+    /// by the simulation).
+    pub tracks_height: Option<f64>,
     /// Line of the `<plugin>` element.
     pub line: u32,
-    /// The URDF file's name, for messages.
+    /// The URDF (or SDF) file's name, for messages.
     pub file: String,
 }
 
@@ -65,7 +71,9 @@ pub struct GazeboExtensions {
     pub unreadable: Vec<(String, String)>,
 }
 
-fn is_tracked_vehicle(plugin: roxmltree::Node) -> bool {
+/// True when `plugin` is a tracked-vehicle plugin (gz-sim's `TrackedVehicle`, classic
+/// Gazebo's `TrackedVehiclePlugin` or `SimpleTrackedVehiclePlugin`).
+pub(super) fn is_tracked_vehicle(plugin: roxmltree::Node) -> bool {
     let name = plugin
         .attribute("name")
         .unwrap_or_default()
@@ -105,36 +113,53 @@ impl GazeboExtensions {
                 }
             }
             for p in g.children().filter(|n| n.has_tag_name("plugin")) {
-                if !is_tracked_vehicle(p) {
-                    continue;
+                if is_tracked_vehicle(p) {
+                    out.plugin = Some(read_plugin(p, line, &mut out.unreadable));
                 }
-                let links = |tag: &str| -> Vec<String> {
-                    p.children()
-                        .filter(|c| c.has_tag_name(tag))
-                        .filter_map(|c| text_of(c, "link"))
-                        .map(String::from)
-                        .collect()
-                };
-                let mut plugin = TrackedVehiclePlugin {
-                    left_tracks: links("left_track"),
-                    right_tracks: links("right_track"),
-                    left_flippers: links("left_flipper"),
-                    right_flippers: links("right_flipper"),
-                    tracks_separation: None,
-                    line: line(p),
-                    file: String::new(),
-                };
-                if let Some(t) = text_of(p, "tracks_separation") {
-                    match t.parse::<f64>() {
-                        Ok(v) => plugin.tracks_separation = Some(v),
-                        Err(_) => out
-                            .unreadable
-                            .push(("<plugin><tracks_separation>".into(), t.into())),
-                    }
-                }
-                out.plugin = Some(plugin);
             }
         }
         out
     }
+}
+
+/// The link names of the plugin's `<TAG>` elements: gz-sim's `<TAG><link>NAME</link></TAG>`
+/// or classic Gazebo's `<TAG>NAME</TAG>`.
+fn plugin_links(p: roxmltree::Node, tag: &str) -> Vec<String> {
+    p.children()
+        .filter(|c| c.has_tag_name(tag))
+        .filter_map(|c| text_of(c, "link").or_else(|| c.text().map(str::trim)))
+        .filter(|l| !l.is_empty())
+        .map(String::from)
+        .collect()
+}
+
+/// Reads a tracked-vehicle `<plugin>` element (a URDF's `<gazebo>` child or an SDF `<model>`
+/// child); numbers that cannot be read go to `unreadable` as (element, text).
+pub(super) fn read_plugin(
+    p: roxmltree::Node,
+    line: &dyn Fn(roxmltree::Node) -> u32,
+    unreadable: &mut Vec<(String, String)>,
+) -> TrackedVehiclePlugin {
+    let mut plugin = TrackedVehiclePlugin {
+        left_tracks: plugin_links(p, "left_track"),
+        right_tracks: plugin_links(p, "right_track"),
+        left_flippers: plugin_links(p, "left_flipper"),
+        right_flippers: plugin_links(p, "right_flipper"),
+        tracks_separation: None,
+        tracks_height: None,
+        line: line(p),
+        file: String::new(),
+    };
+    for (tag, slot) in [
+        ("tracks_separation", &mut plugin.tracks_separation),
+        ("tracks_height", &mut plugin.tracks_height),
+    ] {
+        if let Some(t) = text_of(p, tag) {
+            match t.parse::<f64>() {
+                Ok(v) => *slot = Some(v),
+                Err(_) => unreadable.push((format!("<plugin><{tag}>"), t.into())),
+            }
+        }
+    }
+    plugin
 }

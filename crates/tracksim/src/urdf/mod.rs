@@ -17,6 +17,9 @@
 //! - `link.rs`: the imported links, arms and mass parts, and the body each link becomes part of;
 //! - `robot.rs`: the robot read, walked and checked ([`UrdfRobot`]);
 //! - `report.rs`: what `tracksim check` prints.
+//! - `sdf/`: SDFormat files: a `<model>` converted into the same robot a URDF gives (so the
+//!   tree walk, the checks and the compile are shared), and a `<world>`'s static models as
+//!   terrain ([`sdf::world_terrain`]).
 //!
 //! Frames: every pose here is in the chassis (root link) frame with all arms at angle 0, the
 //! frame tracksim's vehicle model uses.
@@ -28,6 +31,7 @@ mod mesh;
 mod pose;
 mod report;
 mod robot;
+pub mod sdf;
 mod shapes;
 mod source;
 mod tree;

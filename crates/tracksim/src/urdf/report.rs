@@ -28,8 +28,10 @@ pub struct LinkLine {
 /// What was imported from a URDF file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UrdfReport {
-    /// The URDF file.
+    /// The URDF (or SDF) file.
     pub file: std::path::PathBuf,
+    /// Its format: `"URDF"` or `"SDF"`.
+    pub format: &'static str,
     /// `<robot name>`.
     pub robot: String,
     /// Every link.
@@ -44,7 +46,8 @@ impl UrdfReport {
     /// The report as lines of text.
     pub fn lines(&self) -> Vec<String> {
         let mut out = vec![format!(
-            "URDF {} (robot \"{}\"): {} links",
+            "{} {} (robot \"{}\"): {} links",
+            self.format,
             self.file.display(),
             self.robot,
             self.links.len()

@@ -11,18 +11,23 @@ use std::path::Path;
 pub struct UrdfRobot {
     /// The file.
     pub file: std::path::PathBuf,
-    /// `<robot name>`.
+    /// `<robot name>` (an SDF file's `<model name>`).
     pub name: String,
+    /// The file's format: `"URDF"` or `"SDF"`.
+    pub format: &'static str,
     /// Every link, the root first, then in joint-tree order.
     pub links: Vec<ImportedLink>,
     /// The arms (flippers), in joint-tree order.
     pub arms: Vec<ImportedArm>,
     /// The tracked-vehicle plugin block, if any.
     pub plugin: Option<TrackedVehiclePlugin>,
-    /// Gazebo `<mu1>` of the root link.
+    /// Gazebo `<mu1>` of the root link (SDF: its collisions' `<surface><friction><ode><mu>`).
     pub root_friction: Option<f64>,
     /// What was read but is probably a mistake (printed by `tracksim check`).
     pub warnings: Vec<String>,
+    /// An SDF model's `<pose>` in its world: where the robot starts (m, rad; the vehicle
+    /// itself is built in the model frame). `None` for a URDF, or a model without a pose.
+    pub start_pose: Option<glam::DAffine3>,
     /// Line-numbered names of links and joints, for messages.
     source: std::sync::Arc<UrdfSource>,
 }
@@ -54,15 +59,47 @@ impl UrdfRobot {
         })
     }
 
-    /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
+    /// Reads and checks `path`, a URDF or an SDF file told by its root element (relative
+    /// paths inside it, meshes, are relative to its folder); an SDF file's model is chosen as
+    /// [`UrdfRobot::load_model`] does without a name.
     pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
-        UrdfRobot::load_with(path, &JointRoles::default())
+        Self::load_model(path, None)
     }
 
-    /// [`UrdfRobot::load`] with the vehicle file's joint roles (rigid joints, named flippers,
-    /// the links carrying tracks).
-    pub fn load_with(path: &Path, roles: &JointRoles) -> Result<UrdfRobot, Vec<SpecIssue>> {
-        let src = UrdfSource::read(path)?;
+    /// Reads and checks `path` (URDF or SDF); `sdf_model` names the SDF `<model>` to read
+    /// (the vehicle file's `sdf_model`). Without it: the one model with a tracked-vehicle
+    /// plugin, else the only non-static model (docs/URDF.md, "SDF"). A name given for a URDF
+    /// file is refused.
+    pub fn load_model(path: &Path, sdf_model: Option<&str>) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        Self::load_with(path, sdf_model, &JointRoles::default())
+    }
+
+    /// [`UrdfRobot::load_model`] with the vehicle file's joint roles (rigid joints, named
+    /// flippers, the links carrying tracks).
+    pub fn load_with(
+        path: &Path,
+        sdf_model: Option<&str>,
+        roles: &JointRoles,
+    ) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        let text = UrdfSource::read_text(path)?;
+        let mut format = "URDF";
+        let src = match roxmltree::Document::parse(&text) {
+            Ok(doc) if doc.root_element().has_tag_name("sdf") => {
+                format = "SDF";
+                super::sdf::read_model(path, &doc, sdf_model)?
+            }
+            _ if sdf_model.is_some() => {
+                return Err(vec![SpecIssue::new(
+                    "sdf_model",
+                    format!(
+                        "{} is not an SDF file: `sdf_model` chooses a model of an SDF file; \
+                         remove it",
+                        path.display()
+                    ),
+                )]);
+            }
+            _ => UrdfSource::parse(path, &text)?,
+        };
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
             issues.push(SpecIssue::new(
@@ -96,11 +133,13 @@ impl UrdfRobot {
         Ok(UrdfRobot {
             file: path.to_path_buf(),
             name: src.robot.name.clone(),
+            format,
             links,
             arms,
             plugin: src.gazebo.plugin.clone(),
             root_friction,
             warnings,
+            start_pose: src.start_pose,
             source: std::sync::Arc::new(src),
         })
     }

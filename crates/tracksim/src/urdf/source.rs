@@ -15,13 +15,16 @@ pub(crate) struct UrdfSource {
     /// The robot as urdf-rs reads it.
     pub robot: urdf_rs::Robot,
     /// Line of each `<link>`, by name.
-    link_lines: HashMap<String, u32>,
+    pub(super) link_lines: HashMap<String, u32>,
     /// Line of each `<joint>`, by name.
-    joint_lines: HashMap<String, u32>,
+    pub(super) joint_lines: HashMap<String, u32>,
     /// Links that have an `<inertial>` element.
     pub with_inertial: HashSet<String>,
     /// The Gazebo extensions.
     pub gazebo: super::gazebo::GazeboExtensions,
+    /// An SDF model's `<pose>` in its world (the robot's start pose), m and rad; `None` for a
+    /// URDF or a model without a pose.
+    pub start_pose: Option<glam::DAffine3>,
 }
 
 /// Largest URDF file read, bytes (a robot description is kilobytes; meshes are separate).
@@ -33,14 +36,22 @@ pub(crate) fn key(element: &str) -> String {
 }
 
 impl UrdfSource {
-    /// Reads and parses `path`; problems are keyed `urdf` (the vehicle file's key).
-    pub fn read(path: &Path) -> Result<UrdfSource, Vec<SpecIssue>> {
+    /// Reads the text of `path` (a URDF or SDF file), bounded; problems are keyed `urdf`.
+    pub fn read_text(path: &Path) -> Result<String, Vec<SpecIssue>> {
+        crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
+            vec![SpecIssue::new(
+                "urdf",
+                format!(
+                    "cannot read the URDF file: {e}; the path is relative to the vehicle file's \
+                     folder"
+                ),
+            )]
+        })
+    }
+
+    /// Parses `text`, the URDF file `path`; problems are keyed `urdf` (the vehicle file's key).
+    pub fn parse(path: &Path, text: &str) -> Result<UrdfSource, Vec<SpecIssue>> {
         let fail = |m: String| vec![SpecIssue::new("urdf", m)];
-        let text = crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
-            fail(format!(
-                "cannot read the URDF file: {e}; the path is relative to the vehicle file's folder"
-            ))
-        })?;
         let xacro = || {
             fail(format!(
                 "{} is a xacro file; expand it first (`xacro robot.urdf.xacro > robot.urdf`) and \
@@ -48,7 +59,7 @@ impl UrdfSource {
                 path.display()
             ))
         };
-        let doc = roxmltree::Document::parse(&text).map_err(|e| {
+        let doc = roxmltree::Document::parse(text).map_err(|e| {
             // An element with the xacro prefix and no namespace declared for it.
             if matches!(&e, roxmltree::Error::UnknownNamespace(p, _) if p == "xacro") {
                 return xacro();
@@ -68,7 +79,7 @@ impl UrdfSource {
         let root = doc.root_element();
         if root.tag_name().name() != "robot" {
             return Err(fail(format!(
-                "{}: the root element is <{}>, a URDF file's is <robot>",
+                "{}: the root element is <{}>, a URDF file's is <robot> (an SDF file's <sdf>)",
                 path.display(),
                 root.tag_name().name()
             )));
@@ -99,7 +110,7 @@ impl UrdfSource {
                 .map(|f| f.to_string_lossy().into_owned())
                 .unwrap_or_default();
         }
-        let robot = urdf_rs::read_from_string(&text).map_err(|e| {
+        let robot = urdf_rs::read_from_string(text).map_err(|e| {
             fail(format!(
                 "{}: not a valid URDF robot: {}",
                 path.display(),
@@ -113,6 +124,7 @@ impl UrdfSource {
             joint_lines,
             with_inertial,
             gazebo,
+            start_pose: None,
         })
     }
 
