@@ -1,0 +1,224 @@
+//! The paper plugin's trajectory and pattern as a tracksim track: the arcs' centres and radii
+//! are the pulleys (the straights join them tangentially), `<elements_per_round>` the grouser
+//! count (pitch = perimeter / N), each `<element>` a grouser shape used in turn.
+
+use super::continuous_track::{ContinuousTrackPlugin, PatternElement, PluginSegment};
+use super::propose::{ProposedPath, ProposedTrack};
+use crate::geometry::Pulley;
+use crate::spec::{GrouserShapeSpec, GrouserSpec};
+use crate::urdf::UrdfRobot;
+use glam::DVec3;
+
+/// Two cross-section points at the same height within this, m: a trapezoid's base.
+const LEVEL_TOLERANCE_M: f64 = 1e-6;
+
+/// A pattern element as a grouser shape standing on the belt, with what was changed.
+fn grouser_shape(e: &PatternElement, width: f64) -> (GrouserShapeSpec, String) {
+    let across = |w: f64| ((w - width).abs() > 1e-6).then_some(w);
+    match e {
+        PatternElement::Box([x, y, z]) => (
+            GrouserShapeSpec::Box {
+                length_m: *x,
+                height_m: *z,
+                width_m: across(*y),
+                shift_m: 0.0,
+            },
+            format!(
+                "box {x} x {y} x {z} m: a box grouser {x} m long, {z} m high (the plugin centres \
+                 it on the path, half inside the belt; tracksim stands it on the path, so it \
+                 reaches {:.4} m further out)",
+                z / 2.0
+            ),
+        ),
+        PatternElement::Prism(pts) => {
+            let lo = pts.iter().fold(DVec3::splat(f64::MAX), |a, p| a.min(*p));
+            let hi = pts.iter().fold(DVec3::splat(f64::MIN), |a, p| a.max(*p));
+            let xs_at = |z: f64| -> Vec<f64> {
+                pts.iter()
+                    .filter(|p| (p.z - z).abs() < LEVEL_TOLERANCE_M)
+                    .map(|p| p.x)
+                    .collect()
+            };
+            let span = |v: &[f64]| {
+                v.iter().copied().fold(f64::MIN, f64::max) - v.iter().copied().fold(f64::MAX, f64::min)
+            };
+            let (bottom, top) = (xs_at(lo.z), xs_at(hi.z));
+            let levels = pts
+                .iter()
+                .all(|p| (p.z - lo.z).abs() < LEVEL_TOLERANCE_M || (p.z - hi.z).abs() < LEVEL_TOLERANCE_M);
+            let h = hi.z - lo.z;
+            let note = format!(
+                "polyline prism {:.4} m along, {:.4} m high, {:.4} m across (the plugin centres \
+                 it at z {:.4}..{:.4} m about the path; tracksim stands it on the path)",
+                hi.x - lo.x,
+                h,
+                hi.y - lo.y,
+                lo.z,
+                hi.z
+            );
+            if levels && !bottom.is_empty() && !top.is_empty() {
+                return (
+                    GrouserShapeSpec::Trapezoid {
+                        bottom_m: span(&bottom),
+                        top_m: span(&top),
+                        height_m: h,
+                        width_m: across(hi.y - lo.y),
+                        shift_m: 0.0,
+                    },
+                    format!(
+                        "{note}: a trapezoid {:.4}/{:.4} m x {h:.4} m",
+                        span(&bottom),
+                        span(&top)
+                    ),
+                );
+            }
+            let points_m = pts
+                .iter()
+                .map(|p| [p.x, p.y, p.z - lo.z])
+                .collect();
+            (
+                GrouserShapeSpec::Convex { points_m },
+                format!("{note}: the convex hull of its points"),
+            )
+        }
+    }
+}
+
+/// The pulleys of the plugin's arcs (centre x, z and radius in the track link's frame).
+fn pulleys(p: &ContinuousTrackPlugin, to_link: glam::DAffine3) -> Vec<(Pulley, f64)> {
+    p.segments
+        .iter()
+        .filter_map(|s| match s {
+            PluginSegment::Arc { centre, radius, .. } => {
+                let c = to_link.transform_point3(*centre);
+                Some((
+                    Pulley {
+                        x: c.x,
+                        z: c.z,
+                        radius: *radius,
+                    },
+                    c.y,
+                ))
+            }
+            PluginSegment::Straight { .. } => None,
+        })
+        .collect()
+}
+
+/// The track the plugin describes (`Err`: why it cannot be made).
+pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<ProposedTrack, String> {
+    let link = robot.link(&p.parent_link).ok_or_else(|| {
+        format!(
+            "plugin {} (line {}): its segments hang on \"{}\", which is not a link of the robot",
+            p.name, p.line, p.parent_link
+        )
+    })?;
+    let to_link = link.pose.inverse();
+    let arcs = pulleys(p, to_link);
+    let plane_y = arcs.iter().map(|a| a.1).sum::<f64>() / arcs.len().max(1) as f64;
+    let mut guesses = Vec::new();
+    let path = match arcs.as_slice() {
+        [] => return Err(format!("plugin {} (line {}): no arc segment", p.name, p.line)),
+        [(w, _)] => ProposedPath::Wheel(*w),
+        _ => ProposedPath::Pulleys(arcs.iter().map(|a| a.0).collect()),
+    };
+    let sources = p
+        .segments
+        .iter()
+        .map(|s| match s {
+            PluginSegment::Straight { joint, length, direction, .. } => format!(
+                "segment {joint}: prismatic, a straight of {length:.4} m along {:.3?}",
+                direction.to_array()
+            ),
+            PluginSegment::Arc { joint, centre, radius, angle, pitch_diameter } => format!(
+                "segment {joint}: revolute, an arc of radius {radius:.4} m (segment link origin \
+                 to joint) about x {:.4}, z {:.4} m{}{}",
+                centre.x,
+                centre.z,
+                angle.map_or(String::new(), |a| format!(", {:.1} deg", a.to_degrees())),
+                pitch_diameter.map_or(String::new(), |d| format!(", pitch_diameter {d} m"))
+            ),
+        })
+        .collect();
+    for s in &p.segments {
+        if let PluginSegment::Arc { joint, radius, pitch_diameter: Some(d), .. } = s
+            && ((d / 2.0 - radius) / radius).abs() > 0.01
+        {
+            guesses.push(format!(
+                "segment {joint}: its pitch_diameter {d} m (radius {:.4} m) disagrees with its \
+                 geometry, radius {radius:.4} m: the geometry is used",
+                d / 2.0
+            ));
+        }
+    }
+    let width = p.width.unwrap_or(0.1);
+    guesses.push(match p.width {
+        Some(w) => format!("width: the segment links' collision, {w:.4} m"),
+        None => "width: the segments give none; 0.1 m (a GUESS)".into(),
+    });
+    guesses.push(format!(
+        "belt mass: the {} segment links' masses, {:.3} kg",
+        p.segments.len(),
+        p.belt_mass
+    ));
+    let mut t = ProposedTrack {
+        name: p.name.clone(),
+        link: link.name.clone(),
+        why: format!(
+            "the paper's {} plugin \"{}\" (line {}): its segment joints hang on link {}",
+            if p.simple { "ContinuousTrackSimple" } else { "ContinuousTrack" },
+            p.name,
+            p.line,
+            link.name
+        ),
+        path,
+        plane_y,
+        chassis_y: link.pose.transform_point3(DVec3::new(0.0, plane_y, 0.0)).y,
+        width,
+        belt_mass: p.belt_mass.max(super::propose::MIN_BELT_MASS_KG),
+        friction: p.friction,
+        sprocket_pitch_radius: p.sprocket_pitch_diameter.map(|d| d / 2.0),
+        grousers: None,
+        sources,
+        guesses,
+    };
+    let perimeter = t.perimeter().ok_or_else(|| {
+        format!("plugin {} (line {}): tracksim refuses its arcs as pulleys", p.name, p.line)
+    })?;
+    if let Some(l) = p.trajectory_length()
+        && (l - perimeter).abs() > 1e-3
+    {
+        t.guesses.push(format!(
+            "the trajectory's segments add up to {l:.4} m, the pulleys' belt to {perimeter:.4} m: \
+             the pulleys are used"
+        ));
+    }
+    grousers(p, &mut t, perimeter);
+    Ok(t)
+}
+
+/// The pattern as grousers (none without a pattern).
+fn grousers(p: &ContinuousTrackPlugin, t: &mut ProposedTrack, perimeter: f64) {
+    let (Some(n), false) = (p.elements_per_round, p.elements.is_empty()) else {
+        t.guesses.push(format!(
+            "grousers: none (the {} plugin has no <pattern>); the belt's friction drives",
+            if p.simple { "ContinuousTrackSimple" } else { "ContinuousTrack" }
+        ));
+        return;
+    };
+    let mut shapes = Vec::new();
+    for (k, e) in p.elements.iter().enumerate() {
+        let (s, note) = grouser_shape(e, t.width);
+        t.guesses.push(format!("grouser shape {k} (used in turn): {note}"));
+        shapes.push(s);
+    }
+    t.guesses.push(format!(
+        "grousers: {n} a round (elements_per_round), pitch {:.1} mm = perimeter {perimeter:.4} m / {n}",
+        perimeter / n as f64 * 1000.0
+    ));
+    t.grousers = Some(GrouserSpec {
+        count: n,
+        offset_m: 0.0,
+        shapes,
+    });
+}
