@@ -235,7 +235,10 @@ fn segment<'a>(
         .and_then(|g| child(g, "cylinder"))
         .and_then(|c| number(c, "length"));
     if out.width.is_none() {
-        out.width = size.as_ref().and_then(|v| v.get(1).copied()).or(cylinder_length);
+        out.width = size
+            .as_ref()
+            .and_then(|v| v.get(1).copied())
+            .or(cylinder_length);
     }
     if out.friction.is_none() {
         out.friction = collision

@@ -18,16 +18,14 @@ fn hull_2d(mut pts: Vec<(f64, f64, usize)>) -> Vec<(f64, f64, usize)> {
     };
     let mut lower: Vec<(f64, f64, usize)> = Vec::new();
     for p in &pts {
-        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], *p) <= 0.0
-        {
+        while lower.len() >= 2 && cross(lower[lower.len() - 2], lower[lower.len() - 1], *p) <= 0.0 {
             lower.pop();
         }
         lower.push(*p);
     }
     let mut upper: Vec<(f64, f64, usize)> = Vec::new();
     for p in pts.iter().rev() {
-        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], *p) <= 0.0
-        {
+        while upper.len() >= 2 && cross(upper[upper.len() - 2], upper[upper.len() - 1], *p) <= 0.0 {
             upper.pop();
         }
         upper.push(*p);
@@ -45,7 +43,9 @@ pub fn circles_on_hull(circles: &[Pulley]) -> Vec<Pulley> {
     let mut unique: Vec<Pulley> = Vec::new();
     for c in circles {
         let same = |u: &Pulley| {
-            (u.x - c.x).abs() < 1e-4 && (u.z - c.z).abs() < 1e-4 && (u.radius - c.radius).abs() < 1e-4
+            (u.x - c.x).abs() < 1e-4
+                && (u.z - c.z).abs() < 1e-4
+                && (u.radius - c.radius).abs() < 1e-4
         };
         if !unique.iter().any(same) {
             unique.push(*c);

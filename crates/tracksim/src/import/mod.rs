@@ -87,9 +87,19 @@ fn vehicle_name(model: &Path) -> String {
         .unwrap_or_else(|| "robot".into());
     let clean: String = stem
         .chars()
-        .map(|c| if c.is_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect();
-    let clean = if clean == "flat" { "flat_robot".into() } else { clean };
+    let clean = if clean == "flat" {
+        "flat_robot".into()
+    } else {
+        clean
+    };
     format!("{clean}.toml")
 }
 
@@ -122,8 +132,8 @@ pub fn import(model: &Path, out: &Path, force: bool) -> Result<Imported> {
     let scenario = out.join(SCENARIO_FILE);
     let vtext = write::vehicle_text(&report, &urdf).map_err(|m| invalid(&vehicle, "toml", m))?;
     let file_name = vehicle_name(model);
-    let stext =
-        write::scenario_text(&report.robot, &file_name).map_err(|m| invalid(&scenario, "toml", m))?;
+    let stext = write::scenario_text(&report.robot, &file_name)
+        .map_err(|m| invalid(&scenario, "toml", m))?;
     write_new(&vehicle, &vtext, force)?;
     write_new(&scenario, &stext, force)?;
     crate::model::load_vehicle(&vehicle)?;

@@ -40,12 +40,13 @@ fn grouser_shape(e: &PatternElement, width: f64) -> (GrouserShapeSpec, String) {
                     .collect()
             };
             let span = |v: &[f64]| {
-                v.iter().copied().fold(f64::MIN, f64::max) - v.iter().copied().fold(f64::MAX, f64::min)
+                v.iter().copied().fold(f64::MIN, f64::max)
+                    - v.iter().copied().fold(f64::MAX, f64::min)
             };
             let (bottom, top) = (xs_at(lo.z), xs_at(hi.z));
-            let levels = pts
-                .iter()
-                .all(|p| (p.z - lo.z).abs() < LEVEL_TOLERANCE_M || (p.z - hi.z).abs() < LEVEL_TOLERANCE_M);
+            let levels = pts.iter().all(|p| {
+                (p.z - lo.z).abs() < LEVEL_TOLERANCE_M || (p.z - hi.z).abs() < LEVEL_TOLERANCE_M
+            });
             let h = hi.z - lo.z;
             let note = format!(
                 "polyline prism {:.4} m along, {:.4} m high, {:.4} m across (the plugin centres \
@@ -72,10 +73,7 @@ fn grouser_shape(e: &PatternElement, width: f64) -> (GrouserShapeSpec, String) {
                     ),
                 );
             }
-            let points_m = pts
-                .iter()
-                .map(|p| [p.x, p.y, p.z - lo.z])
-                .collect();
+            let points_m = pts.iter().map(|p| [p.x, p.y, p.z - lo.z]).collect();
             (
                 GrouserShapeSpec::Convex { points_m },
                 format!("{note}: the convex hull of its points"),
@@ -117,20 +115,46 @@ pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<Propo
     let arcs = pulleys(p, to_link);
     let plane_y = arcs.iter().map(|a| a.1).sum::<f64>() / arcs.len().max(1) as f64;
     let mut guesses = Vec::new();
-    let path = match arcs.as_slice() {
-        [] => return Err(format!("plugin {} (line {}): no arc segment", p.name, p.line)),
-        [(w, _)] => ProposedPath::Wheel(*w),
-        _ => ProposedPath::Pulleys(arcs.iter().map(|a| a.0).collect()),
+    let circles: Vec<Pulley> = arcs.iter().map(|a| a.0).collect();
+    let on_hull = super::hull::circles_on_hull(&circles);
+    let path = match on_hull.as_slice() {
+        [] => {
+            return Err(format!(
+                "plugin {} (line {}): no arc segment",
+                p.name, p.line
+            ));
+        }
+        [w] => ProposedPath::Wheel(*w),
+        _ => ProposedPath::Pulleys(on_hull.clone()),
     };
+    if on_hull.len() < circles.len() {
+        guesses.push(format!(
+            "{} of the {} arcs lie inside the belt's convex hull or on its straights (or repeat \
+             another): the belt runs past them, they are not pulleys of the path",
+            circles.len() - on_hull.len(),
+            circles.len()
+        ));
+    }
     let sources = p
         .segments
         .iter()
         .map(|s| match s {
-            PluginSegment::Straight { joint, length, direction, .. } => format!(
+            PluginSegment::Straight {
+                joint,
+                length,
+                direction,
+                ..
+            } => format!(
                 "segment {joint}: prismatic, a straight of {length:.4} m along {:.3?}",
                 direction.to_array()
             ),
-            PluginSegment::Arc { joint, centre, radius, angle, pitch_diameter } => format!(
+            PluginSegment::Arc {
+                joint,
+                centre,
+                radius,
+                angle,
+                pitch_diameter,
+            } => format!(
                 "segment {joint}: revolute, an arc of radius {radius:.4} m (segment link origin \
                  to joint) about x {:.4}, z {:.4} m{}{}",
                 centre.x,
@@ -141,7 +165,12 @@ pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<Propo
         })
         .collect();
     for s in &p.segments {
-        if let PluginSegment::Arc { joint, radius, pitch_diameter: Some(d), .. } = s
+        if let PluginSegment::Arc {
+            joint,
+            radius,
+            pitch_diameter: Some(d),
+            ..
+        } = s
             && ((d / 2.0 - radius) / radius).abs() > 0.01
         {
             guesses.push(format!(
@@ -166,24 +195,35 @@ pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<Propo
         link: link.name.clone(),
         why: format!(
             "the paper's {} plugin \"{}\" (line {}): its segment joints hang on link {}",
-            if p.simple { "ContinuousTrackSimple" } else { "ContinuousTrack" },
+            if p.simple {
+                "ContinuousTrackSimple"
+            } else {
+                "ContinuousTrack"
+            },
             p.name,
             p.line,
             link.name
         ),
-        path,
+        path: path.clone(),
         plane_y,
         chassis_y: link.pose.transform_point3(DVec3::new(0.0, plane_y, 0.0)).y,
         width,
         belt_mass: p.belt_mass.max(super::propose::MIN_BELT_MASS_KG),
         friction: p.friction,
-        sprocket_pitch_radius: p.sprocket_pitch_diameter.map(|d| d / 2.0),
+        // A wheel's commands act at its rolling radius (tracksim derives it).
+        sprocket_pitch_radius: p
+            .sprocket_pitch_diameter
+            .map(|d| d / 2.0)
+            .filter(|_| !matches!(path, ProposedPath::Wheel(_))),
         grousers: None,
         sources,
         guesses,
     };
     let perimeter = t.perimeter().ok_or_else(|| {
-        format!("plugin {} (line {}): tracksim refuses its arcs as pulleys", p.name, p.line)
+        format!(
+            "plugin {} (line {}): tracksim refuses its arcs as pulleys",
+            p.name, p.line
+        )
     })?;
     if let Some(l) = p.trajectory_length()
         && (l - perimeter).abs() > 1e-3
@@ -202,14 +242,19 @@ fn grousers(p: &ContinuousTrackPlugin, t: &mut ProposedTrack, perimeter: f64) {
     let (Some(n), false) = (p.elements_per_round, p.elements.is_empty()) else {
         t.guesses.push(format!(
             "grousers: none (the {} plugin has no <pattern>); the belt's friction drives",
-            if p.simple { "ContinuousTrackSimple" } else { "ContinuousTrack" }
+            if p.simple {
+                "ContinuousTrackSimple"
+            } else {
+                "ContinuousTrack"
+            }
         ));
         return;
     };
     let mut shapes = Vec::new();
     for (k, e) in p.elements.iter().enumerate() {
         let (s, note) = grouser_shape(e, t.width);
-        t.guesses.push(format!("grouser shape {k} (used in turn): {note}"));
+        t.guesses
+            .push(format!("grouser shape {k} (used in turn): {note}"));
         shapes.push(s);
     }
     t.guesses.push(format!(

@@ -75,7 +75,9 @@ impl ProposedTrack {
     /// The path's extent in z (its height, pulleys' rims included), m.
     pub fn height(&self) -> f64 {
         let rims: Vec<(f64, f64)> = match &self.path {
-            ProposedPath::Pulleys(p) => p.iter().map(|q| (q.z - q.radius, q.z + q.radius)).collect(),
+            ProposedPath::Pulleys(p) => {
+                p.iter().map(|q| (q.z - q.radius, q.z + q.radius)).collect()
+            }
             ProposedPath::Wheel(w) => vec![(w.z - w.radius, w.z + w.radius)],
         };
         let lo = rims.iter().map(|r| r.0).fold(f64::MAX, f64::min);
@@ -125,7 +127,8 @@ fn collect(s: &CollisionShape, to_link: DAffine3, out: &mut Parts) {
                 ));
             } else {
                 let (lo, hi) = s.bounds();
-                out.points.extend([lo, hi].map(|p| to_link.transform_point3(p)));
+                out.points
+                    .extend([lo, hi].map(|p| to_link.transform_point3(p)));
                 out.sources.push(format!(
                     "cylinder r {radius:.4} m across the belt's plane: its bounds only"
                 ));
@@ -152,8 +155,10 @@ fn collect(s: &CollisionShape, to_link: DAffine3, out: &mut Parts) {
             out.points
                 .extend(p.iter().map(|q| to_link.transform_point3(*q)));
             out.hull = true;
-            out.sources
-                .push(format!("convex hull of {} points (a mesh or a turned box)", p.len()));
+            out.sources.push(format!(
+                "convex hull of {} points (a mesh or a turned box)",
+                p.len()
+            ));
         }
         CollisionShape::Sphere { radius, centre } => {
             out.points.extend(

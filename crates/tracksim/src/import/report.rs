@@ -28,8 +28,18 @@ impl Geometry {
     pub fn warnings(&self) -> Vec<String> {
         let mut out = Vec::new();
         let pairs = [
-            ("tracks_separation", self.plugin_separation, self.separation, "the left and right tracks' mid-planes are"),
-            ("tracks_height", self.plugin_height, self.height, "the track path is"),
+            (
+                "tracks_separation",
+                self.plugin_separation,
+                self.separation,
+                "the left and right tracks' mid-planes are",
+            ),
+            (
+                "tracks_height",
+                self.plugin_height,
+                self.height,
+                "the track path is",
+            ),
         ];
         for (tag, said, found, what) in pairs {
             if let (Some(s), Some(f)) = (said, found)
@@ -67,7 +77,9 @@ pub struct ImportReport {
 }
 
 fn path_line(t: &ProposedTrack) -> String {
-    let p = t.perimeter().map_or("refused".into(), |p| format!("perimeter {p:.4} m"));
+    let p = t
+        .perimeter()
+        .map_or("refused".into(), |p| format!("perimeter {p:.4} m"));
     match &t.path {
         ProposedPath::Pulleys(v) => format!(
             "path: {} pulleys {}, plane y {:.4} m in the link's frame (chassis y {:.4} m), {p}",

@@ -61,7 +61,9 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
         for (base, tag, links) in sides {
             for (k, l) in links.iter().enumerate() {
                 let Some(link) = robot.link(l) else {
-                    skipped.push(format!("link {l} (plugin <{tag}>) is not in the robot's tree"));
+                    skipped.push(format!(
+                        "link {l} (plugin <{tag}>) is not in the robot's tree"
+                    ));
                     continue;
                 };
                 let why = format!(
@@ -128,7 +130,10 @@ fn plugin_height(xml: &str) -> Option<f64> {
     doc.descendants()
         .filter(|n| n.has_tag_name("plugin"))
         .filter(|n| {
-            let f = n.attribute("filename").unwrap_or_default().to_ascii_lowercase();
+            let f = n
+                .attribute("filename")
+                .unwrap_or_default()
+                .to_ascii_lowercase();
             let name = n.attribute("name").unwrap_or_default().to_ascii_lowercase();
             f.contains("tracked") || name.contains("trackedvehicle")
         })
@@ -142,11 +147,27 @@ pub(super) fn geometry(robot: &UrdfRobot, tracks: &[ProposedTrack], xml: &str) -
     let on_chassis: Vec<&ProposedTrack> = tracks
         .iter()
         .filter(|t| !t.name.contains("flipper"))
-        .filter(|t| robot.link(&t.link).is_some_and(|l| l.owner == Owner::Chassis))
+        .filter(|t| {
+            robot
+                .link(&t.link)
+                .is_some_and(|l| l.owner == Owner::Chassis)
+        })
         .collect();
     let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
-    let left = mean(on_chassis.iter().filter(|t| t.chassis_y > 1e-6).map(|t| t.chassis_y).collect());
-    let right = mean(on_chassis.iter().filter(|t| t.chassis_y < -1e-6).map(|t| t.chassis_y).collect());
+    let left = mean(
+        on_chassis
+            .iter()
+            .filter(|t| t.chassis_y > 1e-6)
+            .map(|t| t.chassis_y)
+            .collect(),
+    );
+    let right = mean(
+        on_chassis
+            .iter()
+            .filter(|t| t.chassis_y < -1e-6)
+            .map(|t| t.chassis_y)
+            .collect(),
+    );
     Geometry {
         separation: left.zip(right).map(|(l, r)| l - r),
         plugin_separation: robot.plugin.as_ref().and_then(|p| p.tracks_separation),
