@@ -27,8 +27,7 @@ pub use propose::{
     BELT_MASS_FRACTION, DEFAULT_GROUSER_HEIGHT_M, DEFAULT_GROUSER_LENGTH_M,
     DEFAULT_GROUSER_PITCH_M, MIN_BELT_MASS_KG, ProposedPath, ProposedTrack,
 };
-pub use report::{Geometry, ImportReport, PLUGIN_MISMATCH_FRACTION};
-pub use select::TrackSource;
+pub use report::{Geometry, ImportReport, PLUGIN_MISMATCH_FRACTION, TrackSource};
 pub use write::{FLAT_BELT_SPEED_MPS, FLAT_DURATION_S};
 
 use crate::error::{Error, Result, SpecIssue};

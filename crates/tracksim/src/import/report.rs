@@ -4,7 +4,17 @@
 //! vehicle file.
 
 use super::propose::{ProposedPath, ProposedTrack};
-use super::select::TrackSource;
+
+/// Where the tracks were found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TrackSource {
+    /// The paper's `libContinuousTrack.so` / `libContinuousTrackSimple.so` plugin.
+    ContinuousTrack,
+    /// Gazebo's `TrackedVehicle` plugin's named links.
+    TrackedVehicle,
+    /// Links whose name contains "track".
+    LinkNames,
+}
 
 /// A plugin value further than this fraction from the geometry's is warned about.
 pub const PLUGIN_MISMATCH_FRACTION: f64 = 0.1;

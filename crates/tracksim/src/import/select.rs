@@ -6,19 +6,8 @@
 use super::continuous_track;
 use super::pattern::from_plugin;
 use super::propose::{ProposedTrack, from_shapes};
-use super::report::Geometry;
+use super::report::{Geometry, TrackSource};
 use crate::urdf::{Owner, UrdfRobot};
-
-/// Where the tracks were found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TrackSource {
-    /// The paper's `libContinuousTrack.so` / `libContinuousTrackSimple.so` plugin.
-    ContinuousTrack,
-    /// Gazebo's `TrackedVehicle` plugin's named links.
-    TrackedVehicle,
-    /// Links whose name contains "track".
-    LinkNames,
-}
 
 /// The tracks proposed, with what could not be made into a track.
 pub(super) struct Selected {
