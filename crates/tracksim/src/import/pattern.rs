@@ -103,6 +103,72 @@ fn pulleys(p: &ContinuousTrackPlugin, to_link: glam::DAffine3) -> Vec<(Pulley, f
         .collect()
 }
 
+/// One line per trajectory segment: what it is and where.
+fn segment_lines(p: &ContinuousTrackPlugin) -> Vec<String> {
+    p.segments
+        .iter()
+        .map(|s| match s {
+            PluginSegment::Straight {
+                joint,
+                length,
+                direction,
+                ..
+            } => format!(
+                "segment {joint}: prismatic, a straight of {length:.4} m along {:.3?}",
+                direction.to_array()
+            ),
+            PluginSegment::Arc {
+                joint,
+                centre,
+                radius,
+                angle,
+                pitch_diameter,
+            } => format!(
+                "segment {joint}: revolute, an arc of radius {radius:.4} m (segment link origin \
+                 to joint) about x {:.4}, z {:.4} m{}{}",
+                centre.x,
+                centre.z,
+                angle.map_or(String::new(), |a| format!(", {:.1} deg", a.to_degrees())),
+                pitch_diameter.map_or(String::new(), |d| format!(", pitch_diameter {d} m"))
+            ),
+        })
+        .collect()
+}
+
+/// Where the arcs' `<pitch_diameter>` disagrees with their geometry by over 1 % (one line for
+/// the arcs that say the same).
+fn pitch_notes(p: &ContinuousTrackPlugin) -> Vec<String> {
+    let mut by: Vec<(f64, f64, Vec<&str>)> = Vec::new();
+    for s in &p.segments {
+        if let PluginSegment::Arc {
+            joint,
+            radius,
+            pitch_diameter: Some(d),
+            ..
+        } = s
+            && ((d / 2.0 - radius) / radius).abs() > 0.01
+        {
+            match by
+                .iter_mut()
+                .find(|e| e.0 == *d && (e.1 - radius).abs() < 1e-9)
+            {
+                Some(e) => e.2.push(joint),
+                None => by.push((*d, *radius, vec![joint])),
+            }
+        }
+    }
+    by.into_iter()
+        .map(|(d, r, joints)| {
+            format!(
+                "segment(s) {}: pitch_diameter {d} m (radius {:.4} m) disagrees with the geometry, \
+                 radius {r:.4} m: the geometry is used",
+                joints.join(", "),
+                d / 2.0
+            )
+        })
+        .collect()
+}
+
 /// The track the plugin describes (`Err`: why it cannot be made).
 pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<ProposedTrack, String> {
     let link = robot.link(&p.parent_link).ok_or_else(|| {
@@ -135,51 +201,8 @@ pub fn from_plugin(p: &ContinuousTrackPlugin, robot: &UrdfRobot) -> Result<Propo
             circles.len()
         ));
     }
-    let sources = p
-        .segments
-        .iter()
-        .map(|s| match s {
-            PluginSegment::Straight {
-                joint,
-                length,
-                direction,
-                ..
-            } => format!(
-                "segment {joint}: prismatic, a straight of {length:.4} m along {:.3?}",
-                direction.to_array()
-            ),
-            PluginSegment::Arc {
-                joint,
-                centre,
-                radius,
-                angle,
-                pitch_diameter,
-            } => format!(
-                "segment {joint}: revolute, an arc of radius {radius:.4} m (segment link origin \
-                 to joint) about x {:.4}, z {:.4} m{}{}",
-                centre.x,
-                centre.z,
-                angle.map_or(String::new(), |a| format!(", {:.1} deg", a.to_degrees())),
-                pitch_diameter.map_or(String::new(), |d| format!(", pitch_diameter {d} m"))
-            ),
-        })
-        .collect();
-    for s in &p.segments {
-        if let PluginSegment::Arc {
-            joint,
-            radius,
-            pitch_diameter: Some(d),
-            ..
-        } = s
-            && ((d / 2.0 - radius) / radius).abs() > 0.01
-        {
-            guesses.push(format!(
-                "segment {joint}: its pitch_diameter {d} m (radius {:.4} m) disagrees with its \
-                 geometry, radius {radius:.4} m: the geometry is used",
-                d / 2.0
-            ));
-        }
-    }
+    let sources = segment_lines(p);
+    guesses.extend(pitch_notes(p));
     let width = p.width.unwrap_or(0.1);
     guesses.push(match p.width {
         Some(w) => format!("width: the segment links' collision, {w:.4} m"),
