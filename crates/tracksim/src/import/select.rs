@@ -16,12 +16,13 @@ pub(super) struct Selected {
     pub skipped: Vec<String>,
 }
 
-/// `base`, or `base_2`, `base_3`, ... when the plugin names several links for one side.
-fn numbered(base: &str, k: usize) -> String {
+/// `base` for the first link the plugin names for a side; the link's own name for the others
+/// (gz-sim lists a side's flippers under `<left_track>` too).
+fn numbered(base: &str, k: usize, link: &str) -> String {
     if k == 0 {
         base.to_string()
     } else {
-        format!("{base}_{}", k + 1)
+        link.to_string()
     }
 }
 
@@ -59,7 +60,7 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
                     "named by the Gazebo TrackedVehicle plugin's <{tag}><link> (line {})",
                     p.line
                 );
-                match from_shapes(&numbered(base, k), link, why) {
+                match from_shapes(&numbered(base, k, l), link, why) {
                     Ok(t) => tracks.push(t),
                     Err(m) => skipped.push(m),
                 }
@@ -135,7 +136,11 @@ fn plugin_height(xml: &str) -> Option<f64> {
 pub(super) fn geometry(robot: &UrdfRobot, tracks: &[ProposedTrack], xml: &str) -> Geometry {
     let on_chassis: Vec<&ProposedTrack> = tracks
         .iter()
-        .filter(|t| !t.name.contains("flipper"))
+        .filter(|t| {
+            !robot.plugin.as_ref().is_some_and(|p| {
+                p.left_flippers.contains(&t.link) || p.right_flippers.contains(&t.link)
+            })
+        })
         .filter(|t| {
             robot
                 .link(&t.link)

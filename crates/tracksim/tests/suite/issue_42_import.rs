@@ -281,10 +281,11 @@ fn the_gz_sim_example_in_sdf_is_imported_once_sdf_is_read() {
         return;
     }
     let r = tracksim::import::propose(&m).unwrap();
+    // gz-sim lists each side's flippers under <left_track> / <right_track> too: told by link.
     let main: Vec<&ProposedTrack> = r
         .tracks
         .iter()
-        .filter(|t| !t.name.contains("flipper"))
+        .filter(|t| !t.link.contains("flipper"))
         .collect();
     assert_eq!(main.len(), 2, "left and right");
     for t in main {
@@ -294,7 +295,7 @@ fn the_gz_sim_example_in_sdf_is_imported_once_sdf_is_read() {
     let flippers: Vec<&ProposedTrack> = r
         .tracks
         .iter()
-        .filter(|t| t.name.contains("flipper"))
+        .filter(|t| t.link.contains("flipper"))
         .collect();
     assert_eq!(flippers.len(), 4);
     for f in flippers {
