@@ -342,3 +342,41 @@ fn a_model_without_tracks_is_refused_naming_the_file() {
         "nothing is written for a model without tracks"
     );
 }
+
+#[test]
+fn track_links_found_by_name_with_boxes_only_get_a_stadium() {
+    // No plugin: links named "*track*" with collisions are the tracks; a box 0.6 x 0.08 x
+    // 0.16 m gives the stadium of its x-z extent: ends of radius 0.08 m at x = +-0.22 m.
+    let dir = scratch("named-model");
+    let track = |side: &str, y: f64| {
+        format!(
+            r#"<link name="{side}_track"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>
+  <collision><geometry><box size="0.6 0.08 0.16"/></geometry></collision></link>
+<joint name="{side}_j" type="fixed"><parent link="base"/><child link="{side}_track"/><origin xyz="0 {y} 0"/></joint>
+"#
+        )
+    };
+    let p = dir.join("boxes.urdf");
+    std::fs::write(
+        &p,
+        format!(
+            r#"<robot name="boxes"><link name="base"><inertial><mass value="8"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.2" iyz="0" izz="0.2"/></inertial>
+<collision><origin xyz="0 0 0.05"/><geometry><box size="0.5 0.2 0.1"/></geometry></collision></link>{}{}</robot>"#,
+            track("left", 0.15),
+            track("right", -0.15)
+        ),
+    )
+    .unwrap();
+    let (r, scenario) = import(&p, "named");
+    assert_eq!(r.source, tracksim::import::TrackSource::LinkNames);
+    assert_eq!(r.tracks.len(), 2);
+    for t in &r.tracks {
+        assert_two_pulleys(t, 0.22, 0.08);
+        assert!((t.width - 0.08).abs() < 1e-9);
+        // 10 % of the link's 2 kg.
+        assert!((t.belt_mass - 0.2).abs() < 1e-9);
+    }
+    assert!((r.geometry.separation.unwrap() - 0.3).abs() < 1e-9);
+    let (_, v, _) = run(&scenario, None);
+    assert_belt_speed(v);
+}
