@@ -380,3 +380,22 @@ fn track_links_found_by_name_with_boxes_only_get_a_stadium() {
     let (_, v, _) = run(&scenario, None);
     assert_belt_speed(v);
 }
+
+#[test]
+fn the_bundled_packbot_urdf_gives_the_hand_measured_main_tracks() {
+    // vehicles/packbot510_urdf.toml measured the main tracks by hand: pulleys at x = +-0.255 m
+    // of r 0.082 m, width 0.075 m, on left_track / right_track (0.325 m apart, as the plugin's
+    // tracks_separation). The import finds them from the plugin and the links' boxes.
+    let urdf = crate::common::root().join("vehicles/urdf/packbot510_flippers.urdf");
+    let r = tracksim::import::propose(&urdf).unwrap();
+    assert_eq!(r.source, tracksim::import::TrackSource::TrackedVehicle);
+    for (name, link) in [("left", "left_track"), ("right", "right_track")] {
+        let t = r.tracks.iter().find(|t| t.name == name).unwrap();
+        assert_eq!(t.link, link);
+        assert_two_pulleys(t, 0.255, 0.082);
+        assert!((t.width - 0.075).abs() < 1e-9);
+    }
+    assert_eq!(r.flippers, ["front_left", "front_right"]);
+    assert!((r.geometry.separation.unwrap() - 0.325).abs() < 1e-9);
+    assert!(r.warnings().is_empty(), "{:?}", r.warnings());
+}
