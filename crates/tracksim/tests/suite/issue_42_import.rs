@@ -152,6 +152,10 @@ fn the_papers_plugin_gives_its_path_and_trapezoid_grousers() {
         }
         s => panic!("grousers {s:?}"),
     }
+    // 0.3060 m/s over 2..6 s (0.3055 over 2..14 s: not the window): 1.9 % fast, the most of
+    // these models. The 2 cm grousers on 11.5 cm arcs push off at the ends, their tips there
+    // faster than the belt ((r + h) / r = 1.17), and the body rises and falls by 8 mm as they
+    // pass; tracksim stands the plugin's elements on the path where Gazebo buries half of each.
     let (_, v, _) = run(&scenario, None);
     assert_belt_speed(v);
 }
