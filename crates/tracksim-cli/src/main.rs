@@ -59,6 +59,7 @@ enum Cmd {
     List(list::ListArgs),
     Sessions(sessions::SessionsArgs),
     Export(export::ExportArgs),
+    Import(import::ImportArgs),
 }
 
 fn main() -> ExitCode {
@@ -77,6 +78,7 @@ fn main() -> ExitCode {
         Cmd::List(a) => list::list(a),
         Cmd::Sessions(a) => sessions::sessions(a),
         Cmd::Export(a) => export::export(a),
+        Cmd::Import(a) => import::import(a),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,

@@ -45,6 +45,7 @@ pub mod env;
 pub mod error;
 pub mod files;
 pub mod geometry;
+pub mod import;
 pub mod live;
 pub mod model;
 pub mod output;

@@ -7,6 +7,7 @@ pub mod check;
 pub mod compare;
 pub mod drive;
 pub mod export;
+pub mod import;
 pub mod list;
 pub mod merge;
 pub mod ros;

@@ -322,6 +322,7 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
                 .into(),
         );
     }
+    notes.extend(separation_warning(robot, spec));
     UrdfReport {
         file: robot.file.clone(),
         format: robot.format,
@@ -330,4 +331,44 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
         arms,
         notes,
     }
+}
+
+/// The chassis-frame y of the mid-plane of the vehicle file's track on `link` (a mirror image
+/// on it: the image's), m.
+fn track_y(robot: &UrdfRobot, spec: &VehicleSpec, link: &str) -> Option<f64> {
+    spec.tracks.iter().find_map(|t| {
+        let plane = DVec3::new(0.0, t.path.plane_y_m.unwrap_or(0.0), 0.0);
+        let y = |l: &str| robot.link(l).map(|k| k.pose.transform_point3(plane).y);
+        if t.link.as_deref() == Some(link) {
+            y(link)
+        } else if t.mirror.is_some() && t.mirror_link.as_deref() == Some(link) {
+            y(t.link.as_deref()?).map(|v| -v)
+        } else {
+            None
+        }
+    })
+}
+
+/// A warning when the Gazebo plugin's `tracks_separation` is more than 10 % from the distance
+/// between the mid-planes of the tracks on its left and right track links (issue 42: a plugin
+/// saying 0.63 m of a robot whose tracks are 0.203 m apart).
+fn separation_warning(robot: &UrdfRobot, spec: &VehicleSpec) -> Option<String> {
+    let p = robot.plugin.as_ref()?;
+    let said = p.tracks_separation?;
+    let mean = |links: &[String]| {
+        let ys: Vec<f64> = links
+            .iter()
+            .filter_map(|l| track_y(robot, spec, l))
+            .collect();
+        (!ys.is_empty()).then(|| ys.iter().sum::<f64>() / ys.len() as f64)
+    };
+    let found = (mean(&p.left_tracks)? - mean(&p.right_tracks)?).abs();
+    (found > 0.0 && ((said - found) / found).abs() > 0.1).then(|| {
+        format!(
+            "warning: the plugin's <tracks_separation> {said} m is {:+.0} % off the {found:.4} m \
+             between the left and right tracks' mid-planes (the odometry uses {said} m unless \
+             [odometry] track_separation_m is set)",
+            (said - found) / found * 100.0
+        )
+    })
 }

@@ -383,7 +383,8 @@ pub struct CommandSpec {
     #[serde(default)]
     pub flipper_angle_deg: BTreeMap<String, f64>,
     /// Body-level command: forward speed, m/s (with `yaw_rate_rad_s`, turned into belt speeds
-    /// by skid-steer kinematics: v_track = v - yaw_rate * y_track).
+    /// by skid-steer kinematics: v_track = v - yaw_rate * y_track, or one speed per side with
+    /// the vehicle's `[steering] one_speed_per_side`).
     #[serde(default)]
     pub forward_mps: Option<f64>,
     /// Body-level command: yaw rate, rad/s (positive turns left).

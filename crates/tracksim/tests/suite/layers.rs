@@ -15,6 +15,7 @@ pub(crate) const LAYERS: &[&[&str]] = &[
     &["geometry"],
     &["terrain", "urdf"],
     &["model"],
+    &["import"],
     &["tracks"],
     &["world"],
     &["sensors"],
