@@ -3,7 +3,7 @@
 //! cannot hold is left out and listed), the robot model's pose in the world as the start
 //! (x, y, yaw; placement sets the height), and the flat scenario's command.
 
-use super::write::{FLAT_BELT_SPEED_MPS, prune, relative};
+use super::write::{FLAT_BELT_SPEED_MPS, drive_for, prune, relative};
 use crate::spec::TerrainSpec;
 use std::path::Path;
 
@@ -89,14 +89,7 @@ pub fn world_text(
     let mut tv = toml::Value::try_from(&terrain).map_err(|e| e.to_string())?;
     prune(&mut tv);
     t.insert("terrain".into(), tv);
-    let mut sim = toml::Table::new();
-    sim.insert("dt_s".into(), 0.001.into());
-    sim.insert("duration_s".into(), WORLD_DURATION_S.into());
-    t.insert("simulation".into(), sim.into());
-    let mut cmd = toml::Table::new();
-    cmd.insert("t_s".into(), 0.0.into());
-    cmd.insert("belt_speed_mps".into(), FLAT_BELT_SPEED_MPS.into());
-    t.insert("commands".into(), toml::Value::Array(vec![cmd.into()]));
+    drive_for(&mut t, WORLD_DURATION_S);
     let body = toml::to_string(&t).map_err(|e| e.to_string())?;
     let mut head = vec![
         "Written by `tracksim import`: the SDF world's static models as terrain, the robot at its \

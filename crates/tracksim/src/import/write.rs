@@ -145,19 +145,25 @@ pub fn scenario_text(robot: &str, vehicle: &str) -> Result<String, String> {
     let mut terrain = toml::Table::new();
     terrain.insert("ground".into(), ground.into());
     t.insert("terrain".into(), terrain.into());
-    let mut sim = toml::Table::new();
-    sim.insert("dt_s".into(), 0.001.into());
-    sim.insert("duration_s".into(), FLAT_DURATION_S.into());
-    t.insert("simulation".into(), sim.into());
-    let mut cmd = toml::Table::new();
-    cmd.insert("t_s".into(), 0.0.into());
-    cmd.insert("belt_speed_mps".into(), FLAT_BELT_SPEED_MPS.into());
-    t.insert("commands".into(), toml::Value::Array(vec![cmd.into()]));
+    drive_for(&mut t, FLAT_DURATION_S);
     let body = toml::to_string(&t).map_err(|e| e.to_string())?;
     Ok(format!(
         "# Written by `tracksim import`: the imported robot on flat ground (friction 0.6), all \
          tracks at {FLAT_BELT_SPEED_MPS} m/s.\n{body}"
     ))
+}
+
+/// A written scenario's `[simulation]` (dt 1 ms, `duration` s) and its one command: every
+/// track at [`FLAT_BELT_SPEED_MPS`] from t = 0.
+pub(super) fn drive_for(t: &mut toml::Table, duration: f64) {
+    let mut sim = toml::Table::new();
+    sim.insert("dt_s".into(), 0.001.into());
+    sim.insert("duration_s".into(), duration.into());
+    t.insert("simulation".into(), sim.into());
+    let mut cmd = toml::Table::new();
+    cmd.insert("t_s".into(), 0.0.into());
+    cmd.insert("belt_speed_mps".into(), FLAT_BELT_SPEED_MPS.into());
+    t.insert("commands".into(), toml::Value::Array(vec![cmd.into()]));
 }
 
 /// `to` as a path relative to the folder `from` (both made absolute first), `/`-separated.
