@@ -305,7 +305,7 @@ fn record_samples(
             tracks: rec.channel::<TrackStates>(&ns.topic("/tracks"), false)?,
         });
     }
-    let models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
+    let mut models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
     let names: Vec<_> = robots.iter().map(|r| joint_names(r.1)).collect();
     let count = robots.iter().map(|r| r.1.samples.len()).max().unwrap_or(0);
     for i in 0..count {
@@ -314,7 +314,7 @@ fn record_samples(
             .iter()
             .enumerate()
             .filter_map(|(k, r)| r.1.samples.get(i).map(|s| (k, s)))
-            .map(|(k, s)| (k, s, encoder_odometry(s, &models[k])))
+            .map(|(k, s)| (k, s, encoder_odometry(s, &mut models[k])))
             .collect();
         let Some(t) = here.first().map(|h| h.1.t) else {
             continue;

@@ -12,9 +12,11 @@
 //!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
+//! - [`odom_covariance`]: the covariances of `/odom` from a skid-steer encoder model;
 //! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
 
 pub mod mcap;
+pub mod odom_covariance;
 pub mod plot;
 pub mod plot_files;
 pub mod replay;

@@ -3,7 +3,8 @@
 //! same functions, so the two cannot disagree. Frames (REP 103 axes, REP 105 names) and topics
 //! are listed in [`super::mcap`]'s documentation.
 
-use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
+use super::odom_covariance::{OdomCovariance, truth_covariance};
+use super::ros_sensors::{MAP_FRAME, link_frame, message_frame};
 use crate::model::{Scenario, SensorKind};
 use crate::rosmsg::{
     self, Clock, Header, JointState, Odometry, PoseWithCovariance, Quaternion, TFMessage, Time,
@@ -63,18 +64,36 @@ pub fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> Tr
     }
 }
 
-/// The skid-steer odometry of `sc`'s tracks (for the encoders' twist).
-pub fn encoder_model(sc: &Scenario) -> EncoderOdometry {
-    EncoderOdometry::of_vehicle(&sc.vehicle, 0.0, 0.0, 0.0)
+/// A robot's encoder odometry as `/odom` states it: the skid-steer model of its tracks (for
+/// the twist) and the covariance it has gathered ([`OdomCovariance`]), sample by sample.
+#[derive(Clone, Debug)]
+pub struct EncoderOdom {
+    /// The skid-steer model of the tracks.
+    pub model: EncoderOdometry,
+    /// The covariance so far.
+    pub covariance: OdomCovariance,
 }
 
-/// The encoder odometry of sample `s` (frame `odom`, child `base_link`).
-pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
-    let (v, w) = model.twist(&s.belt_speed);
+/// The encoder odometry of `sc`'s tracks, at the start.
+pub fn encoder_model(sc: &Scenario) -> EncoderOdom {
+    let model = EncoderOdometry::of_vehicle(&sc.vehicle, 0.0, 0.0, 0.0);
+    EncoderOdom {
+        covariance: OdomCovariance::new(&model),
+        model,
+    }
+}
+
+/// The encoder odometry of sample `s` (frame `odom`, child `base_link`), its covariances from
+/// the encoder model ([`super::odom_covariance`]) propagated to `s` (call it with every sample
+/// in order; a sample again changes nothing).
+pub fn encoder_odometry(s: &Sample, enc: &mut EncoderOdom) -> Odometry {
+    enc.covariance.update(s);
+    let (v, w) = enc.model.twist(&s.belt_speed);
     let [x, y, yaw] = s.odom;
     let mut pose = PoseWithCovariance::default();
     pose.pose.position = rosmsg::Point { x, y, z: 0.0 };
     pose.pose.orientation = quat(DQuat::from_rotation_z(yaw));
+    pose.covariance = enc.covariance.pose();
     let twist = TwistWithCovariance {
         twist: Twist {
             linear: Vector3 {
@@ -88,7 +107,9 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
                 z: w,
             },
         },
-        ..TwistWithCovariance::default()
+        covariance: enc
+            .covariance
+            .twist(enc.model.side_speeds(&s.belt_speed), v, w),
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
@@ -98,7 +119,8 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
     }
 }
 
-/// The true odometry of sample `s`: pose in `map`, velocities in `base_link` axes.
+/// The true odometry of sample `s`: pose in `map`, velocities in `base_link` axes, a tiny
+/// covariance (a simulator's truth: [`super::odom_covariance::TRUTH_VARIANCE`]).
 pub fn true_odometry(s: &Sample) -> Odometry {
     let r = pose_rotation(&s.pose);
     let inv = r.inverse();
@@ -109,12 +131,13 @@ pub fn true_odometry(s: &Sample) -> Odometry {
         z: s.pose.z,
     };
     pose.pose.orientation = quat(r);
+    pose.covariance = truth_covariance();
     let twist = TwistWithCovariance {
         twist: Twist {
             linear: vec3(inv * DVec3::from_array(s.linvel)),
             angular: vec3(inv * DVec3::from_array(s.angvel)),
         },
-        ..TwistWithCovariance::default()
+        covariance: truth_covariance(),
     };
     Odometry {
         header: Header::new(s.t, MAP_FRAME),
@@ -239,7 +262,7 @@ pub fn tf_static(sc: &Scenario) -> TFMessage {
                 (flipper_frame(&f.name), m.position - f.pivot)
             }
         };
-        let frame = sensor_frame(&m.name);
+        let frame = link_frame(m);
         transforms.push(transform(0.0, &parent, &frame, at, m.rotation));
         if matches!(
             m.kind,
@@ -248,7 +271,7 @@ pub fn tf_static(sc: &Scenario) -> TFMessage {
             transforms.push(transform(
                 0.0,
                 &frame,
-                &optical_frame(&m.name),
+                &message_frame(m),
                 DVec3::ZERO,
                 optical_rotation(),
             ));

@@ -244,7 +244,7 @@ struct RobotTopics {
     control: RobotControl,
     pubs: Publishers,
     sensors: SensorPublishers,
-    encoders: crate::world::Odometry,
+    encoders: messages::EncoderOdom,
     joint_names: Vec<String>,
     track_names: Vec<String>,
 }
@@ -288,13 +288,13 @@ impl RobotTopics {
 
     /// Publishes sample `s` (after `prev`) of robot `sc`; its transforms go into `tf`.
     fn publish(
-        &self,
+        &mut self,
         sc: &Scenario,
         (s, prev): (&Sample, Option<&Sample>),
         map_tf: bool,
         tf: &mut Vec<TransformStamped>,
     ) {
-        let odom = encoder_odometry(s, &self.encoders);
+        let odom = encoder_odometry(s, &mut self.encoders);
         let ns = &self.ns;
         tf.extend(
             ns.tf(messages::tf_of_sample(sc, s, &odom, map_tf))
@@ -393,7 +393,7 @@ impl WorldSource<TeamRunner> for TeamTopicSource<'_> {
     fn after_sample(&mut self, runner: &mut TeamRunner) {
         let t = runner.sim().time();
         let mut tf = Vec::new();
-        for (k, r) in self.robots.iter().enumerate() {
+        for (k, r) in self.robots.iter_mut().enumerate() {
             let view = runner.view(k);
             if let Some(s) = last_two(view.samples) {
                 r.publish(view.scenario, s, self.world.map_tf, &mut tf);

@@ -1,0 +1,184 @@
+//! Issue 42 ("bring your own robot and stack, as they are"), the ROS 2 and Foxglove part, read
+//! back from `run.mcap` (what the node publishes is built by the same functions):
+//! - `/odom` carries the covariance of a skid-steer encoder model (growing with distance),
+//!   `/ground_truth/odom` a tiny one;
+//! - a sensor's `frame_id` key names the frame of its messages and its `/tf_static` entry, and
+//!   a frame id that is no ROS name is refused.
+
+use crate::common;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use tracksim::output::mcap::MCAP_FILE;
+use tracksim::rosmsg::{self, CameraInfo, Image, Imu, Odometry, RosMessage, TFMessage};
+
+/// Every message's bytes by topic, in log order, with the channel's schema name.
+fn by_topic(bytes: &[u8]) -> BTreeMap<String, (String, Vec<Vec<u8>>)> {
+    let mut out: BTreeMap<String, (String, Vec<Vec<u8>>)> = BTreeMap::new();
+    for m in mcap::MessageStream::new(bytes).expect("mcap") {
+        let m = m.expect("message");
+        let schema = m
+            .channel
+            .schema
+            .as_ref()
+            .map_or(String::new(), |s| s.name.clone());
+        out.entry(m.channel.topic.clone())
+            .or_insert_with(|| (schema, Vec::new()))
+            .1
+            .push(m.data.to_vec());
+    }
+    out
+}
+
+fn decoded<T: RosMessage>(msgs: &[Vec<u8>]) -> Vec<T> {
+    msgs.iter()
+        .map(|d| rosmsg::decode::<T>(d).expect("decodes"))
+        .collect()
+}
+
+/// A fresh folder for one test.
+fn temp(tag: &str) -> PathBuf {
+    static N: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let d = std::env::temp_dir().join(format!("tracksim-i42r-{tag}-{}-{k}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("vehicles")).unwrap();
+    std::fs::create_dir_all(d.join("scenarios")).unwrap();
+    d
+}
+
+/// `scenarios/packbot_sensors.toml` and its vehicle copied into `dir`, the vehicle's text
+/// changed by `edit`; returns the scenario's path.
+fn sensors_fixture(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
+    let root = common::root();
+    let v = std::fs::read_to_string(root.join("vehicles/packbot510_sensors.toml")).unwrap();
+    std::fs::write(dir.join("vehicles/packbot510_sensors.toml"), edit(v)).unwrap();
+    let s = std::fs::read_to_string(root.join("scenarios/packbot_sensors.toml")).unwrap();
+    let path = dir.join("scenarios/packbot_sensors.toml");
+    std::fs::write(&path, s).unwrap();
+    path
+}
+
+/// A run of `path` for `duration` s, its `run.mcap` read back.
+fn recorded(path: &Path, duration: f64) -> (tracksim::RunResult, Vec<u8>) {
+    let mut sc = tracksim::load_scenario(path).expect("loads");
+    sc.duration = duration;
+    let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
+    let dir = path.parent().unwrap().join("out");
+    let which = tracksim::output::Outputs {
+        replay: false,
+        plots: false,
+        mcap: true,
+        raw_images: false,
+    };
+    tracksim::output::write_outputs(&sc, &r, &dir, which).expect("writes");
+    let bytes = std::fs::read(dir.join(MCAP_FILE)).unwrap();
+    (r, bytes)
+}
+
+#[test]
+fn odom_covariance_grows_with_the_distance_and_the_truth_is_exact() {
+    let path = common::root().join("scenarios/packbot_flat.toml");
+    let (r, bytes) = recorded(&path, 3.0);
+    let msgs = by_topic(&bytes);
+    let odom: Vec<Odometry> = decoded(&msgs["/odom"].1);
+    let truth: Vec<Odometry> = decoded(&msgs["/ground_truth/odom"].1);
+    assert_eq!(odom.len(), r.samples.len());
+    for o in &odom {
+        assert!(o.pose.covariance.iter().any(|c| *c != 0.0));
+        assert!(o.twist.covariance.iter().any(|c| *c != 0.0));
+        // z, roll, pitch: not measured by planar odometry.
+        for k in [2, 3, 4] {
+            assert_eq!(o.pose.covariance[7 * k], 1e6);
+        }
+    }
+    let first = &odom[0].pose.covariance;
+    let last = &odom.last().unwrap().pose.covariance;
+    assert_eq!(first[0], 1e-6);
+    // The robot drove; x's variance grows with the distance, 0.01 m^2/m per side, halved.
+    let (p0, p1) = (&r.samples[0].odom, &r.samples.last().unwrap().odom);
+    let dist = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
+    assert!(dist > 0.3, "{dist}");
+    let expect = 1e-6 + 0.005 * dist;
+    assert!(
+        (last[0] - expect).abs() < 0.2 * expect,
+        "var x {} for {dist} m (expected about {expect})",
+        last[0]
+    );
+    // The variance never shrinks.
+    for w in odom.windows(2) {
+        for k in [0, 7, 35] {
+            assert!(w[1].pose.covariance[k] >= w[0].pose.covariance[k] - 1e-15);
+        }
+    }
+    // The twist's variance follows the belt speed.
+    let moving = odom.last().unwrap();
+    assert!(moving.twist.covariance[0] > odom[0].twist.covariance[0]);
+    for t in &truth {
+        for k in 0..6 {
+            assert_eq!(t.pose.covariance[7 * k], 1e-12);
+            assert_eq!(t.twist.covariance[7 * k], 1e-12);
+        }
+    }
+}
+
+#[test]
+fn a_sensors_frame_id_names_its_messages_frame_and_its_mount() {
+    let dir = temp("frame");
+    let path = sensors_fixture(&dir, |v| {
+        let v = v
+            .replace(
+                "name = \"imu\"\nkind = \"imu\"",
+                "name = \"imu\"\nkind = \"imu\"\nframe_id = \"imu_frame\"",
+            )
+            .replace(
+                "name = \"front_camera\"\nkind = \"depth_camera\"",
+                "name = \"front_camera\"\nkind = \"depth_camera\"\nframe_id = \"depth/optical\"",
+            );
+        v + "\n[[sensors]]\nname = \"rgb\"\nkind = \"rgb_camera\"\nxyz_m = [0.2, 0.0, 0.1]\nrate_hz = 10.0\nwidth_px = 32\nheight_px = 24\nframe_id = \"camera_color_optical_frame\"\n"
+    });
+    let (_, bytes) = recorded(&path, 0.3);
+    let msgs = by_topic(&bytes);
+    let imu: Vec<Imu> = decoded(&msgs["/imu"].1);
+    assert!(!imu.is_empty());
+    assert!(imu.iter().all(|m| m.header.frame_id == "imu_frame"));
+    let depth: Vec<Image> = decoded(&msgs["/front_camera"].1);
+    assert!(depth.iter().all(|m| m.header.frame_id == "depth/optical"));
+    let info: Vec<CameraInfo> = decoded(&msgs["/rgb/camera_info"].1);
+    assert!(!info.is_empty());
+    assert!(
+        info.iter()
+            .all(|m| m.header.frame_id == "camera_color_optical_frame")
+    );
+    let st: Vec<TFMessage> = decoded(&msgs["/tf_static"].1);
+    let pairs: Vec<(String, String)> = st[0]
+        .transforms
+        .iter()
+        .map(|t| (t.header.frame_id.clone(), t.child_frame_id.clone()))
+        .collect();
+    for want in [
+        ("base_link", "imu_frame"),
+        ("base_link", "front_camera_link"),
+        ("front_camera_link", "depth/optical"),
+        ("rgb_link", "camera_color_optical_frame"),
+        ("base_link", "scan_link"),
+    ] {
+        assert!(
+            pairs.contains(&(want.0.into(), want.1.into())),
+            "{want:?} not in {pairs:?}"
+        );
+    }
+    // Not a ROS name: refused, naming the key.
+    for bad in ["1imu", "/imu", "imu frame", "a//b", "imu-1", ""] {
+        let path = sensors_fixture(&dir, |v| {
+            v.replace(
+                "name = \"imu\"\nkind = \"imu\"",
+                &format!("name = \"imu\"\nkind = \"imu\"\nframe_id = \"{bad}\""),
+            )
+        });
+        let e = tracksim::load_scenario(&path).err().expect("refused");
+        let text = e.to_string();
+        assert!(text.contains("frame_id"), "{bad}: {text}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
