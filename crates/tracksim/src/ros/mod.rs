@@ -25,5 +25,6 @@ pub mod topics;
 pub use commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
 pub use network::NetworkRange;
 pub use session::{
-    Counts, RobotControl, RosOptions, RosSession, RosTeamSession, run_ros, run_ros_team,
+    Counts, FileCommands, RobotControl, RosOptions, RosSession, RosTeamSession, run_ros,
+    run_ros_team,
 };

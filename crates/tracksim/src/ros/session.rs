@@ -63,6 +63,9 @@ pub struct RosOptions {
     /// When set (by a Ctrl-C or SIGTERM handler), the session ends at the next sample as
     /// interrupted.
     pub interrupt: Option<&'static AtomicBool>,
+    /// Play the file's `[[commands]]` (each robot's) until the robot's first ROS command
+    /// ([`FileCommands`]); off: they are not played, and a line says so.
+    pub play_commands: bool,
 }
 
 /// A finished session.
@@ -167,6 +170,90 @@ pub struct Counts {
     pub watchdog_stops: u64,
 }
 
+/// A file's `[[commands]]` played in a ROS session until the robot's first ROS command: each
+/// entry at the first sample boundary at or after its time (the entries due at one boundary
+/// merged, later ones winning), as belt speeds and flipper targets by name, so that
+/// `commands.toml` records them as it records ROS commands and the replay reproduces the
+/// session.
+#[derive(Clone, Debug, Default)]
+pub struct FileCommands {
+    entries: Vec<CommandSpec>,
+    next: usize,
+    playing: bool,
+}
+
+impl FileCommands {
+    /// The commands `commands` (a compiled scenario's, sorted by time) of vehicle `v`, played
+    /// if `play`.
+    pub fn new(v: &VehicleModel, commands: &[crate::model::Command], play: bool) -> Self {
+        let entries = commands
+            .iter()
+            .map(|c| {
+                let belts: std::collections::BTreeMap<String, f64> = v
+                    .tracks
+                    .iter()
+                    .zip(&c.controls.belt_speed)
+                    .filter_map(|(t, s)| s.map(|s| (t.name.clone(), s)))
+                    .collect();
+                CommandSpec {
+                    t_s: c.t,
+                    belt_speed_mps: (!belts.is_empty()).then_some(PerTrack::ByName(belts)),
+                    flipper_angle_deg: v
+                        .flippers
+                        .iter()
+                        .zip(&c.controls.flipper_angle)
+                        .filter_map(|(f, a)| a.map(|a| (f.name.clone(), a.to_degrees())))
+                        .collect(),
+                    ..CommandSpec::default()
+                }
+            })
+            .collect();
+        FileCommands {
+            entries,
+            next: 0,
+            playing: play,
+        }
+    }
+
+    /// How many entries the file has.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether the file has none.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Whether they are still being played.
+    pub fn playing(&self) -> bool {
+        self.playing && !self.entries.is_empty()
+    }
+
+    /// The entries due at `t` s (merged into one at `t`), if any.
+    fn due(&mut self, t: f64) -> Option<CommandSpec> {
+        let mut out: Option<CommandSpec> = None;
+        while let Some(e) = self.entries.get(self.next) {
+            if e.t_s > t + 1e-9 {
+                break;
+            }
+            self.next += 1;
+            let o = out.get_or_insert_with(|| CommandSpec {
+                t_s: t,
+                ..CommandSpec::default()
+            });
+            if let Some(PerTrack::ByName(b)) = &e.belt_speed_mps {
+                match &mut o.belt_speed_mps {
+                    Some(PerTrack::ByName(m)) => m.extend(b.clone()),
+                    _ => o.belt_speed_mps = Some(PerTrack::ByName(b.clone())),
+                }
+            }
+            o.flipper_angle_deg.extend(e.flipper_angle_deg.clone());
+        }
+        out
+    }
+}
+
 /// One robot's commands in a session, apart from DDS: its set-points ([`CommandState`]), its
 /// own watchdog, and what they came to. Each robot of a world has its own, so one robot's
 /// silent peer stops that robot only.
@@ -174,6 +261,8 @@ pub struct RobotControl {
     /// The robot's name in messages (`None`: the node's one robot).
     label: Option<String>,
     state: CommandState,
+    /// The file's commands, played until the first ROS command.
+    file: FileCommands,
     /// What the commands came to.
     pub counts: Counts,
 }
@@ -184,8 +273,15 @@ impl RobotControl {
         RobotControl {
             label: label.map(str::to_string),
             state: CommandState::new(v),
+            file: FileCommands::default(),
             counts: Counts::default(),
         }
+    }
+
+    /// The same, playing `file` until the first ROS command.
+    pub fn with_file_commands(mut self, file: FileCommands) -> Self {
+        self.file = file;
+        self
     }
 
     /// Takes in `received` (sanitised) commands at simulated time `t` s, applies the watchdog
@@ -199,6 +295,20 @@ impl RobotControl {
         received: Vec<Command>,
         say: &mut dyn FnMut(&str),
     ) -> Option<CommandSpec> {
+        if self.file.playing() {
+            if received.is_empty() {
+                return self.file.due(t);
+            }
+            self.file.playing = false;
+            let who = self
+                .label
+                .as_ref()
+                .map_or(String::new(), |l| format!("`{l}`: "));
+            say(&format!(
+                "{who}a ROS command arrived at t = {t:.2} s: the file's [[commands]] stop here; \
+                 ROS commands drive the robot from now on"
+            ));
+        }
         for c in received {
             self.state.take(v, &c, t);
             self.counts.received += 1;
@@ -257,6 +367,7 @@ impl RobotTopics {
         sc: &Scenario,
         ns: Namespace,
         raw_images: bool,
+        play_commands: bool,
     ) -> Result<(Self, Vec<String>)> {
         let track_names: Vec<String> = sc.vehicle.tracks.iter().map(|t| t.name.clone()).collect();
         let flipper_names: Vec<String> =
@@ -266,7 +377,8 @@ impl RobotTopics {
         let topics = RobotTopics {
             pubs: Publishers::new(node, &ns).map_err(dds_error)?,
             sensors: SensorPublishers::new(node, sc, &ns, raw_images).map_err(dds_error)?,
-            control: RobotControl::new(ns.name(), &sc.vehicle),
+            control: RobotControl::new(ns.name(), &sc.vehicle)
+                .with_file_commands(FileCommands::new(&sc.vehicle, &sc.commands, play_commands)),
             encoders: encoder_model(sc),
             joint_names: messages::joint_names(sc),
             track_names,
@@ -415,9 +527,25 @@ fn start<'w>(
     let pubs = WorldPublishers::new(node).map_err(dds_error)?;
     let mut topics = Vec::new();
     let mut skipped = Vec::new();
+    let mut notes = Vec::new();
     let mut statics = Vec::new();
     for (sc, ns) in robots {
-        let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images)?;
+        let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images, opts.play_commands)?;
+        let n = sc.commands.len();
+        if n > 0 {
+            let who = ns.name().map_or(String::new(), |l| format!("`{l}`: "));
+            notes.push(if opts.play_commands {
+                format!(
+                    "{who}playing the file's {n} [[commands]] until the first ROS command \
+                     (--play-commands)"
+                )
+            } else {
+                format!(
+                    "{who}the file's {n} [[commands]] are not played: ROS topics alone drive \
+                     the robot (--play-commands plays them until the first ROS command)"
+                )
+            });
+        }
         topics.push(t);
         skipped.extend(s);
         statics.extend(ns.tf(messages::tf_static(sc)).transforms);
@@ -438,6 +566,9 @@ fn start<'w>(
         world
             .rep
             .say(LogLevel::Warn, 0.0, &format!("no command topic: {s}"));
+    }
+    for n in notes {
+        world.rep.say(LogLevel::Info, 0.0, &n);
     }
     Ok((world, topics))
 }
