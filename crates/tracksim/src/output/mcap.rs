@@ -168,6 +168,7 @@ fn world_bytes(
     let mut rec = Recorder::new()?;
     record_samples(&mut rec, robots)?;
     record_static(&mut rec, robots)?;
+    record_descriptions(&mut rec, robots)?;
     for (sc, result, ns) in robots {
         for stream in &result.sensors {
             let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
@@ -366,6 +367,20 @@ fn record_static(
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
     rec.push(ch, 0.0, &TFMessage { transforms })
+}
+
+/// Each robot's `/robot_description` (its URDF, [`super::urdf_export::robot_description`]) once
+/// at t = 0, latched, in its namespace.
+fn record_descriptions(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    for (sc, _, ns) in robots {
+        let ch = rec.channel::<rosmsg::RosString>(&ns.topic("/robot_description"), true)?;
+        let data = super::urdf_export::robot_description(sc);
+        rec.push(ch, 0.0, &rosmsg::RosString { data })?;
+    }
+    Ok(())
 }
 
 /// Reading `k` of a stream's channel called `name` (f64; empty if there is no such channel).

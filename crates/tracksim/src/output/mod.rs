@@ -13,6 +13,8 @@
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
 //! - [`odom_covariance`]: the covariances of `/odom` from a skid-steer encoder model;
+//! - [`urdf_export`]: `/robot_description`, the URDF file's text or one generated from the
+//!   vehicle model;
 //! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
 
 pub mod mcap;
@@ -28,6 +30,7 @@ pub mod sensors;
 pub mod side_line;
 pub mod signals;
 pub mod team;
+pub mod urdf_export;
 pub mod vehicle_outline;
 
 pub use plot_files::{

@@ -161,7 +161,10 @@ fn pose_of(o: &Odometry) -> (DVec3, DQuat) {
 /// `/odom` says: planar, slip included), `base_link -> <flipper>_flipper_link` (origin at
 /// the pivot, turned by the flipper angle about its axis), and with `with_map` also
 /// `map -> odom`, the encoders' drift from the true pose (a perfect localisation: `map ->
-/// base_link` is the truth, so sensor data lands where it was taken).
+/// base_link` is the truth, so sensor data lands where it was taken). A URDF vehicle's links
+/// that move with a flipper are there too under the URDF's names (`<parent link> -> <child
+/// link>`, the joint's origin turned by the flipper's angle; the fixed ones are on
+/// `/tf_static`, [`tf_static`]).
 pub fn tf_of_sample(sc: &Scenario, s: &Sample, odom: &Odometry, with_map: bool) -> TFMessage {
     let (at, rot) = pose_of(odom);
     let mut transforms = vec![transform(s.t, ODOM_FRAME, BASE_FRAME, at, rot)];
@@ -172,6 +175,15 @@ pub fn tf_of_sample(sc: &Scenario, s: &Sample, odom: &Odometry, with_map: bool) 
             &flipper_frame(&f.name),
             f.pivot,
             DQuat::from_axis_angle(f.axis.normalize(), *angle),
+        ));
+    }
+    for (j, angle) in urdf_arms(sc, &s.flipper_angle) {
+        transforms.push(transform(
+            s.t,
+            &j.parent,
+            &j.child,
+            j.origin,
+            j.rotation * DQuat::from_axis_angle(j.axis, angle),
         ));
     }
     if with_map {
@@ -247,10 +259,84 @@ pub fn joint_state(names: &[String], s: &Sample, prev: Option<&Sample>) -> Joint
     }
 }
 
+/// The frames tracksim names itself for `sc`'s vehicle (a URDF link of the same name is not
+/// published again: a frame has one parent).
+fn own_frames(sc: &Scenario) -> Vec<String> {
+    let v = &sc.vehicle;
+    let mut f = vec![
+        BASE_FRAME.to_string(),
+        ODOM_FRAME.to_string(),
+        MAP_FRAME.to_string(),
+    ];
+    f.extend(v.flippers.iter().map(|x| flipper_frame(&x.name)));
+    for m in &v.sensors {
+        f.push(link_frame(m));
+        f.push(message_frame(m));
+    }
+    f
+}
+
+/// A URDF vehicle's joints that move with a flipper (the flipper named as the joint), each with
+/// the flipper's angle in `angles` (rad), as `/tf` carries them under the URDF's link names.
+fn urdf_arms<'a>(
+    sc: &'a Scenario,
+    angles: &'a [f64],
+) -> impl Iterator<Item = (&'a crate::urdf::JointFrame, f64)> + 'a {
+    let own = sc
+        .vehicle
+        .urdf
+        .as_ref()
+        .map(|_| own_frames(sc))
+        .unwrap_or_default();
+    sc.vehicle
+        .urdf
+        .iter()
+        .flat_map(|u| u.joints.iter())
+        .filter(move |j| j.moving && !own.contains(&j.child))
+        .filter_map(move |j| {
+            let i = sc.vehicle.flipper_index(&j.name)?;
+            Some((j, angles.get(i).copied().unwrap_or(0.0)))
+        })
+}
+
+/// A URDF vehicle's fixed links (and joints that do not move with a flipper, at their held
+/// angle) under their own names, and `base_link -> <root link>` (identity: the chassis frame
+/// is the root link's) when the root is not called `base_link`.
+fn urdf_static(sc: &Scenario) -> Vec<TransformStamped> {
+    let Some(u) = &sc.vehicle.urdf else {
+        return Vec::new();
+    };
+    let own = own_frames(sc);
+    let mut out = Vec::new();
+    if !u.root.is_empty() && u.root != BASE_FRAME {
+        out.push(transform(
+            0.0,
+            BASE_FRAME,
+            &u.root,
+            DVec3::ZERO,
+            DQuat::IDENTITY,
+        ));
+    }
+    for j in &u.joints {
+        let arm = j.moving && sc.vehicle.flipper_index(&j.name).is_some();
+        if arm || own.contains(&j.child) || j.child == u.root {
+            continue;
+        }
+        out.push(transform(
+            0.0,
+            &j.parent,
+            &j.child,
+            j.origin,
+            j.rotation * DQuat::from_axis_angle(j.axis, j.locked_angle),
+        ));
+    }
+    out
+}
+
 /// `/tf_static`: each sensor's frame on its mount (`base_link` or the flipper's link) and the
 /// cameras' (depth and colour) optical frames (encoders have no frame).
 pub fn tf_static(sc: &Scenario) -> TFMessage {
-    let mut transforms = Vec::new();
+    let mut transforms = urdf_static(sc);
     for m in &sc.vehicle.sensors {
         if matches!(m.kind, SensorKind::Encoders(_)) {
             continue;

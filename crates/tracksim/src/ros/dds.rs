@@ -5,14 +5,17 @@
 //!
 //! QoS: every publisher is reliable, volatile, keep last 10 (ROS's default; a best-effort
 //! subscriber such as a `SensorDataQoS` one matches it too), `/tf` keep last 100, `/clock`
-//! keep last 1, `/tf_static` transient local keep last 1 (latched, as tf2 expects). The
+//! keep last 1, `/tf_static` and `/robot_description` transient local keep last 1 (latched, as
+//! tf2 and `robot_state_publisher` have them). The
 //! subscriptions are reliable, keep last 10 (the default of `ros2 topic pub`, Nav2 and
 //! `teleop_twist_keyboard`).
 
 use super::network::NetworkRange;
 use super::topics;
 use crate::output::ros_names::Namespace;
-use crate::rosmsg::{Clock, Float64, JointState, Odometry, TFMessage, TrackStates, Twist};
+use crate::rosmsg::{
+    Clock, Float64, JointState, Odometry, RosString, TFMessage, TrackStates, Twist,
+};
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::log::LogLevel;
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
@@ -205,6 +208,9 @@ pub struct Publishers {
     pub joints: Pub<JointState>,
     /// `/tracks`.
     pub tracks: Pub<TrackStates>,
+    /// `/robot_description` (transient local, keep last 1, reliable: as
+    /// `robot_state_publisher` offers it).
+    pub description: Pub<RosString>,
 }
 
 impl Publishers {
@@ -215,6 +221,7 @@ impl Publishers {
             truth: node.publisher(&ns.topic(topics::GROUND_TRUTH), 10, false)?,
             joints: node.publisher(&ns.topic(topics::JOINT_STATES), 10, false)?,
             tracks: node.publisher(&ns.topic(topics::TRACKS), 10, false)?,
+            description: node.publisher(&ns.topic(topics::ROBOT_DESCRIPTION), 1, true)?,
         })
     }
 }

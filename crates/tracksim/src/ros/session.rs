@@ -531,6 +531,9 @@ fn start<'w>(
     let mut statics = Vec::new();
     for (sc, ns) in robots {
         let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images, opts.play_commands)?;
+        t.pubs.description.publish(crate::rosmsg::RosString {
+            data: crate::output::urdf_export::robot_description(sc),
+        });
         let n = sc.commands.len();
         if n > 0 {
             let who = ns.name().map_or(String::new(), |l| format!("`{l}`: "));

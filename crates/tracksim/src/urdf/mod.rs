@@ -34,5 +34,5 @@ mod tree;
 
 pub use gazebo::TrackedVehiclePlugin;
 pub use link::{ImportedArm, ImportedLink, LinkJoint, MassPart, Owner};
-pub use report::{LinkLine, UrdfReport};
+pub use report::{JointFrame, LinkLine, UrdfReport};
 pub use robot::UrdfRobot;

@@ -52,6 +52,35 @@ impl UrdfRobot {
         })
     }
 
+    /// Every joint of the file as a transform parent -> child.
+    pub fn joint_frames(&self) -> Vec<super::JointFrame> {
+        self.source
+            .robot
+            .joints
+            .iter()
+            .map(|j| {
+                let p = super::pose::pose(&j.origin);
+                let (_, rotation, origin) = p.to_scale_rotation_translation();
+                let axis = glam::DVec3::from_array(j.axis.xyz.0).normalize_or_zero();
+                let locked = matches!(j.joint_type, urdf_rs::JointType::Revolute)
+                    && j.limit.lower == j.limit.upper;
+                super::JointFrame {
+                    name: j.name.clone(),
+                    parent: j.parent.link.clone(),
+                    child: j.child.link.clone(),
+                    origin,
+                    rotation,
+                    axis,
+                    moving: matches!(
+                        j.joint_type,
+                        urdf_rs::JointType::Revolute | urdf_rs::JointType::Continuous
+                    ) && !locked,
+                    locked_angle: if locked { j.limit.lower } else { 0.0 },
+                }
+            })
+            .collect()
+    }
+
     /// Reads and checks `path` (relative paths inside it, meshes, are relative to its folder).
     pub fn load(path: &Path) -> Result<UrdfRobot, Vec<SpecIssue>> {
         let src = UrdfSource::read(path)?;

@@ -99,6 +99,7 @@ fn run_mcap_has_every_topic_with_its_schema_and_counts() {
         ("/scan", "sensor_msgs/msg/LaserScan"),
         ("/elevation", "sensor_msgs/msg/PointCloud2"),
         ("/front_camera", "sensor_msgs/msg/Image"),
+        ("/robot_description", "std_msgs/msg/String"),
     ];
     for (topic, ty) in expect {
         assert_eq!(types.get(topic).map(String::as_str), Some(ty), "{topic}");

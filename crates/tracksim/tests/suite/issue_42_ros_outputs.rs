@@ -182,3 +182,150 @@ fn a_sensors_frame_id_names_its_messages_frame_and_its_mount() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn robot_description_is_a_urdf_of_the_model_or_the_urdf_files_own_text() {
+    use tracksim::output::urdf_export::{robot_description, vehicle_urdf};
+    use tracksim::rosmsg::RosString;
+    // A TOML vehicle: a URDF generated from the model, which urdf-rs reads back.
+    let path = common::root().join("scenarios/packbot_sensors.toml");
+    let (_, bytes) = recorded(&path, 0.05);
+    let msgs = by_topic(&bytes);
+    let (schema, data) = &msgs["/robot_description"];
+    assert_eq!(schema, "std_msgs/msg/String");
+    assert_eq!(data.len(), 1, "once, latched");
+    let text = decoded::<RosString>(data).remove(0).data;
+    let sc = tracksim::load_scenario(&path).unwrap();
+    assert_eq!(text, vehicle_urdf(&sc.vehicle));
+    let robot = urdf_rs::read_from_string(&text).expect("a URDF");
+    let links: Vec<&str> = robot.links.iter().map(|l| l.name.as_str()).collect();
+    for want in [
+        "base_link",
+        "front_left_flipper_link",
+        "front_right_flipper_link",
+        "left_track_link",
+        "imu_link",
+        "front_camera_link",
+        "front_camera_optical_frame",
+        "flipper_imu_link",
+    ] {
+        assert!(links.contains(&want), "{want} not in {links:?}");
+    }
+    assert!(!links.contains(&"encoders_link"));
+    let base = robot.links.iter().find(|l| l.name == "base_link").unwrap();
+    assert!(!base.visual.is_empty());
+    let track = robot
+        .links
+        .iter()
+        .find(|l| l.name == "left_track_link")
+        .unwrap();
+    assert_eq!(track.visual.len(), 24);
+    // Each flipper a revolute joint named as in /joint_states, at its pivot, with its limits.
+    for f in &sc.vehicle.flippers {
+        let j = robot
+            .joints
+            .iter()
+            .find(|j| j.name == f.name)
+            .expect("joint");
+        assert_eq!(j.parent.link, "base_link");
+        assert_eq!(j.child.link, format!("{}_flipper_link", f.name));
+        for k in 0..3 {
+            assert!((j.origin.xyz[k] - f.pivot.to_array()[k]).abs() < 1e-12);
+        }
+        match f.limits {
+            Some([lo, hi]) => {
+                assert!(matches!(j.joint_type, urdf_rs::JointType::Revolute));
+                assert!((j.limit.lower - lo).abs() < 1e-12 && (j.limit.upper - hi).abs() < 1e-12);
+            }
+            None => assert!(matches!(j.joint_type, urdf_rs::JointType::Continuous)),
+        }
+    }
+    // A sensor on a flipper hangs from the flipper's link.
+    let j = robot
+        .joints
+        .iter()
+        .find(|j| j.child.link == "flipper_imu_link")
+        .unwrap();
+    assert_eq!(j.parent.link, "front_left_flipper_link");
+
+    // A URDF vehicle: the file's own text.
+    let sc = tracksim::load_scenario(&common::root().join("scenarios/packbot_urdf_stairs.toml"))
+        .unwrap();
+    let file = common::root().join("vehicles/urdf/packbot510_flippers.urdf");
+    assert_eq!(
+        robot_description(&sc),
+        std::fs::read_to_string(file).unwrap()
+    );
+}
+
+#[test]
+fn a_urdf_robots_links_are_on_tf_under_their_own_names() {
+    use glam::{DQuat, DVec3};
+    use tracksim::output::ros_messages::{
+        encoder_model, encoder_odometry, tf_of_sample, tf_static,
+    };
+    // The bundled URDF PackBot with its root link renamed `chassis`.
+    let dir = temp("urdf");
+    let root = common::root();
+    std::fs::create_dir_all(dir.join("vehicles/urdf")).unwrap();
+    let urdf = std::fs::read_to_string(root.join("vehicles/urdf/packbot510_flippers.urdf"))
+        .unwrap()
+        .replace("\"base_link\"", "\"chassis\"");
+    std::fs::write(dir.join("vehicles/urdf/packbot510_flippers.urdf"), urdf).unwrap();
+    let v = std::fs::read_to_string(root.join("vehicles/packbot510_urdf.toml")).unwrap();
+    std::fs::write(dir.join("vehicles/packbot510_urdf.toml"), v).unwrap();
+    let s = std::fs::read_to_string(root.join("scenarios/packbot_urdf_stairs.toml")).unwrap();
+    let path = dir.join("scenarios/packbot_urdf_stairs.toml");
+    std::fs::write(&path, s).unwrap();
+    let sc = tracksim::load_scenario(&path).expect("loads");
+
+    let statics = tf_static(&sc).transforms;
+    let find = |ts: &[tracksim::rosmsg::TransformStamped], p: &str, c: &str| {
+        ts.iter()
+            .find(|t| t.header.frame_id == p && t.child_frame_id == c)
+            .cloned()
+            .unwrap_or_else(|| panic!("{p} -> {c} not in {ts:?}"))
+    };
+    // base_link is the root link's frame: identity.
+    let b = find(&statics, "base_link", "chassis");
+    assert_eq!(b.transform.translation.x, 0.0);
+    assert_eq!(b.transform.rotation.w, 1.0);
+    // A fixed link at its joint's origin.
+    let l = find(&statics, "chassis", "left_track");
+    assert!((l.transform.translation.y - 0.1625).abs() < 1e-12);
+    // The arms are not static.
+    assert!(
+        statics
+            .iter()
+            .all(|t| t.child_frame_id != "front_left_flipper")
+    );
+
+    // /tf: each arm link moving with its joint (the flipper of the same name).
+    let mut sample = tracksim::world::Sample {
+        flipper_angle: vec![0.0; sc.vehicle.flippers.len()],
+        belt_speed: vec![0.0; sc.vehicle.tracks.len()],
+        ..Default::default()
+    };
+    let fl = sc.vehicle.flipper_index("front_left").expect("flipper");
+    sample.flipper_angle[fl] = 0.5;
+    let odom = encoder_odometry(&sample, &mut encoder_model(&sc));
+    let tf = tf_of_sample(&sc, &sample, &odom, false).transforms;
+    let a = find(&tf, "chassis", "front_left_flipper");
+    assert!((a.transform.translation.x - 0.255).abs() < 1e-12);
+    assert!((a.transform.translation.y - 0.225).abs() < 1e-12);
+    let q = a.transform.rotation;
+    let want = DQuat::from_axis_angle(DVec3::new(0.0, -1.0, 0.0), 0.5);
+    assert!(
+        (q.x - want.x).abs() < 1e-12
+            && (q.y - want.y).abs() < 1e-12
+            && (q.z - want.z).abs() < 1e-12
+            && (q.w - want.w).abs() < 1e-12,
+        "{q:?}"
+    );
+    // The joint_states names are the URDF's joint names.
+    let names = tracksim::output::ros_messages::joint_names(&sc);
+    assert!(names.contains(&"front_left".to_string()));
+    // The old flipper frame stays (sensors may hang from it).
+    find(&tf, "base_link", "front_left_flipper_link");
+    let _ = std::fs::remove_dir_all(&dir);
+}
