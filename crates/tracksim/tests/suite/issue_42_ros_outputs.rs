@@ -64,7 +64,8 @@ fn recorded(path: &Path, duration: f64) -> (tracksim::RunResult, Vec<u8>) {
     let mut sc = tracksim::load_scenario(path).expect("loads");
     sc.duration = duration;
     let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
-    let dir = path.parent().unwrap().join("out");
+    // Never beside a bundled scenario: a fresh folder of its own.
+    let dir = temp("rec").join("out");
     let which = tracksim::output::Outputs {
         replay: false,
         plots: false,
@@ -73,6 +74,7 @@ fn recorded(path: &Path, duration: f64) -> (tracksim::RunResult, Vec<u8>) {
     };
     tracksim::output::write_outputs(&sc, &r, &dir, which).expect("writes");
     let bytes = std::fs::read(dir.join(MCAP_FILE)).unwrap();
+    let _ = std::fs::remove_dir_all(dir.parent().unwrap());
     (r, bytes)
 }
 
