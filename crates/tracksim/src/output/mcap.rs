@@ -169,6 +169,7 @@ fn world_bytes(
     record_samples(&mut rec, robots)?;
     record_static(&mut rec, robots)?;
     record_descriptions(&mut rec, robots)?;
+    record_scene(&mut rec, robots)?;
     for (sc, result, ns) in robots {
         for stream in &result.sensors {
             let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
@@ -236,6 +237,33 @@ impl Recorder {
         self.writer
             .add_channel(schema, topic, "cdr", &meta)
             .map_err(|e| format!("MCAP channel {topic}: {e}"))
+    }
+
+    /// A JSON channel on `topic` with schema `name` (JSON schema `schema`), as Foxglove's own
+    /// schemas (`foxglove.SceneUpdate`) are recorded.
+    fn json_channel(
+        &mut self,
+        topic: &str,
+        name: &str,
+        schema: &str,
+    ) -> std::result::Result<u16, String> {
+        let id = self
+            .writer
+            .add_schema(name, "jsonschema", schema.as_bytes())
+            .map_err(|e| format!("MCAP schema {name}: {e}"))?;
+        let meta = BTreeMap::from([("offered_qos_profiles".to_string(), qos(true))]);
+        self.writer
+            .add_channel(id, topic, "json", &meta)
+            .map_err(|e| format!("MCAP channel {topic}: {e}"))
+    }
+
+    /// JSON `value` on `channel` at `t` s.
+    fn push_json(&mut self, channel: u16, t: f64, value: &serde_json::Value) {
+        self.messages.push((
+            rosmsg::Time::from_secs(t).nanos(),
+            channel,
+            value.to_string().into_bytes(),
+        ));
     }
 
     /// `msg` on `channel` at `t` s.
@@ -367,6 +395,52 @@ fn record_static(
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
     rec.push(ch, 0.0, &TFMessage { transforms })
+}
+
+/// `/scene` (`foxglove.SceneUpdate`, JSON) once at t = 0: the terrain in `map` and each
+/// robot's links in its frames ([`super::foxglove_scene`]); on a soil run each robot's `/soil`
+/// (its tracks' sinkage and thrust) at every sample.
+fn record_scene(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    use super::foxglove_scene as fx;
+    let namers: Vec<Box<dyn Fn(&str) -> String>> = robots
+        .iter()
+        .map(|(_, _, ns)| {
+            let ns = ns.clone();
+            Box::new(move |f: &str| ns.frame(f)) as Box<dyn Fn(&str) -> String>
+        })
+        .collect();
+    let list: Vec<(&Scenario, &dyn Fn(&str) -> String, String)> = robots
+        .iter()
+        .zip(&namers)
+        .map(|((sc, _, ns), f)| {
+            let prefix = ns.name().map_or(String::new(), |n| format!("{n}/"));
+            (*sc, f.as_ref(), prefix)
+        })
+        .collect();
+    let ch = rec.json_channel(fx::SCENE_TOPIC, fx::SCENE_SCHEMA, &fx::scene_schema())?;
+    let scene = fx::scene_update(&list, MAP_FRAME);
+    rec.push_json(ch, 0.0, &scene);
+    for (_, run, ns) in robots {
+        let mut ch = None;
+        for s in &run.samples {
+            let Some(m) = fx::soil_message(s, &run.track_names) else {
+                continue;
+            };
+            let c = match ch {
+                Some(c) => c,
+                None => *ch.insert(rec.json_channel(
+                    &ns.topic(fx::SOIL_TOPIC),
+                    fx::SOIL_SCHEMA,
+                    &fx::soil_schema(),
+                )?),
+            };
+            rec.push_json(c, s.t, &m);
+        }
+    }
+    Ok(())
 }
 
 /// Each robot's `/robot_description` (its URDF, [`super::urdf_export::robot_description`]) once

@@ -331,3 +331,71 @@ fn a_urdf_robots_links_are_on_tf_under_their_own_names() {
     find(&tf, "base_link", "front_left_flipper_link");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn run_mcap_has_a_foxglove_scene_of_the_terrain_and_the_robot_and_soil_figures() {
+    let path = common::root().join("scenarios/packbot_sensors.toml");
+    let sc = tracksim::load_scenario(&path).unwrap();
+    let (_, bytes) = recorded(&path, 0.05);
+    let msgs = by_topic(&bytes);
+    let (schema, data) = &msgs["/scene"];
+    assert_eq!(schema, "foxglove.SceneUpdate");
+    assert_eq!(data.len(), 1, "once, at t = 0");
+    let scene: serde_json::Value = serde_json::from_slice(&data[0]).expect("JSON");
+    let entities = scene["entities"].as_array().unwrap();
+    let entity = |id: &str| {
+        entities
+            .iter()
+            .find(|e| e["id"] == id)
+            .unwrap_or_else(|| panic!("no entity {id}"))
+    };
+    // The terrain in map: the ground plane, then every box; the stairs' nosings as cylinders.
+    let t = entity("terrain");
+    assert_eq!(t["frame_id"], "map");
+    let cubes = t["cubes"].as_array().unwrap();
+    assert_eq!(cubes.len(), 1 + sc.terrain.boxes.len());
+    assert!(!sc.terrain.boxes.is_empty());
+    let b = &sc.terrain.boxes[0];
+    let c = &cubes[1];
+    for (k, axis) in ["x", "y", "z"].iter().enumerate() {
+        let size = c["size"][axis].as_f64().unwrap();
+        let at = c["pose"]["position"][axis].as_f64().unwrap();
+        assert!((size - 2.0 * b.half.to_array()[k]).abs() < 1e-12, "{axis}");
+        assert!((at - b.centre.to_array()[k]).abs() < 1e-12, "{axis}");
+    }
+    assert_eq!(
+        t["cylinders"].as_array().unwrap().len(),
+        sc.terrain.cylinders.len()
+    );
+    // The robot in its frames, moved by /tf.
+    let body = entity("robot/body");
+    assert_eq!(body["frame_id"], "base_link");
+    assert_eq!(body["frame_locked"], true);
+    assert!(!body["cubes"].as_array().unwrap().is_empty());
+    let track = entity("robot/track/left");
+    assert_eq!(track["cubes"].as_array().unwrap().len(), 24);
+    for f in &sc.vehicle.flippers {
+        let e = entity(&format!("robot/flipper/{}", f.name));
+        assert_eq!(e["frame_id"], format!("{}_flipper_link", f.name));
+    }
+    assert!(!msgs.contains_key("/soil"), "no soil, no /soil");
+
+    // A soil run: each track's sinkage and thrust at every sample.
+    let path = common::root().join("scenarios/soil/packbot_dry_sand.toml");
+    let (r, bytes) = recorded(&path, 0.2);
+    let msgs = by_topic(&bytes);
+    let (schema, data) = &msgs["/soil"];
+    assert_eq!(schema, "tracksim.TrackSoil");
+    assert_eq!(data.len(), r.samples.len());
+    let last: serde_json::Value = serde_json::from_slice(data.last().unwrap()).unwrap();
+    let s = r.samples.last().unwrap();
+    let tracks = last["tracks"].as_array().unwrap();
+    assert_eq!(tracks.len(), s.soil.len());
+    assert_eq!(tracks[0]["name"], r.track_names[0].as_str());
+    assert_eq!(
+        tracks[0]["sinkage_m"].as_f64().unwrap(),
+        s.soil[0].sinkage_m
+    );
+    assert_eq!(tracks[0]["thrust_n"].as_f64().unwrap(), s.soil[0].thrust_n);
+    assert!(s.soil.iter().any(|g| g.sinkage_m > 0.0), "{:?}", s.soil);
+}
