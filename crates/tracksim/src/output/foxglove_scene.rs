@@ -12,6 +12,7 @@
 //! thrust (N), plottable as `/soil.tracks[0].sinkage_m`.
 
 use super::ros_messages::{BASE_FRAME, flipper_frame};
+use super::ros_names::Namespace;
 use crate::model::{CollisionShape, Parent, Scenario};
 use crate::render::Rgb;
 use crate::world::Sample;
@@ -209,8 +210,11 @@ fn terrain(sc: &Scenario, map: &str) -> Value {
     p.entity("terrain", map, false)
 }
 
-/// The robot's links as entities, each in its frame (named by `frame`: a robot's namespace).
-fn robot(sc: &Scenario, frame: &dyn Fn(&str) -> String, prefix: &str) -> Vec<Value> {
+/// The robot's links as entities, each in its frame (in namespace `ns`, whose name prefixes the
+/// entities' ids).
+fn robot(sc: &Scenario, ns: &Namespace) -> Vec<Value> {
+    let frame = |f: &str| ns.frame(f);
+    let prefix = ns.name().map_or(String::new(), |n| format!("{n}/"));
     let v = &sc.vehicle;
     let body_c = rgba(v.colors.body, 1.0);
     let dark = rgba(Rgb([40, 40, 40]), 1.0);
@@ -247,15 +251,15 @@ fn robot(sc: &Scenario, frame: &dyn Fn(&str) -> String, prefix: &str) -> Vec<Val
     out
 }
 
-/// The `/scene` message at t = 0 of `robots` (each robot's scenario and its frame namer and
-/// entity prefix) in a world whose terrain is the first robot's, in frame `map`.
-pub fn scene_update(robots: &[(&Scenario, &dyn Fn(&str) -> String, String)], map: &str) -> Value {
+/// The `/scene` message at t = 0 of `robots` (each robot's scenario and namespace) in a world
+/// whose terrain is the first robot's, in frame `map`.
+pub fn scene_update(robots: &[(&Scenario, Namespace)], map: &str) -> Value {
     let mut entities = Vec::new();
-    if let Some((sc, _, _)) = robots.first() {
+    if let Some((sc, _)) = robots.first() {
         entities.push(terrain(sc, map));
     }
-    for (sc, frame, prefix) in robots {
-        entities.extend(robot(sc, frame, prefix));
+    for (sc, ns) in robots {
+        entities.extend(robot(sc, ns));
     }
     json!({"deletions": [], "entities": entities})
 }

@@ -405,21 +405,8 @@ fn record_scene(
     robots: &[(&Scenario, &RunResult, Namespace)],
 ) -> std::result::Result<(), String> {
     use super::foxglove_scene as fx;
-    let namers: Vec<Box<dyn Fn(&str) -> String>> = robots
-        .iter()
-        .map(|(_, _, ns)| {
-            let ns = ns.clone();
-            Box::new(move |f: &str| ns.frame(f)) as Box<dyn Fn(&str) -> String>
-        })
-        .collect();
-    let list: Vec<(&Scenario, &dyn Fn(&str) -> String, String)> = robots
-        .iter()
-        .zip(&namers)
-        .map(|((sc, _, ns), f)| {
-            let prefix = ns.name().map_or(String::new(), |n| format!("{n}/"));
-            (*sc, f.as_ref(), prefix)
-        })
-        .collect();
+    let list: Vec<(&Scenario, Namespace)> =
+        robots.iter().map(|(sc, _, ns)| (*sc, ns.clone())).collect();
     let ch = rec.json_channel(fx::SCENE_TOPIC, fx::SCENE_SCHEMA, &fx::scene_schema())?;
     let scene = fx::scene_update(&list, MAP_FRAME);
     rec.push_json(ch, 0.0, &scene);

@@ -154,7 +154,7 @@ pub fn sensor_message(
     joint_names: &[String],
 ) -> Result<SensorMessage, String> {
     let incomplete = || format!("sensor {}: the reading at {t} s is incomplete", m.name);
-    let header = Header::new(t, &link_frame(m));
+    let (header, frame) = (Header::new(t, &link_frame(m)), message_frame(m));
     Ok(match m.kind {
         SensorKind::Imu(p) => {
             let (a, g, q) = (
@@ -215,7 +215,7 @@ pub fn sensor_message(
             (r.channel)("points"),
         )),
         SensorKind::DepthCamera(p) => SensorMessage::Image(Image {
-            header: Header::new(t, &message_frame(m)),
+            header: Header::new(t, &frame),
             height: p.height as u32,
             width: p.width as u32,
             encoding: "32FC1".into(),
@@ -224,8 +224,7 @@ pub fn sensor_message(
             data: f32_bytes((r.channel)("depth")),
         }),
         SensorKind::RgbCamera(p) => {
-            let msgs =
-                camera_messages(&message_frame(m), t, &p, (r.channel)("rgb"), (r.png)("rgb"));
+            let msgs = camera_messages(&frame, t, &p, (r.channel)("rgb"), (r.png)("rgb"));
             if msgs.image.data.len() != 3 * p.intrinsics.width * p.intrinsics.height {
                 return Err(incomplete());
             }

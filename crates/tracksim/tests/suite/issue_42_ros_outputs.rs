@@ -178,7 +178,9 @@ fn a_sensors_frame_id_names_its_messages_frame_and_its_mount() {
                 &format!("name = \"imu\"\nkind = \"imu\"\nframe_id = \"{bad}\""),
             )
         });
-        let e = tracksim::load_scenario(&path).err().expect("refused");
+        let Err(e) = tracksim::load_scenario(&path) else {
+            panic!("{bad}: accepted");
+        };
         let text = e.to_string();
         assert!(text.contains("frame_id"), "{bad}: {text}");
     }
