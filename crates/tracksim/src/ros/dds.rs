@@ -44,6 +44,12 @@ fn qos(depth: usize, latched: bool) -> QosProfile {
     }
 }
 
+/// The QoS of the services' requests and replies: reliable, volatile, keep last 10 (ROS's
+/// services default).
+pub fn service_qos() -> QosProfile {
+    qos(10, false)
+}
+
 /// A publisher of a ROS message type on one topic.
 pub struct Pub<T: Serialize> {
     inner: Publisher<T>,
@@ -159,6 +165,11 @@ impl DdsNode {
             inner,
             topic: name.to_string(),
         })
+    }
+
+    /// The ros2-client node (for its services).
+    pub fn node_mut(&mut self) -> &mut Node {
+        &mut self.node
     }
 
     /// Logs `msg` on `/rosout` at `level`, stamped `t` s of simulated time.

@@ -17,6 +17,7 @@ use super::dds::{DdsNode, Publishers, Subscriptions, WorldPublishers};
 use super::network::NetworkRange;
 use super::sanitize::{self, Problem, Warnings};
 use super::sensors::SensorPublishers;
+use super::services::{ServiceCall, Services};
 use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
@@ -82,6 +83,9 @@ pub struct RosSession {
     pub problems: u64,
     /// Times the watchdog stopped the robot.
     pub watchdog_stops: u64,
+    /// Times `/tracksim/reset` restarted the session (the run written is the one since the
+    /// last).
+    pub resets: u64,
 }
 
 /// Reports a warning on `/rosout` and through `warn` (standard error for the CLI).
@@ -460,12 +464,84 @@ struct TopicSource<'a, 'w> {
     sc: &'a Scenario,
     robot: RobotTopics,
     world: World<'w>,
+    /// `/tracksim/reset` and `/tracksim/set_paused`.
+    services: Option<Services>,
+    paused: bool,
+    reset_asked: bool,
+    resets: u64,
+    play_commands: bool,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl TopicSource<'_, '_> {
+    /// Answers the service requests received at `t` s.
+    fn serve(&mut self, t: f64) {
+        let Some(services) = &self.services else {
+            return;
+        };
+        let mut said = Vec::new();
+        let (paused, reset_asked) = (&mut self.paused, &mut self.reset_asked);
+        services.serve(&mut |call| match call {
+            ServiceCall::Reset => {
+                *reset_asked = true;
+                *paused = false;
+                let m = format!(
+                    "reset at t = {t:.2} s: the robot goes back to its start pose and the \
+                     session starts again (the run written and commands.toml are the ones \
+                     since the last reset)"
+                );
+                said.push(m.clone());
+                (true, m)
+            }
+            ServiceCall::SetPaused(p) => {
+                *paused = *p;
+                let m = if *p {
+                    format!("paused at t = {t:.2} s: the simulated clock stands still")
+                } else {
+                    format!("resumed at t = {t:.2} s")
+                };
+                said.push(m.clone());
+                (true, m)
+            }
+        });
+        for m in said {
+            self.world.rep.say(LogLevel::Info, t, &m);
+        }
+    }
+
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 impl ControlSource for TopicSource<'_, '_> {
+    fn reset(&mut self) -> bool {
+        if !std::mem::take(&mut self.reset_asked) {
+            return false;
+        }
+        let v = &self.sc.vehicle;
+        self.robot.control = RobotControl::new(self.robot.ns.name(), v)
+            .with_file_commands(FileCommands::new(v, &self.sc.commands, self.play_commands));
+        self.robot.encoders = encoder_model(self.sc);
+        self.resets += 1;
+        true
+    }
+
     fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
+        let t = runner.time();
+        self.serve(t);
+        // Paused: the simulated clock stands still; the services and Ctrl-C are still heard.
+        while self.paused && !self.interrupted() {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            self.serve(t);
+        }
+        if self.reset_asked {
+            // The restart comes at the next boundary, before anything is commanded.
+            return None;
+        }
         self.robot
-            .controls(&self.sc.vehicle, runner.time(), &mut self.world.rep)
+            .controls(&self.sc.vehicle, t, &mut self.world.rep)
     }
 
     fn after_step(&mut self, runner: &Runner) {
@@ -596,11 +672,18 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
     if !opts.fast {
         runner = runner.paced(1.0);
     }
+    let services = Services::new(&mut node).map_err(dds_error)?;
     let (world, mut robots) = start(&mut node, opts, &[(sc, ns)], warn)?;
     let mut topics = TopicSource {
         sc,
         robot: robots.remove(0),
         world,
+        services: Some(services),
+        paused: false,
+        reset_asked: false,
+        resets: 0,
+        play_commands: opts.play_commands,
+        interrupt: opts.interrupt,
     };
     topics.after_sample(&runner);
     topics.after_step(&runner);
@@ -612,6 +695,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         received: c.received,
         problems: c.problems,
         watchdog_stops: c.watchdog_stops,
+        resets: topics.resets,
     })
 }
 
