@@ -151,10 +151,11 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     let written = session.write(&sc, &file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
     super::session_report(&session.result.summary);
     out!(
-        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops",
+        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops, {} resets",
         session.received,
         session.problems,
-        session.watchdog_stops
+        session.watchdog_stops,
+        session.resets
     );
     for w in &written {
         out!("wrote      {}", w.display());
