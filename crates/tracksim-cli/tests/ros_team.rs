@@ -37,7 +37,7 @@ fn each_robots_topics_and_frames_are_under_its_name_and_unique_in_the_world() {
         // The frames of its transforms, as the node publishes them on /tf and /tf_static.
         sim.select(k);
         let sample = sim.sample();
-        let odom = encoder_odometry(&sample, &encoder_model(&view));
+        let odom = encoder_odometry(&sample, &mut encoder_model(&view));
         let tf = ns.tf(tf_of_sample(&view, &sample, &odom, true));
         let pairs: Vec<(String, String)> = tf
             .transforms

@@ -24,6 +24,7 @@ pub fn front_camera(width: usize, height: usize, threads: usize) -> SensorModel 
         position: glam::DVec3::new(0.26, 0.0, 0.12),
         rotation: glam::DQuat::from_rotation_y(10f64.to_radians()),
         rate_hz: 10.0,
+        frame_id: None,
         kind: SensorKind::RgbCamera(RgbCameraModel {
             intrinsics: Intrinsics {
                 width,

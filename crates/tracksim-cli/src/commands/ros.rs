@@ -53,6 +53,10 @@ pub struct RosArgs {
     /// /<NAME>/cmd_vel, /<NAME>/odom, tf <NAME>/odom -> <NAME>/base_link (/clock and /tf stay).
     #[arg(long, value_name = "NAME")]
     pub namespace: Option<String>,
+    /// Play the file's [[commands]] until the robot's first ROS command (then ROS wins, and a
+    /// line says so). Without it they are not played: ROS topics alone drive the robot.
+    #[arg(long)]
+    pub play_commands: bool,
 }
 
 /// The DDS domain: the flag, else `ROS_DOMAIN_ID`, else 0.
@@ -122,6 +126,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         network,
         interrupt: Some(&super::STOP),
         namespace: a.namespace.clone(),
+        play_commands: a.play_commands,
     };
     super::on_stop(|| {});
     out!(
@@ -146,10 +151,11 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     let written = session.write(&sc, &file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
     super::session_report(&session.result.summary);
     out!(
-        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops",
+        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops, {} resets",
         session.received,
         session.problems,
-        session.watchdog_stops
+        session.watchdog_stops,
+        session.resets
     );
     for w in &written {
         out!("wrote      {}", w.display());

@@ -115,6 +115,7 @@ fn map_of(sc: &Scenario, cfg: &EnvConfig) -> (ElevationMap, Option<f64>, Elevati
         rotation: DQuat::IDENTITY,
         rate_hz: f64::INFINITY,
         kind: SensorKind::ElevationMap(p),
+        frame_id: None,
     };
     (ElevationMap::new(m, p), None, p)
 }

@@ -30,7 +30,9 @@ pub const SENSOR_KINDS: &[&str] = &[
 ];
 
 /// Keys every kind takes.
-const COMMON_KEYS: &[&str] = &["name", "kind", "mount", "xyz_m", "rpy_deg", "rate_hz"];
+const COMMON_KEYS: &[&str] = &[
+    "name", "kind", "mount", "xyz_m", "rpy_deg", "rate_hz", "frame_id",
+];
 
 /// The keys of a kind beyond [`COMMON_KEYS`].
 fn kind_keys(kind: &str) -> &'static [&'static str] {
@@ -209,13 +211,45 @@ fn sensor(
         "rgb_camera" => SensorKind::RgbCamera(rgb_camera(c, k, s)),
         _ => SensorKind::ElevationMap(elevation_map(c, k, s)),
     };
+    let frame_id = s.frame_id.clone();
+    if let Some(f) = &frame_id {
+        if let Some(why) = frame_id_problem(f) {
+            c.push(format!("{k}.frame_id"), why);
+        }
+        if s.kind == "encoders" {
+            c.push(
+                format!("{k}.frame_id"),
+                "encoders have no frame (their readings are joint states)".to_string(),
+            );
+        }
+    }
     Some(SensorModel {
+        frame_id,
         name: s.name.clone(),
         mount,
         position: frame.transform_point3(v3(xyz)),
         rotation: glam::DQuat::from_mat3(&frame.matrix3) * rotation,
         rate_hz,
         kind,
+    })
+}
+
+/// Why `f` is not a valid ROS frame id (tf2: a ROS name without a leading `/`): tokens of
+/// ASCII letters, digits and `_`, none starting with a digit, joined by single `/`.
+pub fn frame_id_problem(f: &str) -> Option<String> {
+    let ok = !f.is_empty()
+        && f.len() <= 256
+        && f.split('/').all(|t| {
+            t.chars()
+                .next()
+                .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+                && t.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        });
+    (!ok).then(|| {
+        format!(
+            "`{f}` is not a ROS frame id: letters, digits and `_` (not starting with a digit), \
+             with single `/` between such names and none leading or trailing"
+        )
     })
 }
 

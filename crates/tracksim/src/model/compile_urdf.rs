@@ -330,6 +330,11 @@ fn report(robot: &UrdfRobot, flippers: &[FlipperModel], spec: &VehicleSpec) -> U
         links,
         arms,
         notes,
+        root: robot
+            .links
+            .first()
+            .map_or(String::new(), |l| l.name.clone()),
+        joints: robot.joint_frames(),
     }
 }
 

@@ -149,4 +149,7 @@ pub struct SensorModel {
     pub rate_hz: f64,
     /// Kind and parameters.
     pub kind: SensorKind,
+    /// The frame of its ROS messages if the file names one (`frame_id`; `None`: the default
+    /// names, see `crate::output::ros_sensors::message_frame`).
+    pub frame_id: Option<String>,
 }

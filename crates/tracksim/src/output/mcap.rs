@@ -168,6 +168,8 @@ fn world_bytes(
     let mut rec = Recorder::new()?;
     record_samples(&mut rec, robots)?;
     record_static(&mut rec, robots)?;
+    record_descriptions(&mut rec, robots)?;
+    record_scene(&mut rec, robots)?;
     for (sc, result, ns) in robots {
         for stream in &result.sensors {
             let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
@@ -235,6 +237,33 @@ impl Recorder {
         self.writer
             .add_channel(schema, topic, "cdr", &meta)
             .map_err(|e| format!("MCAP channel {topic}: {e}"))
+    }
+
+    /// A JSON channel on `topic` with schema `name` (JSON schema `schema`), as Foxglove's own
+    /// schemas (`foxglove.SceneUpdate`) are recorded.
+    fn json_channel(
+        &mut self,
+        topic: &str,
+        name: &str,
+        schema: &str,
+    ) -> std::result::Result<u16, String> {
+        let id = self
+            .writer
+            .add_schema(name, "jsonschema", schema.as_bytes())
+            .map_err(|e| format!("MCAP schema {name}: {e}"))?;
+        let meta = BTreeMap::from([("offered_qos_profiles".to_string(), qos(true))]);
+        self.writer
+            .add_channel(id, topic, "json", &meta)
+            .map_err(|e| format!("MCAP channel {topic}: {e}"))
+    }
+
+    /// JSON `value` on `channel` at `t` s.
+    fn push_json(&mut self, channel: u16, t: f64, value: &serde_json::Value) {
+        self.messages.push((
+            rosmsg::Time::from_secs(t).nanos(),
+            channel,
+            value.to_string().into_bytes(),
+        ));
     }
 
     /// `msg` on `channel` at `t` s.
@@ -305,7 +334,7 @@ fn record_samples(
             tracks: rec.channel::<TrackStates>(&ns.topic("/tracks"), false)?,
         });
     }
-    let models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
+    let mut models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
     let names: Vec<_> = robots.iter().map(|r| joint_names(r.1)).collect();
     let count = robots.iter().map(|r| r.1.samples.len()).max().unwrap_or(0);
     for i in 0..count {
@@ -314,7 +343,7 @@ fn record_samples(
             .iter()
             .enumerate()
             .filter_map(|(k, r)| r.1.samples.get(i).map(|s| (k, s)))
-            .map(|(k, s)| (k, s, encoder_odometry(s, &models[k])))
+            .map(|(k, s)| (k, s, encoder_odometry(s, &mut models[k])))
             .collect();
         let Some(t) = here.first().map(|h| h.1.t) else {
             continue;
@@ -366,6 +395,53 @@ fn record_static(
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
     rec.push(ch, 0.0, &TFMessage { transforms })
+}
+
+/// `/scene` (`foxglove.SceneUpdate`, JSON) once at t = 0: the terrain in `map` and each
+/// robot's links in its frames ([`super::foxglove_scene`]); on a soil run each robot's `/soil`
+/// (its tracks' sinkage and thrust) at every sample.
+fn record_scene(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    use super::foxglove_scene as fx;
+    let list: Vec<(&Scenario, Namespace)> =
+        robots.iter().map(|(sc, _, ns)| (*sc, ns.clone())).collect();
+    let ch = rec.json_channel(fx::SCENE_TOPIC, fx::SCENE_SCHEMA, &fx::scene_schema())?;
+    let scene = fx::scene_update(&list, MAP_FRAME);
+    rec.push_json(ch, 0.0, &scene);
+    for (_, run, ns) in robots {
+        let mut ch = None;
+        for s in &run.samples {
+            let Some(m) = fx::soil_message(s, &run.track_names) else {
+                continue;
+            };
+            let c = match ch {
+                Some(c) => c,
+                None => *ch.insert(rec.json_channel(
+                    &ns.topic(fx::SOIL_TOPIC),
+                    fx::SOIL_SCHEMA,
+                    &fx::soil_schema(),
+                )?),
+            };
+            rec.push_json(c, s.t, &m);
+        }
+    }
+    Ok(())
+}
+
+/// Each robot's `/robot_description` (its URDF, [`super::urdf_export::robot_description`]) once
+/// at t = 0, latched, in its namespace.
+fn record_descriptions(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    for (sc, _, ns) in robots {
+        let ch = rec.channel::<rosmsg::RosString>(&ns.topic("/robot_description"), true)?;
+        let data = super::urdf_export::robot_description(sc);
+        rec.push(ch, 0.0, &rosmsg::RosString { data })?;
+    }
+    Ok(())
 }
 
 /// Reading `k` of a stream's channel called `name` (f64; empty if there is no such channel).

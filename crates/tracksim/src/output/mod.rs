@@ -12,9 +12,16 @@
 //!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
+//! - [`odom_covariance`]: the covariances of `/odom` from a skid-steer encoder model;
+//! - [`foxglove_scene`]: `run.mcap`'s `/scene` (`foxglove.SceneUpdate`: terrain and robot)
+//!   and `/soil`;
+//! - [`urdf_export`]: `/robot_description`, the URDF file's text or one generated from the
+//!   vehicle model;
 //! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
 
+pub mod foxglove_scene;
 pub mod mcap;
+pub mod odom_covariance;
 pub mod plot;
 pub mod plot_files;
 pub mod replay;
@@ -26,6 +33,7 @@ pub mod sensors;
 pub mod side_line;
 pub mod signals;
 pub mod team;
+pub mod urdf_export;
 pub mod vehicle_outline;
 
 pub use plot_files::{

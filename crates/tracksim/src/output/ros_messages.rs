@@ -3,7 +3,8 @@
 //! same functions, so the two cannot disagree. Frames (REP 103 axes, REP 105 names) and topics
 //! are listed in [`super::mcap`]'s documentation.
 
-use super::ros_sensors::{MAP_FRAME, optical_frame, sensor_frame};
+use super::odom_covariance::{OdomCovariance, truth_covariance};
+use super::ros_sensors::{MAP_FRAME, link_frame, message_frame};
 use crate::model::{Scenario, SensorKind};
 use crate::rosmsg::{
     self, Clock, Header, JointState, Odometry, PoseWithCovariance, Quaternion, TFMessage, Time,
@@ -63,18 +64,36 @@ pub fn transform(t: f64, parent: &str, child: &str, at: DVec3, rot: DQuat) -> Tr
     }
 }
 
-/// The skid-steer odometry of `sc`'s tracks (for the encoders' twist).
-pub fn encoder_model(sc: &Scenario) -> EncoderOdometry {
-    EncoderOdometry::of_vehicle(&sc.vehicle, 0.0, 0.0, 0.0)
+/// A robot's encoder odometry as `/odom` states it: the skid-steer model of its tracks (for
+/// the twist) and the covariance it has gathered ([`OdomCovariance`]), sample by sample.
+#[derive(Clone, Debug)]
+pub struct EncoderOdom {
+    /// The skid-steer model of the tracks.
+    pub model: EncoderOdometry,
+    /// The covariance so far.
+    pub covariance: OdomCovariance,
 }
 
-/// The encoder odometry of sample `s` (frame `odom`, child `base_link`).
-pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
-    let (v, w) = model.twist(&s.belt_speed);
+/// The encoder odometry of `sc`'s tracks, at the start.
+pub fn encoder_model(sc: &Scenario) -> EncoderOdom {
+    let model = EncoderOdometry::of_vehicle(&sc.vehicle, 0.0, 0.0, 0.0);
+    EncoderOdom {
+        covariance: OdomCovariance::new(&model),
+        model,
+    }
+}
+
+/// The encoder odometry of sample `s` (frame `odom`, child `base_link`), its covariances from
+/// the encoder model ([`super::odom_covariance`]) propagated to `s` (call it with every sample
+/// in order; a sample again changes nothing).
+pub fn encoder_odometry(s: &Sample, enc: &mut EncoderOdom) -> Odometry {
+    enc.covariance.update(s);
+    let (v, w) = enc.model.twist(&s.belt_speed);
     let [x, y, yaw] = s.odom;
     let mut pose = PoseWithCovariance::default();
     pose.pose.position = rosmsg::Point { x, y, z: 0.0 };
     pose.pose.orientation = quat(DQuat::from_rotation_z(yaw));
+    pose.covariance = enc.covariance.pose();
     let twist = TwistWithCovariance {
         twist: Twist {
             linear: Vector3 {
@@ -88,7 +107,9 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
                 z: w,
             },
         },
-        ..TwistWithCovariance::default()
+        covariance: enc
+            .covariance
+            .twist(enc.model.side_speeds(&s.belt_speed), v, w),
     };
     Odometry {
         header: Header::new(s.t, ODOM_FRAME),
@@ -98,7 +119,8 @@ pub fn encoder_odometry(s: &Sample, model: &EncoderOdometry) -> Odometry {
     }
 }
 
-/// The true odometry of sample `s`: pose in `map`, velocities in `base_link` axes.
+/// The true odometry of sample `s`: pose in `map`, velocities in `base_link` axes, a tiny
+/// covariance (a simulator's truth: [`super::odom_covariance::TRUTH_VARIANCE`]).
 pub fn true_odometry(s: &Sample) -> Odometry {
     let r = pose_rotation(&s.pose);
     let inv = r.inverse();
@@ -109,12 +131,13 @@ pub fn true_odometry(s: &Sample) -> Odometry {
         z: s.pose.z,
     };
     pose.pose.orientation = quat(r);
+    pose.covariance = truth_covariance();
     let twist = TwistWithCovariance {
         twist: Twist {
             linear: vec3(inv * DVec3::from_array(s.linvel)),
             angular: vec3(inv * DVec3::from_array(s.angvel)),
         },
-        ..TwistWithCovariance::default()
+        covariance: truth_covariance(),
     };
     Odometry {
         header: Header::new(s.t, MAP_FRAME),
@@ -138,7 +161,10 @@ fn pose_of(o: &Odometry) -> (DVec3, DQuat) {
 /// `/odom` says: planar, slip included), `base_link -> <flipper>_flipper_link` (origin at
 /// the pivot, turned by the flipper angle about its axis), and with `with_map` also
 /// `map -> odom`, the encoders' drift from the true pose (a perfect localisation: `map ->
-/// base_link` is the truth, so sensor data lands where it was taken).
+/// base_link` is the truth, so sensor data lands where it was taken). A URDF vehicle's links
+/// that move with a flipper are there too under the URDF's names (`<parent link> -> <child
+/// link>`, the joint's origin turned by the flipper's angle; the fixed ones are on
+/// `/tf_static`, [`tf_static`]).
 pub fn tf_of_sample(sc: &Scenario, s: &Sample, odom: &Odometry, with_map: bool) -> TFMessage {
     let (at, rot) = pose_of(odom);
     let mut transforms = vec![transform(s.t, ODOM_FRAME, BASE_FRAME, at, rot)];
@@ -149,6 +175,15 @@ pub fn tf_of_sample(sc: &Scenario, s: &Sample, odom: &Odometry, with_map: bool) 
             &flipper_frame(&f.name),
             f.pivot,
             DQuat::from_axis_angle(f.axis.normalize(), *angle),
+        ));
+    }
+    for (j, angle) in urdf_arms(sc, &s.flipper_angle) {
+        transforms.push(transform(
+            s.t,
+            &j.parent,
+            &j.child,
+            j.origin,
+            j.rotation * DQuat::from_axis_angle(j.axis, angle),
         ));
     }
     if with_map {
@@ -224,10 +259,84 @@ pub fn joint_state(names: &[String], s: &Sample, prev: Option<&Sample>) -> Joint
     }
 }
 
+/// The frames tracksim names itself for `sc`'s vehicle (a URDF link of the same name is not
+/// published again: a frame has one parent).
+fn own_frames(sc: &Scenario) -> Vec<String> {
+    let v = &sc.vehicle;
+    let mut f = vec![
+        BASE_FRAME.to_string(),
+        ODOM_FRAME.to_string(),
+        MAP_FRAME.to_string(),
+    ];
+    f.extend(v.flippers.iter().map(|x| flipper_frame(&x.name)));
+    for m in &v.sensors {
+        f.push(link_frame(m));
+        f.push(message_frame(m));
+    }
+    f
+}
+
+/// A URDF vehicle's joints that move with a flipper (the flipper named as the joint), each with
+/// the flipper's angle in `angles` (rad), as `/tf` carries them under the URDF's link names.
+fn urdf_arms<'a>(
+    sc: &'a Scenario,
+    angles: &'a [f64],
+) -> impl Iterator<Item = (&'a crate::urdf::JointFrame, f64)> + 'a {
+    let own = sc
+        .vehicle
+        .urdf
+        .as_ref()
+        .map(|_| own_frames(sc))
+        .unwrap_or_default();
+    sc.vehicle
+        .urdf
+        .iter()
+        .flat_map(|u| u.joints.iter())
+        .filter(move |j| j.moving && !own.contains(&j.child))
+        .filter_map(move |j| {
+            let i = sc.vehicle.flipper_index(&j.name)?;
+            Some((j, angles.get(i).copied().unwrap_or(0.0)))
+        })
+}
+
+/// A URDF vehicle's fixed links (and joints that do not move with a flipper, at their held
+/// angle) under their own names, and `base_link -> <root link>` (identity: the chassis frame
+/// is the root link's) when the root is not called `base_link`.
+fn urdf_static(sc: &Scenario) -> Vec<TransformStamped> {
+    let Some(u) = &sc.vehicle.urdf else {
+        return Vec::new();
+    };
+    let own = own_frames(sc);
+    let mut out = Vec::new();
+    if !u.root.is_empty() && u.root != BASE_FRAME {
+        out.push(transform(
+            0.0,
+            BASE_FRAME,
+            &u.root,
+            DVec3::ZERO,
+            DQuat::IDENTITY,
+        ));
+    }
+    for j in &u.joints {
+        let arm = j.moving && sc.vehicle.flipper_index(&j.name).is_some();
+        if arm || own.contains(&j.child) || j.child == u.root {
+            continue;
+        }
+        out.push(transform(
+            0.0,
+            &j.parent,
+            &j.child,
+            j.origin,
+            j.rotation * DQuat::from_axis_angle(j.axis, j.locked_angle),
+        ));
+    }
+    out
+}
+
 /// `/tf_static`: each sensor's frame on its mount (`base_link` or the flipper's link) and the
 /// cameras' (depth and colour) optical frames (encoders have no frame).
 pub fn tf_static(sc: &Scenario) -> TFMessage {
-    let mut transforms = Vec::new();
+    let mut transforms = urdf_static(sc);
     for m in &sc.vehicle.sensors {
         if matches!(m.kind, SensorKind::Encoders(_)) {
             continue;
@@ -239,7 +348,7 @@ pub fn tf_static(sc: &Scenario) -> TFMessage {
                 (flipper_frame(&f.name), m.position - f.pivot)
             }
         };
-        let frame = sensor_frame(&m.name);
+        let frame = link_frame(m);
         transforms.push(transform(0.0, &parent, &frame, at, m.rotation));
         if matches!(
             m.kind,
@@ -248,7 +357,7 @@ pub fn tf_static(sc: &Scenario) -> TFMessage {
             transforms.push(transform(
                 0.0,
                 &frame,
-                &optical_frame(&m.name),
+                &message_frame(m),
                 DVec3::ZERO,
                 optical_rotation(),
             ));

@@ -37,6 +37,33 @@ pub fn optical_frame(name: &str) -> String {
     format!("{name}_optical_frame")
 }
 
+fn is_camera(m: &SensorModel) -> bool {
+    matches!(
+        m.kind,
+        SensorKind::DepthCamera(_) | SensorKind::RgbCamera(_)
+    )
+}
+
+/// The frame sensor `m` is mounted as on `/tf_static`: its `frame_id` if the file sets one
+/// (a camera's `frame_id` names its optical frame instead), else `<name>_link`.
+pub fn link_frame(m: &SensorModel) -> String {
+    match &m.frame_id {
+        Some(f) if !is_camera(m) => f.clone(),
+        _ => sensor_frame(&m.name),
+    }
+}
+
+/// The frame of sensor `m`'s messages (`header.frame_id`): its `frame_id` if the file sets
+/// one, else a camera's `<name>_optical_frame` and another sensor's `<name>_link` (an
+/// elevation map's messages are in `map` whatever it is).
+pub fn message_frame(m: &SensorModel) -> String {
+    match &m.frame_id {
+        Some(f) => f.clone(),
+        None if is_camera(m) => optical_frame(&m.name),
+        None => sensor_frame(&m.name),
+    }
+}
+
 /// The `format` of a colour camera's `sensor_msgs/CompressedImage`: a PNG of an rgb8 image,
 /// named as ROS's `compressed_image_transport` names it (the `bgr8` is OpenCV's order before
 /// encoding; the PNG holds ordinary RGB).
@@ -127,7 +154,7 @@ pub fn sensor_message(
     joint_names: &[String],
 ) -> Result<SensorMessage, String> {
     let incomplete = || format!("sensor {}: the reading at {t} s is incomplete", m.name);
-    let header = Header::new(t, &sensor_frame(&m.name));
+    let (header, frame) = (Header::new(t, &link_frame(m)), message_frame(m));
     Ok(match m.kind {
         SensorKind::Imu(p) => {
             let (a, g, q) = (
@@ -188,7 +215,7 @@ pub fn sensor_message(
             (r.channel)("points"),
         )),
         SensorKind::DepthCamera(p) => SensorMessage::Image(Image {
-            header: Header::new(t, &optical_frame(&m.name)),
+            header: Header::new(t, &frame),
             height: p.height as u32,
             width: p.width as u32,
             encoding: "32FC1".into(),
@@ -197,7 +224,7 @@ pub fn sensor_message(
             data: f32_bytes((r.channel)("depth")),
         }),
         SensorKind::RgbCamera(p) => {
-            let msgs = camera_messages(&m.name, t, &p, (r.channel)("rgb"), (r.png)("rgb"));
+            let msgs = camera_messages(&frame, t, &p, (r.channel)("rgb"), (r.png)("rgb"));
             if msgs.image.data.len() != 3 * p.intrinsics.width * p.intrinsics.height {
                 return Err(incomplete());
             }
@@ -250,9 +277,9 @@ pub fn sensor_message(
 }
 
 /// A colour camera's reading (`rgb`: 8-bit levels, rows from the top; `png`: the same image
-/// as PNG bytes if already encoded) as its messages in its optical frame.
+/// as PNG bytes if already encoded) as its messages in its optical frame `frame`.
 fn camera_messages(
-    name: &str,
+    frame: &str,
     t: f64,
     p: &crate::model::RgbCameraModel,
     rgb: Vec<f64>,
@@ -260,7 +287,7 @@ fn camera_messages(
 ) -> CameraMessages {
     let i = p.intrinsics;
     let (w, h) = (i.width as u32, i.height as u32);
-    let header = Header::new(t, &optical_frame(name));
+    let header = Header::new(t, frame);
     let data: Vec<u8> = rgb
         .iter()
         .map(|v| v.round().clamp(0.0, 255.0) as u8)

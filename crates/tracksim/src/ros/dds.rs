@@ -5,14 +5,17 @@
 //!
 //! QoS: every publisher is reliable, volatile, keep last 10 (ROS's default; a best-effort
 //! subscriber such as a `SensorDataQoS` one matches it too), `/tf` keep last 100, `/clock`
-//! keep last 1, `/tf_static` transient local keep last 1 (latched, as tf2 expects). The
+//! keep last 1, `/tf_static` and `/robot_description` transient local keep last 1 (latched, as
+//! tf2 and `robot_state_publisher` have them). The
 //! subscriptions are reliable, keep last 10 (the default of `ros2 topic pub`, Nav2 and
 //! `teleop_twist_keyboard`).
 
 use super::network::NetworkRange;
 use super::topics;
 use crate::output::ros_names::Namespace;
-use crate::rosmsg::{Clock, Float64, JointState, Odometry, TFMessage, TrackStates, Twist};
+use crate::rosmsg::{
+    Clock, Float64, JointState, Odometry, RosString, TFMessage, TrackStates, Twist,
+};
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::log::LogLevel;
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
@@ -39,6 +42,12 @@ fn qos(depth: usize, latched: bool) -> QosProfile {
         history: History::KeepLast { depth },
         ..QosProfile::publisher_default()
     }
+}
+
+/// The QoS of the services' requests and replies: reliable, volatile, keep last 10 (ROS's
+/// services default).
+pub fn service_qos() -> QosProfile {
+    qos(10, false)
 }
 
 /// A publisher of a ROS message type on one topic.
@@ -158,6 +167,11 @@ impl DdsNode {
         })
     }
 
+    /// The ros2-client node (for its services).
+    pub fn node_mut(&mut self) -> &mut Node {
+        &mut self.node
+    }
+
     /// Logs `msg` on `/rosout` at `level`, stamped `t` s of simulated time.
     pub fn rosout(&self, level: LogLevel, t: f64, msg: &str) {
         let ns = crate::rosmsg::Time::from_secs(t).nanos();
@@ -205,6 +219,9 @@ pub struct Publishers {
     pub joints: Pub<JointState>,
     /// `/tracks`.
     pub tracks: Pub<TrackStates>,
+    /// `/robot_description` (transient local, keep last 1, reliable: as
+    /// `robot_state_publisher` offers it).
+    pub description: Pub<RosString>,
 }
 
 impl Publishers {
@@ -215,6 +232,7 @@ impl Publishers {
             truth: node.publisher(&ns.topic(topics::GROUND_TRUTH), 10, false)?,
             joints: node.publisher(&ns.topic(topics::JOINT_STATES), 10, false)?,
             tracks: node.publisher(&ns.topic(topics::TRACKS), 10, false)?,
+            description: node.publisher(&ns.topic(topics::ROBOT_DESCRIPTION), 1, true)?,
         })
     }
 }

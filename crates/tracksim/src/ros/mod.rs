@@ -11,6 +11,7 @@
 //!   module `run.mcap` records them with;
 //! - [`sensors`]: the vehicle's sensors on their topics, at their rates;
 //! - [`dds`]: the participant, node, publishers, subscriptions and `/rosout`;
+//! - [`services`]: `/tracksim/reset` and `/tracksim/set_paused` (one-robot sessions);
 //! - [`session`]: the session of one robot or of several (each robot's topics and frames in
 //!   its namespace, [`crate::output::ros_names`]) and its run folder.
 
@@ -19,11 +20,13 @@ pub mod dds;
 pub mod network;
 pub mod sanitize;
 pub mod sensors;
+pub mod services;
 pub mod session;
 pub mod topics;
 
 pub use commands::{Command, CommandState, WATCHDOG_TIMEOUT_S};
 pub use network::NetworkRange;
 pub use session::{
-    Counts, RobotControl, RosOptions, RosSession, RosTeamSession, run_ros, run_ros_team,
+    Counts, FileCommands, RobotControl, RosOptions, RosSession, RosTeamSession, run_ros,
+    run_ros_team,
 };

@@ -17,6 +17,7 @@ use super::dds::{DdsNode, Publishers, Subscriptions, WorldPublishers};
 use super::network::NetworkRange;
 use super::sanitize::{self, Problem, Warnings};
 use super::sensors::SensorPublishers;
+use super::services::{ServiceCall, Services};
 use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
@@ -63,6 +64,9 @@ pub struct RosOptions {
     /// When set (by a Ctrl-C or SIGTERM handler), the session ends at the next sample as
     /// interrupted.
     pub interrupt: Option<&'static AtomicBool>,
+    /// Play the file's `[[commands]]` (each robot's) until the robot's first ROS command
+    /// ([`FileCommands`]); off: they are not played, and a line says so.
+    pub play_commands: bool,
 }
 
 /// A finished session.
@@ -79,6 +83,9 @@ pub struct RosSession {
     pub problems: u64,
     /// Times the watchdog stopped the robot.
     pub watchdog_stops: u64,
+    /// Times `/tracksim/reset` restarted the session (the run written is the one since the
+    /// last).
+    pub resets: u64,
 }
 
 /// Reports a warning on `/rosout` and through `warn` (standard error for the CLI).
@@ -167,6 +174,90 @@ pub struct Counts {
     pub watchdog_stops: u64,
 }
 
+/// A file's `[[commands]]` played in a ROS session until the robot's first ROS command: each
+/// entry at the first sample boundary at or after its time (the entries due at one boundary
+/// merged, later ones winning), as belt speeds and flipper targets by name, so that
+/// `commands.toml` records them as it records ROS commands and the replay reproduces the
+/// session.
+#[derive(Clone, Debug, Default)]
+pub struct FileCommands {
+    entries: Vec<CommandSpec>,
+    next: usize,
+    playing: bool,
+}
+
+impl FileCommands {
+    /// The commands `commands` (a compiled scenario's, sorted by time) of vehicle `v`, played
+    /// if `play`.
+    pub fn new(v: &VehicleModel, commands: &[crate::model::Command], play: bool) -> Self {
+        let entries = commands
+            .iter()
+            .map(|c| {
+                let belts: std::collections::BTreeMap<String, f64> = v
+                    .tracks
+                    .iter()
+                    .zip(&c.controls.belt_speed)
+                    .filter_map(|(t, s)| s.map(|s| (t.name.clone(), s)))
+                    .collect();
+                CommandSpec {
+                    t_s: c.t,
+                    belt_speed_mps: (!belts.is_empty()).then_some(PerTrack::ByName(belts)),
+                    flipper_angle_deg: v
+                        .flippers
+                        .iter()
+                        .zip(&c.controls.flipper_angle)
+                        .filter_map(|(f, a)| a.map(|a| (f.name.clone(), a.to_degrees())))
+                        .collect(),
+                    ..CommandSpec::default()
+                }
+            })
+            .collect();
+        FileCommands {
+            entries,
+            next: 0,
+            playing: play,
+        }
+    }
+
+    /// How many entries the file has.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether the file has none.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Whether they are still being played.
+    pub fn playing(&self) -> bool {
+        self.playing && !self.entries.is_empty()
+    }
+
+    /// The entries due at `t` s (merged into one at `t`), if any.
+    fn due(&mut self, t: f64) -> Option<CommandSpec> {
+        let mut out: Option<CommandSpec> = None;
+        while let Some(e) = self.entries.get(self.next) {
+            if e.t_s > t + 1e-9 {
+                break;
+            }
+            self.next += 1;
+            let o = out.get_or_insert_with(|| CommandSpec {
+                t_s: t,
+                ..CommandSpec::default()
+            });
+            if let Some(PerTrack::ByName(b)) = &e.belt_speed_mps {
+                match &mut o.belt_speed_mps {
+                    Some(PerTrack::ByName(m)) => m.extend(b.clone()),
+                    _ => o.belt_speed_mps = Some(PerTrack::ByName(b.clone())),
+                }
+            }
+            o.flipper_angle_deg.extend(e.flipper_angle_deg.clone());
+        }
+        out
+    }
+}
+
 /// One robot's commands in a session, apart from DDS: its set-points ([`CommandState`]), its
 /// own watchdog, and what they came to. Each robot of a world has its own, so one robot's
 /// silent peer stops that robot only.
@@ -174,6 +265,8 @@ pub struct RobotControl {
     /// The robot's name in messages (`None`: the node's one robot).
     label: Option<String>,
     state: CommandState,
+    /// The file's commands, played until the first ROS command.
+    file: FileCommands,
     /// What the commands came to.
     pub counts: Counts,
 }
@@ -184,8 +277,15 @@ impl RobotControl {
         RobotControl {
             label: label.map(str::to_string),
             state: CommandState::new(v),
+            file: FileCommands::default(),
             counts: Counts::default(),
         }
+    }
+
+    /// The same, playing `file` until the first ROS command.
+    pub fn with_file_commands(mut self, file: FileCommands) -> Self {
+        self.file = file;
+        self
     }
 
     /// Takes in `received` (sanitised) commands at simulated time `t` s, applies the watchdog
@@ -199,6 +299,20 @@ impl RobotControl {
         received: Vec<Command>,
         say: &mut dyn FnMut(&str),
     ) -> Option<CommandSpec> {
+        if self.file.playing() {
+            if received.is_empty() {
+                return self.file.due(t);
+            }
+            self.file.playing = false;
+            let who = self
+                .label
+                .as_ref()
+                .map_or(String::new(), |l| format!("`{l}`: "));
+            say(&format!(
+                "{who}a ROS command arrived at t = {t:.2} s: the file's [[commands]] stop here; \
+                 ROS commands drive the robot from now on"
+            ));
+        }
         for c in received {
             self.state.take(v, &c, t);
             self.counts.received += 1;
@@ -244,7 +358,7 @@ struct RobotTopics {
     control: RobotControl,
     pubs: Publishers,
     sensors: SensorPublishers,
-    encoders: crate::world::Odometry,
+    encoders: messages::EncoderOdom,
     joint_names: Vec<String>,
     track_names: Vec<String>,
 }
@@ -257,6 +371,7 @@ impl RobotTopics {
         sc: &Scenario,
         ns: Namespace,
         raw_images: bool,
+        play_commands: bool,
     ) -> Result<(Self, Vec<String>)> {
         let track_names: Vec<String> = sc.vehicle.tracks.iter().map(|t| t.name.clone()).collect();
         let flipper_names: Vec<String> =
@@ -266,7 +381,8 @@ impl RobotTopics {
         let topics = RobotTopics {
             pubs: Publishers::new(node, &ns).map_err(dds_error)?,
             sensors: SensorPublishers::new(node, sc, &ns, raw_images).map_err(dds_error)?,
-            control: RobotControl::new(ns.name(), &sc.vehicle),
+            control: RobotControl::new(ns.name(), &sc.vehicle)
+                .with_file_commands(FileCommands::new(&sc.vehicle, &sc.commands, play_commands)),
             encoders: encoder_model(sc),
             joint_names: messages::joint_names(sc),
             track_names,
@@ -288,13 +404,13 @@ impl RobotTopics {
 
     /// Publishes sample `s` (after `prev`) of robot `sc`; its transforms go into `tf`.
     fn publish(
-        &self,
+        &mut self,
         sc: &Scenario,
         (s, prev): (&Sample, Option<&Sample>),
         map_tf: bool,
         tf: &mut Vec<TransformStamped>,
     ) {
-        let odom = encoder_odometry(s, &self.encoders);
+        let odom = encoder_odometry(s, &mut self.encoders);
         let ns = &self.ns;
         tf.extend(
             ns.tf(messages::tf_of_sample(sc, s, &odom, map_tf))
@@ -348,12 +464,84 @@ struct TopicSource<'a, 'w> {
     sc: &'a Scenario,
     robot: RobotTopics,
     world: World<'w>,
+    /// `/tracksim/reset` and `/tracksim/set_paused`.
+    services: Option<Services>,
+    paused: bool,
+    reset_asked: bool,
+    resets: u64,
+    play_commands: bool,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl TopicSource<'_, '_> {
+    /// Answers the service requests received at `t` s.
+    fn serve(&mut self, t: f64) {
+        let Some(services) = &self.services else {
+            return;
+        };
+        let mut said = Vec::new();
+        let (paused, reset_asked) = (&mut self.paused, &mut self.reset_asked);
+        services.serve(&mut |call| match call {
+            ServiceCall::Reset => {
+                *reset_asked = true;
+                *paused = false;
+                let m = format!(
+                    "reset at t = {t:.2} s: the robot goes back to its start pose and the \
+                     session starts again (the run written and commands.toml are the ones \
+                     since the last reset)"
+                );
+                said.push(m.clone());
+                (true, m)
+            }
+            ServiceCall::SetPaused(p) => {
+                *paused = *p;
+                let m = if *p {
+                    format!("paused at t = {t:.2} s: the simulated clock stands still")
+                } else {
+                    format!("resumed at t = {t:.2} s")
+                };
+                said.push(m.clone());
+                (true, m)
+            }
+        });
+        for m in said {
+            self.world.rep.say(LogLevel::Info, t, &m);
+        }
+    }
+
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 impl ControlSource for TopicSource<'_, '_> {
+    fn reset(&mut self) -> bool {
+        if !std::mem::take(&mut self.reset_asked) {
+            return false;
+        }
+        let v = &self.sc.vehicle;
+        self.robot.control = RobotControl::new(self.robot.ns.name(), v)
+            .with_file_commands(FileCommands::new(v, &self.sc.commands, self.play_commands));
+        self.robot.encoders = encoder_model(self.sc);
+        self.resets += 1;
+        true
+    }
+
     fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
+        let t = runner.time();
+        self.serve(t);
+        // Paused: the simulated clock stands still; the services and Ctrl-C are still heard.
+        while self.paused && !self.interrupted() {
+            std::thread::sleep(std::time::Duration::from_millis(10));
+            self.serve(t);
+        }
+        if self.reset_asked {
+            // The restart comes at the next boundary, before anything is commanded.
+            return None;
+        }
         self.robot
-            .controls(&self.sc.vehicle, runner.time(), &mut self.world.rep)
+            .controls(&self.sc.vehicle, t, &mut self.world.rep)
     }
 
     fn after_step(&mut self, runner: &Runner) {
@@ -393,7 +581,7 @@ impl WorldSource<TeamRunner> for TeamTopicSource<'_> {
     fn after_sample(&mut self, runner: &mut TeamRunner) {
         let t = runner.sim().time();
         let mut tf = Vec::new();
-        for (k, r) in self.robots.iter().enumerate() {
+        for (k, r) in self.robots.iter_mut().enumerate() {
             let view = runner.view(k);
             if let Some(s) = last_two(view.samples) {
                 r.publish(view.scenario, s, self.world.map_tf, &mut tf);
@@ -415,9 +603,28 @@ fn start<'w>(
     let pubs = WorldPublishers::new(node).map_err(dds_error)?;
     let mut topics = Vec::new();
     let mut skipped = Vec::new();
+    let mut notes = Vec::new();
     let mut statics = Vec::new();
     for (sc, ns) in robots {
-        let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images)?;
+        let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images, opts.play_commands)?;
+        t.pubs.description.publish(crate::rosmsg::RosString {
+            data: crate::output::urdf_export::robot_description(sc),
+        });
+        let n = sc.commands.len();
+        if n > 0 {
+            let who = ns.name().map_or(String::new(), |l| format!("`{l}`: "));
+            notes.push(if opts.play_commands {
+                format!(
+                    "{who}playing the file's {n} [[commands]] until the first ROS command \
+                     (--play-commands)"
+                )
+            } else {
+                format!(
+                    "{who}the file's {n} [[commands]] are not played: ROS topics alone drive \
+                     the robot (--play-commands plays them until the first ROS command)"
+                )
+            });
+        }
         topics.push(t);
         skipped.extend(s);
         statics.extend(ns.tf(messages::tf_static(sc)).transforms);
@@ -438,6 +645,9 @@ fn start<'w>(
         world
             .rep
             .say(LogLevel::Warn, 0.0, &format!("no command topic: {s}"));
+    }
+    for n in notes {
+        world.rep.say(LogLevel::Info, 0.0, &n);
     }
     Ok((world, topics))
 }
@@ -462,11 +672,18 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
     if !opts.fast {
         runner = runner.paced(1.0);
     }
+    let services = Services::new(&mut node).map_err(dds_error)?;
     let (world, mut robots) = start(&mut node, opts, &[(sc, ns)], warn)?;
     let mut topics = TopicSource {
         sc,
         robot: robots.remove(0),
         world,
+        services: Some(services),
+        paused: false,
+        reset_asked: false,
+        resets: 0,
+        play_commands: opts.play_commands,
+        interrupt: opts.interrupt,
     };
     topics.after_sample(&runner);
     topics.after_step(&runner);
@@ -478,6 +695,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         received: c.received,
         problems: c.problems,
         watchdog_stops: c.watchdog_stops,
+        resets: topics.resets,
     })
 }
 

@@ -20,6 +20,8 @@ pub const TF_STATIC: &str = "/tf_static";
 pub const JOINT_STATES: &str = "/joint_states";
 /// Per-track figures (`tracksim_msgs/TrackStates`).
 pub const TRACKS: &str = "/tracks";
+/// The robot's URDF (`std_msgs/String`, transient local: late joiners get it).
+pub const ROBOT_DESCRIPTION: &str = "/robot_description";
 /// Every flipper's target by name in one message (`sensor_msgs/JointState`, rad).
 pub const FLIPPER_POSITIONS: &str = "/flippers/cmd_positions";
 
@@ -58,6 +60,7 @@ pub fn robot_topics(
         GROUND_TRUTH,
         JOINT_STATES,
         TRACKS,
+        ROBOT_DESCRIPTION,
     ]
     .iter()
     .map(|s| s.to_string())

@@ -11,7 +11,8 @@
 //! - `builtin.rs`: `builtin_interfaces/Time`, `std_msgs/Header`, `rosgraph_msgs/Clock`;
 //! - `geometry.rs`: `geometry_msgs` (vectors, poses, twists, transforms) and `tf2_msgs/TFMessage`;
 //! - `nav.rs`: `nav_msgs/Odometry`;
-//! - `std_msgs.rs`: `std_msgs/Float64` (the ROS node's per-track and per-flipper commands);
+//! - `std_msgs.rs`: `std_msgs/Float64` (the ROS node's per-track and per-flipper commands),
+//!   `std_msgs/String` (`/robot_description`);
 //! - `sensor.rs`: `sensor_msgs` (`JointState`, `Imu`, `LaserScan`, `PointField`,
 //!   `PointCloud2`, `Image`, `CompressedImage`, `RegionOfInterest`, `CameraInfo`);
 //! - `track.rs`: `tracksim_msgs/TrackStates`, tracksim's own message of per-track figures
@@ -41,7 +42,7 @@ pub use sensor::{
     CameraInfo, CompressedImage, Image, Imu, JointState, LaserScan, PointCloud2, PointField,
     RegionOfInterest,
 };
-pub use std_msgs::Float64;
+pub use std_msgs::{Float64, RosString};
 pub use track::TrackStates;
 
 /// serde helpers for the CDR shapes serde has no derive for.

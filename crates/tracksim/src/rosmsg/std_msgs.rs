@@ -21,3 +21,21 @@ pub const FLOAT64: MsgDef = MsgDef {
 impl RosMessage for Float64 {
     const DEF: &'static MsgDef = &FLOAT64;
 }
+
+/// `std_msgs/String` (`/robot_description`: the robot's URDF).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RosString {
+    /// The text.
+    pub data: String,
+}
+
+/// `std_msgs/String`.
+pub const STRING: MsgDef = MsgDef {
+    name: "std_msgs/String",
+    text: "string data\n",
+    deps: &[],
+};
+
+impl RosMessage for RosString {
+    const DEF: &'static MsgDef = &STRING;
+}

@@ -109,4 +109,11 @@ pub struct SensorSpec {
     /// is the same whatever the count.
     #[serde(default)]
     pub threads: Option<usize>,
+
+    /// Any kind but encoders: the frame its ROS messages are in (`header.frame_id`; for a
+    /// camera its optical frame), as a ROS driver's `frame_id` parameter sets it (default
+    /// `<name>_link`, a camera's `<name>_optical_frame`). A ROS name: letters, digits and `_`,
+    /// not starting with a digit, `/` between tokens (not leading).
+    #[serde(default)]
+    pub frame_id: Option<String>,
 }

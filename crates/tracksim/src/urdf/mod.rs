@@ -38,5 +38,5 @@ mod tree;
 
 pub use gazebo::TrackedVehiclePlugin;
 pub use link::{ImportedArm, ImportedLink, JointRoles, LinkJoint, MassPart, Owner};
-pub use report::{LinkLine, UrdfReport};
+pub use report::{JointFrame, LinkLine, UrdfReport};
 pub use robot::UrdfRobot;

@@ -40,6 +40,31 @@ pub struct UrdfReport {
     pub arms: Vec<String>,
     /// Notes (plugin, friction, what is not used).
     pub notes: Vec<String>,
+    /// The root link's name.
+    pub root: String,
+    /// Every joint of the file as a transform parent -> child (for `/tf` and `/tf_static`).
+    pub joints: Vec<JointFrame>,
+}
+
+/// A URDF joint as the transform from its parent link to its child link.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointFrame {
+    /// Joint name.
+    pub name: String,
+    /// Parent link.
+    pub parent: String,
+    /// Child link.
+    pub child: String,
+    /// The joint's `<origin>`: position of the child's frame in the parent's, m.
+    pub origin: glam::DVec3,
+    /// The joint's `<origin>` rotation.
+    pub rotation: glam::DQuat,
+    /// Unit axis (joint frame).
+    pub axis: glam::DVec3,
+    /// Whether it turns (revolute or continuous, not locked by equal limits).
+    pub moving: bool,
+    /// The angle it is held at when it does not move (a locked revolute joint's), rad.
+    pub locked_angle: f64,
 }
 
 impl UrdfReport {

@@ -59,6 +59,33 @@ impl UrdfRobot {
         })
     }
 
+    /// Every joint of the file as a transform parent -> child; `moving` for the flipper arms'
+    /// joints only (a locked joint at its angle, a rigid one at 0, a wheel's not turned).
+    pub fn joint_frames(&self) -> Vec<super::JointFrame> {
+        self.source
+            .robot
+            .joints
+            .iter()
+            .map(|j| {
+                let p = super::pose::pose(&j.origin);
+                let (_, rotation, origin) = p.to_scale_rotation_translation();
+                let axis = glam::DVec3::from_array(j.axis.xyz.0).normalize_or_zero();
+                let locked = matches!(j.joint_type, urdf_rs::JointType::Revolute)
+                    && j.limit.lower == j.limit.upper;
+                super::JointFrame {
+                    name: j.name.clone(),
+                    parent: j.parent.link.clone(),
+                    child: j.child.link.clone(),
+                    origin,
+                    rotation,
+                    axis,
+                    moving: self.arms.iter().any(|a| a.joint == j.name),
+                    locked_angle: if locked { j.limit.lower } else { 0.0 },
+                }
+            })
+            .collect()
+    }
+
     /// Reads and checks `path`, a URDF or an SDF file told by its root element (relative
     /// paths inside it, meshes, are relative to its folder); an SDF file's model is chosen as
     /// [`UrdfRobot::load_model`] does without a name.

@@ -89,6 +89,21 @@ impl Odometry {
         side_separation(&counted)
     }
 
+    /// The effective track separation B, m, when the encoders measure yaw (tracks on both
+    /// sides and B > 0).
+    pub fn yaw_separation(&self) -> Option<f64> {
+        (!self.left.is_empty() && !self.right.is_empty() && self.separation > 0.0)
+            .then_some(self.separation)
+    }
+
+    /// The mean left and mean right belt speeds, m/s, for belt speeds `belt` (`None` without
+    /// tracks on both sides).
+    pub fn side_speeds(&self, belt: &[f64]) -> Option<(f64, f64)> {
+        let mean = |ix: &[usize]| ix.iter().map(|&i| belt[i]).sum::<f64>() / ix.len() as f64;
+        self.yaw_separation()?;
+        Some((mean(&self.left), mean(&self.right)))
+    }
+
     /// Forward speed (m/s) and yaw rate (rad/s) the encoders imply for belt speeds `belt` m/s.
     pub fn twist(&self, belt: &[f64]) -> (f64, f64) {
         self.twist_of(|i| belt[i])

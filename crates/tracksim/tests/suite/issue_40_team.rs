@@ -537,7 +537,7 @@ fn the_worlds_mcap_holds_each_robots_namespaced_topics_and_its_trajectory() {
     let sc = load("mcap", &text).unwrap();
     let r = run(&sc);
     let msgs = mcap_topics(&tracksim::output::mcap::team_mcap_bytes(&sc, &r).unwrap());
-    let shared = ["/clock", "/tf", "/tf_static"];
+    let shared = ["/clock", "/tf", "/tf_static", "/scene"];
     let of = |p: &str| -> std::collections::BTreeSet<String> {
         msgs.keys()
             .filter_map(|t| t.strip_prefix(p).map(str::to_string))

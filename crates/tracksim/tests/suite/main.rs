@@ -55,6 +55,7 @@ mod issue_41_camera;
 mod issue_41_frames;
 mod issue_41_video;
 mod issue_42_import;
+mod issue_42_ros_outputs;
 mod issue_42_sdf;
 mod issue_42_tracks_on_flippers;
 mod issue_42_urdf_as_found;
