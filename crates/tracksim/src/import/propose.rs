@@ -212,14 +212,37 @@ pub fn default_grousers(perimeter: f64) -> GrouserSpec {
     }
 }
 
-/// Proposes the track of `link` from its collision shapes (`Err`: why none can be).
-pub fn from_shapes(name: &str, link: &ImportedLink, why: String) -> Result<ProposedTrack, String> {
+/// Proposes the track of `link` from its collision shapes and those of `wheels`, the links
+/// turning inside it on continuous joints (road wheels, sprockets, idlers: gz-sim's
+/// `track_drive` has only these) (`Err`: why none can be).
+pub fn from_shapes(
+    name: &str,
+    link: &ImportedLink,
+    wheels: &[&ImportedLink],
+    why: String,
+) -> Result<ProposedTrack, String> {
     let to_link = link.pose.inverse();
     let mut parts = Parts::default();
-    for s in &link.shapes {
+    for s in link
+        .shapes
+        .iter()
+        .chain(wheels.iter().flat_map(|w| &w.shapes))
+    {
         collect(s, to_link, &mut parts);
     }
     let mut guesses = Vec::new();
+    if !wheels.is_empty() {
+        guesses.push(format!(
+            "shapes: the link's own and those of the {} link(s) turning inside it on continuous \
+             joints ({})",
+            wheels.len(),
+            wheels
+                .iter()
+                .map(|w| w.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
     let circles: Vec<Pulley> = parts.circles.iter().map(|c| c.0).collect();
     let on_hull = circles_on_hull(&circles);
     let (pulleys, plane_y, width) = if on_hull.len() >= 2 {

@@ -7,7 +7,7 @@ use super::continuous_track;
 use super::pattern::from_plugin;
 use super::propose::{ProposedTrack, from_shapes};
 use super::report::{Geometry, TrackSource};
-use crate::urdf::{Owner, UrdfRobot};
+use crate::urdf::{ImportedLink, LinkJoint, Owner, UrdfRobot};
 
 /// The tracks proposed, with what could not be made into a track.
 pub(super) struct Selected {
@@ -27,6 +27,17 @@ fn numbered(base: &str, k: usize, link: &str) -> String {
 }
 
 /// The tracks of `robot`, whose file's text is `xml` (`Err`: no track found, with why).
+/// The links turning on continuous joints whose parent is link `name` (its wheels).
+fn wheels_of<'a>(robot: &'a UrdfRobot, name: &str) -> Vec<&'a ImportedLink> {
+    robot
+        .joint_frames()
+        .iter()
+        .filter(|j| j.parent == name)
+        .filter_map(|j| robot.link(&j.child))
+        .filter(|l| l.kind == LinkJoint::Continuous)
+        .collect()
+}
+
 pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
     let mut skipped = Vec::new();
     let plugins = continuous_track::read(xml)?;
@@ -60,7 +71,7 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
                     "named by the Gazebo TrackedVehicle plugin's <{tag}><link> (line {})",
                     p.line
                 );
-                match from_shapes(&numbered(base, k, l), link, why) {
+                match from_shapes(&numbered(base, k, l), link, &wheels_of(robot, l), why) {
                     Ok(t) => tracks.push(t),
                     Err(m) => skipped.push(m),
                 }
@@ -70,13 +81,18 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
     }
     let mut tracks = Vec::new();
     for l in &robot.links {
-        if !l.name.to_ascii_lowercase().contains("track") || l.shapes.is_empty() {
+        // A wheel turning inside a track (continuous joint) is part of its track, not one.
+        let wheels = wheels_of(robot, &l.name);
+        if !l.name.to_ascii_lowercase().contains("track")
+            || l.kind == LinkJoint::Continuous
+            || l.shapes.is_empty() && wheels.is_empty()
+        {
             continue;
         }
         let why = "its name contains \"track\" and it has collision shapes (no track plugin in \
                    the file)"
             .to_string();
-        match from_shapes(&l.name, l, why) {
+        match from_shapes(&l.name, l, &wheels, why) {
             Ok(t) => tracks.push(t),
             Err(m) => skipped.push(m),
         }

@@ -383,6 +383,52 @@ fn the_gz_sim_example_in_sdf_is_imported_drives_turns_and_keeps_its_odometry() {
     }
 }
 
+#[test]
+fn gz_sims_track_drive_wheels_become_the_belts_path() {
+    let Some(m) = model("gz_sim_examples/track_drive.sdf") else {
+        return;
+    };
+    // Two robots in the file: without a name it is refused, naming both.
+    let e = tracksim::import::propose(&m).unwrap_err().to_string();
+    assert!(
+        e.contains("vehicle_blue") && e.contains("vehicle_green"),
+        "{e}"
+    );
+    let out = scratch("track-drive");
+    let done = tracksim::import::import_model(&m, Some("vehicle_blue"), &out, false).unwrap();
+    // Its "tracks" are eight road wheels (r 0.09047 m, x from -0.25 to 0.25 m) a side turning
+    // on their joints under a small box: the wheels' hull is the belt's path.
+    assert_eq!(done.report.tracks.len(), 2, "{:#?}", done.report.lines());
+    for t in &done.report.tracks {
+        assert_two_pulleys_at(t, 0.25, 0.09047);
+        assert!((t.chassis_y.abs() - 0.1985).abs() < 1e-4);
+    }
+    assert!(done.world.is_some(), "the file is a world");
+    let (sim, v, _) = run(&done.scenario, None);
+    assert_belt_speed(v);
+    let sc = load_scenario(&done.scenario).unwrap();
+    let (odom, p) = (sim.sample().odom, sim.body_pose());
+    let (x0, y0) = sc.start_xy;
+    let truth = (p.x - x0).hypot(p.y - y0);
+    let err = (odom[0] - (p.x - x0)).hypot(odom[1] - (p.y - y0));
+    println!("track_drive: odometry error {err:.4} m over {truth:.4} m");
+    assert!(
+        truth > 1.5 && err < 0.03 * truth,
+        "error {err} m over {truth} m"
+    );
+    // Sides at 0.1 and 0.3 m/s: a left turn, slower than the no-slip 0.2 / 0.397 rad/s.
+    let (_, _, rate) = run(
+        &done.scenario,
+        Some("{ left_track = 0.1, right_track = 0.3 }"),
+    );
+    let ideal = 0.2 / 0.397;
+    println!("track_drive: yaw rate {rate:.4} rad/s, no-slip {ideal:.4}");
+    assert!(
+        rate > 0.3 * ideal && rate < 1.05 * ideal,
+        "yaw rate {rate} rad/s"
+    );
+}
+
 /// Pulleys at x = +-`half` of radius `r` (any z), 1e-5 m (an SDF pose's rounding).
 fn assert_two_pulleys_at(t: &ProposedTrack, half: f64, r: f64) {
     let mut p = pulleys(t);
