@@ -23,7 +23,7 @@ mod model;
 mod pose;
 mod world;
 
-pub use world::ROTATION_TOLERANCE;
+pub use world::{ROTATION_TOLERANCE, WorldSolid};
 
 pub(in crate::urdf) use model::read_model;
 
@@ -37,6 +37,9 @@ pub struct WorldTerrain {
     /// The terrain entries (world frame, m, degrees; a mesh's or height map's `file` is the
     /// path found from its `<uri>`, absolute when the SDF file's path is).
     pub terrain: TerrainSpec,
+    /// Cylinders and spheres of static models (no terrain entry holds them; `tracksim import`
+    /// writes each as a mesh).
+    pub solids: Vec<WorldSolid>,
     /// The shapes and `<include>`s left out, each with its element and line and why.
     pub left_out: Vec<SpecIssue>,
 }
@@ -52,10 +55,15 @@ fn open(path: &Path) -> Result<String, Vec<SpecIssue>> {
 /// whole world is refused. Problems are keyed `sdf <element> (FILE line N)`.
 pub fn world_terrain(path: &Path) -> Result<TerrainSpec, Vec<SpecIssue>> {
     let w = world_terrain_lenient(path)?;
-    if w.left_out.is_empty() {
+    if w.left_out.is_empty() && w.solids.is_empty() {
         Ok(w.terrain)
     } else {
-        Err(w.left_out)
+        Err(w
+            .solids
+            .into_iter()
+            .map(|s| s.issue)
+            .chain(w.left_out)
+            .collect())
     }
 }
 
@@ -70,8 +78,12 @@ pub fn world_terrain_lenient(path: &Path) -> Result<WorldTerrain, Vec<SpecIssue>
         doc: &doc,
         key: "sdf",
     };
-    let (terrain, left_out) = world::terrain(&ctx)?;
-    Ok(WorldTerrain { terrain, left_out })
+    let (terrain, solids, left_out) = world::terrain(&ctx)?;
+    Ok(WorldTerrain {
+        terrain,
+        solids,
+        left_out,
+    })
 }
 
 /// The start pose of the robot model of SDF file `path` (`model`: its name, else chosen as a

@@ -3,8 +3,9 @@
 //! rotation as yaw and pitch after swapping its axes if need be; a roll no swap removes is
 //! refused), a plane facing up the ground, a mesh a mesh (STL or OBJ, turned about z only,
 //! scaled uniformly), a heightmap a height field (a PNG, turned about z only; row 0 at +y and
-//! white at `<size>` z above the base are assumed to be gz-sim's, not checked). Cylinders,
-//! spheres and capsules are refused: tracksim's terrain has no such entry. Non-static models
+//! white at `<size>` z above the base are assumed to be gz-sim's, not checked). Cylinders and
+//! spheres are kept apart ([`WorldSolid`]: `tracksim import` writes each as a mesh) and
+//! capsules refused: tracksim's terrain has no such entry. Non-static models
 //! (the robot, loose objects) are not terrain and are skipped; `<include>` is refused.
 
 use super::file::{Ctx, Node, child, children, is_static};
@@ -83,8 +84,31 @@ fn friction(ctx: &Ctx, c: Node) -> Result<f64, SpecIssue> {
     }
 }
 
-/// Adds collision `c` (its frame `x` in the world) to `t`.
-fn add(ctx: &Ctx, c: Node, x: DAffine3, t: &mut TerrainSpec) -> Result<(), SpecIssue> {
+/// A cylinder or sphere of a static model: tracksim's terrain has no such entry, but a caller
+/// can make it a mesh ([`super::WorldTerrain::solids`]).
+#[derive(Clone, Debug)]
+pub struct WorldSolid {
+    /// Radius, m.
+    pub radius: f64,
+    /// Length along its z axis, m (`None`: a sphere).
+    pub length: Option<f64>,
+    /// Its frame in the world (a cylinder's axis is its z), m.
+    pub pose: DAffine3,
+    /// Friction coefficient.
+    pub friction: f64,
+    /// Why the terrain itself cannot hold it, with the element and line.
+    pub issue: SpecIssue,
+}
+
+/// Adds collision `c` (its frame `x` in the world) to `t`, or its cylinder or sphere to
+/// `solids`.
+fn add(
+    ctx: &Ctx,
+    c: Node,
+    x: DAffine3,
+    t: &mut TerrainSpec,
+    solids: &mut Vec<WorldSolid>,
+) -> Result<(), SpecIssue> {
     let g = child(c, "geometry").ok_or_else(|| ctx.issue(c, "has no <geometry>"))?;
     let friction = friction(ctx, c)?;
     let refuse = |what: &str| {
@@ -181,8 +205,20 @@ fn add(ctx: &Ctx, c: Node, x: DAffine3, t: &mut TerrainSpec) -> Result<(), SpecI
             });
         }
         Shape::Empty => {}
-        Shape::Cylinder { .. } => return refuse("cylinder"),
-        Shape::Sphere(_) => return refuse("sphere"),
+        Shape::Cylinder { radius, length } => solids.push(WorldSolid {
+            radius,
+            length: Some(length),
+            pose: x,
+            friction,
+            issue: refuse("cylinder").unwrap_err(),
+        }),
+        Shape::Sphere(radius) => solids.push(WorldSolid {
+            radius,
+            length: None,
+            pose: x,
+            friction,
+            issue: refuse("sphere").unwrap_err(),
+        }),
         Shape::Capsule { .. } => return refuse("capsule"),
     }
     Ok(())
@@ -190,14 +226,21 @@ fn add(ctx: &Ctx, c: Node, x: DAffine3, t: &mut TerrainSpec) -> Result<(), SpecI
 
 /// Adds the collisions of static model `m` (its frame `x` in the world) and of its nested
 /// models to `t`; what cannot be added goes to `left_out`.
-fn add_model(ctx: &Ctx, m: Node, x: DAffine3, t: &mut TerrainSpec, left_out: &mut Vec<SpecIssue>) {
+fn add_model(
+    ctx: &Ctx,
+    m: Node,
+    x: DAffine3,
+    t: &mut TerrainSpec,
+    solids: &mut Vec<WorldSolid>,
+    left_out: &mut Vec<SpecIssue>,
+) {
     let frames = Frames::read(ctx, m, left_out);
     for l in children(m, "link") {
         let name = l.attribute("name").unwrap_or_default();
         for c in children(l, "collision") {
             let placed =
                 pose_of(ctx, c).and_then(|p| frames.place(&p, name).map_err(|e| ctx.issue(c, e)));
-            match placed.and_then(|p| add(ctx, c, x * p, t)) {
+            match placed.and_then(|p| add(ctx, c, x * p, t, solids)) {
                 Ok(()) => {}
                 Err(e) => left_out.push(e),
             }
@@ -205,7 +248,7 @@ fn add_model(ctx: &Ctx, m: Node, x: DAffine3, t: &mut TerrainSpec, left_out: &mu
     }
     for n in children(m, "model") {
         match pose_of(ctx, n) {
-            Ok(p) if p.relative_to.is_none() => add_model(ctx, n, x * p.x, t, left_out),
+            Ok(p) if p.relative_to.is_none() => add_model(ctx, n, x * p.x, t, solids, left_out),
             Ok(_) => left_out.push(ctx.issue(n, "a nested model's pose relative_to is not read")),
             Err(e) => left_out.push(e),
         }
@@ -234,8 +277,13 @@ pub(super) fn include(ctx: &Ctx, n: Node) -> SpecIssue {
     )
 }
 
-/// The terrain of the first `<world>` of the parsed file, and what could not be read.
-pub(super) fn terrain(ctx: &Ctx) -> Result<(TerrainSpec, Vec<SpecIssue>), Vec<SpecIssue>> {
+/// What a world's static models give: terrain entries, cylinders and spheres, and what could
+/// not be read.
+pub(super) type Read = (TerrainSpec, Vec<WorldSolid>, Vec<SpecIssue>);
+
+/// The terrain of the first `<world>` of the parsed file, its solids, and what could not be
+/// read.
+pub(super) fn terrain(ctx: &Ctx) -> Result<Read, Vec<SpecIssue>> {
     let root = ctx.doc.root_element();
     let Some(w) = child(root, "world") else {
         return Err(vec![SpecIssue::new(
@@ -244,13 +292,14 @@ pub(super) fn terrain(ctx: &Ctx) -> Result<(TerrainSpec, Vec<SpecIssue>), Vec<Sp
         )]);
     };
     let mut t = TerrainSpec::default();
+    let mut solids = Vec::new();
     let mut left_out = Vec::new();
     for n in w.children().filter(|n| n.is_element()) {
         match n.tag_name().name() {
             "include" => left_out.push(include(ctx, n)),
             "model" if is_static(n) => match pose_of(ctx, n) {
                 Ok(p) if p.relative_to.as_deref().is_none_or(|r| r == "world") => {
-                    add_model(ctx, n, p.x, &mut t, &mut left_out)
+                    add_model(ctx, n, p.x, &mut t, &mut solids, &mut left_out)
                 }
                 Ok(_) => left_out.push(ctx.issue(
                     n,
@@ -262,5 +311,5 @@ pub(super) fn terrain(ctx: &Ctx) -> Result<(TerrainSpec, Vec<SpecIssue>), Vec<Sp
             _ => {}
         }
     }
-    Ok((t, left_out))
+    Ok((t, solids, left_out))
 }
