@@ -244,34 +244,14 @@ fn an_inertial_frame_turns_the_tensor() {
 
 /// A binary STL of the axis-aligned box [lo, hi].
 fn box_stl(lo: DVec3, hi: DVec3) -> Vec<u8> {
-    let c = |i: usize| {
-        DVec3::new(
-            if i & 1 == 0 { lo.x } else { hi.x },
-            if i & 2 == 0 { lo.y } else { hi.y },
-            if i & 4 == 0 { lo.z } else { hi.z },
-        )
-    };
-    let faces = [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
+    let faces = crate::common::box_triangles(lo, hi);
     let mut b = vec![0u8; 80];
     b.extend_from_slice(&(faces.len() as u32).to_le_bytes());
     for f in faces {
         b.extend_from_slice(&[0u8; 12]);
-        for i in f {
-            for v in c(i).to_array() {
-                b.extend_from_slice(&(v as f32).to_le_bytes());
+        for v in f {
+            for x in v.to_array() {
+                b.extend_from_slice(&(x as f32).to_le_bytes());
             }
         }
         b.extend_from_slice(&[0u8; 2]);

@@ -591,32 +591,10 @@ fn joints_without_links_and_nested_models_are_refused() {
 
 /// An ASCII STL of the box from `lo` to `hi` (12 triangles), m.
 fn box_stl(lo: DVec3, hi: DVec3) -> String {
-    let c = |k: usize| {
-        DVec3::new(
-            if k & 1 == 0 { lo.x } else { hi.x },
-            if k & 2 == 0 { lo.y } else { hi.y },
-            if k & 4 == 0 { lo.z } else { hi.z },
-        )
-    };
-    let faces = [
-        [0, 2, 1],
-        [1, 2, 3],
-        [4, 5, 6],
-        [5, 7, 6],
-        [0, 1, 4],
-        [1, 5, 4],
-        [2, 6, 3],
-        [3, 6, 7],
-        [0, 4, 2],
-        [2, 4, 6],
-        [1, 3, 5],
-        [3, 7, 5],
-    ];
     let mut s = String::from("solid box\n");
-    for f in faces {
+    for f in crate::common::box_triangles(lo, hi) {
         s.push_str("facet normal 0 0 0\nouter loop\n");
-        for k in f {
-            let v = c(k);
+        for v in f {
             s.push_str(&format!("vertex {} {} {}\n", v.x, v.y, v.z));
         }
         s.push_str("endloop\nendfacet\n");

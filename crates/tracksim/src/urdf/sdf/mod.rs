@@ -71,18 +71,27 @@ pub fn world_terrain(path: &Path) -> Result<TerrainSpec, Vec<SpecIssue>> {
 /// listed instead of refusing the world. `Err` only when the file cannot be read or has no
 /// `<world>`.
 pub fn world_terrain_lenient(path: &Path) -> Result<WorldTerrain, Vec<SpecIssue>> {
+    with_file(path, |ctx| {
+        let (terrain, solids, left_out) = world::terrain(ctx)?;
+        Ok(WorldTerrain {
+            terrain,
+            solids,
+            left_out,
+        })
+    })
+}
+
+/// `f` of the parsed SDF file `path`.
+fn with_file<T>(
+    path: &Path,
+    f: impl FnOnce(&file::Ctx) -> Result<T, Vec<SpecIssue>>,
+) -> Result<T, Vec<SpecIssue>> {
     let text = open(path)?;
     let doc = file::parse(path, &text, "sdf")?;
-    let ctx = file::Ctx {
+    f(&file::Ctx {
         path,
         doc: &doc,
         key: "sdf",
-    };
-    let (terrain, solids, left_out) = world::terrain(&ctx)?;
-    Ok(WorldTerrain {
-        terrain,
-        solids,
-        left_out,
     })
 }
 
@@ -94,13 +103,8 @@ pub fn model_start_pose(
     path: &Path,
     model: Option<&str>,
 ) -> Result<Option<glam::DAffine3>, Vec<SpecIssue>> {
-    let text = open(path)?;
-    let doc = file::parse(path, &text, "sdf")?;
-    let ctx = file::Ctx {
-        path,
-        doc: &doc,
-        key: "sdf",
-    };
-    let m = file::choose_model(&ctx, model).map_err(|e| vec![e])?;
-    model::start_pose(&ctx, m).map_err(|e| vec![e])
+    with_file(path, |ctx| {
+        let m = file::choose_model(ctx, model).map_err(|e| vec![e])?;
+        model::start_pose(ctx, m).map_err(|e| vec![e])
+    })
 }

@@ -163,3 +163,32 @@ pub fn contact_impulses(
     }
     (friction, normal)
 }
+
+/// The 12 triangles of the axis-aligned box [lo, hi] (m), each counter-clockwise seen from
+/// outside: for the tests' STL files.
+pub fn box_triangles(lo: glam::DVec3, hi: glam::DVec3) -> Vec<[glam::DVec3; 3]> {
+    let c = |i: usize| {
+        glam::DVec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    [
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ]
+    .iter()
+    .map(|f| f.map(c))
+    .collect()
+}
