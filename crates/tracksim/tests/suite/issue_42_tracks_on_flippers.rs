@@ -170,6 +170,16 @@ fn one_speed_per_side_keeps_the_flipper_track_with_the_main_track() {
     assert!(((a[l] - a[fl]).abs() - 0.0375).abs() < 0.005, "{a:?}");
     // Per side both run at -w B / 2 = -0.11625 m/s (the belts follow their motors within 2 %).
     assert!((b[l] - b[fl]).abs() < 0.002, "{b:?}");
+    // Mirror symmetry: the opposite spin gives the mirrored belts (right for left), within
+    // the belts' 2 % of following their motors.
+    let m = spin_belts(&per_side, -w);
+    let (r, fr) = (ix("right"), ix("flipper_right"));
+    for (left, right) in [(l, r), (fl, fr)] {
+        assert!(
+            (b[left] - m[right]).abs() < 0.02 * w * 0.3875 / 2.0,
+            "{b:?} {m:?}"
+        );
+    }
     assert!(
         (b[l] + w * 0.3875 / 2.0).abs() < 0.02 * w * 0.3875 / 2.0,
         "{b:?}"
