@@ -22,7 +22,14 @@ Evaluation: the learned policy (deterministic: the Gaussian's mean) and the scri
 `--test-seed` 10000; training seeds start at `--seed` 0). Writes the learning curve (training
 episodes: success rate and return against env steps; `wall_s` scaled linearly from the env
 steps) to `--csv` and `--png`, and prints the result (success rates, env steps, wall times) as
-JSON with `--json`. Measured result and curve: docs/LEARNING.md (held-out success 0.99 against
+JSON with `--json`.
+
+Checkpoints: the trained agent is saved (skrl's checkpoint, `--save`, default OUT/agent.pickle);
+`--load FILE` starts from one (`--steps 0`: evaluate it only). `--watch N` records N episodes of
+the policy on the held-out seeds as run folders OUT/watch/seed<S>-ep0, each with its MP4
+(video.mp4): `tracksim view OUT/watch/seed<S>-ep0` replays it in 3-D, and
+`tracksim run TASK_FILE --seed S --commands OUT/watch/seed<S>-ep0/commands.toml --duration T`
+re-runs it byte for byte. Measured result and curve: docs/LEARNING.md (held-out success 0.99 against
 the baseline's 0.23 after 25 min).
 """
 
@@ -33,6 +40,7 @@ import csv
 import json
 import os
 import pathlib
+import shutil
 import time
 
 import gymnasium as gym
@@ -78,8 +86,9 @@ class LearnerVecEnv(gym.vector.VectorEnv):
     metadata = {"autoreset_mode": gym.vector.AutoresetMode.NEXT_STEP}
 
     def __init__(self, scenario, num_envs: int, threads: int, mode: str, forward: float,
-                 seed=None):
-        self.env = tracksim.TracksimVectorEnv(scenario, num_envs, threads=threads, config=CONFIG)
+                 seed=None, record_dir=None):
+        config = {**CONFIG, "record_dir": str(record_dir)} if record_dir else CONFIG
+        self.env = tracksim.TracksimVectorEnv(scenario, num_envs, threads=threads, config=config)
         self.seed = seed  # the seeds of the first reset (overrides the caller's)
         self.num_envs = num_envs
         self.mode = mode
@@ -174,11 +183,13 @@ def make_agent(env, args):
                action_space=env.action_space, device=env.device, cfg=cfg)
 
 
-def evaluate(scenario, seeds, threads, policy, mode, forward):
+def evaluate(scenario, seeds, threads, policy, mode, forward, record_dir=None):
     """Success rate, mean return and mean progress (m) of ``policy`` (observations -> learner
-    actions, or None for the scripted baseline: flippers level) over one episode per seed."""
+    actions, or None for the scripted baseline: flippers level) over one episode per seed;
+    with ``record_dir`` each seed's episode is written there as a run folder
+    ``seed<SEED>-ep0`` (the folders of episodes an autoreset began after it are removed)."""
     env = LearnerVecEnv(scenario, len(seeds), threads, "flippers" if policy is None else mode,
-                        forward, seed=list(seeds))
+                        forward, seed=list(seeds), record_dir=record_dir)
     obs, _ = env.reset()
     done = np.zeros(len(seeds), bool)
     first = {}
@@ -192,6 +203,11 @@ def evaluate(scenario, seeds, threads, policy, mode, forward):
                 first[i] = env.episodes[before + k]
         done |= ended
     eps = [first[i] for i in range(len(seeds))]
+    if record_dir:
+        env.env.close()  # writes the episodes in progress
+        for d in pathlib.Path(record_dir).iterdir():
+            if not d.name.endswith("-ep0"):
+                shutil.rmtree(d)
     return (float(np.mean([e[1] for e in eps])), float(np.mean([e[2] for e in eps])),
             float(np.mean([e[3] for e in eps])))
 
@@ -272,11 +288,26 @@ def main():
     ap.add_argument("--csv", type=pathlib.Path, default=None, help="default OUT/curve.csv")
     ap.add_argument("--png", type=pathlib.Path, default=None, help="default OUT/curve.png")
     ap.add_argument("--json", action="store_true", help="print the result as one JSON line")
+    ap.add_argument("--save", type=pathlib.Path, default=None,
+                    help="write the trained agent (skrl checkpoint) here; default "
+                         "OUT/agent.pickle")
+    ap.add_argument("--load", type=pathlib.Path, default=None,
+                    help="start from this checkpoint (one --save wrote, same --action); "
+                         "with --steps 0 it is only evaluated (and watched)")
+    ap.add_argument("--watch", type=int, default=0, metavar="N",
+                    help="record N episodes of the trained policy on the held-out seeds as "
+                         "run folders OUT/watch/seed<S>-ep0 (tracksim view DIR; tracksim run "
+                         "TASK --seed S --commands DIR/commands.toml replays one) with an "
+                         "MP4 video each (video.mp4)")
     args = ap.parse_args()
     for k, v in (("--steps", args.steps), ("--envs", args.envs), ("--threads", args.threads),
                  ("--rollouts", args.rollouts), ("--test-episodes", args.test_episodes)):
-        if v < 1:
-            raise SystemExit(f"{k} must be at least 1 (got {v})")
+        if v < 1 and not (k == "--steps" and v == 0 and args.load):
+            raise SystemExit(f"{k} must be at least 1 (got {v}; --steps 0 only with --load)")
+    if args.watch < 0:
+        raise SystemExit(f"--watch must be at least 0 (got {args.watch})")
+    if args.load and not args.load.is_file():
+        raise SystemExit(f"--load {args.load}: no such checkpoint file (one --save wrote)")
     if not -1.0 <= args.forward <= 1.0:
         raise SystemExit(f"--forward must be in [-1, 1] (got {args.forward})")
     args.out.mkdir(parents=True, exist_ok=True)
@@ -305,6 +336,12 @@ def main():
                                 args.forward, seed=args.seed)
     env = wrap_env(learner_env, wrapper="gymnasium", verbose=False)
     agent = make_agent(env, args)
+    if args.load:
+        try:
+            agent.load(str(args.load))
+        except Exception as e:  # a pickle of other shapes: name the file and the fix
+            raise SystemExit(f"--load {args.load}: not a checkpoint of this agent ({e}); give "
+                             f"one that --save wrote with the same --action") from None
     # skrl's trainer, run one PPO update's worth of steps at a time (its env wrapper carries
     # the observations over), so that the budget can be wall time as well as env steps.
     trainer = SequentialTrainer(env=env, agents=agent, cfg={
@@ -325,6 +362,8 @@ def main():
                   flush=True)
     train_wall_s = time.time() - t0
     env_steps = learner_env.env_steps
+    checkpoint = args.save or args.out / "agent.pickle"
+    agent.save(str(checkpoint))
 
     agent.enable_training_mode(False)
 
@@ -333,11 +372,25 @@ def main():
                            timesteps=1)
         return np.asarray(out["mean_actions"])
 
+    # The policy's action at an all-zero observation: a fingerprint of the agent (a loaded
+    # checkpoint gives the trained one's).
+    zero = np.zeros((1,) + learner_env.single_observation_space.shape, np.float32)
+    policy_at_zero = [round(float(x), 6) for x in policy(zero)[0]]
+
     t1 = time.time()
     seeds = list(range(args.test_seed, args.test_seed + args.test_episodes))
     base = evaluate(scenario, seeds, args.threads, None, args.action, args.forward)
     learned = evaluate(scenario, seeds, args.threads, policy, args.action, args.forward)
     eval_wall_s = time.time() - t1
+    watched = []
+    if args.watch:
+        watch_dir = args.out / "watch"
+        if watch_dir.exists():
+            shutil.rmtree(watch_dir)
+        evaluate(scenario, range(args.test_seed, args.test_seed + args.watch), args.threads,
+                 policy, args.action, args.forward, record_dir=watch_dir)
+        for d in sorted(watch_dir.iterdir()):
+            watched.append(str(tracksim.write_video(d, size=(320, 240))))
 
     rows = curve(learner_env.episodes, args.bins, train_wall_s, env_steps)
     with open(csv_path, "w", newline="") as f:
@@ -358,7 +411,8 @@ def main():
         "test_seed": args.test_seed, "baseline_success": base[0], "learned_success": learned[0],
         "baseline_return": round(base[1], 3), "learned_return": round(learned[1], 3),
         "baseline_progress_m": round(base[2], 3), "learned_progress_m": round(learned[2], 3),
-        "csv": str(csv_path), "png": str(png_path),
+        "csv": str(csv_path), "png": str(png_path), "checkpoint": str(checkpoint),
+        "watched": watched, "policy_at_zero": policy_at_zero,
     }
     if args.json:
         print(json.dumps(result))

@@ -154,6 +154,9 @@ def ws_states(url, n, timeout=10.0):
 def test_human_render_serves_the_live_page_with_moving_states(capsys):
     env = tracksim.TracksimEnv(STAIRS, render_mode="human", render_speed=None)
     assert env.metadata["render_modes"] == ["human", "rgb_array"]
+    env.reset(seed=0)
+    assert env.render_url is None and env.render() is None  # nothing served before a step
+    env.step(np.array([0.0, 0.0, 0.0, 0.0], np.float32))
     url = env.render_url
     assert url.startswith("http://127.0.0.1:")
     assert url in capsys.readouterr().out
@@ -161,7 +164,6 @@ def test_human_render_serves_the_live_page_with_moving_states(capsys):
     assert b"<html" in page.lower()
     scene = json.loads(urllib.request.urlopen(url + "scene.json", timeout=10).read())
     assert scene
-    env.reset(seed=0)
     got = {}
     reader = threading.Thread(target=lambda: got.setdefault("s", ws_states(url, 5)))
     reader.start()
@@ -191,3 +193,59 @@ def test_a_bad_render_port_is_named():
     for port in (-1, 70000, "8080", 1.5):
         with pytest.raises(ValueError, match="render_port: a TCP port from 0 to 65535"):
             tracksim.TracksimEnv(str(SCENARIOS / "packbot_flat.toml"), render_mode="human", render_port=port)
+
+
+def test_check_env_with_the_render_check_starts_no_server(monkeypatch):
+    """gymnasium's check_env makes an environment of every declared render mode ("human"
+    included), resets it and calls render(): no page is served for it (the page starts at the
+    first step)."""
+    import gymnasium as gym
+
+    import tracksim.env as tenv
+
+    started, live_view = [], tenv.LiveView
+
+    def counting(*a, **k):
+        started.append(1)
+        return live_view(*a, **k)
+
+    monkeypatch.setattr(tenv, "LiveView", counting)
+    env = gym.make("tracksim/PackBotFlat-v0")
+    check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+    assert started == []
+    # The counting is live: a human env that is reset does serve its page.
+    h = tracksim.TracksimEnv(str(SCENARIOS / "packbot_flat.toml"), render_mode="human",
+                             render_speed=None)
+    h.reset(seed=0)
+    h.render()
+    assert started == []
+    h.step(h.action_space.sample())
+    h.close()
+    assert started == [1]
+
+
+def test_an_episode_of_a_randomised_scenario_replays_with_its_seed(tmp_path):
+    """`tracksim run FILE --seed S --commands .../commands.toml` re-runs the recorded episode of
+    seed S of a randomised file (its folder `seed<S>-ep<K>` names the seed) byte for byte; with
+    the file's own seed the drawn step differs and so does the trajectory."""
+    rec = tmp_path / "episodes"
+    env = tracksim.TracksimEnv(STEP, config={"record_dir": rec})
+    env.reset(seed=7)
+    for _ in range(40):
+        env.step(np.array([0.6, 0.0, 0.3, 0.3], np.float32))
+    t = env._core.time
+    env.close()
+    ep = rec / "seed7-ep0"
+    assert ep.is_dir()
+    runs = {}
+    for name, seed in (("seed", ["--seed", "7"]), ("file", [])):
+        out = tmp_path / name
+        r = run_cli("run", STEP, *seed, "--commands", ep / "commands.toml", "--duration",
+                    repr(t), "--out", out, "--no-plot", "--quiet")
+        assert r.returncode == 0, r.stderr
+        runs[name] = (out / "trajectory.csv").read_bytes()
+    assert runs["seed"] == (ep / "trajectory.csv").read_bytes()
+    assert runs["file"] != runs["seed"]
+    r = run_cli("run", STEP, "--seed", "7", "--ensemble", "2", "--out", tmp_path / "e")
+    assert r.returncode == 2 and "--seed" in r.stderr

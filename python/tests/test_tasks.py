@@ -123,3 +123,30 @@ def test_flat_baseline_succeeds_straight_and_leaves_the_lane_when_skewed():
     assert info["outcome"] == "success", info
     _, info = run_episode("tracksim/PackBotFlat-v0", outside)
     assert info["outcome"] == "failure" and "left the terrain" in info["reason"], info
+
+
+def test_make_vec_gives_the_native_vector_env_with_the_ids_episodes():
+    """`gymnasium.make_vec(id, n)` is the registered vector entry point: the native vector env
+    on Rust threads (not a SyncVectorEnv of Python envs), stepping the same episodes as
+    `tasks.make_vector` with the same seeds, bit for bit."""
+    import gymnasium
+
+    venv = gymnasium.make_vec("tracksim/PackBotSteps-v0", 3)
+    assert isinstance(venv.unwrapped, tracksim.TracksimVectorEnv)
+    assert venv.num_envs == 3 and venv.unwrapped.threads >= 1
+    ref = tracksim.tasks.make_vector("tracksim/PackBotSteps-v0", 3, threads=1)
+    a, _ = venv.reset(seed=5)
+    b, _ = ref.reset(seed=5)
+    act = np.tile(np.array([0.6, 0.0, 0.2, 0.2], np.float32), (3, 1))
+    for _ in range(10):
+        a, ra, *_ = venv.step(act)
+        b, rb, *_ = ref.step(act)
+    np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(ra, rb)
+    venv.close()
+    ref.close()
+
+
+def test_make_vec_refuses_a_time_limit_shorter_than_the_scenario():
+    with pytest.raises(ValueError, match="max_episode_steps=5: .*duration"):
+        gymnasium.make_vec("tracksim/PackBotSteps-v0", 2, max_episode_steps=5)

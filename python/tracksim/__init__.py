@@ -34,6 +34,7 @@ from ._tracksim import (
     __version__,
     bundled_names,
     bundled_path,
+    write_video,
 )
 from .env import ProgressReward, TracksimEnv
 
@@ -66,4 +67,5 @@ __all__ = [
     "__version__",
     "bundled_names",
     "bundled_path",
+    "write_video",
 ]

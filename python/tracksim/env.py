@@ -199,8 +199,10 @@ class TracksimEnv(gym.Env):
     so :class:`ProgressReward` reads roll and pitch as from the state vector).
 
     Watching: ``render_mode="human"`` serves the live 3-D page (the one of ``tracksim drive``,
-    watch-only) on 127.0.0.1 (``render_port``, default a free port; the URL is printed and in
-    ``render_url``) and shows every step, paced to ``render_speed`` simulated seconds per wall
+    watch-only) on 127.0.0.1 (``render_port``, default a free port) from the first
+    :meth:`step` (the URL is then printed and in ``render_url``; an environment never stepped,
+    such as the ones gymnasium's ``check_env`` makes to try each render mode, serves nothing)
+    and shows every step, paced to ``render_speed`` simulated seconds per wall
     second (default 1: real time, the training runs no faster; None: never waits).
     ``config={"record_dir": DIR}`` writes every episode as a run folder
     ``DIR/seed<SEED>-ep<K>`` (summary.json, trajectory.csv, scene.json, belts.csv,
@@ -251,9 +253,10 @@ class TracksimEnv(gym.Env):
             if isinstance(port, bool) or not isinstance(port, int) or not 0 <= port <= 65535:
                 raise ValueError(f"render_port: a TCP port from 0 to 65535 (0: a free one), "
                                  f"got {render_port!r}")
-            self._view = LiveView(self._core, port, render_speed)
-            self.render_url = self._view.url
-            print(f"tracksim: watch the environment at {self.render_url}", flush=True)
+            # Served from the first step (an episode to watch), not here: an environment made
+            # only to be inspected (gymnasium's check_env makes one per render mode, resets it
+            # and calls render()) starts no server.
+            self._render_port, self._render_speed = port, render_speed
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         super().reset(seed=seed)
@@ -265,6 +268,8 @@ class TracksimEnv(gym.Env):
         return obs, {"seed": episode_seed, "randomized": self._core.randomized}
 
     def step(self, action):
+        if self.render_mode == "human" and self._view is None:
+            self._serve()
         a = np.asarray(action, dtype=np.float32).reshape(-1).tolist()
         state, terminated, truncated, info = self._core.step(a)
         reward = float(self.reward_fn(state, info["progress_delta_m"], info["effort"],
@@ -272,6 +277,14 @@ class TracksimEnv(gym.Env):
         if self._view is not None:
             self._view.show(self._core)
         return self._obs(state), reward, bool(terminated), bool(truncated), info
+
+    def _serve(self):
+        """Starts the live page (``render_mode="human"``) on the episode in progress."""
+        self._view = LiveView(self._core, self._render_port, self._render_speed)
+        self.render_url = self._view.url
+        print(f"tracksim: watch the environment at {self.render_url}", flush=True)
+        self._view.new_episode(self._core)
+        self._view.show(self._core)
 
     def render(self):
         """With ``render_mode="rgb_array"`` the current state as a ``numpy.uint8`` array

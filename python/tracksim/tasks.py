@@ -13,6 +13,7 @@ conditions, randomised ranges and the scripted baselines' success rates: docs/TA
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from typing import Any, Callable, Optional
 
@@ -108,9 +109,43 @@ def register_all() -> None:
         if t.id in gymnasium.registry:
             continue
         gymnasium.register(id=t.id, entry_point="tracksim.tasks:make_env",
+                           vector_entry_point="tracksim.tasks:make_vector_env",
                            kwargs={"scenario": t.scenario},
                            max_episode_steps=t.max_episode_steps,
                            disable_env_checker=False)
+
+
+def make_vector_env(num_envs: int, scenario: str, max_episode_steps: Optional[int] = None,
+                    threads: Optional[int] = None, config: Optional[dict] = None,
+                    reward: Optional[Callable[..., Any]] = None,
+                    physics: Optional[dict] = None, **kwargs):
+    """The vector entry point of every id: ``gymnasium.make_vec(id, num_envs)`` gives the
+    native :class:`tracksim.TracksimVectorEnv` (``num_envs`` episodes on Rust threads, results
+    bit-identical whatever ``threads`` is; default one thread per core, at most one per
+    environment), not Gymnasium's ``SyncVectorEnv`` of Python environments.
+
+    The native environment truncates at the scenario's duration. ``max_episode_steps``
+    (Gymnasium passes the id's: the duration over the control period) is accepted when it does
+    not end episodes earlier than that; a smaller one is refused with the fix, since the
+    environments would otherwise run on past Gymnasium's time limit. ``render_mode`` and the
+    other keywords of :class:`tracksim.TracksimVectorEnv` pass through."""
+    from .vector import TracksimVectorEnv
+
+    sc = _scenario(bundled_path(scenario), physics)
+    if threads is None:
+        threads = max(1, min(int(num_envs), os.cpu_count() or 1))
+    env = TracksimVectorEnv(sc, num_envs, threads=threads, config=config, reward=reward,
+                            **kwargs)
+    if max_episode_steps is not None:
+        steps = env.scenario.duration_s / env.control_period_s
+        if max_episode_steps < math.floor(steps + 1e-9):
+            env.close()
+            raise ValueError(
+                f"max_episode_steps={max_episode_steps}: the vector environment ends episodes "
+                f"at the scenario's duration ({env.scenario.duration_s:g} s = {steps:g} "
+                f"control periods of {env.control_period_s:g} s); shorten the episodes with "
+                f"the scenario's simulation.duration_s, or use vectorization_mode='sync'")
+    return env
 
 
 def make_vector(task_id: str, num_envs: int, threads: int = 1, config: Optional[dict] = None,

@@ -17,6 +17,7 @@ mod scenario;
 mod simulation;
 mod team_env;
 mod vec_env;
+mod video;
 
 use common::{ScenarioError, UnstableError};
 use datasets::{ensemble, ensemble_merge, merge, sweep};
@@ -42,6 +43,7 @@ fn _tracksim(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ensemble, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble_merge, m)?)?;
     m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(video::write_video, m)?)?;
     bundled::register(m)?;
     m.add("ScenarioError", m.py().get_type::<ScenarioError>())?;
     m.add("UnstableError", m.py().get_type::<UnstableError>())?;

@@ -51,6 +51,12 @@ pub struct RunArgs {
     /// The trainee (operator) of the run, recorded in summary.json (`tracksim sessions`).
     #[arg(long)]
     pub trainee: Option<String>,
+    /// Seed of the run instead of the file's `simulation.seed`: a randomised file's
+    /// `[randomize]` values are drawn from it, as an environment's episode of that seed drew
+    /// them (a recorded episode's folder `seed<S>-ep<K>` names it; with its `commands.toml` the
+    /// run replays the episode byte for byte).
+    #[arg(long)]
+    pub seed: Option<u64>,
     /// Run an ensemble of N members instead of one run: member 0 as written, the others with
     /// seeded perturbations of the start (x, y, yaw) and of the solver's order, on every core
     /// (docs/ENSEMBLE.md). Writes --out/member-NNN/ and ensemble.json / ensemble.csv, prints
@@ -92,7 +98,18 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
     let template = tracksim::ScenarioTemplate::load_with(&file, &o)?;
-    let sc = template.file_scenario()?;
+    let sc = match a.seed {
+        Some(seed) => template.instantiate(seed)?,
+        None => template.file_scenario()?,
+    };
+    if a.seed.is_some() && a.ensemble.is_some() {
+        return Err(super::bad_arg(
+            "--seed",
+            "an ensemble perturbs the file's own scenario (--ensemble-seed seeds its \
+             perturbations): leave out --seed, or run one member with it"
+                .into(),
+        ));
+    }
     if let Some(n) = a.ensemble {
         return run_ensemble(&a, &template, &sc, n);
     }

@@ -14,8 +14,8 @@
 //! degrees), before the step at the time they were given, as `run::Timeline` applies a
 //! command; so `tracksim run FILE --commands DIR/commands.toml --duration T` writes the same
 //! `trajectory.csv`, byte for byte, when FILE gives the episode's scenario: a file without
-//! `[randomize]` (any seed), or a randomised one whose episode seed was the file's
-//! `simulation.seed` (the episode's drawn values are in `summary.json` and in the header of
+//! `[randomize]` (any seed), or a randomised one run with the episode's seed (`tracksim run FILE
+//! --seed SEED ...`; the episode's drawn values are in `summary.json` and in the header of
 //! `commands.toml`), and without `outcome.stop` (the run would stop at the decided outcome,
 //! the episode ran its control period to the end).
 
@@ -124,15 +124,17 @@ impl EpisodeRecord {
         } else {
             vec![
                 format!(
-                    "The episode's [randomize] values (seed {seed}): {}; the replay runs the \
-                     file's",
+                    "The episode's [randomize] values (seed {seed}): {}.",
                     sc.randomized
                         .iter()
                         .map(|(k, v)| format!("{k} = {v}"))
                         .collect::<Vec<_>>()
                         .join(", ")
                 ),
-                format!("simulation.seed, the same scenario only if that is {seed}."),
+                format!(
+                    "They are drawn again with --seed {seed} added to the command above \
+                     (without it the run draws from the file's simulation.seed)."
+                ),
             ]
         };
         let header = LogHeader {
