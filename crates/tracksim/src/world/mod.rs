@@ -62,7 +62,9 @@ pub use odometry::Odometry;
 pub use origin::ORIGIN_SHIFT_M;
 pub use robot::RobotCollision;
 pub use rut_grid::RutGridStats;
-pub use sample::{DriveSample, ICR_MIN_RATE_RAD_S, PoseRpy, Sample, slip_ratio};
+pub use sample::{
+    DriveSample, ICR_MIN_RATE_RAD_S, PoseRpy, SLIP_MIN_SPEED_MPS, Sample, slip_ratio,
+};
 pub use soil::{RutCell, SHEAR_RESET_S, TrackSoil};
 pub use track_loads::{MAX_LOAD_WINDOW_STEPS, TrackLoad, TrackOwners};
 
