@@ -706,12 +706,25 @@ fn sessions_tabulates_runs_with_their_trainee() {
     let runs = d.join("runs");
     let r = run(&["sessions", runs.to_str().unwrap(), "--sort", "score"]);
     assert_eq!(r.code, 0, "{}", r.stderr);
+    let lines: Vec<&str> = r.stdout.lines().collect();
+    assert_eq!(lines[0], "course line: 1 sessions", "{}", r.stdout);
+    assert!(lines[2].starts_with("Ada "), "{}", r.stdout);
+    // The status and the folder relative to the folder given.
     assert!(
-        r.stdout.lines().nth(1).unwrap().starts_with("Ada "),
+        lines[2].contains(" completed ") && lines[2].ends_with(" a"),
         "{}",
         r.stdout
     );
     assert!(r.stderr.contains("broken/summary.json"), "{}", r.stderr);
+    let r = run(&["sessions", runs.to_str().unwrap(), "--leaderboard"]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let l: Vec<&str> = r.stdout.lines().collect();
+    assert!(l[0].starts_with("course  rank  trainee"), "{}", r.stdout);
+    assert!(
+        l[1].starts_with("line    1     Ada      1          1  "),
+        "{}",
+        r.stdout
+    );
     let csv = d.join("t.csv");
     let r = run(&[
         "sessions",

@@ -1,8 +1,9 @@
-//! `tracksim sessions DIR`: the runs in a folder tabulated (trainee, scenario, course, score,
-//! date), sortable, as aligned text or CSV. A run folder is a folder holding `summary.json`
-//! (any front end's: `run`, `drive`, `ros`); folders are searched to [`MAX_DEPTH`] levels
-//! below DIR. A `summary.json` that cannot be read or parsed gives a warning naming it, never
-//! an error.
+//! `tracksim sessions DIR`: the runs in a folder tabulated (trainee, scenario, course, status,
+//! score, date), sortable, as aligned text grouped by course or as CSV, and a leaderboard per
+//! course ([`leaderboard`]). A run folder is a folder holding `summary.json` (any front end's:
+//! `run`, `drive`, `ros`); folders are searched to [`MAX_DEPTH`] levels below DIR and named
+//! relative to it. A `summary.json` that cannot be read or parsed gives a warning naming it,
+//! never an error.
 
 use crate::error::{Error, Result, SpecIssue};
 use serde_json::Value;
@@ -39,10 +40,43 @@ pub struct SessionRow {
     pub score_s: Option<f64>,
     /// The run's outcome.
     pub outcome: String,
+    /// What became of the attempt, for a school ([`status_of`]): `completed`, `time limit`,
+    /// `tipped over`, `failed`, `ended`, `interrupted` or `ran to the end`.
+    pub status: String,
     /// Start date, ISO 8601 UTC (empty: not recorded).
     pub date: String,
-    /// The run folder.
+    /// The run folder, relative to the folder scanned (`.`: that folder itself).
     pub folder: PathBuf,
+}
+
+/// The status of an attempt from its summary's outcome name, outcome reason and course status
+/// (`completed`, `time_limit`, `not_completed`, `running`; `None` without a course):
+/// - `tipped over`: the tilt limit ended it (whatever else was decided);
+/// - `completed`: the course was completed, or a scenario without a course succeeded;
+/// - `time limit`: the course's time limit passed, or the scenario's success condition was
+///   not met in its time;
+/// - `failed`: another failure;
+/// - `ended`: the operator ended the session first; `interrupted`: Ctrl-C or a signal;
+/// - `ran to the end`: a scenario without success conditions ran its duration.
+pub fn status_of(outcome: &str, reason: &str, course_status: Option<&str>) -> &'static str {
+    if reason.contains("tipped over") {
+        return "tipped over";
+    }
+    match course_status {
+        Some("completed") => return "completed",
+        Some("time_limit") => return "time limit",
+        _ => {}
+    }
+    match outcome {
+        "success" if course_status.is_none() => "completed",
+        "failure" if reason.contains("timeout") => "time limit",
+        "failure" => "failed",
+        "ended_by_operator" => "ended",
+        "interrupted" => "interrupted",
+        "completed" if course_status.is_some() => "ended",
+        "completed" => "ran to the end",
+        _ => "ended",
+    }
 }
 
 /// The sessions found under a folder, and a warning per unreadable `summary.json`.
@@ -75,6 +109,8 @@ pub enum SortKey {
     Score,
     /// Outcome name.
     Outcome,
+    /// Status ([`status_of`]).
+    Status,
     /// Start date (oldest first).
     Date,
     /// Folder path.
@@ -95,6 +131,7 @@ impl SortKey {
         "outcome",
         "date",
         "folder",
+        "status",
     ];
 
     /// The key of `name` (one of [`SortKey::NAMES`]).
@@ -112,6 +149,7 @@ impl SortKey {
             Outcome,
             Date,
             Folder,
+            Status,
         ];
         Self::NAMES.iter().position(|n| *n == name).map(|i| all[i])
     }
@@ -128,6 +166,8 @@ pub fn parse_summary(text: &str, folder: &Path) -> std::result::Result<SessionRo
     let num = |k: &str| score.and_then(|s| s.get(k)).and_then(Value::as_f64);
     let int = |k: &str| num(k).map(|n| n as u32);
     let course = v.get("course").filter(|c| c.is_object());
+    let course_status = course.and_then(|c| c.get("status")).and_then(Value::as_str);
+    let status = status_of(&s(&v, "outcome"), &s(&v, "outcome_reason"), course_status);
     Ok(SessionRow {
         trainee: s(&v, "trainee"),
         scenario: s(&v, "scenario"),
@@ -142,6 +182,7 @@ pub fn parse_summary(text: &str, folder: &Path) -> std::result::Result<SessionRo
         penalty_s: num("penalty_s"),
         score_s: num("score_s"),
         outcome: s(&v, "outcome"),
+        status: status.to_string(),
         date: s(&v, "started_utc"),
         folder: folder.to_path_buf(),
     })
@@ -203,7 +244,12 @@ pub fn scan_sessions(dir: &Path) -> Result<SessionTable> {
         ));
     }
     for f in found {
-        let folder = f.parent().unwrap_or(dir).to_path_buf();
+        let folder = f.parent().unwrap_or(dir);
+        let folder = match folder.strip_prefix(dir) {
+            Ok(p) if p.as_os_str().is_empty() => PathBuf::from("."),
+            Ok(p) => p.to_path_buf(),
+            Err(_) => folder.to_path_buf(),
+        };
         let text = crate::files::read_text_bounded(&f, MAX_SUMMARY_BYTES);
         match text
             .map_err(|e| e.to_string())
@@ -251,6 +297,7 @@ pub fn sort_rows(rows: &mut [SessionRow], key: SortKey, reverse: bool) {
             SortKey::Score => opt_cmp_desc(a.repetitions, b.repetitions)
                 .then_with(|| opt_cmp(a.score_s, b.score_s)),
             SortKey::Outcome => a.outcome.cmp(&b.outcome),
+            SortKey::Status => a.status.cmp(&b.status),
             SortKey::Date => a.date.cmp(&b.date),
             SortKey::Folder => a.folder.cmp(&b.folder),
         };
@@ -262,10 +309,11 @@ pub fn sort_rows(rows: &mut [SessionRow], key: SortKey, reverse: bool) {
 }
 
 /// The columns of the table and the CSV.
-pub const COLUMNS: [&str; 11] = [
+pub const COLUMNS: [&str; 12] = [
     "trainee",
     "scenario",
     "course",
+    "status",
     "repetitions",
     "time_s",
     "faults",
@@ -276,7 +324,7 @@ pub const COLUMNS: [&str; 11] = [
     "folder",
 ];
 
-fn cells(r: &SessionRow) -> [String; 11] {
+fn cells(r: &SessionRow) -> [String; 12] {
     let f = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.2}"));
     let reps = match (r.repetitions, r.repetitions_required) {
         (Some(d), Some(n)) => format!("{d}/{n}"),
@@ -287,6 +335,7 @@ fn cells(r: &SessionRow) -> [String; 11] {
         r.trainee.clone(),
         r.scenario.clone(),
         r.course.clone(),
+        r.status.clone(),
         reps,
         f(r.time_s),
         r.faults.map_or(String::new(), |n| n.to_string()),
@@ -308,13 +357,12 @@ pub fn table_csv(rows: &[SessionRow]) -> String {
     String::from_utf8(w.into_inner().expect("writes to memory")).expect("CSV of strings is UTF-8")
 }
 
-/// The rows as a text table, columns aligned (a `-` for an empty cell).
-pub fn table_text(rows: &[SessionRow]) -> String {
-    let mut all: Vec<Vec<String>> = vec![COLUMNS.iter().map(|c| c.to_string()).collect()];
+/// `rows` as aligned text (a `-` for an empty cell), headed by `columns`.
+fn aligned(columns: &[&str], rows: impl Iterator<Item = Vec<String>>) -> String {
+    let mut all: Vec<Vec<String>> = vec![columns.iter().map(|c| c.to_string()).collect()];
     for r in rows {
         all.push(
-            cells(r)
-                .into_iter()
+            r.into_iter()
                 .map(|c| {
                     let c: String = c.chars().filter(|ch| !ch.is_control()).collect();
                     if c.is_empty() { "-".into() } else { c }
@@ -322,7 +370,7 @@ pub fn table_text(rows: &[SessionRow]) -> String {
                 .collect(),
         );
     }
-    let widths: Vec<usize> = (0..COLUMNS.len())
+    let widths: Vec<usize> = (0..columns.len())
         .map(|i| all.iter().map(|r| r[i].chars().count()).max().unwrap_or(0))
         .collect();
     all.iter()
@@ -337,4 +385,263 @@ pub fn table_text(rows: &[SessionRow]) -> String {
         })
         .collect::<Vec<_>>()
         .join("\n")
+}
+
+/// The rows as a text table, columns aligned (a `-` for an empty cell).
+pub fn table_text(rows: &[SessionRow]) -> String {
+    aligned(&COLUMNS, rows.iter().map(|r| cells(r).to_vec()))
+}
+
+/// The rows grouped by course (courses by name, runs without a course last), each group
+/// headed by a line `course NAME: N sessions` and aligned as [`table_text`]; within a group
+/// the rows keep their order.
+pub fn table_text_by_course(rows: &[SessionRow]) -> String {
+    let mut courses: Vec<&str> = rows.iter().map(|r| r.course.as_str()).collect();
+    courses.sort_by(|a, b| (a.is_empty(), a).cmp(&(b.is_empty(), b)));
+    courses.dedup();
+    courses
+        .iter()
+        .map(|c| {
+            let group: Vec<SessionRow> = rows.iter().filter(|r| r.course == *c).cloned().collect();
+            let head = if c.is_empty() {
+                format!("no course: {} sessions", group.len())
+            } else {
+                format!("course {c}: {} sessions", group.len())
+            };
+            format!("{}\n{}", head, table_text(&group))
+        })
+        .collect::<Vec<_>>()
+        .join("\n\n")
+}
+
+/// One trainee's standing on one course ([`leaderboard`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Standing {
+    /// The course.
+    pub course: String,
+    /// The trainee (empty: not given).
+    pub trainee: String,
+    /// Attempts (run folders) on the course.
+    pub attempts: usize,
+    /// Attempts whose status is `completed`.
+    pub completed: usize,
+    /// Best score (time plus penalties) of the completed attempts, s.
+    pub best_s: Option<f64>,
+    /// Mean score of the completed attempts, s.
+    pub mean_s: Option<f64>,
+    /// Standard deviation of the completed attempts' scores (n - 1), s: the spread of
+    /// repeated trials, as ASTM's test methods for response robots report it.
+    pub sd_s: Option<f64>,
+}
+
+/// The leaderboard of every course: per trainee the attempts, the completed attempts and their
+/// best, mean and spread of score; within a course the best score first (trainees without a
+/// completed attempt last, by name). Runs without a course are left out.
+pub fn leaderboard(rows: &[SessionRow]) -> Vec<Standing> {
+    let mut keys: Vec<(&str, &str)> = rows
+        .iter()
+        .filter(|r| !r.course.is_empty())
+        .map(|r| (r.course.as_str(), r.trainee.as_str()))
+        .collect();
+    keys.sort();
+    keys.dedup();
+    let mut out: Vec<Standing> = keys
+        .into_iter()
+        .map(|(course, trainee)| {
+            let mine: Vec<&SessionRow> = rows
+                .iter()
+                .filter(|r| r.course == course && r.trainee == trainee)
+                .collect();
+            let scores: Vec<f64> = mine
+                .iter()
+                .filter(|r| r.status == "completed")
+                .filter_map(|r| r.score_s)
+                .collect();
+            let n = scores.len() as f64;
+            let mean = (!scores.is_empty()).then(|| scores.iter().sum::<f64>() / n);
+            let sd = mean
+                .filter(|_| scores.len() > 1)
+                .map(|m| (scores.iter().map(|s| (s - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt());
+            Standing {
+                course: course.to_string(),
+                trainee: trainee.to_string(),
+                attempts: mine.len(),
+                completed: mine.iter().filter(|r| r.status == "completed").count(),
+                best_s: scores.iter().copied().reduce(f64::min),
+                mean_s: mean,
+                sd_s: sd,
+            }
+        })
+        .collect();
+    out.sort_by(|a, b| {
+        a.course
+            .cmp(&b.course)
+            .then_with(|| opt_cmp(a.best_s, b.best_s))
+            .then_with(|| opt_cmp(a.mean_s, b.mean_s))
+            .then_with(|| a.trainee.cmp(&b.trainee))
+    });
+    out
+}
+
+/// The columns of the leaderboard.
+pub const LEADERBOARD_COLUMNS: [&str; 8] = [
+    "course",
+    "rank",
+    "trainee",
+    "completed",
+    "attempts",
+    "best_s",
+    "mean_s",
+    "sd_s",
+];
+
+fn standing_cells(board: &[Standing]) -> Vec<Vec<String>> {
+    let f = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.2}"));
+    let mut rank = 0;
+    let mut course = "";
+    board
+        .iter()
+        .map(|s| {
+            if s.course != course {
+                (course, rank) = (&s.course, 0);
+            }
+            rank += 1;
+            vec![
+                s.course.clone(),
+                if s.best_s.is_some() {
+                    rank.to_string()
+                } else {
+                    String::new()
+                },
+                s.trainee.clone(),
+                s.completed.to_string(),
+                s.attempts.to_string(),
+                f(s.best_s),
+                f(s.mean_s),
+                f(s.sd_s),
+            ]
+        })
+        .collect()
+}
+
+/// The leaderboard as aligned text (rank only for trainees with a completed attempt).
+pub fn leaderboard_text(board: &[Standing]) -> String {
+    aligned(&LEADERBOARD_COLUMNS, standing_cells(board).into_iter())
+}
+
+/// The leaderboard as CSV (header [`LEADERBOARD_COLUMNS`]).
+pub fn leaderboard_csv(board: &[Standing]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(LEADERBOARD_COLUMNS)
+        .expect("writes to memory");
+    for r in standing_cells(board) {
+        w.write_record(r).expect("writes to memory");
+    }
+    String::from_utf8(w.into_inner().expect("writes to memory")).expect("CSV of strings is UTF-8")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(course: &str, trainee: &str, status: &str, score: Option<f64>) -> SessionRow {
+        SessionRow {
+            course: course.into(),
+            trainee: trainee.into(),
+            status: status.into(),
+            score_s: score,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn the_status_says_what_became_of_the_attempt() {
+        let tipped = "tipped over (roll 80.0 deg, pitch 1.0 deg, limit 70.0 deg)";
+        assert_eq!(
+            status_of("failure", tipped, Some("not_completed")),
+            "tipped over"
+        );
+        assert_eq!(
+            status_of("ended_by_operator", "", Some("completed")),
+            "completed"
+        );
+        assert_eq!(status_of("ended_by_operator", "", Some("running")), "ended");
+        assert_eq!(status_of("completed", "", Some("time_limit")), "time limit");
+        assert_eq!(
+            status_of("success", "body passed x = 2 m", None),
+            "completed"
+        );
+        let timeout = "timeout: no success condition met in 10.000 s";
+        assert_eq!(status_of("failure", timeout, None), "time limit");
+        assert_eq!(
+            status_of("interrupted", "Ctrl-C at 3 s", None),
+            "interrupted"
+        );
+        assert_eq!(
+            status_of("completed", "ran to the end", None),
+            "ran to the end"
+        );
+    }
+
+    #[test]
+    fn the_leaderboard_ranks_completed_attempts_by_best_score() {
+        let rows = [
+            row("loop", "Ada", "completed", Some(30.0)),
+            row("loop", "Ada", "completed", Some(34.0)),
+            row("loop", "Ada", "tipped over", Some(12.0)),
+            row("loop", "Bob", "completed", Some(28.0)),
+            row("loop", "Cy", "time limit", Some(90.0)),
+            row("stairs", "Ada", "completed", Some(50.0)),
+            row("", "Ada", "completed", Some(1.0)),
+        ];
+        let b = leaderboard(&rows);
+        let names: Vec<_> = b
+            .iter()
+            .map(|s| (s.course.as_str(), s.trainee.as_str()))
+            .collect();
+        assert_eq!(
+            names,
+            [
+                ("loop", "Bob"),
+                ("loop", "Ada"),
+                ("loop", "Cy"),
+                ("stairs", "Ada")
+            ]
+        );
+        let ada = &b[1];
+        assert_eq!((ada.attempts, ada.completed), (3, 2));
+        assert_eq!((ada.best_s, ada.mean_s), (Some(30.0), Some(32.0)));
+        assert!((ada.sd_s.unwrap() - 8f64.sqrt()).abs() < 1e-12);
+        assert_eq!((b[2].best_s, b[2].completed), (None, 0));
+        let text = leaderboard_text(&b);
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[1].starts_with("loop    1     Bob"), "{text}");
+        assert!(lines[3].starts_with("loop    -     Cy"), "{text}");
+        assert!(lines[4].starts_with("stairs  1     Ada"), "{text}");
+        let csv = leaderboard_csv(&b);
+        assert_eq!(csv.lines().nth(2), Some("loop,2,Ada,2,3,30.00,32.00,2.83"));
+    }
+
+    #[test]
+    fn the_text_table_groups_by_course_with_runs_without_one_last() {
+        let rows = [
+            row("", "Ada", "ran to the end", None),
+            row("stairs", "Bob", "completed", Some(50.0)),
+            row("loop", "Ada", "completed", Some(30.0)),
+            row("stairs", "Ada", "ended", None),
+        ];
+        let t = table_text_by_course(&rows);
+        let heads: Vec<&str> = t
+            .lines()
+            .filter(|l| l.starts_with("course ") || l.starts_with("no course"))
+            .collect();
+        assert_eq!(
+            heads,
+            [
+                "course loop: 1 sessions",
+                "course stairs: 2 sessions",
+                "no course: 1 sessions"
+            ]
+        );
+    }
 }

@@ -137,7 +137,7 @@ fn finish(
         a.out.display(),
         file.display(),
         a.out.join("commands.toml").display(),
-        duration
+        tracksim::run::duration_arg(duration)
     );
     if matches!(outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);

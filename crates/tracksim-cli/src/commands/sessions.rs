@@ -3,22 +3,32 @@
 
 use super::{Failure, bad_arg};
 use std::path::PathBuf;
-use tracksim::sessions::{SortKey, scan_sessions, sort_rows, table_csv, table_text};
+use tracksim::sessions::{
+    SortKey, leaderboard, leaderboard_csv, leaderboard_text, scan_sessions, sort_rows, table_csv,
+    table_text_by_course,
+};
 
-/// Tabulate the sessions (run folders with summary.json) in a folder and its subfolders:
-/// trainee, scenario, course, repetitions, time, faults, penalties, score, outcome, date.
+/// Tabulate the sessions (run folders with summary.json) in a folder and its subfolders, grouped
+/// by course: trainee, scenario, course, status (completed, time limit, tipped over, failed,
+/// ended, interrupted, ran to the end), repetitions, time, faults, penalties, score, outcome,
+/// date, folder (relative to the folder given); or, with --leaderboard, each course's
+/// trainees ranked by their best completed score, with their mean, spread and counts.
 #[derive(clap::Args)]
 pub struct SessionsArgs {
     /// Folder holding run folders (searched 3 levels deep).
     pub dir: PathBuf,
     /// Sort by: trainee, scenario, course, repetitions, time, faults, penalty, score (most
-    /// repetitions, then lowest time plus penalties), outcome, date or folder.
+    /// repetitions, then lowest time plus penalties), outcome, date, folder or status.
     #[arg(long, default_value = "date")]
     pub sort: String,
     /// Reverse the order.
     #[arg(long)]
     pub reverse: bool,
-    /// Write CSV instead of the aligned table.
+    /// The leaderboard of every course instead of the sessions: per trainee the attempts, the
+    /// completed ones, and the best, mean and standard deviation of their scores.
+    #[arg(long)]
+    pub leaderboard: bool,
+    /// Write CSV instead of the aligned table (one table, with a course column).
     #[arg(long)]
     pub csv: bool,
     /// Write into this file instead of standard output.
@@ -43,10 +53,11 @@ pub fn sessions(a: SessionsArgs) -> Result<(), Failure> {
         eprintln!("{w}");
     }
     sort_rows(&mut table.rows, key, a.reverse);
-    let text = if a.csv {
-        table_csv(&table.rows)
-    } else {
-        table_text(&table.rows) + "\n"
+    let text = match (a.leaderboard, a.csv) {
+        (true, true) => leaderboard_csv(&leaderboard(&table.rows)),
+        (true, false) => leaderboard_text(&leaderboard(&table.rows)) + "\n",
+        (false, true) => table_csv(&table.rows),
+        (false, false) => table_text_by_course(&table.rows) + "\n",
     };
     match &a.out {
         Some(p) => {

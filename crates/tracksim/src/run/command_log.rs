@@ -101,6 +101,14 @@ impl CommandLog {
     }
 }
 
+/// A duration as the replay command's `--duration` takes it: the simulated time rounded to the
+/// microsecond and printed in its shortest form (`60.87`, not the float sum
+/// `60.870000000000005`). A run of that duration takes the same steps as the session: the
+/// rounding (< 1 us) is far below half a time step.
+pub fn duration_arg(duration_s: f64) -> String {
+    format!("{}", (duration_s * 1e6).round() / 1e6)
+}
+
 impl LogHeader<'_> {
     /// The comment lines opening a `commands.toml`: what the controls were, the command that
     /// reproduces `what_replays` of the run of `scenario_file` for `duration_s` s, the notes.
@@ -114,10 +122,11 @@ impl LogHeader<'_> {
         let mut text = format!(
             "# {}, applied at these simulated times.\n\
              # This run reproduces its {what_replays}:\n\
-             #   tracksim run {} --commands {} --duration {duration_s}\n",
+             #   tracksim run {} --commands {} --duration {}\n",
             self.what,
             scenario_file.display(),
             commands_file.display(),
+            duration_arg(duration_s),
         );
         for n in self.notes {
             text.push_str(&format!("# {n}\n"));
@@ -218,6 +227,14 @@ mod tests {
         assert_eq!(log.len(), 3);
         log.clear();
         assert!(log.is_empty());
+    }
+
+    #[test]
+    fn the_replay_duration_is_printed_without_float_noise() {
+        assert_eq!(duration_arg(60.870000000000005), "60.87");
+        assert_eq!(duration_arg(0.1 + 0.2), "0.3");
+        assert_eq!(duration_arg(2.5), "2.5");
+        assert_eq!(duration_arg(1234.000_001), "1234.000001");
     }
 
     #[test]

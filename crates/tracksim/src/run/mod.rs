@@ -41,7 +41,7 @@ pub mod track_summary;
 pub mod turn_summary;
 pub mod view;
 
-pub use command_log::{CommandLog, LogHeader, team_toml, write_team_log};
+pub use command_log::{CommandLog, LogHeader, duration_arg, team_toml, write_team_log};
 pub use course::{
     CourseEvent, CourseScore, CourseTracker, FaultCounts, MAX_COURSE_EVENTS, ScoreSummary,
 };
