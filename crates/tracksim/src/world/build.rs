@@ -82,6 +82,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         method,
         slop: sc.solver.contact_slop as f32,
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
+        held_at_rest: false,
         springs,
         ground_tile,
         robots,

@@ -98,6 +98,10 @@ pub struct Simulation {
     /// `simulation.held_friction_in_bias_pass`: while every belt is held, friction also acts in
     /// Rapier's position-correction pass (the brake holds).
     held_friction_in_bias_pass: bool,
+    /// Whether every robot was braked at rest in the last step ([`Simulation::step`]): the
+    /// step in which they come to rest creates their contacts afresh, so that the brake holds
+    /// them where they stopped, not where the contacts began.
+    held_at_rest: bool,
     /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index (every
     /// robot's).
     springs: Vec<compliance::SolverSpring>,

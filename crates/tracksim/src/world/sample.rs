@@ -64,7 +64,7 @@ pub struct Sample {
     /// Commanded belt speed per track, m/s.
     pub belt_cmd: Vec<f64>,
     /// Slip ratio per track: (belt - ground) / max(|belt|, |ground|), 0 when both are below
-    /// [`SLIP_MIN_SPEED_MPS`] (20 mm/s); ground is the parent's velocity at the track's centre along its forward axis
+    /// [`SLIP_MIN_SPEED_MPS`] (5 mm/s); ground is the parent's velocity at the track's centre along its forward axis
     /// (positive: the belt runs faster than the track moves over the ground, as when driving).
     pub slip: Vec<f64>,
     /// The terrain's force on each track over the last step.
@@ -111,11 +111,11 @@ pub struct DriveSample {
 pub const ICR_MIN_RATE_RAD_S: f64 = 1e-3;
 
 /// Speed below which neither a belt nor the ground under it is taken to move, m/s: the slip
-/// ratio is reported as 0 there. A held PackBot settling after a stop from 0.3 m/s rocks at up
-/// to 10.6 mm/s with its belts at up to 2.9 mm/s for about 2 s, and the ratio of two speeds
-/// that small read as slips of 0.6-1.0 while the robot stood (issue 43); 20 mm/s is twice the
-/// largest of them. Slower driving than this reads no slip.
-pub const SLIP_MIN_SPEED_MPS: f64 = 0.02;
+/// ratio is reported as 0 there (issue 43: the ratio of two speeds near zero read as slips of
+/// 0.6-1.0 on the HUD while a robot stood). A held PackBot at rest moves at 0.4 mm/s, its
+/// belts at 0.3 mm/s (rigid ground, after a stop from 0.3 m/s); 5 mm/s is more than ten times
+/// that, and a tenth of a slow drive's 0.05 m/s. Slower driving reads no slip.
+pub const SLIP_MIN_SPEED_MPS: f64 = 0.005;
 
 /// Slip ratio of a belt running at `belt` m/s over ground it moves along at `ground` m/s:
 /// (belt - ground) / the larger of the two, 0 while neither reaches [`SLIP_MIN_SPEED_MPS`].

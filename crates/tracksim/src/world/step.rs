@@ -41,10 +41,16 @@ impl Simulation {
         // the links come back to the same pose every step and recycling holds them exactly
         // (0.23 mm/s of creep with fresh contacts), so it stays on.
         let recycling = self.world.integration_parameters.contact_recycling;
+        // Coming to rest on held belts, the contacts are made afresh where the robot stands:
+        // recycled, their anchors were where they began, before the skid to a stop, and the
+        // bias pass's friction then pulled a PackBot stopped from 0.3 m/s back 7.4 mm over 2 s,
+        // rocking at 11 mm/s across the at-rest threshold (issue 43's red slip bars at rest).
+        let coming_to_rest = held_all && !self.held_at_rest;
+        self.held_at_rest = held_all;
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
         self.world.integration_parameters.contact_recycling =
-            recycling && !shifted && !held_on_motors && self.soil.is_none();
+            recycling && !shifted && !held_on_motors && !coming_to_rest && self.soil.is_none();
         self.world.step_with_events(&hooks, &());
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
