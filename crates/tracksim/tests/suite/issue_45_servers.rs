@@ -202,7 +202,7 @@ fn error_for(ws: &mut Ws, text: &str, max: usize) -> Option<String> {
 
 #[test]
 fn a_pages_tables_and_messages_are_bounded() {
-    let sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
+    let sc = tracksim::load_scenario(&root().join("scenarios/packbot_stairs.toml")).unwrap();
     let flippers = sc.vehicle.flippers.len();
     assert!(flippers >= 1);
     let hub = Hub::with_grace(0.0);
