@@ -219,7 +219,7 @@ mod tests {
     use super::*;
 
     fn at(port: u16) -> Access {
-        Access::loopback().bound(crate::live::DEFAULT_BIND, port)
+        Access::loopback().bound(IpAddr::V4(std::net::Ipv4Addr::LOCALHOST), port)
     }
 
     #[test]
