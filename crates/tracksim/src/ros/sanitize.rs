@@ -275,12 +275,13 @@ pub fn joint_command(
 }
 
 /// Rate-limited warnings: each [`Problem::key`] is reported at most once per `interval` s of
-/// wall time; the ones held back in between are counted and said in the next report, or by
-/// [`Warnings::held_back`] once the interval has passed.
+/// wall time; the ones held back in between are counted and said in the next report, or, when
+/// the problem has stopped, by [`Warnings::held_back`].
 pub struct Warnings {
     interval: f64,
-    /// Per key: when it was last reported and how many were held back since.
-    last: std::collections::HashMap<String, (std::time::Instant, u64)>,
+    /// Per key: when it was last reported, how many were held back since, when it was last
+    /// seen.
+    last: std::collections::HashMap<String, (std::time::Instant, u64, std::time::Instant)>,
 }
 
 /// Shortest wall time between two reports of the same problem, s.
@@ -305,11 +306,13 @@ impl Warnings {
     pub fn admit(&mut self, p: &Problem) -> Option<String> {
         let now = std::time::Instant::now();
         match self.last.get_mut(&p.key()) {
-            Some((t, held)) if now.duration_since(*t).as_secs_f64() < self.interval => {
+            Some((t, held, seen)) if now.duration_since(*t).as_secs_f64() < self.interval => {
                 *held += 1;
+                *seen = now;
                 None
             }
-            Some((t, held)) => {
+            Some((t, held, seen)) => {
+                *seen = now;
                 let text = if *held > 0 {
                     format!("{p} (and {held} more like it since the last warning)")
                 } else {
@@ -320,19 +323,20 @@ impl Warnings {
                 Some(text)
             }
             None => {
-                self.last.insert(p.key(), (now, 0));
+                self.last.insert(p.key(), (now, 0, now));
                 Some(p.to_string())
             }
         }
     }
 
-    /// For each kind with warnings held back and its interval passed: a line counting them
-    /// (call it periodically: a burst that stopped is still counted).
+    /// For each kind with warnings held back and none seen for an interval (the problem
+    /// stopped; one that goes on is counted by its next report): a line counting them. Call it
+    /// periodically, so that the end of a burst is still counted.
     pub fn held_back(&mut self) -> Vec<String> {
         let now = std::time::Instant::now();
         let mut out = Vec::new();
-        for (key, (t, held)) in &mut self.last {
-            if *held > 0 && now.duration_since(*t).as_secs_f64() >= self.interval {
+        for (key, (t, held, seen)) in &mut self.last {
+            if *held > 0 && now.duration_since(*seen).as_secs_f64() >= self.interval {
                 out.push(format!(
                     "{key}: {held} more warning(s) like it held back in the last {:.0} s",
                     now.duration_since(*t).as_secs_f64()
