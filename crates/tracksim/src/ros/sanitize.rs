@@ -337,10 +337,7 @@ impl Warnings {
         let mut out = Vec::new();
         for (key, (t, held, seen)) in &mut self.last {
             if *held > 0 && now.duration_since(*seen).as_secs_f64() >= self.interval {
-                out.push(format!(
-                    "{key}: {held} more warning(s) like it held back in the last {:.0} s",
-                    now.duration_since(*t).as_secs_f64()
-                ));
+                out.push(format!("{key}: {held} more like it since the last warning"));
                 *t = now;
                 *held = 0;
             }
