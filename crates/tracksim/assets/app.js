@@ -781,6 +781,9 @@ function connect() {
   if (api.robot) params.set('robot', api.robot);
   if (watchOnly) params.set('watch', '1');
   if (token) params.set('token', token);
+  // The session's token (from /session.json, which only this server's own pages can read):
+  // without it the server lets a connection watch, never drive (live/access.rs).
+  if (typeof session.token === 'string') params.set('session', session.token);
   const q = params.toString();
   ws = new WebSocket(`ws://${location.host}/ws${q ? `?${q}` : ''}`);
   ws.onopen = () => { api.connected = true; lostAt = null; lastSent = ''; };

@@ -1,6 +1,8 @@
 //! `tracksim drive`: a live session from the 3-D page, recorded as a run.
 
-use super::{Failure, bad_arg, bind_address, check_duration, overrides, scenario_file};
+use super::{
+    AccessArgs, Failure, access, bad_arg, bind_address, check_duration, overrides, scenario_file,
+};
 use std::path::PathBuf;
 
 /// Drive a scenario live from a 3-D page in the browser (prints its URL); the session is
@@ -42,6 +44,9 @@ pub struct DriveArgs {
     /// The trainee (operator) driving, recorded in summary.json (`tracksim sessions` lists it).
     #[arg(long)]
     pub trainee: Option<String>,
+    /// Who else may use the page (docs/LIVE.md, security).
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// `tracksim drive`.
@@ -93,7 +98,7 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         hub: hub.clone(),
         scene_json,
     };
-    let mut server = Server::start(bind_address(a.bind), a.port, mode)?;
+    let mut server = Server::start_with(bind_address(a.bind), a.port, mode, access(&a.access)?)?;
     let h = hub.clone();
     super::on_stop(move || h.request_stop());
     out!(
@@ -105,6 +110,7 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
          reconnect within {} s (the robot stops meanwhile)",
         a.reconnect_grace
     );
+    session_token(&hub);
     let session = tracksim::live::run_session(&sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
@@ -119,6 +125,17 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         session.duration(),
         &session.result.outcome,
     )
+}
+
+/// Prints the session's token: what a client other than the page (which reads it itself)
+/// presents to drive (`/ws?session=TOKEN`).
+fn session_token(hub: &tracksim::live::Hub) {
+    if let Some(t) = hub.session_token() {
+        out!(
+            "           session token {t} (the page has it; another client presents \
+             /ws?session=TOKEN to drive)"
+        );
+    }
 }
 
 /// Lists what a session wrote and how to replay it; an interrupted session fails.
@@ -162,7 +179,7 @@ fn drive_team(
         hub: hub.clone(),
         scene_json,
     };
-    let mut server = Server::start(bind_address(a.bind), a.port, mode)?;
+    let mut server = Server::start_with(bind_address(a.bind), a.port, mode, access(&a.access)?)?;
     let h = hub.clone();
     super::on_stop(move || h.request_stop());
     out!(
@@ -178,6 +195,7 @@ fn drive_team(
         "           watch any robot: {}?watch=1&robot=NAME",
         server.url()
     );
+    session_token(&hub);
     out!(
         "           a driver's stop closes their seat; the session ends when every seat taken \
          has stopped, on Ctrl-C or SIGTERM; a dropped page may reconnect within {} s",

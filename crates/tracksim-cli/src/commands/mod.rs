@@ -153,13 +153,45 @@ pub fn bind_address(bind: Option<std::net::IpAddr>) -> std::net::IpAddr {
         Some(a) if !a.is_loopback() => {
             eprintln!(
                 "warning: listening on {a}, not loopback: anyone who can reach this machine can \
-                 watch, and the first to connect drives"
+                 open the page and watch; driving needs the session's token, which the page \
+                 served here reads (so anyone who can open it can drive)"
             );
             a
         }
         Some(a) => a,
         None => tracksim::live::DEFAULT_BIND,
     }
+}
+
+/// Who else may use the page's server (`drive`, `view`): besides its own loopback names.
+#[derive(clap::Args, Debug, Default)]
+pub struct AccessArgs {
+    /// Also answer requests for this host name or IP address (the `Host` a browser sends when
+    /// it opens http://NAME:PORT/; e.g. the machine's name on the lab network). Repeatable.
+    /// By default only 127.0.0.1, localhost and [::1] (and a non-loopback --bind address).
+    #[arg(long = "allow-host", value_name = "NAME")]
+    pub allow_host: Vec<String>,
+    /// Also accept pages of this origin (http://NAME:PORT or https://NAME, as its address
+    /// bar shows it): their WebSocket may watch, and drive with the session's token.
+    /// Repeatable. By default only the server's own pages.
+    #[arg(long = "allow-origin", value_name = "URL")]
+    pub allow_origin: Vec<String>,
+}
+
+/// The server's [`tracksim::live::Access`] from `--allow-host` and `--allow-origin`.
+pub fn access(a: &AccessArgs) -> Result<tracksim::live::Access, Failure> {
+    let mut access = tracksim::live::Access::loopback();
+    for h in &a.allow_host {
+        access = access
+            .allow_host(h)
+            .map_err(|m| bad_arg("--allow-host", m))?;
+    }
+    for o in &a.allow_origin {
+        access = access
+            .allow_origin(o)
+            .map_err(|m| bad_arg("--allow-origin", m))?;
+    }
+    Ok(access)
 }
 
 /// Most characters of a `--trainee` name.

@@ -151,9 +151,11 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     let written = session.write(&sc, &file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
     super::session_report(&session.result.summary);
     out!(
-        "commands   {} received, {} problems (dropped or clamped), {} watchdog stops, {} resets",
+        "commands   {} received, {} problems (dropped or clamped), {} samples not of their \
+         topic's type dropped, {} watchdog stops, {} resets",
         session.received,
         session.problems,
+        session.undecodable,
         session.watchdog_stops,
         session.resets
     );
@@ -192,9 +194,11 @@ fn ros_team(
     );
     for (name, _, c) in &session.robots {
         out!(
-            "commands   {name}: {} received, {} problems (dropped or clamped), {} watchdog stops",
+            "commands   {name}: {} received, {} problems (dropped or clamped), {} samples not \
+             of their topic's type dropped, {} watchdog stops",
             c.received,
             c.problems,
+            c.undecodable,
             c.watchdog_stops
         );
     }

@@ -1,6 +1,6 @@
 //! `tracksim view`: a finished run replayed in the 3-D page.
 
-use super::{Failure, bind_address};
+use super::{AccessArgs, Failure, access, bind_address};
 use std::path::PathBuf;
 
 /// Replay a finished run (of `run`, `drive` or `compare`) in the 3-D page; a `compare` folder
@@ -16,6 +16,9 @@ pub struct ViewArgs {
     /// Address to listen on (default loopback only).
     #[arg(long)]
     pub bind: Option<std::net::IpAddr>,
+    /// Who else may use the page (docs/LIVE.md, security).
+    #[command(flatten)]
+    pub access: AccessArgs,
 }
 
 /// `tracksim view`: serves until Ctrl-C or SIGTERM.
@@ -23,7 +26,12 @@ pub fn view(a: ViewArgs) -> Result<(), Failure> {
     use tracksim::live::{Mode, Server, ViewVideo};
     let files = tracksim::live::view_files(&a.dir)?;
     let video = ViewVideo::of(&a.dir);
-    let server = Server::start(bind_address(a.bind), a.port, Mode::View { files, video })?;
+    let server = Server::start_with(
+        bind_address(a.bind),
+        a.port,
+        Mode::View { files, video },
+        access(&a.access)?,
+    )?;
     out!("view       open {} in a browser; Ctrl-C ends", server.url());
     let (tx, rx) = std::sync::mpsc::channel();
     super::on_stop(move || {

@@ -309,6 +309,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         flipper_angle_deg: vec![None; sc.vehicle.flippers.len()],
         ..DriveControl::default()
     };
+    hub.set_flipper_count(0, sc.vehicle.flippers.len());
     if opts.wait_for_page {
         hub.wait_for_page();
     }

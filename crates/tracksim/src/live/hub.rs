@@ -9,6 +9,14 @@
 //! Seats: a session has a seat per robot (one for a one-robot file). A page asks for robot `N`
 //! with `/ws?robot=N` (else it takes the first free seat in file order), or only watches with
 //! `/ws?watch=1` (with `robot=N`: following robot `N`); each seat has its own token and grace.
+//! Only a connection presenting the session's token (`/ws?session=TOKEN`,
+//! [`super::access::SessionToken`]: the served page reads it from `/session.json`, the terminal
+//! prints it) takes a seat; any other watches.
+//!
+//! Bounds (issue 45): a message from a page is at most [`MAX_MESSAGE_BYTES`] (a larger frame or
+//! message closes the connection before it is held in memory), a control's flipper table at
+//! most as long as the robot's flippers (a longer one is refused; a shorter one holds the rest),
+//! and the states sent to the pages carry only the controls in force, never a page's table.
 //!
 //! Protocol (JSON text frames). Server to client:
 //! `{"type":"hello","role":"driver"|"watcher","token":T|null,"grace_s":G,"robot":N,"robots":[...]}`
@@ -35,6 +43,7 @@
 //! for the grace period ([`super::seat::Seat`]); the session ends on `stop`, Ctrl-C/SIGTERM,
 //! its `--duration`, or when the grace has passed with no page connected.
 
+use super::access::SessionToken;
 use super::seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus, Seat};
 use serde::Deserialize;
 use std::net::TcpStream;
@@ -64,6 +73,13 @@ pub const MAX_FORWARD_MPS: f64 = 3.0;
 pub const MAX_YAW_RATE_RAD_S: f64 = 6.0;
 /// Largest flipper target accepted from a client, degrees (either way).
 pub const MAX_FLIPPER_DEG: f64 = 180.0;
+/// Largest WebSocket message (and frame) accepted from a page, bytes: a control is ~100.
+pub const MAX_MESSAGE_BYTES: usize = 64 << 10;
+/// Longest flipper table a control may carry before the session has said how many flippers
+/// its robot has ([`Hub::set_flipper_count`]).
+pub const MAX_FLIPPER_TABLE: usize = 64;
+/// Longest error text sent back to a page, characters.
+const MAX_ERROR_CHARS: usize = 200;
 
 /// The operator's controls: body twist and flipper targets (degrees, as a scenario file's
 /// `flipper_angle_deg`; `None`: not commanded, held where it is).
@@ -112,6 +128,10 @@ pub struct Hub {
     scene: Mutex<Option<Arc<String>>>,
     /// Soil ruts made during the session ([`Hub::append_ruts`]).
     ruts: Mutex<RutLog>,
+    /// What a connection presents to drive.
+    token: SessionToken,
+    /// Each robot's flipper count: the longest table a control may carry.
+    flippers: Mutex<Vec<usize>>,
 }
 
 impl Hub {
@@ -151,6 +171,22 @@ impl Hub {
             watch_only: false,
             scene: Mutex::default(),
             ruts: Mutex::default(),
+            token: SessionToken::new(),
+            flippers: Mutex::new(vec![MAX_FLIPPER_TABLE; n]),
+        }
+    }
+
+    /// The session's token, which a connection presents (`/ws?session=TOKEN`) to drive;
+    /// `None` for a watch-only hub (nobody drives).
+    pub fn session_token(&self) -> Option<&str> {
+        (!self.watch_only).then(|| self.token.as_str())
+    }
+
+    /// Robot `k` has `n` flippers: a control's table may be no longer (the session sets it
+    /// when it starts).
+    pub fn set_flipper_count(&self, k: usize, n: usize) {
+        if let Some(c) = self.flippers.lock().expect("hub lock").get_mut(k) {
+            *c = n.min(MAX_FLIPPER_TABLE);
         }
     }
 
@@ -353,8 +389,17 @@ impl Hub {
             Ok(ClientMessage::Control {
                 forward_mps,
                 yaw_rate_rad_s,
-                flipper_angle_deg,
+                mut flipper_angle_deg,
             }) => {
+                let n = self.flippers.lock().expect("hub lock")[k];
+                if flipper_angle_deg.len() > n {
+                    return Some(format!(
+                        "flipper_angle_deg has {} entries but this robot has {n} flippers; \
+                         control refused",
+                        flipper_angle_deg.len()
+                    ));
+                }
+                flipper_angle_deg.resize(n, None);
                 let finite = forward_mps.is_finite()
                     && yaw_rate_rad_s.is_finite()
                     && flipper_angle_deg.iter().flatten().all(|a| a.is_finite());
@@ -388,7 +433,11 @@ impl Hub {
                 None
             }
             Err(e) => Some(format!(
-                "bad message ({e}); see the protocol in live/hub.rs"
+                "bad message ({}); see the protocol in live/hub.rs",
+                e.to_string()
+                    .chars()
+                    .take(MAX_ERROR_CHARS)
+                    .collect::<String>()
             )),
         }
     }
@@ -457,13 +506,19 @@ struct Wants {
 /// watches and takes the seat when it falls free. When the driver leaves, its control is
 /// dropped (the session stops the robot) and the seat is held for the grace period.
 pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io::Result<()> {
-    let mut ws = tungstenite::accept(stream).map_err(std::io::Error::other)?;
+    let config = tungstenite::protocol::WebSocketConfig::default()
+        .max_message_size(Some(MAX_MESSAGE_BYTES))
+        .max_frame_size(Some(MAX_MESSAGE_BYTES));
+    let mut ws =
+        tungstenite::accept_with_config(stream, Some(config)).map_err(std::io::Error::other)?;
     let id = hub.next_id.fetch_add(1, Ordering::Relaxed);
     let presented = query_token(query);
+    let session = query_value(query, "session");
+    let authorised = hub.token.matches(session);
     let (robot, watch) = query_seat(query, &hub.robots);
     let asked = robot.clone().unwrap_or(None);
     let seats = match asked {
-        _ if hub.watch_only || watch || robot.is_err() => Vec::new(),
+        _ if hub.watch_only || watch || robot.is_err() || !authorised => Vec::new(),
         Some(k) => vec![k],
         None => (0..hub.robots.len()).collect(),
     };
@@ -479,6 +534,12 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
     hub.watchers.fetch_add(1, Ordering::Relaxed);
     ws.get_mut().set_read_timeout(Some(POLL))?;
     if let Err(why) = robot {
+        let msg = serde_json::json!({ "type": "error", "message": why }).to_string();
+        let _ = ws.send(Message::text(msg));
+    }
+    if session.is_some() && !authorised && !hub.watch_only {
+        let why = "not the session's token: watching (the page served by this server has it; \
+                   `tracksim drive` printed it)";
         let msg = serde_json::json!({ "type": "error", "message": why }).to_string();
         let _ = ws.send(Message::text(msg));
     }

@@ -1,6 +1,8 @@
 //! The operator's seat: `tracksim drive` (a scenario driven live from a 3-D page) and
 //! `tracksim view` (a finished run replayed in the same page).
 //!
+//! - [`access`]: who may use the server: its own `Host` and `Origin` only, and the session's
+//!   token for driving (issue 45);
 //! - [`assets`]: the page and the pinned three.js build, embedded in the binary;
 //! - [`server`]: HTTP for the assets and the run's data, a WebSocket for the live state, on
 //!   loopback unless told otherwise;
@@ -13,6 +15,7 @@
 //! - [`sensor_feed`]: the lidar and depth camera readings a live state carries;
 //! - [`watch`]: a learning environment's live page (watch-only, `render_mode="human"`).
 
+pub mod access;
 pub mod assets;
 pub mod drive;
 pub mod hub;
@@ -23,6 +26,7 @@ pub mod server;
 pub mod team_drive;
 pub mod watch;
 
+pub use access::{Access, SessionToken};
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
 pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};

@@ -12,7 +12,6 @@
 //! A session of several robots has a seat per robot, each with its own token and grace; a
 //! driver who stops closes their seat ([`Seat::finish`]) and the others drive on.
 
-use std::hash::{BuildHasher, Hasher};
 use std::time::{Duration, Instant};
 
 /// The default grace period a dropped driver has to reconnect, s.
@@ -44,16 +43,10 @@ pub struct Seat {
     finished: bool,
 }
 
-/// A fresh token: 128 bits from the standard library's randomly seeded hasher (the OS's
-/// randomness), hex.
+/// A fresh seat token: 128 bits from the operating system's random source, hex (as the
+/// session's, [`super::access::SessionToken`]).
 fn new_token() -> String {
-    let mut out = String::with_capacity(32);
-    for i in 0..2u64 {
-        let mut h = std::collections::hash_map::RandomState::new().build_hasher();
-        h.write_u64(i);
-        out.push_str(&format!("{:016x}", h.finish()));
-    }
-    out
+    super::access::SessionToken::new().as_str().to_string()
 }
 
 impl Seat {

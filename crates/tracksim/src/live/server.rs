@@ -6,6 +6,7 @@
 //! only itself. The simulation never waits for any of them: it publishes into the [`Hub`]
 //! (a latest-value slot) and reads the latest control from it.
 
+use super::access::Access;
 use super::assets::asset;
 use super::hub::Hub;
 use crate::error::{Error, Result};
@@ -105,8 +106,14 @@ pub struct Server {
 }
 
 impl Server {
-    /// Binds `bind:port` (port 0: any free port) and starts serving `mode`.
+    /// Binds `bind:port` (port 0: any free port) and starts serving `mode` to its own pages
+    /// only ([`Access::loopback`]: see [`super::access`]).
     pub fn start(bind: IpAddr, port: u16, mode: Mode) -> Result<Server> {
+        Server::start_with(bind, port, mode, Access::loopback())
+    }
+
+    /// [`Server::start`], also answering the hosts and origins `access` allows.
+    pub fn start_with(bind: IpAddr, port: u16, mode: Mode, access: Access) -> Result<Server> {
         let listener = TcpListener::bind((bind, port)).map_err(|source| Error::Io {
             path: format!("{bind}:{port} (--bind/--port: is the port in use? try another --port)")
                 .into(),
@@ -121,9 +128,9 @@ impl Server {
             source,
         })?;
         let stop = Arc::new(AtomicBool::new(false));
-        let mode = Arc::new(mode);
+        let served = Arc::new((mode, access.bound(bind, addr.port())));
         let stop2 = stop.clone();
-        let thread = std::thread::spawn(move || accept_loop(listener, mode, stop2));
+        let thread = std::thread::spawn(move || accept_loop(listener, served, stop2));
         Ok(Server {
             addr,
             stop,
@@ -156,13 +163,13 @@ impl Drop for Server {
     }
 }
 
-fn accept_loop(listener: TcpListener, mode: Arc<Mode>, stop: Arc<AtomicBool>) {
+fn accept_loop(listener: TcpListener, served: Arc<(Mode, Access)>, stop: Arc<AtomicBool>) {
     while !stop.load(Ordering::Relaxed) {
         match listener.accept() {
             Ok((stream, _)) => {
-                let mode = mode.clone();
+                let served = served.clone();
                 std::thread::spawn(move || {
-                    let _ = handle(stream, &mode);
+                    let _ = handle(stream, &served.0, &served.1);
                 });
             }
             Err(_) => std::thread::sleep(Duration::from_millis(10)),
@@ -216,7 +223,7 @@ fn respond_to(
     stream.flush()
 }
 
-fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
+fn handle(mut stream: TcpStream, mode: &Mode, access: &Access) -> std::io::Result<()> {
     stream.set_nonblocking(false)?;
     stream.set_read_timeout(Some(Duration::from_secs(5)))?;
     stream.set_write_timeout(Some(Duration::from_secs(5)))?;
@@ -232,6 +239,13 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
             b"bad request\n",
         );
     };
+    if let Err(why) = access.check(req.headers) {
+        // Consume what was peeked, so that the answer is not lost to a reset connection.
+        let mut sink = vec![0u8; head.len()];
+        let _ = stream.read_exact(&mut sink);
+        let body = format!("forbidden: {why}\n");
+        return respond(&mut stream, "403 Forbidden", "text/plain", body.as_bytes());
+    }
     let path = target.split(['?', '#']).next().unwrap_or("");
     let upgrade = req.headers.iter().any(|h| {
         h.name.eq_ignore_ascii_case("upgrade")
@@ -261,7 +275,14 @@ fn handle(mut stream: TcpStream, mode: &Mode) -> std::io::Result<()> {
     }
     if path == "/session.json" {
         let video = matches!(mode, Mode::View { video: Some(_), .. });
-        let body = serde_json::json!({ "mode": mode.name(), "video": video }).to_string();
+        // The session's token, for the page this server served (Host and Origin checked
+        // above: another site's page cannot read it). A watch-only hub has nothing to drive.
+        let token = match mode {
+            Mode::Drive { hub, .. } => hub.session_token(),
+            Mode::View { .. } => None,
+        };
+        let body =
+            serde_json::json!({ "mode": mode.name(), "video": video, "token": token }).to_string();
         return respond(&mut stream, "200 OK", "application/json", body.as_bytes());
     }
     match mode {

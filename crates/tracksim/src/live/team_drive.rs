@@ -154,6 +154,9 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
         .unbounded()
         .paced(opts.speed);
     let order = world.sim().build_order().to_vec();
+    for k in 0..world.sim().robot_count() {
+        hub.set_flipper_count(k, world.robot_scenario(k).vehicle.flippers.len());
+    }
     let seats = (0..world.sim().robot_count())
         .map(|k| {
             let idle = DriveControl {

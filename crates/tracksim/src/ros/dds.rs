@@ -10,6 +10,7 @@
 //! subscriptions are reliable, keep last 10 (the default of `ros2 topic pub`, Nav2 and
 //! `teleop_twist_keyboard`).
 
+use super::decode::{Bounded, Whole};
 use super::network::NetworkRange;
 use super::topics;
 use crate::output::ros_names::Namespace;
@@ -24,7 +25,6 @@ use ros2_client::{
     Subscription,
 };
 use serde::Serialize;
-use serde::de::DeserializeOwned;
 
 /// Why the node could not start.
 pub type DdsError = String;
@@ -67,21 +67,30 @@ pub struct Sub<T> {
     inner: Subscription<T>,
     /// The ROS topic.
     pub topic: String,
+    /// Samples that did not decode as `T` since the last [`Sub::take_dropped`].
+    dropped: std::cell::Cell<u64>,
 }
 
-impl<T: 'static + DeserializeOwned> Sub<T> {
-    /// Every message received since the last call (undecodable ones skipped), oldest first.
+impl<T: Bounded> Sub<T> {
+    /// Every message received since the last call, oldest first: each sample read whole and
+    /// within bounds ([`super::decode`]); one that does not decode as `T` is dropped and
+    /// counted ([`Sub::take_dropped`]).
     pub fn drain(&self) -> Vec<T> {
         let mut out = Vec::new();
         // Bounded: a flood cannot hold the simulation here.
         for _ in 0..1000 {
-            match self.inner.take() {
+            match self.inner.take_seed(Whole::<T>::default()) {
                 Ok(Some((m, _))) => out.push(m),
                 Ok(None) => break,
-                Err(_) => continue,
+                Err(_) => self.dropped.set(self.dropped.get() + 1),
             }
         }
         out
+    }
+
+    /// How many samples did not decode since the last call.
+    pub fn take_dropped(&self) -> u64 {
+        self.dropped.replace(0)
     }
 }
 
@@ -164,6 +173,7 @@ impl DdsNode {
         Ok(Sub {
             inner,
             topic: name.to_string(),
+            dropped: std::cell::Cell::new(0),
         })
     }
 

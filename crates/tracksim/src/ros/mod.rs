@@ -6,6 +6,7 @@
 //! - [`network`]: which interfaces DDS uses (loopback only by default);
 //! - [`sanitize`]: what a message may ask of the physics (non-finite values dropped, limits
 //!   clamped, unknown flipper names dropped) and the rate-limited warnings;
+//! - [`decode`]: a DDS sample read as its type only when it is one (whole, within bounds);
 //! - [`commands`]: the commands in force, turned into controls, and the `cmd_vel` watchdog;
 //! - the published messages are built from a sample by [`crate::output::ros_messages`], the
 //!   module `run.mcap` records them with;
@@ -17,6 +18,7 @@
 
 pub mod commands;
 pub mod dds;
+pub mod decode;
 pub mod network;
 pub mod sanitize;
 pub mod sensors;

@@ -2,7 +2,9 @@
 //! a control. A value that is not a finite number (NaN, infinite) drops the whole message; a
 //! finite value beyond its limit is clamped to it; a flipper name the vehicle does not have is
 //! dropped. Each such case is a [`Problem`], which the node reports through [`Warnings`]
-//! (rate-limited) on `/rosout` and standard error.
+//! (rate-limited by kind and topic, never by anything the peer chose: issue 45) on `/rosout`
+//! and standard error. A joint command names at most [`MAX_JOINT_NAMES`] joints, and its unknown
+//! names are one problem per message (the first named, the others counted).
 
 use crate::model::VehicleModel;
 use crate::rosmsg::{JointState, Twist};
@@ -15,6 +17,10 @@ pub const MAX_YAW_RATE_RAD_S: f64 = crate::live::hub::MAX_YAW_RATE_RAD_S;
 pub const MAX_BELT_MPS: f64 = 5.0;
 /// Largest flipper target accepted, rad (either way: half a turn, as the drive page's 180 deg).
 pub const MAX_FLIPPER_RAD: f64 = std::f64::consts::PI;
+/// Most joints a joint command may name (the subscription refuses longer ones as it reads).
+pub const MAX_JOINT_NAMES: usize = super::decode::MAX_JOINT_NAMES;
+/// Most characters of a peer's name quoted in a warning.
+const QUOTED_CHARS: usize = 64;
 
 /// Why (part of) a message did not reach the physics as it was sent.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,12 +43,22 @@ pub enum Problem {
         /// What was used instead.
         used: f64,
     },
-    /// A joint command named a flipper the vehicle does not have: that entry was dropped.
+    /// A joint command named flippers the vehicle does not have: those entries were dropped.
     UnknownFlipper {
         /// The ROS topic.
         topic: String,
-        /// The name sent.
+        /// The first unknown name sent (at most 64 characters of it).
         name: String,
+        /// How many more unknown names the message had.
+        more: usize,
+    },
+    /// Samples on the topic did not decode as its message type (another type under its name,
+    /// cut short, bytes left over, beyond the bounds): dropped ([`super::decode`]).
+    Undecodable {
+        /// The ROS topic.
+        topic: String,
+        /// How many since the last check.
+        count: u64,
     },
     /// A joint command's arrays disagree in length: the message was dropped.
     Malformed {
@@ -54,14 +70,32 @@ pub enum Problem {
 }
 
 impl Problem {
-    /// The key warnings are rate-limited by (one kind of problem on one topic and field).
-    pub fn key(&self) -> String {
+    /// The problem's kind: one of a fixed set.
+    pub fn kind(&self) -> &'static str {
         match self {
-            Problem::NotFinite { topic, field } => format!("{topic} {field} not finite"),
-            Problem::Clamped { topic, field, .. } => format!("{topic} {field} clamped"),
-            Problem::UnknownFlipper { topic, name } => format!("{topic} unknown {name}"),
-            Problem::Malformed { topic, .. } => format!("{topic} malformed"),
+            Problem::NotFinite { .. } => "not a finite number",
+            Problem::Clamped { .. } => "beyond its limit",
+            Problem::UnknownFlipper { .. } => "unknown flipper name",
+            Problem::Malformed { .. } => "malformed joint command",
+            Problem::Undecodable { .. } => "sample not of the topic's type",
         }
+    }
+
+    /// The topic (one of the node's own).
+    pub fn topic(&self) -> &str {
+        match self {
+            Problem::NotFinite { topic, .. }
+            | Problem::Clamped { topic, .. }
+            | Problem::UnknownFlipper { topic, .. }
+            | Problem::Malformed { topic, .. }
+            | Problem::Undecodable { topic, .. } => topic,
+        }
+    }
+
+    /// The key warnings are rate-limited by: the kind on the node's topic (never a field or
+    /// name the peer chose, so the keys are as few as the node's topics times the kinds).
+    pub fn key(&self) -> String {
+        format!("{}: {}", self.topic(), self.kind())
     }
 }
 
@@ -83,11 +117,25 @@ impl std::fmt::Display for Problem {
                 f,
                 "{topic}: {field} = {value} is beyond its limit; {used} used"
             ),
-            Problem::UnknownFlipper { topic, name } => write!(
+            Problem::UnknownFlipper {
+                topic,
+                name,
+                more: 0,
+            } => write!(
                 f,
                 "{topic}: the vehicle has no flipper named {name:?}; that entry dropped"
             ),
+            Problem::UnknownFlipper { topic, name, more } => write!(
+                f,
+                "{topic}: the vehicle has no flipper named {name:?} nor {more} other name(s) \
+                 of the message; those entries dropped"
+            ),
             Problem::Malformed { topic, what } => write!(f, "{topic}: {what}; message dropped"),
+            Problem::Undecodable { topic, count } => write!(
+                f,
+                "{topic}: {count} sample(s) that do not decode as the topic's type (another \
+                 type under its name, or beyond the bounds); dropped"
+            ),
         }
     }
 }
@@ -178,6 +226,13 @@ pub fn joint_command(
     js: &JointState,
     problems: &mut Vec<Problem>,
 ) -> Vec<(usize, f64)> {
+    if js.name.len() > MAX_JOINT_NAMES {
+        problems.push(Problem::Malformed {
+            topic: topic.into(),
+            what: format!("{} names (at most {MAX_JOINT_NAMES})", js.name.len()),
+        });
+        return Vec::new();
+    }
     if js.position.len() != js.name.len() {
         problems.push(Problem::Malformed {
             topic: topic.into(),
@@ -190,6 +245,7 @@ pub fn joint_command(
         return Vec::new();
     }
     let mut out = Vec::new();
+    let mut unknown: Option<(&String, usize)> = None;
     for (k, (name, &p)) in js.name.iter().zip(&js.position).enumerate() {
         let field = format!("position[{k}]");
         let a = match clamp_field(topic, &field, p, MAX_FLIPPER_RAD, problems) {
@@ -199,23 +255,33 @@ pub fn joint_command(
                 return Vec::new();
             }
         };
-        match v.flippers.iter().position(|f| &f.name == name) {
-            Some(i) => out.push((i, a)),
-            None => problems.push(Problem::UnknownFlipper {
-                topic: topic.into(),
-                name: name.clone(),
-            }),
+        match (
+            v.flippers.iter().position(|f| &f.name == name),
+            &mut unknown,
+        ) {
+            (Some(i), _) => out.push((i, a)),
+            (None, Some((_, more))) => *more += 1,
+            (None, None) => unknown = Some((name, 0)),
         }
+    }
+    if let Some((name, more)) = unknown {
+        problems.push(Problem::UnknownFlipper {
+            topic: topic.into(),
+            name: name.chars().take(QUOTED_CHARS).collect(),
+            more,
+        });
     }
     out
 }
 
 /// Rate-limited warnings: each [`Problem::key`] is reported at most once per `interval` s of
-/// wall time; the ones held back in between are counted and named in the next report.
+/// wall time; the ones held back in between are counted and said in the next report, or, when
+/// the problem has stopped, by [`Warnings::held_back`].
 pub struct Warnings {
     interval: f64,
-    /// Per key: when it was last reported and how many were held back since.
-    last: std::collections::HashMap<String, (std::time::Instant, u64)>,
+    /// Per key: when it was last reported, how many were held back since, when it was last
+    /// seen.
+    last: std::collections::HashMap<String, (std::time::Instant, u64, std::time::Instant)>,
 }
 
 /// Shortest wall time between two reports of the same problem, s.
@@ -240,11 +306,13 @@ impl Warnings {
     pub fn admit(&mut self, p: &Problem) -> Option<String> {
         let now = std::time::Instant::now();
         match self.last.get_mut(&p.key()) {
-            Some((t, held)) if now.duration_since(*t).as_secs_f64() < self.interval => {
+            Some((t, held, seen)) if now.duration_since(*t).as_secs_f64() < self.interval => {
                 *held += 1;
+                *seen = now;
                 None
             }
-            Some((t, held)) => {
+            Some((t, held, seen)) => {
+                *seen = now;
                 let text = if *held > 0 {
                     format!("{p} (and {held} more like it since the last warning)")
                 } else {
@@ -255,10 +323,27 @@ impl Warnings {
                 Some(text)
             }
             None => {
-                self.last.insert(p.key(), (now, 0));
+                self.last.insert(p.key(), (now, 0, now));
                 Some(p.to_string())
             }
         }
+    }
+
+    /// For each kind with warnings held back and none seen for an interval (the problem
+    /// stopped; one that goes on is counted by its next report): a line counting them. Call it
+    /// periodically, so that the end of a burst is still counted.
+    pub fn held_back(&mut self) -> Vec<String> {
+        let now = std::time::Instant::now();
+        let mut out = Vec::new();
+        for (key, (t, held, seen)) in &mut self.last {
+            if *held > 0 && now.duration_since(*seen).as_secs_f64() >= self.interval {
+                out.push(format!("{key}: {held} more like it since the last warning"));
+                *t = now;
+                *held = 0;
+            }
+        }
+        out.sort();
+        out
     }
 }
 
@@ -358,12 +443,63 @@ mod tests {
         let b = Problem::UnknownFlipper {
             topic: "/j".into(),
             name: "x".into(),
+            more: 0,
         };
         assert!(w.admit(&a).is_some());
         assert!(w.admit(&a).is_none());
         assert!(w.admit(&b).is_some());
+        // The peer's name or field is not the key: another name is the same kind.
+        let c = Problem::UnknownFlipper {
+            topic: "/j".into(),
+            name: "y".into(),
+            more: 3,
+        };
+        assert!(w.admit(&c).is_none());
+        let d = Problem::NotFinite {
+            topic: "/cmd_vel".into(),
+            field: "angular.z".into(),
+        };
+        assert!(w.admit(&d).is_none());
+        assert_eq!(w.last.len(), 2);
+        assert!(w.held_back().is_empty(), "within the interval");
         let mut w = Warnings::new(0.0);
         assert!(w.admit(&a).is_some());
         assert!(w.admit(&a).is_some());
+        let mut w = Warnings::new(0.05);
+        assert!(w.admit(&b).is_some());
+        assert!(w.admit(&c).is_none() && w.admit(&c).is_none());
+        std::thread::sleep(std::time::Duration::from_millis(60));
+        let held = w.held_back();
+        assert!(
+            held.len() == 1 && held[0].contains("/j: unknown flipper name: 2 more"),
+            "{held:?}"
+        );
+        assert!(w.held_back().is_empty(), "counted once");
+    }
+
+    #[test]
+    fn a_joint_command_is_bounded_and_its_unknown_names_one_problem() {
+        let v = vehicle();
+        let many = JointState {
+            name: (0..50_000).map(|i| format!("nope{i}")).collect(),
+            position: vec![0.0; 50_000],
+            ..JointState::default()
+        };
+        let mut p = Vec::new();
+        assert!(joint_command("/j", &v, &many, &mut p).is_empty());
+        assert!(matches!(&p[..], [Problem::Malformed { what, .. }] if what.contains("at most 64")));
+        let some = JointState {
+            name: (0..MAX_JOINT_NAMES)
+                .map(|i| format!("{}{i}", "n".repeat(500)))
+                .collect(),
+            position: vec![0.0; MAX_JOINT_NAMES],
+            ..JointState::default()
+        };
+        let mut p = Vec::new();
+        joint_command("/j", &v, &some, &mut p);
+        assert!(
+            matches!(&p[..], [Problem::UnknownFlipper { name, more: 63, .. }] if name.len() == 64),
+            "{p:?}"
+        );
     }
 }

@@ -81,6 +81,9 @@ pub struct RosSession {
     /// Problems found in received messages (each dropped or clamped, see
     /// [`super::sanitize`]).
     pub problems: u64,
+    /// Samples dropped because they did not decode as their topic's type
+    /// ([`super::decode`]).
+    pub undecodable: u64,
     /// Times the watchdog stopped the robot.
     pub watchdog_stops: u64,
     /// Times `/tracksim/reset` restarted the session (the run written is the one since the
@@ -107,6 +110,9 @@ impl Reporter<'_> {
                 self.say(LogLevel::Warn, t, &text);
             }
         }
+        for text in self.warnings.held_back() {
+            self.say(LogLevel::Warn, t, &text);
+        }
     }
 }
 
@@ -128,6 +134,7 @@ fn receive(
             });
         }
     }
+    undecodable(&subs.cmd_vel, problems);
     for (track, sub) in subs.track_speed.iter().enumerate() {
         for m in sub.iter().flat_map(|s| s.drain()) {
             let topic = &sub.as_ref().expect("drained").topic;
@@ -135,6 +142,7 @@ fn receive(
                 out.push(Command::BeltSpeed { track, mps });
             }
         }
+        sub.iter().for_each(|s| undecodable(s, problems));
     }
     for (flipper, sub) in subs.flipper_position.iter().enumerate() {
         for m in sub.iter().flat_map(|s| s.drain()) {
@@ -143,6 +151,7 @@ fn receive(
                 out.push(Command::Flipper { flipper, rad });
             }
         }
+        sub.iter().for_each(|s| undecodable(s, problems));
     }
     let positions = ns.topic(topics::FLIPPER_POSITIONS);
     for js in subs.flipper_positions.drain() {
@@ -153,7 +162,19 @@ fn receive(
                 .map(|(flipper, rad)| Command::Flipper { flipper, rad }),
         );
     }
+    undecodable(&subs.flipper_positions, problems);
     out
+}
+
+/// The samples of `sub` that did not decode since the last call, as a problem.
+fn undecodable<T: super::decode::Bounded>(sub: &super::dds::Sub<T>, problems: &mut Vec<Problem>) {
+    let count = sub.take_dropped();
+    if count > 0 {
+        problems.push(Problem::Undecodable {
+            topic: sub.topic.clone(),
+            count,
+        });
+    }
 }
 
 fn dds_error(e: String) -> Error {
@@ -170,6 +191,8 @@ pub struct Counts {
     pub received: u64,
     /// Problems found in received messages (each dropped or clamped).
     pub problems: u64,
+    /// Samples dropped because they did not decode as their topic's type (within bounds).
+    pub undecodable: u64,
     /// Times the watchdog stopped the robot.
     pub watchdog_stops: u64,
 }
@@ -397,6 +420,13 @@ impl RobotTopics {
         let mut problems = Vec::new();
         let received = receive(&self.subs, &self.ns, v, &mut problems);
         self.control.counts.problems += problems.len() as u64;
+        self.control.counts.undecodable += problems
+            .iter()
+            .map(|p| match p {
+                Problem::Undecodable { count, .. } => *count,
+                _ => 0,
+            })
+            .sum::<u64>();
         rep.problems(t, &problems);
         self.control
             .controls(v, t, received, &mut |m| rep.say(LogLevel::Info, t, m))
@@ -694,6 +724,7 @@ pub fn run_ros(sc: &Scenario, opts: &RosOptions, warn: &mut dyn FnMut(&str)) -> 
         log: run.log,
         received: c.received,
         problems: c.problems,
+        undecodable: c.undecodable,
         watchdog_stops: c.watchdog_stops,
         resets: topics.resets,
     })

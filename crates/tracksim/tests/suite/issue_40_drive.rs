@@ -111,9 +111,13 @@ fn two_trainees_drive_at_once_and_the_session_replays_byte_for_byte() {
         };
         tracksim::live::run_team_session(&sc2, &hub2, opts)
     });
-    let url = format!("ws://{}/ws", server.addr());
+    let url = format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    );
     // Seat b asked by name, seat a taken as the first free one; a third page watches.
-    let (mut b, _) = tungstenite::connect(format!("{url}?robot=b")).unwrap();
+    let (mut b, _) = tungstenite::connect(format!("{url}&robot=b")).unwrap();
     let hb = next_json(&mut b);
     assert_eq!(
         (&hb["role"], &hb["robot"]),
@@ -129,7 +133,7 @@ fn two_trainees_drive_at_once_and_the_session_replays_byte_for_byte() {
         "{ha}"
     );
     assert_ne!(ha["token"], hb["token"], "a token per seat");
-    let (mut w, _) = tungstenite::connect(format!("{url}?watch=1&robot=b")).unwrap();
+    let (mut w, _) = tungstenite::connect(format!("{url}&watch=1&robot=b")).unwrap();
     let hw = next_json(&mut w);
     assert_eq!(
         (&hw["role"], &hw["robot"]),

@@ -11,7 +11,12 @@ use tracksim::live::{Mode, Server, ViewVideo};
 
 fn get(addr: std::net::SocketAddr, target: &str) -> (String, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();
-    write!(s, "GET {target} HTTP/1.1\r\nHost: localhost\r\n\r\n").unwrap();
+    write!(
+        s,
+        "GET {target} HTTP/1.1\r\nHost: localhost:{}\r\n\r\n",
+        addr.port()
+    )
+    .unwrap();
     let mut bytes = Vec::new();
     s.read_to_end(&mut bytes).unwrap();
     let end = bytes.windows(4).position(|w| w == b"\r\n\r\n").unwrap();

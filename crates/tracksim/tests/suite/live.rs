@@ -82,7 +82,11 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
             },
         )
     });
-    let url = format!("ws://{}/ws", server.addr());
+    let url = format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    );
     let (mut ws, _) = tungstenite::connect(&url).unwrap();
     let hello = next_json(&mut ws);
     assert_eq!(hello["role"], "driver", "{hello}");
@@ -193,7 +197,12 @@ fn reset_restarts_the_session() {
             },
         )
     });
-    let (mut ws, _) = tungstenite::connect(format!("ws://{}/ws", server.addr())).unwrap();
+    let (mut ws, _) = tungstenite::connect(format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    ))
+    .unwrap();
     control(&mut ws, 0.3, serde_json::json!([]));
     until(&mut ws, 5000, "t > 0.5 s", |m| {
         m["t"].as_f64().unwrap() > 0.5
@@ -224,7 +233,12 @@ fn tempfile_dir(name: &str) -> std::path::PathBuf {
 
 fn get(addr: std::net::SocketAddr, target: &str) -> (String, String) {
     let mut s = TcpStream::connect(addr).unwrap();
-    write!(s, "GET {target} HTTP/1.1\r\nHost: localhost\r\n\r\n").unwrap();
+    write!(
+        s,
+        "GET {target} HTTP/1.1\r\nHost: localhost:{}\r\n\r\n",
+        addr.port()
+    )
+    .unwrap();
     let mut text = String::new();
     s.read_to_string(&mut text).unwrap();
     let status = text.lines().next().unwrap_or("").to_string();
@@ -408,7 +422,12 @@ fn drive_streams_lidar_points_and_depth_images() {
         };
         tracksim::live::run_session(&sc2, &hub2, opts)
     });
-    let (mut ws, _) = tungstenite::connect(format!("ws://{}/ws", server.addr())).unwrap();
+    let (mut ws, _) = tungstenite::connect(format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    ))
+    .unwrap();
     // Two lidar readings: each is sent once, so their times differ by the scan period.
     let a = until(&mut ws, 3000, "a lidar reading", |m| {
         sensor_entry(m, "lidar").is_some()
@@ -558,7 +577,11 @@ fn a_dropped_driver_reconnects_within_the_grace() {
     let session = std::thread::spawn(move || {
         tracksim::live::run_session(&sc2, &hub2, DriveOptions::default())
     });
-    let url = format!("ws://{}/ws", server.addr());
+    let url = format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    );
     let (mut ws, _) = tungstenite::connect(&url).unwrap();
     let hello = next_of(&mut ws, 50, "hello");
     assert_eq!(hello["role"], "driver", "{hello}");
@@ -586,7 +609,7 @@ fn a_dropped_driver_reconnects_within_the_grace() {
     });
     let t_stop = stopped["t"].as_f64().unwrap();
     // The driver's page comes back with its token and drives on.
-    let (mut back, _) = tungstenite::connect(format!("{url}?token={token}")).unwrap();
+    let (mut back, _) = tungstenite::connect(format!("{url}&token={token}")).unwrap();
     let hello = next_of(&mut back, 50, "hello");
     assert_eq!(hello["role"], "driver", "{hello}");
     assert_eq!(hello["token"], token.as_str());
