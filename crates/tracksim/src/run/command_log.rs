@@ -234,7 +234,7 @@ mod tests {
         assert_eq!(duration_arg(60.870000000000005), "60.87");
         assert_eq!(duration_arg(0.1 + 0.2), "0.3");
         assert_eq!(duration_arg(2.5), "2.5");
-        assert_eq!(duration_arg(1234.000_001), "1234.000001");
+        assert_eq!(duration_arg(1_234.000_001), "1234.000001");
     }
 
     #[test]
