@@ -825,3 +825,58 @@ fn run_and_compare_ensembles() {
         o.stdout
     );
 }
+
+/// Issue 45: a run folder is marked INCOMPLETE while its run writes it; a run killed with
+/// SIGKILL (nothing can clean up) leaves the mark beside an earlier run's files, and `sessions`
+/// skips the folder, `video` refuses it naming the mark; a run that finishes leaves none.
+#[test]
+fn a_killed_runs_folder_is_never_read_as_a_result() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("runs/a");
+    let o = out.to_str().unwrap();
+    let r = run(&[
+        "run",
+        "scenarios/packbot_flat.toml",
+        "--duration",
+        "0.3",
+        "--out",
+        o,
+    ]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(!out.join("INCOMPLETE").exists());
+    let runs = tmp.path().join("runs");
+    let r = run(&["sessions", runs.to_str().unwrap()]);
+    assert!(r.stdout.contains("no course: 1 sessions"), "{}", r.stdout);
+    // A second, long run into the same folder, killed while it simulates.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_tracksim"))
+        .args(["run", "scenarios/packbot_flat.toml", "--duration", "600"])
+        .args(["--out", o, "--quiet"])
+        .current_dir(root())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !out.join("INCOMPLETE").exists() && t0.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    assert!(
+        out.join("INCOMPLETE").is_file(),
+        "the run marked its folder"
+    );
+    assert!(
+        out.join("summary.json").is_file(),
+        "the earlier run's files are still there"
+    );
+    let r = run(&["sessions", runs.to_str().unwrap()]);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(!r.stdout.contains("1 sessions"), "{}", r.stdout);
+    assert!(r.stderr.contains("INCOMPLETE"), "{}", r.stderr);
+    let r = run(&["video", o]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("INCOMPLETE") && r.stderr.contains("killed"),
+        "{}",
+        r.stderr
+    );
+}

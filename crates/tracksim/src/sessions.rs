@@ -245,6 +245,14 @@ pub fn scan_sessions(dir: &Path) -> Result<SessionTable> {
     }
     for f in found {
         let folder = f.parent().unwrap_or(dir);
+        if crate::output::incomplete::is_incomplete(folder) {
+            t.warnings.push(format!(
+                "warning: {}: skipped: marked {} (still being written, or its run was killed)",
+                folder.display(),
+                crate::output::incomplete::INCOMPLETE_MARKER
+            ));
+            continue;
+        }
         let folder = match folder.strip_prefix(dir) {
             Ok(p) if p.as_os_str().is_empty() => PathBuf::from("."),
             Ok(p) => p.to_path_buf(),

@@ -111,12 +111,14 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         a.reconnect_grace
     );
     session_token(&hub);
+    tracksim::output::incomplete::mark_incomplete(&a.out)?;
     let session = tracksim::live::run_session(&sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
     let mut session = session?;
     session.result.summary.trainee = trainee;
     let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     super::session_report(&session.result.summary);
     finish(
         &a,
@@ -201,11 +203,13 @@ fn drive_team(
          has stopped, on Ctrl-C or SIGTERM; a dropped page may reconnect within {} s",
         a.reconnect_grace
     );
+    tracksim::output::incomplete::mark_incomplete(&a.out)?;
     let session = tracksim::live::run_team_session(sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
     let session = session?;
     let written = session.write(sc, file, &a.out, !a.no_plot)?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     for (name, run) in &session.result.robots {
         out!(
             "{name:<10} {}: {}",

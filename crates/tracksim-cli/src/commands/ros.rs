@@ -144,11 +144,13 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
         "           stop: Ctrl-C or SIGTERM (the run is written to {})",
         a.out.display()
     );
+    tracksim::output::incomplete::mark_incomplete(&a.out)?;
     if team {
         return ros_team(&a, &file, &sc, &opts);
     }
     let session = run_ros(&sc, &opts, &mut |w| eprintln!("warning: {w}"))?;
     let written = session.write(&sc, &file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     super::session_report(&session.result.summary);
     out!(
         "commands   {} received, {} problems (dropped or clamped), {} samples not of their \
@@ -182,6 +184,7 @@ fn ros_team(
     );
     let session = tracksim::ros::run_ros_team(sc, opts, &mut |w| eprintln!("warning: {w}"))?;
     let written = session.write(sc, file, &a.out, !a.no_plot, (a.mcap, a.raw_images))?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     out!(
         "{}",
         tracksim::output::team::team_report_of(

@@ -117,6 +117,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         return run_team(&a, &file, &sc);
     }
     let trainee = super::trainee(a.trainee.as_deref())?;
+    tracksim::output::incomplete::mark_incomplete(&a.out)?;
     let bar = progress_bar(!a.quiet && !a.json && std::io::stderr().is_terminal());
     on_stop(|| {});
     let wall = std::time::Instant::now();
@@ -145,6 +146,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         raw_images: a.raw_images,
     };
     let written = tracksim::output::write_outputs(&sc, &result, &a.out, which)?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     if a.json {
         out!(
             "{}",
@@ -183,6 +185,7 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
         realtime: a.realtime,
         stop: Some(&super::STOP),
     };
+    tracksim::output::incomplete::mark_incomplete(&a.out)?;
     let result = tracksim::run::run_team(sc, opts)?;
     // With --mcap each robot's folder holds its run.mcap (its own topics and frames).
     let which = tracksim::output::Outputs {
@@ -192,6 +195,7 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
         raw_images: a.raw_images,
     };
     tracksim::output::write_team(sc, &result, &a.out, which)?;
+    tracksim::output::incomplete::mark_complete(&a.out)?;
     if a.json {
         out!(
             "{}",

@@ -377,6 +377,7 @@ pub type ViewFile = (String, &'static str, Vec<u8>);
 /// The files of one run in `dir`, their URLs under `prefix` (`/run` or `/run/<index>`), with
 /// its `scene.json` at `/scene.json` (`prefix` `/run`) or `<prefix>/scene.json`.
 fn run_files(dir: &std::path::Path, prefix: &str, sensors: bool) -> Result<Vec<ViewFile>> {
+    crate::output::incomplete::check_complete(dir)?;
     let required = ["scene.json", "trajectory.csv", "belts.csv"];
     let optional = ["summary.json", "controls.csv", "ruts.csv"];
     let mut files = Vec::new();

@@ -20,6 +20,7 @@
 //! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
 
 pub mod foxglove_scene;
+pub mod incomplete;
 pub mod mcap;
 pub mod odom_covariance;
 pub mod plot;

@@ -180,6 +180,7 @@ impl Replay {
     /// Reads the run folder `dir` (a team run's folder: every robot, the camera on `robot` or
     /// the first).
     pub fn open(dir: &Path, robot: Option<&str>) -> Result<Replay> {
+        crate::output::incomplete::check_complete(dir)?;
         let runs = if dir.join("team.json").is_file() && !dir.join("scene.json").is_file() {
             team_dirs(dir)?
                 .iter()
