@@ -74,15 +74,24 @@ pub const MIN_LINK_MASS_KG: f64 = 0.1;
 /// written into the file's keys before compiling, through [`super::Overrides`] or by editing
 /// the [`crate::spec::ScenarioSpec`], so it is checked like the file's own values.
 ///
-/// ```compile_fail
+/// Outside `model/` a field cannot be assigned (there is no `DerefMut`), nor a field's value
+/// changed through a method:
+/// ```compile_fail,E0594
 /// # fn f(sc: &mut tracksim::Scenario) {
-/// sc.duration = 1.0; // no `DerefMut`: a compiled scenario is not changed
+/// sc.duration = 1.0;
 /// # }
 /// ```
-/// ```compile_fail
+/// ```compile_fail,E0596
+/// # fn f(sc: &mut tracksim::Scenario) {
+/// sc.commands.clear();
+/// # }
+/// ```
+/// and a [`ScenarioData`] copied out and changed does not become a `Scenario` again:
+/// ```compile_fail,E0423
 /// # fn f(sc: &tracksim::Scenario) {
-/// let data: tracksim::model::ScenarioData = (**sc).clone();
-/// let sc = tracksim::Scenario(data); // only model/ builds a Scenario
+/// let mut data: tracksim::model::ScenarioData = (**sc).clone();
+/// data.duration = 1.0;
+/// let sc = tracksim::Scenario(data);
 /// # }
 /// ```
 #[derive(Clone, Debug)]

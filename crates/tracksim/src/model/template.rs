@@ -156,7 +156,7 @@ impl ScenarioTemplate {
     }
 
     /// The scenario for `seed`: the `[randomize]` values drawn from it (reported in
-    /// [`Scenario::randomized`]) and `seed` as the scenario's seed. A file without
+    /// [`super::ScenarioData::randomized`]) and `seed` as the scenario's seed. A file without
     /// `[randomize]` gives the same scenario for every seed, only the recorded seed differs.
     pub fn instantiate(&self, seed: u64) -> Result<Scenario> {
         if let Some(sc) = &self.fixed {
