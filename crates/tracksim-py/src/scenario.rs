@@ -85,7 +85,7 @@ impl PyScenario {
 
     /// The `[randomize]` values drawn from `seed`, by name (empty for a fixed scenario).
     fn sample(&self, seed: u64) -> PyResult<BTreeMap<String, f64>> {
-        Ok(self.t.instantiate(seed).map_err(py_err)?.randomized)
+        Ok(self.t.instantiate(seed).map_err(py_err)?.randomized.clone())
     }
 
     /// Scenario facts for `seed`: description, duration_s, dt_s, solver_iterations, method,

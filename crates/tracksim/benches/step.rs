@@ -7,12 +7,14 @@ use tracksim::Scripted;
 
 fn step(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let sc = tracksim::load_scenario(&root.join("scenarios/packbot_flat.toml"))
-        .expect("bundled scenario");
+    let file = root.join("scenarios/packbot_flat.toml");
     let mut group = c.benchmark_group("packbot_flat_step");
     for m in TrackMethod::COMPARED {
-        let mut sc = sc.clone();
-        sc.method = *m;
+        let o = tracksim::Overrides {
+            method: Some(*m),
+            ..Default::default()
+        };
+        let sc = tracksim::load_scenario_with(&file, &o).expect("bundled scenario");
         let Ok(mut sim) = Scripted::new(&sc) else {
             continue;
         };

@@ -37,10 +37,10 @@ pub(crate) fn compile_file(
         issues: overrides.mark(issues),
     })?;
     if let Some(c) = commands {
-        sc.commands = c.compile(&sc.vehicle)?;
+        sc.0.commands = c.compile(&sc.vehicle)?;
     }
-    sc.source = Some(path.to_path_buf());
-    sc.overridden = overrides.keys();
+    sc.0.source = Some(path.to_path_buf());
+    sc.0.overridden = overrides.keys();
     Ok(sc)
 }
 
@@ -74,7 +74,7 @@ pub fn compile_scenario_text(
         path: name.into(),
         issues: overrides.mark(issues),
     })?;
-    sc.overridden = overrides.keys();
+    sc.0.overridden = overrides.keys();
     Ok(sc)
 }
 

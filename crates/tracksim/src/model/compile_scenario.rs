@@ -6,7 +6,8 @@
 
 use super::compliance::compile_compliance;
 use super::{
-    Command, Controls, Method, MotorCommand, OutcomeModel, Scenario, SolverSettings, VehicleModel,
+    Command, Controls, Method, MotorCommand, OutcomeModel, Scenario, ScenarioData, SolverSettings,
+    VehicleModel,
 };
 use crate::check::Checker;
 use crate::error::{Result, SpecIssue};
@@ -76,7 +77,7 @@ pub fn compile_scenario(
         });
         return Err(c.issues);
     }
-    Ok(Scenario {
+    Ok(Scenario(ScenarioData {
         outcome,
         expect,
         course,
@@ -101,7 +102,7 @@ pub fn compile_scenario(
         duration: s.duration_s,
         output_interval: s.output_interval_s,
         commands,
-    })
+    }))
 }
 
 /// A sensor updates at most once per physics step: its rate is at most `1 / dt`.

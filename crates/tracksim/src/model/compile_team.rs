@@ -54,7 +54,7 @@ pub(crate) fn compile_team(
     });
     match first {
         Some(mut sc) if issues.is_empty() => {
-            sc.team = Some(Box::new(Team {
+            sc.0.team = Some(Box::new(Team {
                 robots: robots.into_iter().map(|(_, r)| r).collect(),
                 rule,
                 stop: spec.outcome.stop,
@@ -101,7 +101,7 @@ fn compile_robot(
     let vehicle = scenario_vehicle(path, &one).map_err(as_issues)?;
     let mut sc =
         compile_file(path, &one, vehicle, &Overrides::default(), None).map_err(as_issues)?;
-    sc.overridden = overrides.keys();
+    sc.0.overridden = overrides.keys();
     Ok(sc)
 }
 

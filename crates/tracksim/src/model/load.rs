@@ -17,7 +17,7 @@ pub fn load_scenario(path: &Path) -> Result<Scenario> {
 /// [`load_scenario`] with `overrides` written into the file's keys before it is compiled: an
 /// overridden value is checked like the file's own (its problems keyed "KEY (overridden:
 /// FLAG)"),
-/// and [`Scenario::overridden`] lists the keys.
+/// and [`super::ScenarioData::overridden`] lists the keys.
 pub fn load_scenario_with(path: &Path, overrides: &Overrides) -> Result<Scenario> {
     ScenarioTemplate::load_with(path, overrides)?.file_scenario()
 }

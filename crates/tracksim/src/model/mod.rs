@@ -16,7 +16,8 @@
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `steering.rs`: a twist command as belt speeds, per track or per side ([`Steering`]);
 //! - `method.rs`: the track method as data ([`Method`]: names, what it models);
-//! - `scenario.rs`: the compiled scenario ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]);
+//! - `scenario.rs`: the compiled scenario ([`Scenario`], immutable: it seals its
+//!   [`ScenarioData`], built and edited only in `model/`), [`SolverSettings`], [`OutcomeModel`];
 //! - `compile_scenario.rs`: [`compile_scenario`] (vehicle overrides, terrain, simulation
 //!   settings with the method, commands, outcome);
 //! - `read.rs`: reading files, once each, into their specs ([`read_toml`],

@@ -2,7 +2,7 @@
 //! method, the duration, the solver iterations, the commands of another file, whether the run
 //! stops at its outcome, the solver's order, a moved start), so that an overridden value is
 //! checked like the file's own, with its key, and the compiled scenario records what was
-//! overridden ([`super::Scenario::overridden`]). A compiled [`super::Scenario`] is not changed
+//! overridden ([`super::ScenarioData::overridden`]). A compiled [`super::Scenario`] is not changed
 //! afterwards: every variation of a file is written into its keys here.
 
 use super::{Method, VehicleModel, compile_commands};

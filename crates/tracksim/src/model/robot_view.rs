@@ -2,7 +2,7 @@
 //! the robot part of a compiled one-robot scenario ([`RobotModel::of`]).
 
 use super::DEFAULT_ROBOT_NAME;
-use super::scenario::Scenario;
+use super::scenario::{Scenario, ScenarioData};
 use super::team::RobotModel;
 
 impl RobotModel {
@@ -46,7 +46,7 @@ impl Scenario {
             return self.clone();
         };
         let r = &team.robots[k];
-        Scenario {
+        Scenario(ScenarioData {
             vehicle: r.vehicle.clone(),
             start_xy: r.start_xy,
             start_z: r.start_z,
@@ -58,15 +58,15 @@ impl Scenario {
             expect: r.expect.clone(),
             team: None,
             ..self.clone_world()
-        }
+        })
     }
 
     /// The scenario without its team (cheap enough: the world's parts are cloned once per robot
     /// view, never per step).
-    fn clone_world(&self) -> Scenario {
-        Scenario {
+    fn clone_world(&self) -> ScenarioData {
+        ScenarioData {
             team: None,
-            ..self.clone()
+            ..self.0.clone()
         }
     }
 }

@@ -1,5 +1,6 @@
 //! The compiled scenario: vehicle, start pose, terrain, solver settings, commands and outcome
-//! conditions ([`Scenario`], [`SolverSettings`], [`OutcomeModel`]).
+//! conditions ([`Scenario`] sealing its [`ScenarioData`], [`SolverSettings`],
+//! [`OutcomeModel`]).
 
 use super::outcome::OutcomeModel;
 use super::{Command, VehicleModel};
@@ -67,9 +68,46 @@ impl Default for SolverSettings {
 /// bundled vehicles' links carry the belt mass their files give (docs/DESIGN.md).
 pub const MIN_LINK_MASS_KG: f64 = 0.1;
 
-/// A compiled scenario.
+/// A compiled scenario, immutable after compile (issue 39): it reads as its [`ScenarioData`]
+/// (`sc.vehicle`, `sc.solver.dt`, through [`Deref`](std::ops::Deref)) but only `model/` builds
+/// or changes one. A variation of a file (another method, duration, solver order, start, ...) is
+/// written into the file's keys before compiling, through [`super::Overrides`] or by editing
+/// the [`crate::spec::ScenarioSpec`], so it is checked like the file's own values.
+///
+/// Outside `model/` a field cannot be assigned (there is no `DerefMut`), nor a field's value
+/// changed through a method:
+/// ```compile_fail,E0594
+/// # fn f(sc: &mut tracksim::Scenario) {
+/// sc.duration = 1.0;
+/// # }
+/// ```
+/// ```compile_fail,E0596
+/// # fn f(sc: &mut tracksim::Scenario) {
+/// sc.commands.clear();
+/// # }
+/// ```
+/// and a [`ScenarioData`] copied out and changed does not become a `Scenario` again:
+/// ```compile_fail,E0423
+/// # fn f(sc: &tracksim::Scenario) {
+/// let mut data: tracksim::model::ScenarioData = (**sc).clone();
+/// data.duration = 1.0;
+/// let sc = tracksim::Scenario(data);
+/// # }
+/// ```
 #[derive(Clone, Debug)]
-pub struct Scenario {
+pub struct Scenario(pub(super) ScenarioData);
+
+impl std::ops::Deref for Scenario {
+    type Target = ScenarioData;
+
+    fn deref(&self) -> &ScenarioData {
+        &self.0
+    }
+}
+
+/// What a compiled [`Scenario`] holds: read through it, never changed outside `model/`.
+#[derive(Clone, Debug)]
+pub struct ScenarioData {
     /// Where it was read from, if from a file.
     pub source: Option<PathBuf>,
     /// Description.

@@ -156,12 +156,12 @@ impl ScenarioTemplate {
     }
 
     /// The scenario for `seed`: the `[randomize]` values drawn from it (reported in
-    /// [`Scenario::randomized`]) and `seed` as the scenario's seed. A file without
+    /// [`super::ScenarioData::randomized`]) and `seed` as the scenario's seed. A file without
     /// `[randomize]` gives the same scenario for every seed, only the recorded seed differs.
     pub fn instantiate(&self, seed: u64) -> Result<Scenario> {
         if let Some(sc) = &self.fixed {
             let mut sc = sc.clone();
-            sc.seed = seed;
+            sc.0.seed = seed;
             return Ok(sc);
         }
         self.with_values(&self.randomizer.sample(seed), seed)
@@ -270,8 +270,8 @@ impl ScenarioTemplate {
             &self.overrides.merged(extra),
             self.commands.as_ref(),
         )?;
-        sc.seed = seed;
-        sc.randomized = sampled;
+        sc.0.seed = seed;
+        sc.0.randomized = sampled;
         Ok(sc)
     }
 }

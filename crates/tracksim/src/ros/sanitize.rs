@@ -355,7 +355,7 @@ mod tests {
     fn vehicle() -> VehicleModel {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../scenarios/packbot_stairs.toml");
-        crate::load_scenario(&p).unwrap().vehicle
+        crate::load_scenario(&p).unwrap().vehicle.clone()
     }
 
     fn tw(vx: f64, wz: f64) -> Twist {

@@ -51,7 +51,7 @@ pub use rubber::{
     TRACK_RUBBER_LOSS_FACTOR, TRACK_RUBBER_POISSON, TRACK_RUBBER_YOUNGS_MODULUS_PA,
     rubber_compliance, rubber_compliance_with, with_rubber, with_rubber_of,
 };
-pub use table_iv::quince_step_scenario;
+pub use table_iv::{quince_step_scenario, quince_step_text};
 pub use turning::spin_ratio_coulomb;
 
 use crate::error::Result;

@@ -313,7 +313,7 @@ pub fn quince_step_scenario(
 
 /// The file text of [`quince_step_scenario`] and its vehicle (Quince with the front flippers
 /// at `front_deg`).
-fn quince_step_text(
+pub fn quince_step_text(
     quince: &VehicleModel,
     front_deg: f64,
     h: f64,

@@ -22,9 +22,12 @@ fn methods() -> Vec<String> {
 /// Runs one scenario with one method and hashes what `tracksim run` would write as
 /// `trajectory.csv` (or the error, if the method cannot build that vehicle).
 fn hash_run(file: &std::path::Path, method: &str) -> String {
-    let mut sc = tracksim::load_scenario(file).unwrap_or_else(|e| panic!("{e}"));
-    sc.duration = GOLDEN_DURATION_S;
-    sc.method = tracksim::Method::from_name(method).expect("a method name");
+    let o = tracksim::Overrides {
+        duration_s: Some(GOLDEN_DURATION_S),
+        method: Some(tracksim::Method::from_name(method).expect("a method name")),
+        ..Default::default()
+    };
+    let sc = tracksim::load_scenario_with(file, &o).unwrap_or_else(|e| panic!("{e}"));
     let run = if sc.robot_count() > 1 {
         // A world with several robots (issue 40): every robot's trajectory, in file order.
         tracksim::run::run_team(&sc, Default::default()).map(|r| {

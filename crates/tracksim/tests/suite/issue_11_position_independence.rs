@@ -22,6 +22,17 @@ const OFFSETS: [(f64, f64); 6] = [
 
 /// `file` moved by (dx, dy): vehicle start, boxes and the success line.
 fn moved(file: &str, dx: f64, dy: f64, duration: f64) -> tracksim::Scenario {
+    moved_with(file, dx, dy, duration, |_| {})
+}
+
+/// [`moved`] with `edit` applied to the moved spec.
+fn moved_with(
+    file: &str,
+    dx: f64,
+    dy: f64,
+    duration: f64,
+    edit: impl FnOnce(&mut ScenarioSpec),
+) -> tracksim::Scenario {
     let mut spec: ScenarioSpec = read_toml(&root().join(file)).unwrap();
     spec.vehicle.x_m += dx;
     spec.vehicle.y_m += dy;
@@ -33,6 +44,7 @@ fn moved(file: &str, dx: f64, dy: f64, duration: f64) -> tracksim::Scenario {
         *x += dx;
     }
     spec.simulation.duration_s = duration;
+    edit(&mut spec);
     let dir = root().join("scenarios");
     let vehicle = load_vehicle(&dir.join(spec.vehicle.file.as_ref().unwrap())).unwrap();
     tracksim::compile_scenario(&spec, vehicle, &dir).unwrap()
@@ -106,8 +118,13 @@ fn step_climb_is_the_same_anywhere_within_10_km() {
 #[test]
 fn a_long_drive_keeps_its_speed() {
     // 1 m/s for 150 s: 150 m from the start; the shifts of the origin happen every ~2 m.
-    let mut sc = moved("scenarios/packbot_flat.toml", 0.0, 0.0, 150.0);
-    sc.commands[0].controls = tracksim::Controls::belts(&sc.vehicle, 1.0);
+    let sc = moved_with("scenarios/packbot_flat.toml", 0.0, 0.0, 150.0, |s| {
+        s.commands[0].belt_speed_mps = Some(tracksim::spec::PerTrack::All(1.0));
+    });
+    assert_eq!(
+        sc.commands[0].controls,
+        tracksim::Controls::belts(&sc.vehicle, 1.0)
+    );
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let s = &r.samples;
     let speed = |t0: f64, t1: f64| {

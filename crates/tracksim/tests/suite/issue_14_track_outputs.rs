@@ -127,7 +127,7 @@ fn odometry_is_exact_without_slip_and_overturns_in_a_skid_turn() {
     };
     let (truth, odom, dv) = turn(None);
     let b_geo = {
-        let v = packbot(|_| {}, |_| {}).vehicle;
+        let v = packbot(|_| {}, |_| {}).vehicle.clone();
         v.tracks[0].lateral_offset() - v.tracks[1].lateral_offset()
     };
     let b_eff = dv * 3.0 / truth;

@@ -80,8 +80,13 @@ fn turns_in_place_as_the_paper_method() {
 
 #[test]
 fn climbs_the_bundled_step() {
-    let mut sc = tracksim::load_scenario(&root().join("scenarios/packbot_step.toml")).unwrap();
-    sc.method = tracksim::Method::from_name(CLUSTERED).unwrap();
+    let sc = common::load_with(
+        "scenarios/packbot_step.toml",
+        tracksim::Overrides {
+            method: Some(tracksim::Method::from_name(CLUSTERED).unwrap()),
+            ..Default::default()
+        },
+    );
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     assert!(
         matches!(r.outcome, tracksim::run::Outcome::Success(_)),

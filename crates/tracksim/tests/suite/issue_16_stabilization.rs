@@ -13,20 +13,20 @@ use tracksim::run::Outcome;
 /// solver iterations of `stabilization` position-correction passes each.
 fn climbs(iterations: usize, stabilization: usize) -> (bool, f64) {
     let quince = tracksim::load_vehicle(&root().join("vehicles/quince.toml")).unwrap();
-    let mut sc = tracksim::validate::quince_step_scenario(
+    let (text, vehicle) = tracksim::validate::quince_step_text(
         &quince,
         0.0,
         0.12,
         true,
         tracksim::validate::TABLE_IV_CONTACT_SLOP_M,
         Method::Okada2020,
-        &root(),
-    )
-    .unwrap();
-    sc.solver.iterations = iterations;
-    sc.solver.stabilization_iterations = stabilization;
+    );
+    let mut spec: tracksim::spec::ScenarioSpec = tracksim::toml::from_str(&text).unwrap();
+    spec.simulation.solver_iterations = iterations;
+    spec.simulation.stabilization_iterations = stabilization;
     // Table IV's climbs take 14-16 s; 30 s leaves margin and keeps a stall short.
-    sc.duration = 30.0;
+    spec.simulation.duration_s = 30.0;
+    let sc = tracksim::compile_scenario(&spec, vehicle, &root().join("scenarios")).unwrap();
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let x = r.samples.last().map(|s| s.pose.x).unwrap_or(f64::NAN);
     (matches!(r.outcome, Outcome::Success(_)), x)

@@ -5,7 +5,6 @@
 //! the path's.
 
 use crate::common;
-use common::root;
 use glam::{DQuat, DVec3};
 use tracksim::Scripted;
 
@@ -22,8 +21,7 @@ const OFFSET_M: f64 = 0.25;
 /// 0.027 mm and 2.9e-5 (f32 rounding of poses a few metres from the origin).
 #[test]
 fn objects_on_a_3d_loop_stay_on_their_path_over_a_long_run() {
-    let mut sc = tracksim::load_scenario(&root().join("scenarios/loop3d_objects.toml")).unwrap();
-    sc.duration = 60.0;
+    let sc = common::load_for("scenarios/loop3d_objects.toml", 60.0);
     let cv = sc.conveyors[0].clone();
     let path = &cv.belt.path;
     assert!(!path.is_planar());

@@ -15,8 +15,11 @@ fn scenario(name: &str) -> PathBuf {
 /// do) gets exactly the trajectory `run_scenario` writes for the same commands.
 #[test]
 fn a_runner_stepped_by_hand_is_the_run() {
-    let mut sc = tracksim::load_scenario(&scenario("packbot_turn.toml")).unwrap();
-    sc.duration = 1.5;
+    let o = Overrides {
+        duration_s: Some(1.5),
+        ..Default::default()
+    };
+    let sc = tracksim::load_scenario_with(&scenario("packbot_turn.toml"), &o).unwrap();
     let by_run = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     // The same commands given by the caller instead of the timeline.
     let commands = sc.commands.clone();

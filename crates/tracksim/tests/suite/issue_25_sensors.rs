@@ -165,9 +165,11 @@ fn imu_at_rest_on_flat_ground_reads_gravity() {
 /// sinkage front and back differs by far less).
 #[test]
 fn imu_on_a_20_deg_slope_reads_the_slope() {
-    let path = common::root().join("scenarios/packbot_parked_slope.toml");
-    let mut sc = tracksim::load_scenario(&path).expect("loads");
-    sc.vehicle.sensors = sensors("vehicles/packbot510.toml", IMUS);
+    let sc = common::file_with(
+        "scenarios/packbot_parked_slope.toml",
+        |_| {},
+        |v| v.sensors = sensors("vehicles/packbot510.toml", IMUS),
+    );
     let r = std::cell::RefCell::new(tracksim::Runner::new(&sc).expect("builds"));
     while r.borrow().time() < 2.0 {
         r.borrow_mut().step().expect("stable");
@@ -201,9 +203,7 @@ fn imu_on_a_20_deg_slope_reads_the_slope() {
 /// an IMU rolled 90 deg about x reads the same rate on its y axis at every reading.
 #[test]
 fn gyro_reads_the_body_turn_rate() {
-    let path = common::root().join("scenarios/packbot_turn.toml");
-    let mut sc = tracksim::load_scenario(&path).expect("loads");
-    sc.vehicle.sensors = sensors(
+    let imus = sensors(
         "vehicles/packbot510.toml",
         r#"
 [[sensors]]
@@ -217,6 +217,7 @@ rate_hz = 100.0
 rpy_deg = [90.0, 0.0, 0.0]
 "#,
     );
+    let sc = common::file_with("scenarios/packbot_turn.toml", |_| {}, |v| v.sensors = imus);
     let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
     let imu = &r.sensors[0];
     let rolled = &r.sensors[1];

@@ -192,9 +192,11 @@ fn fixed_links_merge_by_the_parallel_axis_theorem() {
     assert_eq!(split.body.shape.parts().len(), 2);
     // It drives like the one-link robot: 4 s on the flat, within 1 mm.
     let run = |file: &Path| {
-        let mut sc = common::with_vehicle("vehicles/packbot510.toml", |_| {}, |_| {});
-        sc.vehicle = load_vehicle(file).unwrap();
-        sc.duration = 4.0;
+        let sc = common::with_vehicle(
+            "vehicles/packbot510.toml",
+            |s| s.simulation.duration_s = 4.0,
+            |v| *v = load_vehicle(file).unwrap(),
+        );
         let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
         let p = r.samples.last().unwrap().pose;
         DVec3::new(p.x, p.y, p.z)
@@ -233,10 +235,14 @@ fn an_inertial_frame_turns_the_tensor() {
     assert!((e.body.inertia_products - DVec3::new(-0.05, 0.0, 0.0)).length() < 1e-12);
     // The world takes the full tensor: the robot settles on flat ground (1 s) without drifting
     // sideways or turning.
-    let mut sc = common::with_vehicle("vehicles/packbot510.toml", |_| {}, |_| {});
-    sc.vehicle = e;
-    sc.duration = 1.0;
-    sc.commands.clear();
+    let sc = common::with_vehicle(
+        "vehicles/packbot510.toml",
+        |s| {
+            s.simulation.duration_s = 1.0;
+            s.commands.clear();
+        },
+        |v| *v = e,
+    );
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let p = r.samples.last().unwrap().pose;
     assert!(p.y.abs() < 2e-3 && p.yaw.abs() < 0.01, "{p:?}");

@@ -20,9 +20,7 @@ fn recorded() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>) {
 
 /// [`recorded`] and the run's `trajectory.csv`.
 fn recorded_with_csv() -> (tracksim::Scenario, tracksim::RunResult, Vec<u8>, String) {
-    let mut sc =
-        tracksim::load_scenario(&common::root().join("scenarios/packbot_sensors.toml")).unwrap();
-    sc.duration = 1.0;
+    let sc = common::load_for("scenarios/packbot_sensors.toml", 1.0);
     let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
     static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let k = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
@@ -448,9 +446,15 @@ fn output_key_of_a_scenario_records_mcap_for_every_front_end() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("s.toml");
     std::fs::write(&file, format!("{text}\n[output]\nmcap = true\n")).unwrap();
-    let mut sc = tracksim::load_scenario(&file).unwrap();
+    let sc = tracksim::load_scenario_with(
+        &file,
+        &tracksim::Overrides {
+            duration_s: Some(0.2),
+            ..Default::default()
+        },
+    )
+    .unwrap();
     assert!(sc.record_mcap);
-    sc.duration = 0.2;
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let none = tracksim::output::Outputs {
         replay: false,
@@ -491,21 +495,19 @@ fn track_states_msg_file_is_the_schema() {
 /// azimuth, x y z float32 in the sensor's frame): the stream's points, bit for bit in f32.
 #[test]
 fn a_3d_lidar_is_an_organised_point_cloud_of_its_points() {
-    let mut sc =
-        tracksim::load_scenario(&common::root().join("scenarios/packbot_sensors.toml")).unwrap();
-    sc.duration = 0.3;
-    let scan = sc
-        .vehicle
-        .sensors
-        .iter_mut()
-        .find(|m| m.name == "scan")
-        .unwrap();
-    let tracksim::model::SensorKind::Lidar(p) = &mut scan.kind else {
-        panic!("scan is a lidar")
-    };
-    p.azimuth_rays = 90;
-    p.elevation_rays = 4;
-    p.elevation_fov = 30f64.to_radians();
+    let sc = common::file_with(
+        "scenarios/packbot_sensors.toml",
+        |s| s.simulation.duration_s = 0.3,
+        |v| {
+            let scan = v.sensors.iter_mut().find(|m| m.name == "scan").unwrap();
+            let tracksim::model::SensorKind::Lidar(p) = &mut scan.kind else {
+                panic!("scan is a lidar")
+            };
+            p.azimuth_rays = 90;
+            p.elevation_rays = 4;
+            p.elevation_fov = 30f64.to_radians();
+        },
+    );
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let bytes = tracksim::output::mcap::mcap_bytes(&sc, &r).unwrap();
     let msgs = by_topic(&bytes);

@@ -16,11 +16,17 @@ use tracksim::spec::ScenarioSpec;
 /// A PackBot scenario on flat ground driving straight at 0.3 m/s for `duration` s, with the
 /// TOML `extra` (a `[course]`, `[outcome]`, ...) added.
 fn scenario(duration: f64, extra: &str) -> Scenario {
+    scenario_with(duration, extra, |_| {})
+}
+
+/// [`scenario`] with `edit` applied to its spec.
+fn scenario_with(duration: f64, extra: &str, edit: impl FnOnce(&mut ScenarioSpec)) -> Scenario {
     let text = format!(
         "[vehicle]\nfile = \"x\"\n[terrain.ground]\nfriction = 0.6\n[simulation]\n\
          duration_s = {duration}\n[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n{extra}"
     );
-    let spec: ScenarioSpec = tracksim::toml::from_str(&text).expect("scenario parses");
+    let mut spec: ScenarioSpec = tracksim::toml::from_str(&text).expect("scenario parses");
+    edit(&mut spec);
     let vehicle = load_vehicle(&common::root().join("vehicles/packbot510.toml")).unwrap();
     tracksim::compile_scenario(&spec, vehicle, &common::root().join("scenarios"))
         .expect("scenario compiles")
@@ -28,7 +34,7 @@ fn scenario(duration: f64, extra: &str) -> Scenario {
 
 /// The course of `toml` (a `[course]` table).
 fn course(toml: &str) -> CourseModel {
-    scenario(1.0, toml).course.expect("a course")
+    scenario(1.0, toml).course.clone().expect("a course")
 }
 
 /// Drives the straight run, scoring every tracker at every sample; returns the samples'
@@ -242,12 +248,11 @@ fn reset_and_tip_over_are_faults() {
     assert_eq!(res.summary.course.unwrap().status, "not_completed");
 
     // Dropped from 10 deg of pitch with a 5 deg limit: tipped at the first sample.
-    let sc = scenario(
+    let spec_sc = scenario_with(
         0.3,
         "[outcome]\nmax_tilt_deg = 5.0\n[course]\n[[course.gates]]\nx_m = 9.0\ny_m = 0.0\nradius_m = 0.5",
+        |s| s.vehicle.pitch_deg = 10.0,
     );
-    let mut spec_sc = sc.clone();
-    spec_sc.start_pitch = 10f64.to_radians();
     let res = tracksim::run_scenario(&spec_sc, |_, _| {}).unwrap();
     assert!(
         res.summary.outcome_reason.contains("tipped over"),

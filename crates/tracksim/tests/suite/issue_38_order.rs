@@ -305,8 +305,7 @@ fn bundled_ensembles_meet_their_bounds() {
 #[test]
 fn order_salt_reorders_the_solver_and_members_are_reproducible() {
     let path = root().join("scenarios/packbot_step.toml");
-    let mut sc = tracksim::load_scenario(&path).unwrap();
-    sc.duration = 2.0;
+    let sc = common::load_for("scenarios/packbot_step.toml", 2.0);
     let hash = |sc: &tracksim::Scenario| {
         let r = tracksim::run_scenario(sc, |_, _| {}).unwrap();
         format!(
@@ -315,8 +314,14 @@ fn order_salt_reorders_the_solver_and_members_are_reproducible() {
         )
     };
     let base = hash(&sc);
-    let mut salted = sc.clone();
-    salted.solver.order_salt = 3;
+    let salted = common::load_with(
+        "scenarios/packbot_step.toml",
+        tracksim::Overrides {
+            duration_s: Some(2.0),
+            order_salt: Some(3),
+            ..Default::default()
+        },
+    );
     let a = hash(&salted);
     assert_ne!(base, a, "inert colliders left the solver's order unchanged");
     assert_eq!(a, hash(&salted));

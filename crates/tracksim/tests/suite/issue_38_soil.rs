@@ -9,9 +9,12 @@ use crate::common::root;
 fn every_method_drives_on_sand() {
     let path = root().join("scenarios/soil/packbot_dry_sand.toml");
     for m in tracksim::Method::COMPARED {
-        let mut sc = tracksim::load_scenario(&path).unwrap();
-        sc.method = *m;
-        sc.duration = 3.0;
+        let o = tracksim::Overrides {
+            method: Some(*m),
+            duration_s: Some(3.0),
+            ..Default::default()
+        };
+        let sc = tracksim::load_scenario_with(&path, &o).unwrap();
         let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
         // The belts run at 0.3 m/s; sand slips 5-35 % (measured 0.21-0.29 m/s over 3 s
         // including the start; constraint_to_ground 0.289): a method that does not drive stays

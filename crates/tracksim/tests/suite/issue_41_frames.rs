@@ -189,8 +189,7 @@ type Frames = Vec<(f64, Vec<u8>)>;
 /// camera rendered (by reading time), and the bytes of its `run.mcap` (with `raw_images`)
 /// and of its run folder's PNG of reading 3.
 fn camera_run(duration: f64, raw_images: bool) -> (Frames, Vec<u8>, Vec<u8>) {
-    let mut sc = tracksim::load_scenario(&common::root().join(CAMERA)).unwrap();
-    sc.duration = duration;
+    let sc = common::load_for(CAMERA, duration);
     let mut runner = tracksim::run::runner::Runner::new(&sc).unwrap();
     let mut frames: Frames = Vec::new();
     while !runner.finished() {

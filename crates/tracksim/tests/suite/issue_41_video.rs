@@ -4,7 +4,7 @@
 //! not offered for a compare folder; a broken run answers 503 with the command to run.
 //! (`tracksim video` itself: `crates/tracksim-cli/tests/video.rs`.)
 
-use crate::common::root;
+use crate::common;
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use tracksim::live::{Mode, Server, ViewVideo};
@@ -35,8 +35,7 @@ fn temp(name: &str) -> std::path::PathBuf {
 
 #[test]
 fn the_view_server_renders_the_runs_video_on_request() {
-    let mut sc = tracksim::load_scenario(&root().join("scenarios/packbot_step.toml")).unwrap();
-    sc.duration = 0.4;
+    let sc = common::load_for("scenarios/packbot_step.toml", 0.4);
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     let dir = temp("view");
     let which = tracksim::output::Outputs {

@@ -61,8 +61,11 @@ fn sensors_fixture(dir: &Path, edit: impl Fn(String) -> String) -> PathBuf {
 
 /// A run of `path` for `duration` s, its `run.mcap` read back.
 fn recorded(path: &Path, duration: f64) -> (tracksim::RunResult, Vec<u8>) {
-    let mut sc = tracksim::load_scenario(path).expect("loads");
-    sc.duration = duration;
+    let o = tracksim::Overrides {
+        duration_s: Some(duration),
+        ..Default::default()
+    };
+    let sc = tracksim::load_scenario_with(path, &o).expect("loads");
     let r = tracksim::run_scenario(&sc, |_, _| {}).expect("runs");
     // Never beside a bundled scenario: a fresh folder of its own.
     let dir = temp("rec").join("out");

@@ -8,9 +8,13 @@ use tracksim::Method as TrackMethod;
 use tracksim::{Outcome, Scripted};
 
 fn scenario(file: &str, method: TrackMethod) -> tracksim::Scenario {
-    let mut sc = tracksim::load_scenario(&root().join(file)).unwrap();
-    sc.method = method;
-    sc
+    common::load_with(
+        file,
+        tracksim::Overrides {
+            method: Some(method),
+            ..Default::default()
+        },
+    )
 }
 
 #[test]
@@ -88,8 +92,14 @@ fn fig3_the_papers_method_does_not_climb_a_low_friction_wall() {
 #[test]
 fn contact_slop_applies_to_every_method() {
     let deepest = |m: TrackMethod, slop: f64| {
-        let mut sc = scenario("scenarios/packbot_flat.toml", m);
-        sc.solver.contact_slop = slop;
+        let sc = common::file_with(
+            "scenarios/packbot_flat.toml",
+            |s| {
+                s.simulation.method = m.name();
+                s.simulation.contact_slop_m = slop;
+            },
+            |_| {},
+        );
         let mut sim = Scripted::new(&sc).unwrap();
         let mut d: f64 = 0.0;
         while sim.time() < 3.0 - 1e-9 {

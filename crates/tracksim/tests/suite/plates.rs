@@ -13,8 +13,13 @@ const RIDE_HEIGHT_M: f64 = 0.087;
 
 #[test]
 fn drives_at_the_commanded_speed_on_flat_ground() {
-    let mut sc = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
-    sc.method = TrackMethod::Plates;
+    let sc = load_with(
+        "scenarios/packbot_flat.toml",
+        tracksim::Overrides {
+            method: Some(TrackMethod::Plates),
+            ..Default::default()
+        },
+    );
     assert_eq!(sc.solver.dt, 0.001);
     let mut sim = Scripted::new(&sc).unwrap();
     run_until(&mut sim, 2.0);
@@ -49,13 +54,13 @@ fn drives_at_the_commanded_speed_on_flat_ground() {
 #[test]
 fn climbs_a_low_step_and_stays_stable() {
     let h = 0.05;
-    let mut sc = packbot(
+    let sc = packbot(
         |s| {
             s.terrain.boxes.push(step_box(0.5, 1.4, h));
+            s.simulation.method = TrackMethod::Plates.name();
         },
         |_| {},
     );
-    sc.method = TrackMethod::Plates;
     let mut sim = Scripted::new(&sc).unwrap();
     let mut max_pitch: f64 = 0.0;
     while sim.time() < 4.0 - 1e-9 {

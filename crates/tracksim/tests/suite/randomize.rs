@@ -13,12 +13,14 @@ fn step_random() -> std::path::PathBuf {
 #[test]
 fn a_fixed_file_compiles_to_the_same_trajectory_through_a_template() {
     let path = root().join("scenarios/packbot_step.toml");
-    let mut a = tracksim::load_scenario(&path).unwrap();
-    let t = tracksim::load_template(&path).unwrap();
-    let mut b = t.instantiate(t.file_seed()).unwrap();
+    let short = tracksim::Overrides {
+        duration_s: Some(0.3),
+        ..Default::default()
+    };
+    let a = tracksim::load_scenario_with(&path, &short).unwrap();
+    let t = tracksim::ScenarioTemplate::load_with(&path, &short).unwrap();
+    let b = t.instantiate(t.file_seed()).unwrap();
     assert!(b.randomized.is_empty());
-    a.duration = 0.3;
-    b.duration = 0.3;
     let ra = tracksim::run_scenario(&a, |_, _| {}).unwrap();
     let rb = tracksim::run_scenario(&b, |_, _| {}).unwrap();
     assert_eq!(

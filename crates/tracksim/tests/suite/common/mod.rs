@@ -35,6 +35,41 @@ pub fn with_vehicle(
     compile_scenario(&spec, vehicle, &root().join("scenarios")).expect("scenario compiles")
 }
 
+/// The scenario file `file` (relative to the repository) loaded with `overrides` written into
+/// its keys: a compiled scenario is not changed, a test varies the file.
+pub fn load_with(file: &str, overrides: tracksim::Overrides) -> Scenario {
+    tracksim::load_scenario_with(&root().join(file), &overrides).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The scenario file `file` (relative to the repository) with its `simulation.duration_s` set
+/// to `duration` s.
+pub fn load_for(file: &str, duration: f64) -> Scenario {
+    load_with(
+        file,
+        tracksim::Overrides {
+            duration_s: Some(duration),
+            ..Default::default()
+        },
+    )
+}
+
+/// The one-robot scenario file `file` (relative to the repository, its vehicle a
+/// `vehicle.file`) compiled with `edit` applied to its spec and `vehicle_edit` to its vehicle.
+pub fn file_with(
+    file: &str,
+    edit: impl FnOnce(&mut ScenarioSpec),
+    vehicle_edit: impl FnOnce(&mut tracksim::VehicleModel),
+) -> Scenario {
+    let path = root().join(file);
+    let mut spec: ScenarioSpec = read_toml(&path).expect("scenario parses");
+    edit(&mut spec);
+    let dir = path.parent().expect("a folder");
+    let vehicle_file = spec.vehicle.file.as_ref().expect("a vehicle file");
+    let mut vehicle = load_vehicle(&dir.join(vehicle_file)).expect("vehicle");
+    vehicle_edit(&mut vehicle);
+    compile_scenario(&spec, vehicle, dir).expect("scenario compiles")
+}
+
 /// A step for the PackBot tests: a box `depth` m long (x), 2 m wide, `h` m high, friction 0.6,
 /// its edge at x = `edge_x` m.
 pub fn step_box(edge_x: f64, depth: f64, h: f64) -> tracksim::spec::BoxSpec {
