@@ -2,7 +2,8 @@
 
 use super::link::{ImportedArm, ImportedLink, JointRoles, MassPart, Owner};
 use super::source::{self, UrdfSource};
-use super::{TrackedVehiclePlugin, inertial, tree};
+use super::mesh::MeshCache;
+use super::{TrackedVehiclePlugin, inertial, numbers, tree};
 use crate::error::SpecIssue;
 use std::path::Path;
 
@@ -28,6 +29,8 @@ pub struct UrdfRobot {
     /// An SDF model's `<pose>` in its world: where the robot starts (m, rad; the vehicle
     /// itself is built in the model frame). `None` for a URDF, or a model without a pose.
     pub start_pose: Option<glam::DAffine3>,
+    /// How many mesh files were read (each once, however many `<collision>`s name it).
+    pub meshes_read: usize,
     /// Line-numbered names of links and joints, for messages.
     source: std::sync::Arc<UrdfSource>,
 }
@@ -130,12 +133,18 @@ impl UrdfRobot {
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
             issues.push(SpecIssue::new(
-                source::key(element),
+                source::key(&format!("{element} ({})", src.file_name())),
                 format!("`{}` is not a number", crate::check::echoed(text)),
             ));
         }
+        // Every number within the engine's bounds before anything is built from them.
+        numbers::check(&src, &mut issues);
+        if !issues.is_empty() {
+            return Err(issues);
+        }
         let mut warnings = Vec::new();
-        let (links, arms) = tree::walk(&src, roles, &mut issues, &mut warnings);
+        let mut meshes = MeshCache::default();
+        let (links, arms) = tree::walk(&src, roles, &mut meshes, &mut issues, &mut warnings);
         if let Some(p) = &src.gazebo.plugin {
             for (tag, l) in p.track_links() {
                 // Against the file's links, not the tree walked: a broken tree is its own
@@ -167,6 +176,7 @@ impl UrdfRobot {
             root_friction,
             warnings,
             start_pose: src.start_pose,
+            meshes_read: meshes.reads,
             source: std::sync::Arc::new(src),
         })
     }

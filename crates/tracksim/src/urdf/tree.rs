@@ -182,6 +182,7 @@ fn role(
 pub(super) fn walk(
     src: &UrdfSource,
     roles: &JointRoles,
+    meshes: &mut super::mesh::MeshCache,
     issues: &mut Vec<SpecIssue>,
     warnings: &mut Vec<String>,
 ) -> (Vec<ImportedLink>, Vec<ImportedArm>) {
@@ -224,6 +225,10 @@ pub(super) fn walk(
                 continue;
             }
             let mut frame = parent_pose * pose(&j.origin);
+            if let Some(m) = too_far(frame) {
+                issues.push(SpecIssue::new(&at, m));
+                continue;
+            }
             let (kind, owner) = match role(j, roles, &mut frame) {
                 Ok((kind, false)) => (kind, parent_owner),
                 Ok((kind, true)) => {
@@ -288,7 +293,7 @@ pub(super) fn walk(
     }
     for l in &mut links {
         super::inertial::link_mass(src, l, issues, warnings);
-        super::shapes::link_shapes(src, l, issues);
+        super::shapes::link_shapes(src, l, meshes, issues);
         super::inertial::far_com(src, l, warnings);
     }
     (links, arms)
@@ -348,6 +353,23 @@ fn arm(
         axis: (frame.matrix3 * axis).normalize(),
         limits,
         effort: l.effort,
+    })
+}
+
+/// Why `frame` (a link's or a collision's, in the chassis frame) is too far from the chassis
+/// for the f32 engine: its origin beyond [`crate::check::MAX_LENGTH_M`] (each `<origin>` is
+/// within it, their sum along a chain may not be).
+pub(super) fn too_far(frame: DAffine3) -> Option<String> {
+    let t = frame.translation;
+    let max = crate::check::MAX_LENGTH_M;
+    (!t.is_finite() || t.abs().max_element() > max).then(|| {
+        format!(
+            "its frame is at [{}, {}, {}] m from the root link, beyond {max:e} m (the f32 \
+             engine's bound); check the <origin>s along the chain and their units",
+            crate::check::num(t.x),
+            crate::check::num(t.y),
+            crate::check::num(t.z)
+        )
     })
 }
 
