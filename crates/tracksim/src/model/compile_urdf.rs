@@ -160,9 +160,13 @@ fn arms(
     let names: Vec<&str> = robot.arms.iter().map(|a| a.joint.as_str()).collect();
     for j in spec.joints.keys() {
         if !names.contains(&j.as_str()) {
+            let file = robot.file.file_name().unwrap_or_default().to_string_lossy();
             c.push(
                 format!("joints.{j}"),
-                crate::check::unknown_name("revolute joint", j, &names),
+                format!(
+                    "{} (the flipper joints of {file})",
+                    crate::check::unknown_name("revolute joint", j, &names)
+                ),
             );
         }
     }

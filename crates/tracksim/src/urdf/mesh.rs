@@ -118,7 +118,13 @@ impl MeshCache {
         let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
         let k = (canonical, scale.map(f64::to_bits));
         if let Some(r) = self.hulls.get(&k) {
-            return r.clone();
+            // A refusal is told once, at the first collision naming the file.
+            return r.clone().map_err(|_| {
+                format!(
+                    "{}: refused at its first <collision> (above)",
+                    path.file_name().unwrap_or_default().to_string_lossy()
+                )
+            });
         }
         self.reads += 1;
         let r = mesh_points(&path, scale)

@@ -52,4 +52,4 @@ pub use mesh::{MAX_MESH_TRIANGLES, MAX_ROBOT_MESH_BYTES};
 pub use source::MAX_URDF_BYTES;
 pub use link::{ImportedArm, ImportedLink, JointRoles, LinkJoint, MassPart, Owner};
 pub use report::{JointFrame, LinkLine, UrdfReport};
-pub use robot::UrdfRobot;
+pub use robot::{MAX_REPORTED_ISSUES, UrdfRobot};

@@ -129,7 +129,17 @@ fn joint(src: &UrdfSource, j: &urdf_rs::Joint, issues: &mut Vec<SpecIssue>) {
             }
         }
     }
-    let (_, hi) = unit_range("N m");
+    let (lo, hi) = unit_range("N m");
+    if l.effort > 0.0 && l.effort < lo {
+        issues.push(SpecIssue::new(
+            key(&format!("{at} <limit effort>")),
+            format!(
+                "{} N m is below {lo:e} N m, zero to the f32 engine; give the motor's torque in \
+                 N m",
+                num(l.effort)
+            ),
+        ));
+    }
     if l.effort.is_finite() && l.effort > hi {
         issues.push(SpecIssue::new(
             key(&format!("{at} <limit effort>")),

@@ -7,6 +7,10 @@ use super::{TrackedVehiclePlugin, inertial, numbers, tree};
 use crate::error::SpecIssue;
 use std::path::Path;
 
+/// Most problems listed for one robot file (200 collisions with one bad scale are one
+/// mistake, not 200 lines).
+pub const MAX_REPORTED_ISSUES: usize = 10;
+
 /// A URDF robot, imported and checked.
 #[derive(Clone, Debug)]
 pub struct UrdfRobot {
@@ -106,7 +110,39 @@ impl UrdfRobot {
 
     /// [`UrdfRobot::load_model`] with the vehicle file's joint roles (rigid joints, named
     /// flippers, the links carrying tracks).
+    /// At most [`MAX_REPORTED_ISSUES`] problems are returned (the rest counted in a last one).
     pub fn load_with(
+        path: &Path,
+        sdf_model: Option<&str>,
+        roles: &JointRoles,
+    ) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        let file = path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Self::load_unbounded(path, sdf_model, roles).map_err(|mut issues| {
+            // Every problem names the file (the key names the element where there is one).
+            for i in &mut issues {
+                if !i.key.contains(&file) && !i.message.contains(&file) {
+                    i.message = format!("{file}: {}", i.message);
+                }
+            }
+            if issues.len() > MAX_REPORTED_ISSUES {
+                let more = issues.len() - MAX_REPORTED_ISSUES;
+                issues.truncate(MAX_REPORTED_ISSUES);
+                issues.push(SpecIssue::new(
+                    "urdf",
+                    format!(
+                        "{file}: and {more} more problem(s) (the first {MAX_REPORTED_ISSUES} \
+                         are listed)"
+                    ),
+                ));
+            }
+            issues
+        })
+    }
+
+    fn load_unbounded(
         path: &Path,
         sdf_model: Option<&str>,
         roles: &JointRoles,

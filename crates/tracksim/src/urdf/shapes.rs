@@ -57,7 +57,13 @@ pub(super) fn checked_hull(points: &[DVec3], what: &str) -> Result<Vec<DVec3>, S
     let hull = super::guard::guarded(&format!("{what}: the convex hull"), || {
         rapier3d::parry::transformation::try_convex_hull(&p)
     })?;
+    let max = crate::check::MAX_HULL_POINTS;
     match hull {
+        Ok((verts, _)) if verts.len() > max => Err(format!(
+            "{what}: its convex hull has {} vertices, more than the {max} of a convex shape \
+             (the TOML files' bound); simplify the collision mesh (e.g. decimate it)",
+            verts.len()
+        )),
         Ok((verts, faces)) if !faces.is_empty() => Ok(verts
             .iter()
             .map(|v| DVec3::new(v.x as f64, v.y as f64, v.z as f64))
@@ -135,8 +141,9 @@ fn shape(
                 ));
             }
             let hull = meshes.hull(dir, filename, scale)?;
+            // A rigid motion keeps a hull a hull: its vertices are placed, not hulled again.
             let placed: Vec<DVec3> = hull.iter().map(|p| frame.transform_point3(*p)).collect();
-            checked_hull(&placed, filename).map(CollisionShape::Convex)
+            Ok(CollisionShape::Convex(placed))
         }
     }
 }
