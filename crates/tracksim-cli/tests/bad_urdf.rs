@@ -186,7 +186,11 @@ fn every_bad_urdf_of_the_corpus_is_refused_by_check_and_run_alike() {
         refused(&format!("check {name}"), &c, &expect);
         refused(&format!("run {name}"), &r, &expect);
         let file = f.file_name().unwrap().to_string_lossy().into_owned();
-        assert!(c.text.contains(&file), "check {name} names no file:\n{}", c.text);
+        assert!(
+            c.text.contains(&file),
+            "check {name} names no file:\n{}",
+            c.text
+        );
         assert!(
             !tmp.path().join(format!("out_{name}/summary.json")).exists(),
             "run {name} wrote a summary"
@@ -275,14 +279,32 @@ fn generated_hostile_urdfs_are_refused_quickly_and_large_valid_ones_load() {
     let deep = |n: usize| "<x>".repeat(n) + &"</x>".repeat(n);
     // 100,000 nested unknown elements inside <robot> and inside a <link>.
     let open = "<robot name=\"packbot510_flippers\">";
-    let f = write("deep_robot.urdf", &base.replace(open, &format!("{open}{}", deep(100_000))));
+    let f = write(
+        "deep_robot.urdf",
+        &base.replace(open, &format!("{open}{}", deep(100_000))),
+    );
     let (c, r) = check_and_run(d, "deep_robot", &f);
-    refused("check deep_robot", &c, "deep_robot.urdf: elements nested 65 deep");
-    refused("run deep_robot", &r, "deep_robot.urdf: elements nested 65 deep");
+    refused(
+        "check deep_robot",
+        &c,
+        "deep_robot.urdf: elements nested 65 deep",
+    );
+    refused(
+        "run deep_robot",
+        &r,
+        "deep_robot.urdf: elements nested 65 deep",
+    );
     let link = "<link name=\"base_link\">";
-    let f = write("deep_link.urdf", &base.replace(link, &format!("{link}{}", deep(100_000))));
+    let f = write(
+        "deep_link.urdf",
+        &base.replace(link, &format!("{link}{}", deep(100_000))),
+    );
     let (c, _) = check_and_run(d, "deep_link", &f);
-    refused("check deep_link", &c, "deep_link.urdf: elements nested 65 deep");
+    refused(
+        "check deep_link",
+        &c,
+        "deep_link.urdf: elements nested 65 deep",
+    );
     // A COLLADA file 100,000 deep.
     let dae = format!(
         "<?xml version=\"1.0\"?><COLLADA version=\"1.4.1\"><library_visual_scenes>\
@@ -304,8 +326,16 @@ fn generated_hostile_urdfs_are_refused_quickly_and_large_valid_ones_load() {
         &base.replace("</robot>", &format!("{}</robot>", extra_links(10_000))),
     );
     let (c, r) = check_and_run(d, "links_10000", &f);
-    refused("check links_10000", &c, "links_10000.urdf: more than 1000 <link>");
-    refused("run links_10000", &r, "links_10000.urdf: more than 1000 <link>");
+    refused(
+        "check links_10000",
+        &c,
+        "links_10000.urdf: more than 1000 <link>",
+    );
+    refused(
+        "run links_10000",
+        &r,
+        "links_10000.urdf: more than 1000 <link>",
+    );
     // 1000 links in all (5 + 995): within the bound, checked and run.
     let f = write(
         "links_1000.urdf",
@@ -325,7 +355,10 @@ fn generated_hostile_urdfs_are_refused_quickly_and_large_valid_ones_load() {
     let (c, r) = check_and_run(d, "big_200", &f);
     assert_eq!(c.code, Some(0), "{}", c.text);
     assert_eq!(r.code, Some(0), "{}", r.text);
-    eprintln!("200 collisions of a 200k-triangle STL: check and run in {:?}", t0.elapsed());
+    eprintln!(
+        "200 collisions of a 200k-triangle STL: check and run in {:?}",
+        t0.elapsed()
+    );
 }
 
 #[test]
@@ -345,7 +378,11 @@ fn check_and_run_agree_on_a_loop_that_the_link_mass_floor_refuses() {
         })
         .collect();
     let vp = tmp.path().join("pulleys_1000.toml");
-    std::fs::write(&vp, v.replace(old, &format!("pulleys = [\n{}\n]", pulleys.join("\n")))).unwrap();
+    std::fs::write(
+        &vp,
+        v.replace(old, &format!("pulleys = [\n{}\n]", pulleys.join("\n"))),
+    )
+    .unwrap();
     let key = "simulation.min_link_mass_kg";
     let c = run(&["check", vp.to_str().unwrap()]);
     refused("check pulleys_1000", &c, key);
@@ -360,7 +397,14 @@ fn check_and_run_agree_on_a_loop_that_the_link_mass_floor_refuses() {
     )
     .unwrap();
     let out = tmp.path().join("o");
-    let r = run(&["run", sp.to_str().unwrap(), "--quiet", "--no-plot", "--out", out.to_str().unwrap()]);
+    let r = run(&[
+        "run",
+        sp.to_str().unwrap(),
+        "--quiet",
+        "--no-plot",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     refused("run pulleys_1000", &r, key);
     // The bundled vehicle files still pass `check` (built as `run` builds them).
     for f in ["packbot510.toml", "packbot510_urdf.toml", "quince.toml"] {
@@ -373,14 +417,21 @@ fn check_and_run_agree_on_a_loop_that_the_link_mass_floor_refuses() {
 
 /// Numbers a hostile or careless file holds (and a few ordinary ones).
 const HOSTILE: &[&str] = &[
-    "1e30", "-1e30", "nan", "inf", "-inf", "1e-100", "1e308", "0", "-1", "1e5", "100001",
-    "1e-13", "", "abc", "1e9", "3.4e38", "-0", "1e-6", "2e5", "0.5", "0.02", "2", "0.3 0",
+    "1e30", "-1e30", "nan", "inf", "-inf", "1e-100", "1e308", "0", "-1", "1e5", "100001", "1e-13",
+    "", "abc", "1e9", "3.4e38", "-0", "1e-6", "2e5", "0.5", "0.02", "2", "0.3 0",
 ];
 
 /// Mesh scales to try.
 const SCALES: &[&str] = &[
-    "1 1 1", "1e300 1 1", "1e-12 1e-12 1e-12", "0.001 0.001 0.001", "1000 1000 1000", "-1 1 1",
-    "nan 1 1", "0 1 1", "1 1",
+    "1 1 1",
+    "1e300 1 1",
+    "1e-12 1e-12 1e-12",
+    "0.001 0.001 0.001",
+    "1000 1000 1000",
+    "-1 1 1",
+    "nan 1 1",
+    "0 1 1",
+    "1 1",
 ];
 
 fn below(rng: &mut impl Rng, n: usize) -> usize {
@@ -432,7 +483,13 @@ fn write_meshes(dir: &Path) -> Vec<&'static str> {
         "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0 0 1e38\nf 1 2 3\nf 1 2 4\nf 1 3 4\nf 2 3 4\n",
     )
     .unwrap();
-    for f in ["tetra.dae", "index_past.dae", "count_huge.dae", "triangles_count.dae", "coplanar.stl"] {
+    for f in [
+        "tetra.dae",
+        "index_past.dae",
+        "count_huge.dae",
+        "triangles_count.dae",
+        "coplanar.stl",
+    ] {
         std::fs::copy(corpus().join(f), dir.join(f)).unwrap();
     }
     vec![
@@ -478,7 +535,13 @@ fn mutate(rng: &mut impl Rng, base: &str, meshes: &[&str]) -> String {
             }
             3 => {
                 let n = *pick(rng, &[10, 63, 64, 65, 1000, 100_000]);
-                let at = *pick(rng, &["<robot name=\"packbot510_flippers\">", "<link name=\"base_link\">"]);
+                let at = *pick(
+                    rng,
+                    &[
+                        "<robot name=\"packbot510_flippers\">",
+                        "<link name=\"base_link\">",
+                    ],
+                );
                 let deep = "<x>".repeat(n) + &"</x>".repeat(n);
                 t = t.replacen(at, &format!("{at}{deep}"), 1);
             }
@@ -495,7 +558,15 @@ fn mutate(rng: &mut impl Rng, base: &str, meshes: &[&str]) -> String {
             6 => {
                 let ty = pick(
                     rng,
-                    &["fixed", "continuous", "prismatic", "floating", "planar", "bogus", ""],
+                    &[
+                        "fixed",
+                        "continuous",
+                        "prismatic",
+                        "floating",
+                        "planar",
+                        "bogus",
+                        "",
+                    ],
                 );
                 let from = *pick(rng, &["type=\"revolute\"", "type=\"fixed\""]);
                 t = t.replacen(from, &format!("type=\"{ty}\""), 1);
@@ -523,7 +594,12 @@ fn mutate(rng: &mut impl Rng, base: &str, meshes: &[&str]) -> String {
                 t.truncate(cut);
             }
             _ => {
-                let names = ["base_link", "left_track", "front_left_flipper", "front_right_flipper"];
+                let names = [
+                    "base_link",
+                    "left_track",
+                    "front_left_flipper",
+                    "front_right_flipper",
+                ];
                 let (a, b) = (pick(rng, &names), pick(rng, &names));
                 t = t.replacen(&format!("link=\"{a}\""), &format!("link=\"{b}\""), 1);
             }
@@ -570,10 +646,20 @@ fn seeded_mutants_of_the_urdf_packbot_exit_0_or_2_naming_the_file() {
             // link turned out of the x-z plane; the link-mass floor of a light chassis), in the
             // vehicle file named first.
             let names = |t: &str| {
-                t.contains(&file) || t.contains("  - tracks[") || t.contains("  - simulation.min_link_mass_kg")
+                t.contains(&file)
+                    || t.contains("  - tracks[")
+                    || t.contains("  - simulation.min_link_mass_kg")
             };
-            assert!(names(&c.text), "{what}: the refusal names no file:\n{}", c.text);
-            assert!(names(&r.text), "{what}: the refusal names no file:\n{}", r.text);
+            assert!(
+                names(&c.text),
+                "{what}: the refusal names no file:\n{}",
+                c.text
+            );
+            assert!(
+                names(&r.text),
+                "{what}: the refusal names no file:\n{}",
+                r.text
+            );
         } else {
             accepted += 1;
         }
@@ -582,5 +668,8 @@ fn seeded_mutants_of_the_urdf_packbot_exit_0_or_2_naming_the_file() {
         "{n} mutants (seed {seed}): {accepted} accepted, {refusals} refused, in {:?}",
         t0.elapsed()
     );
-    assert!(refusals > n / 4, "{refusals} of {n} mutants refused: the mutator is too mild");
+    assert!(
+        refusals > n / 4,
+        "{refusals} of {n} mutants refused: the mutator is too mild"
+    );
 }

@@ -61,7 +61,8 @@ fn vehicle_text(f: &Path) -> Result<String, Error> {
     let dir = f.parent().unwrap_or(Path::new("."));
     let name = f.display().to_string();
     let overrides = tracksim::Overrides::default();
-    let mut sc = tracksim::model::compile_scenario_text(&name, "[terrain.ground]\n", v, dir, &overrides)?;
+    let mut sc =
+        tracksim::model::compile_scenario_text(&name, "[terrain.ground]\n", v, dir, &overrides)?;
     sc.source = Some(f.to_path_buf());
     tracksim::Simulation::new(&sc)?;
     Ok(lines.join("\n       "))

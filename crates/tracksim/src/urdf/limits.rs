@@ -82,7 +82,12 @@ pub(crate) fn prescan_xml(path: &Path, text: &str, robot: bool) -> Result<(), St
         }
         // A robot's links and joints have a name (a plugin's `<link>NAME</link>` is a
         // reference, not a link).
-        let named = || start.attributes().flatten().any(|a| a.key.as_ref() == b"name");
+        let named = || {
+            start
+                .attributes()
+                .flatten()
+                .any(|a| a.key.as_ref() == b"name")
+        };
         if robot {
             let (count, limit, tag) = match start.local_name().as_ref() {
                 b"link" | b"joint" if !named() => continue,

@@ -179,7 +179,12 @@ fn mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<DVec3>, String> {
     let s = DVec3::from_array(scale);
     let max_m = crate::check::MAX_LENGTH_M;
     let mut pts = Vec::new();
-    for (i, v) in scene.meshes.iter().flat_map(|m| m.vertices.iter()).enumerate() {
+    for (i, v) in scene
+        .meshes
+        .iter()
+        .flat_map(|m| m.vertices.iter())
+        .enumerate()
+    {
         let raw = DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64);
         let p = raw * s;
         if !p.is_finite() || p.abs().max_element() > max_m {

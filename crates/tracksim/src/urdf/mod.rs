@@ -48,8 +48,8 @@ mod tree;
 
 pub use gazebo::TrackedVehiclePlugin;
 pub use limits::{MAX_COLLISIONS, MAX_JOINTS, MAX_LINKS, MAX_XML_DEPTH, MAX_XML_ELEMENTS};
-pub use mesh::{MAX_MESH_TRIANGLES, MAX_ROBOT_MESH_BYTES};
-pub use source::MAX_URDF_BYTES;
 pub use link::{ImportedArm, ImportedLink, JointRoles, LinkJoint, MassPart, Owner};
+pub use mesh::{MAX_MESH_TRIANGLES, MAX_ROBOT_MESH_BYTES};
 pub use report::{JointFrame, LinkLine, UrdfReport};
 pub use robot::{MAX_REPORTED_ISSUES, UrdfRobot};
+pub use source::MAX_URDF_BYTES;

@@ -77,10 +77,7 @@ fn link(src: &UrdfSource, l: &urdf_rs::Link, issues: &mut Vec<SpecIssue>) {
     for (k, c) in l.collision.iter().enumerate() {
         let at = format!("{at} <collision> {}", k + 1);
         origin(&at, &c.origin, issues);
-        if let urdf_rs::Geometry::Mesh {
-            scale: Some(s), ..
-        } = &c.geometry
-        {
+        if let urdf_rs::Geometry::Mesh { scale: Some(s), .. } = &c.geometry {
             let bad = bounded(&s.0, MAX_PLAIN, "").or_else(|| {
                 s.0.contains(&0.0)
                     .then(|| format!("\"{}\" has a zero factor: the mesh is flat", list(&s.0)))

@@ -1,8 +1,8 @@
 //! A URDF robot read, walked and checked ([`UrdfRobot`]).
 
 use super::link::{ImportedArm, ImportedLink, JointRoles, MassPart, Owner};
-use super::source::{self, UrdfSource};
 use super::mesh::MeshCache;
+use super::source::{self, UrdfSource};
 use super::{TrackedVehiclePlugin, inertial, numbers, tree};
 use crate::error::SpecIssue;
 use std::path::Path;

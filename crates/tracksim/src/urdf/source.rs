@@ -49,7 +49,8 @@ impl UrdfSource {
                 ),
             )]
         })?;
-        super::limits::prescan_xml(path, &text, true).map_err(|m| vec![SpecIssue::new("urdf", m)])?;
+        super::limits::prescan_xml(path, &text, true)
+            .map_err(|m| vec![SpecIssue::new("urdf", m)])?;
         Ok(text)
     }
 

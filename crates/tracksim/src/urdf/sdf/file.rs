@@ -139,7 +139,8 @@ pub(super) fn read_text(path: &Path, key: &str) -> Result<String, Vec<SpecIssue>
             ),
         )]
     })?;
-    super::super::limits::prescan_xml(path, &text, true).map_err(|m| vec![SpecIssue::new(key, m)])?;
+    super::super::limits::prescan_xml(path, &text, true)
+        .map_err(|m| vec![SpecIssue::new(key, m)])?;
     Ok(text)
 }
 
