@@ -96,11 +96,15 @@ fn stl_header_count(bytes: &[u8], file: &str) -> Result<Option<u64>, String> {
     ))
 }
 
+/// A mesh file's hull vertices (scaled, mesh frame, m), or why it was refused.
+type Hull = Result<std::rc::Rc<Vec<DVec3>>, String>;
+
 /// The meshes read during one robot load: each file (canonical path and scale) read and
 /// hulled once, its hull's vertices (or its problem) kept for every other collision naming it.
 #[derive(Default)]
 pub(super) struct MeshCache {
-    hulls: HashMap<(PathBuf, [u64; 3]), Result<std::rc::Rc<Vec<DVec3>>, String>>,
+    /// By canonical path and the scale's bits.
+    hulls: HashMap<(PathBuf, [u64; 3]), Hull>,
     /// How many mesh files were read.
     pub reads: usize,
 }
@@ -113,7 +117,7 @@ impl MeshCache {
         dir: &Path,
         filename: &str,
         scale: [f64; 3],
-    ) -> Result<std::rc::Rc<Vec<DVec3>>, String> {
+    ) -> Hull {
         let path = resolve(dir, filename)?;
         let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
         let k = (canonical, scale.map(f64::to_bits));
