@@ -10,7 +10,7 @@
 //! the file holds is refused), a COLLADA file's nesting and declared counts
 //! (`limits::check_collada`), every vertex after its scale within
 //! [`crate::check::MAX_LENGTH_M`], and a hull that has a volume (one point, a line or a plane
-//! refused, `shapes.rs`). mesh-loader still indexes a COLLADA file's vertices with the file's
+//! refused, `hull.rs`). mesh-loader still indexes a COLLADA file's vertices with the file's
 //! own indices (an index past them panicked): the call is guarded (`guard.rs`).
 //!
 //! [`MeshCache`]: a mesh file is read and hulled once per robot load, however many
@@ -112,12 +112,7 @@ pub(super) struct MeshCache {
 impl MeshCache {
     /// The convex hull's vertices of mesh `filename` (URDF folder `dir`), scaled, in the
     /// mesh's frame, m: read and hulled on the first call for a file and scale.
-    pub fn hull(
-        &mut self,
-        dir: &Path,
-        filename: &str,
-        scale: [f64; 3],
-    ) -> Hull {
+    pub fn hull(&mut self, dir: &Path, filename: &str, scale: [f64; 3]) -> Hull {
         let path = resolve(dir, filename)?;
         let canonical = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
         let k = (canonical, scale.map(f64::to_bits));
@@ -132,7 +127,7 @@ impl MeshCache {
         }
         self.reads += 1;
         let r = mesh_points(&path, scale)
-            .and_then(|pts| super::shapes::checked_hull(&pts, &display(&path)))
+            .and_then(|pts| super::hull::checked_hull(&pts, &display(&path)))
             .map(std::rc::Rc::new);
         self.hulls.insert(k, r.clone());
         r

@@ -13,6 +13,7 @@
 //!   triangle inequality) and moved into the chassis frame; parts merged.
 //! - `pose.rs`: a URDF `<origin>` as a transform;
 //! - `shapes.rs`: collision geometry (box, cylinder, sphere, mesh as its convex hull).
+//! - `hull.rs`: a mesh's convex hull, its volume checked before parry builds it.
 //! - `mesh.rs`: mesh files (STL, OBJ, COLLADA with mesh-loader), bounded, each read and
 //!   hulled once per load.
 //! - `limits.rs`: the size bounds checked before a parser sees a file (XML nesting depth,
@@ -33,6 +34,7 @@
 
 mod gazebo;
 mod guard;
+mod hull;
 mod inertial;
 mod limits;
 mod link;

@@ -60,7 +60,8 @@ fn link(src: &UrdfSource, l: &urdf_rs::Link, issues: &mut Vec<SpecIssue>) {
             issues.push(SpecIssue::new(key(&format!("{at} <inertia>")), m));
         } else if all.iter().any(|v| *v != 0.0) {
             for (tag, v) in [("ixx", i.ixx), ("iyy", i.iyy), ("izz", i.izz)] {
-                if v.abs() < lo {
+                // Zero and negative moments are the positive-definite check's (`inertial.rs`).
+                if v > 0.0 && v < lo {
                     issues.push(SpecIssue::new(
                         key(&format!("{at} <inertia {tag}>")),
                         format!(

@@ -4,7 +4,7 @@
 //! do not exist, and joint types tracksim cannot simulate are refused with the element named.
 
 use super::Owner;
-use super::pose::{finite_pose, pose};
+use super::pose::{finite_pose, pose, too_far};
 use super::source::{UrdfSource, key};
 use super::{ImportedArm, ImportedLink, JointRoles, LinkJoint};
 use crate::error::SpecIssue;
@@ -353,23 +353,6 @@ fn arm(
         axis: (frame.matrix3 * axis).normalize(),
         limits,
         effort: l.effort,
-    })
-}
-
-/// Why `frame` (a link's or a collision's, in the chassis frame) is too far from the chassis
-/// for the f32 engine: its origin beyond [`crate::check::MAX_LENGTH_M`] (each `<origin>` is
-/// within it, their sum along a chain may not be).
-pub(super) fn too_far(frame: DAffine3) -> Option<String> {
-    let t = frame.translation;
-    let max = crate::check::MAX_LENGTH_M;
-    (!t.is_finite() || t.abs().max_element() > max).then(|| {
-        format!(
-            "its frame is at [{}, {}, {}] m from the root link, beyond {max:e} m (the f32 \
-             engine's bound); check the <origin>s along the chain and their units",
-            crate::check::num(t.x),
-            crate::check::num(t.y),
-            crate::check::num(t.z)
-        )
     })
 }
 
