@@ -61,10 +61,16 @@ fn vehicle_text(f: &Path) -> Result<String, Error> {
     let dir = f.parent().unwrap_or(Path::new("."));
     let name = f.display().to_string();
     let overrides = tracksim::Overrides::default();
-    let mut sc =
+    let sc =
         tracksim::model::compile_scenario_text(&name, "[terrain.ground]\n", v, dir, &overrides)?;
-    sc.source = Some(f.to_path_buf());
-    tracksim::Simulation::new(&sc)?;
+    // A problem found while building is the vehicle file's.
+    tracksim::Simulation::new(&sc).map_err(|e| match e {
+        Error::Invalid { issues, .. } => Error::Invalid {
+            path: f.to_path_buf(),
+            issues,
+        },
+        e => e,
+    })?;
     Ok(lines.join("\n       "))
 }
 

@@ -118,8 +118,9 @@ fn tokens(node: roxmltree::Node) -> u64 {
 /// Checks a COLLADA file's declared counts against its data before mesh-loader, which
 /// reserves memory for a declared `count` before reading the values (a `float_array
 /// count="4294967295"` aborted on allocation): every array's `count` must be the number of
-/// values it holds, and a primitive's (`<triangles>`, `<polylist>`, ...) `count` must not
-/// exceed the indices of its `<p>` and `<vcount>` elements. Nesting and element counts are
+/// values it holds, and the indices a primitive's `count` announces (`<triangles>`: 3 per
+/// triangle per input offset; `<polylist>`: its `<vcount>` sum per offset) must be in its
+/// `<p>` (mesh-loader reserves them first). Nesting and element counts are
 /// checked first ([`prescan_xml`]).
 pub(crate) fn check_collada(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let file = name(path);
@@ -141,25 +142,64 @@ pub(crate) fn check_collada(path: &Path, bytes: &[u8]) -> Result<(), String> {
                 crate::check::echoed(c)
             ));
         };
-        let (held, what) = match tag {
+        let is_array = tag.ends_with("_array");
+        let (needed, held, what) = match tag {
             "float_array" | "int_array" | "Name_array" | "IDREF_array" | "bool_array"
-            | "SIDREF_array" | "token_array" => (tokens(n), "values it holds"),
-            "triangles" | "polylist" | "polygons" | "lines" | "linestrips" | "trifans"
-            | "tristrips" => (
+            | "SIDREF_array" | "token_array" => (count, tokens(n), "values it holds"),
+            "triangles" | "lines" | "polylist" => {
+                // mesh-loader reserves count x (3, 2, or the <vcount> sum) x stride indices,
+                // stride = the largest <input offset> + 1: all must be in the <p>.
+                let stride = n
+                    .children()
+                    .filter(|c| c.has_tag_name("input"))
+                    .filter_map(|c| c.attribute("offset")?.trim().parse::<u64>().ok())
+                    .max()
+                    .unwrap_or(0)
+                    .saturating_add(1);
+                let per = match tag {
+                    "triangles" => count.saturating_mul(3),
+                    "lines" => count.saturating_mul(2),
+                    _ => {
+                        let vcount = n.children().filter(|c| c.has_tag_name("vcount"));
+                        let words: Vec<&str> = vcount
+                            .flat_map(|c| c.text().unwrap_or_default().split_ascii_whitespace())
+                            .collect();
+                        if count > words.len() as u64 {
+                            return Err(format!(
+                                "{file} line {}: <polylist count=\"{count}\"> but {} values in \
+                                 its <vcount>; the count must match the data (re-export the mesh)",
+                                line(n),
+                                words.len()
+                            ));
+                        }
+                        words
+                            .iter()
+                            .map(|w| w.parse::<u64>().unwrap_or(u64::MAX))
+                            .fold(0, u64::saturating_add)
+                    }
+                };
+                let p = n
+                    .children()
+                    .filter(|c| c.has_tag_name("p"))
+                    .map(tokens)
+                    .sum();
+                (per.saturating_mul(stride), p, "indices of its <p>")
+            }
+            "polygons" | "linestrips" | "trifans" | "tristrips" => (
+                count,
                 n.children()
-                    .filter(|c| c.has_tag_name("p") || c.has_tag_name("vcount"))
+                    .filter(|c| c.has_tag_name("p"))
                     .map(tokens)
                     .sum(),
-                "indices of its <p> and <vcount>",
+                "indices of its <p>",
             ),
             _ => continue,
         };
-        let is_array = tag.ends_with("_array");
         // An empty array is not read (mesh-loader keeps it empty, whatever its count).
-        if (is_array && held > 0 && count != held) || (!is_array && count > held) {
+        if (is_array && held > 0 && needed != held) || (!is_array && needed > held) {
             return Err(format!(
-                "{file} line {}: <{tag} count=\"{count}\"> but {held} {what}; the count must \
-                 match the data (re-export the mesh)",
+                "{file} line {}: <{tag} count=\"{count}\"> needs {needed} but {held} {what}; \
+                 the count must match the data (re-export the mesh)",
                 line(n)
             ));
         }

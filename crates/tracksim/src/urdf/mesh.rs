@@ -154,6 +154,19 @@ fn mesh_points(path: &Path, scale: [f64; 3]) -> Result<Vec<DVec3>, String> {
             stl_header_count(&bytes, &file)?;
         }
         "dae" => super::limits::check_collada(path, &bytes)?,
+        "obj" => {
+            // Faces counted before parsing (each is at least one triangle).
+            let faces = bytes
+                .split(|b| *b == b'\n')
+                .filter(|l| l.trim_ascii_start().starts_with(b"f "))
+                .count() as u64;
+            if faces > MAX_MESH_TRIANGLES {
+                return Err(format!(
+                    "{file}: {faces} faces, more than the {MAX_MESH_TRIANGLES} triangles a \
+                     collision mesh may have; simplify it"
+                ));
+            }
+        }
         _ => {}
     }
     let side_files = |p: &Path| {

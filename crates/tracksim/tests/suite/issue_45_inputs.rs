@@ -494,11 +494,11 @@ fn collada_counts_are_checked_against_their_data() {
     for (file, expect) in [
         (
             "count_huge.dae",
-            "<float_array count=\"4294967295\"> but 12 values",
+            "<float_array count=\"4294967295\"> needs 4294967295 but 12 values it holds",
         ),
         (
             "triangles_count.dae",
-            "<triangles count=\"4294967295\"> but 12 indices",
+            "<triangles count=\"4294967295\"> needs 12884901885 but 12 indices of its <p>",
         ),
         // mesh-loader panics on it: caught at the call, a message instead.
         (
@@ -513,6 +513,17 @@ fn collada_counts_are_checked_against_their_data() {
             expect,
         );
     }
+    // An input offset of 10^6: 10^6 indices per vertex announced, 12 given.
+    let tetra = std::fs::read_to_string(c.join("tetra.dae")).unwrap();
+    let wide = edit(&tetra, "offset=\"0\"/>", "offset=\"999999\"/>");
+    std::fs::write(d.join("wide.dae"), wide).unwrap();
+    let e = "<triangles count=\"4\"> needs 12000000 but 12 indices";
+    refused(&d, "wide.dae", &with_mesh("wide.dae", "1 1 1", 1), e);
+    // An OBJ's faces are counted before it is parsed.
+    let faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\n".to_string() + &"f 1 2 3\n".repeat(2_000_001);
+    std::fs::write(d.join("faces.obj"), faces).unwrap();
+    let e = "faces.obj: 2000001 faces, more than the 2000000";
+    refused(&d, "faces.obj", &with_mesh("faces.obj", "1 1 1", 1), e);
     let deep = format!(
         "<?xml version=\"1.0\"?><COLLADA version=\"1.4.1\"><library_visual_scenes>\
          <visual_scene id=\"s\">{}{}</visual_scene></library_visual_scenes></COLLADA>",
