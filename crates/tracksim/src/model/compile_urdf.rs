@@ -203,9 +203,10 @@ fn arms(
             c.push(
                 format!("{k}.initial_angle_deg"),
                 format!(
-                    "{start} deg is outside the joint's limits [{:.1}, {:.1}] deg",
+                    "{start} deg is outside the joint's limits [{:.1}, {:.1}] deg ({} <limit>)",
                     lo.to_degrees(),
-                    hi.to_degrees()
+                    hi.to_degrees(),
+                    robot.describe_joint(&a.joint)
                 ),
             );
         }
