@@ -48,6 +48,32 @@ fn scenario_text(f: &Path) -> Result<String, Error> {
     Ok(lines.join("\n       "))
 }
 
+/// What a vehicle file imports and its design, after building it as a run would (on flat
+/// ground, no step): the checks made while building (the link-mass floor taken back from the
+/// chassis, issue 45) are the same for `check` and `run`.
+fn vehicle_text(f: &Path) -> Result<String, Error> {
+    let v = tracksim::load_vehicle(f)?;
+    let mut lines = vec![format!("vehicle \"{}\"", v.name)];
+    if let Some(u) = &v.urdf {
+        lines.extend(u.lines());
+    }
+    lines.extend(tracksim::model::design_report(&v).lines());
+    let dir = f.parent().unwrap_or(Path::new("."));
+    let name = f.display().to_string();
+    let overrides = tracksim::Overrides::default();
+    let sc =
+        tracksim::model::compile_scenario_text(&name, "[terrain.ground]\n", v, dir, &overrides)?;
+    // A problem found while building is the vehicle file's.
+    tracksim::Simulation::new(&sc).map_err(|e| match e {
+        Error::Invalid { issues, .. } => Error::Invalid {
+            path: f.to_path_buf(),
+            issues,
+        },
+        e => e,
+    })?;
+    Ok(lines.join("\n       "))
+}
+
 /// `tracksim check`: exits 2 if any file has a problem (all are reported).
 pub fn check(a: CheckArgs) -> Result<(), Failure> {
     let mut failed = false;
@@ -55,14 +81,7 @@ pub fn check(a: CheckArgs) -> Result<(), Failure> {
         let f = scenario_file(given)?;
         let r = is_vehicle_file(&f).and_then(|vehicle| {
             if vehicle {
-                tracksim::load_vehicle(&f).map(|v| {
-                    let mut lines = vec![format!("vehicle \"{}\"", v.name)];
-                    if let Some(u) = &v.urdf {
-                        lines.extend(u.lines());
-                    }
-                    lines.extend(tracksim::model::design_report(&v).lines());
-                    lines.join("\n       ")
-                })
+                vehicle_text(&f)
             } else {
                 scenario_text(&f)
             }

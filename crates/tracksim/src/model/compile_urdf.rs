@@ -160,9 +160,13 @@ fn arms(
     let names: Vec<&str> = robot.arms.iter().map(|a| a.joint.as_str()).collect();
     for j in spec.joints.keys() {
         if !names.contains(&j.as_str()) {
+            let file = robot.file.file_name().unwrap_or_default().to_string_lossy();
             c.push(
                 format!("joints.{j}"),
-                crate::check::unknown_name("revolute joint", j, &names),
+                format!(
+                    "{} (the flipper joints of {file})",
+                    crate::check::unknown_name("revolute joint", j, &names)
+                ),
             );
         }
     }
@@ -199,9 +203,10 @@ fn arms(
             c.push(
                 format!("{k}.initial_angle_deg"),
                 format!(
-                    "{start} deg is outside the joint's limits [{:.1}, {:.1}] deg",
+                    "{start} deg is outside the joint's limits [{:.1}, {:.1}] deg ({} <limit>)",
                     lo.to_degrees(),
-                    hi.to_degrees()
+                    hi.to_degrees(),
+                    robot.describe_joint(&a.joint)
                 ),
             );
         }

@@ -14,6 +14,8 @@ pub(crate) struct Mounts {
     names: Vec<(String, Parent, DAffine3)>,
     /// True for a URDF robot (names are links).
     urdf: bool,
+    /// The robot file's name, for messages (empty for a vehicle file's flippers).
+    file: String,
 }
 
 impl Mounts {
@@ -25,7 +27,11 @@ impl Mounts {
                 .enumerate()
                 .map(|(i, n)| (n.to_string(), Parent::Flipper(i), DAffine3::IDENTITY)),
         );
-        Mounts { names, urdf: false }
+        Mounts {
+            names,
+            urdf: false,
+            file: String::new(),
+        }
     }
 
     /// `"body"` (the root link's frame) and every link of a URDF robot.
@@ -37,7 +43,16 @@ impl Mounts {
                 .iter()
                 .map(|l| (l.name.clone(), l.owner.into(), l.pose)),
         );
-        Mounts { names, urdf: true }
+        let file = robot
+            .file
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Mounts {
+            names,
+            urdf: true,
+            file,
+        }
     }
 
     /// True for a URDF robot.
@@ -58,7 +73,11 @@ impl Mounts {
             Some((_, p, f)) => (*p, *f),
             None => {
                 let known: Vec<&str> = self.names.iter().map(|(n, ..)| n.as_str()).collect();
-                c.push(key, unknown_name(what, name, &known));
+                let mut m = unknown_name(what, name, &known);
+                if self.urdf {
+                    m = format!("{m} (the links of {})", self.file);
+                }
+                c.push(key, m);
                 (Parent::Body, DAffine3::IDENTITY)
             }
         }

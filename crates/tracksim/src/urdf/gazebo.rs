@@ -100,8 +100,12 @@ impl GazeboExtensions {
     pub fn read(robot: roxmltree::Node, line: &dyn Fn(roxmltree::Node) -> u32) -> Self {
         let mut out = GazeboExtensions::default();
         for g in robot.children().filter(|n| n.has_tag_name("gazebo")) {
+            // An empty `<mu1>` is a number left out, not "no friction given".
             if let Some(link) = g.attribute("reference")
-                && let Some(mu) = text_of(g, "mu1")
+                && let Some(mu) = g
+                    .children()
+                    .find(|c| c.has_tag_name("mu1"))
+                    .map(|c| c.text().map_or("", str::trim))
             {
                 match mu.parse::<f64>() {
                     Ok(v) => {

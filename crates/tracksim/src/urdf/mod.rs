@@ -13,7 +13,15 @@
 //!   triangle inequality) and moved into the chassis frame; parts merged.
 //! - `pose.rs`: a URDF `<origin>` as a transform;
 //! - `shapes.rs`: collision geometry (box, cylinder, sphere, mesh as its convex hull).
-//! - `mesh.rs`: mesh files (STL, OBJ, COLLADA with mesh-loader), bounded.
+//! - `hull.rs`: a mesh's convex hull, its volume checked before parry builds it.
+//! - `mesh.rs`: mesh files (STL, OBJ, COLLADA with mesh-loader), bounded, each read and
+//!   hulled once per load.
+//! - `limits.rs`: the size bounds checked before a parser sees a file (XML nesting depth,
+//!   element, link, joint and collision counts; COLLADA counts against their data).
+//! - `numbers.rs`: every number of the robot within the f32 engine's bounds (the TOML
+//!   checker's).
+//! - `guard.rs`: a dependency's panic (mesh-loader, parry) caught at the call and turned into
+//!   an error.
 //! - `link.rs`: the imported links, arms and mass parts, and the body each link becomes part of;
 //! - `robot.rs`: the robot read, walked and checked ([`UrdfRobot`]);
 //! - `report.rs`: what `tracksim check` prints.
@@ -25,9 +33,13 @@
 //! frame tracksim's vehicle model uses.
 
 mod gazebo;
+mod guard;
+mod hull;
 mod inertial;
+mod limits;
 mod link;
 mod mesh;
+mod numbers;
 mod pose;
 mod report;
 mod robot;
@@ -37,6 +49,9 @@ mod source;
 mod tree;
 
 pub use gazebo::TrackedVehiclePlugin;
+pub use limits::{MAX_COLLISIONS, MAX_JOINTS, MAX_LINKS, MAX_XML_DEPTH, MAX_XML_ELEMENTS};
 pub use link::{ImportedArm, ImportedLink, JointRoles, LinkJoint, MassPart, Owner};
+pub use mesh::{MAX_MESH_TRIANGLES, MAX_ROBOT_MESH_BYTES};
 pub use report::{JointFrame, LinkLine, UrdfReport};
-pub use robot::UrdfRobot;
+pub use robot::{MAX_REPORTED_ISSUES, UrdfRobot};
+pub use source::MAX_URDF_BYTES;

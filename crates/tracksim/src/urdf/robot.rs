@@ -1,10 +1,15 @@
 //! A URDF robot read, walked and checked ([`UrdfRobot`]).
 
 use super::link::{ImportedArm, ImportedLink, JointRoles, MassPart, Owner};
+use super::mesh::MeshCache;
 use super::source::{self, UrdfSource};
-use super::{TrackedVehiclePlugin, inertial, tree};
+use super::{TrackedVehiclePlugin, inertial, numbers, tree};
 use crate::error::SpecIssue;
 use std::path::Path;
+
+/// Most problems listed for one robot file (200 collisions with one bad scale are one
+/// mistake, not 200 lines).
+pub const MAX_REPORTED_ISSUES: usize = 10;
 
 /// A URDF robot, imported and checked.
 #[derive(Clone, Debug)]
@@ -28,6 +33,8 @@ pub struct UrdfRobot {
     /// An SDF model's `<pose>` in its world: where the robot starts (m, rad; the vehicle
     /// itself is built in the model frame). `None` for a URDF, or a model without a pose.
     pub start_pose: Option<glam::DAffine3>,
+    /// How many mesh files were read (each once, however many `<collision>`s name it).
+    pub meshes_read: usize,
     /// Line-numbered names of links and joints, for messages.
     source: std::sync::Arc<UrdfSource>,
 }
@@ -103,7 +110,39 @@ impl UrdfRobot {
 
     /// [`UrdfRobot::load_model`] with the vehicle file's joint roles (rigid joints, named
     /// flippers, the links carrying tracks).
+    /// At most [`MAX_REPORTED_ISSUES`] problems are returned (the rest counted in a last one).
     pub fn load_with(
+        path: &Path,
+        sdf_model: Option<&str>,
+        roles: &JointRoles,
+    ) -> Result<UrdfRobot, Vec<SpecIssue>> {
+        let file = path
+            .file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Self::load_unbounded(path, sdf_model, roles).map_err(|mut issues| {
+            // Every problem names the file (the key names the element where there is one).
+            for i in &mut issues {
+                if !i.key.contains(&file) && !i.message.contains(&file) {
+                    i.message = format!("{file}: {}", i.message);
+                }
+            }
+            if issues.len() > MAX_REPORTED_ISSUES {
+                let more = issues.len() - MAX_REPORTED_ISSUES;
+                issues.truncate(MAX_REPORTED_ISSUES);
+                issues.push(SpecIssue::new(
+                    "urdf",
+                    format!(
+                        "{file}: and {more} more problem(s) (the first {MAX_REPORTED_ISSUES} \
+                         are listed)"
+                    ),
+                ));
+            }
+            issues
+        })
+    }
+
+    fn load_unbounded(
         path: &Path,
         sdf_model: Option<&str>,
         roles: &JointRoles,
@@ -130,12 +169,18 @@ impl UrdfRobot {
         let mut issues = Vec::new();
         for (element, text) in &src.gazebo.unreadable {
             issues.push(SpecIssue::new(
-                source::key(element),
+                source::key(&format!("{element} ({})", src.file_name())),
                 format!("`{}` is not a number", crate::check::echoed(text)),
             ));
         }
+        // Every number within the engine's bounds before anything is built from them.
+        numbers::check(&src, &mut issues);
+        if !issues.is_empty() {
+            return Err(issues);
+        }
         let mut warnings = Vec::new();
-        let (links, arms) = tree::walk(&src, roles, &mut issues, &mut warnings);
+        let mut meshes = MeshCache::default();
+        let (links, arms) = tree::walk(&src, roles, &mut meshes, &mut issues, &mut warnings);
         if let Some(p) = &src.gazebo.plugin {
             for (tag, l) in p.track_links() {
                 // Against the file's links, not the tree walked: a broken tree is its own
@@ -167,6 +212,7 @@ impl UrdfRobot {
             root_friction,
             warnings,
             start_pose: src.start_pose,
+            meshes_read: meshes.reads,
             source: std::sync::Arc::new(src),
         })
     }

@@ -3,6 +3,7 @@
 //! and meshes as their convex hull. Capsules (URDF 1.2) are refused with what to use instead.
 
 use super::ImportedLink;
+use super::mesh::MeshCache;
 use super::pose::{finite_pose, pose};
 use super::source::{UrdfSource, key};
 use crate::error::SpecIssue;
@@ -14,23 +15,12 @@ fn positive(v: f64) -> bool {
     v.is_finite() && v >= lo && v <= hi
 }
 
-/// The convex hull's vertices of `points` (f32, as Rapier builds it), m.
-fn hull(points: &[DVec3]) -> Option<Vec<DVec3>> {
-    let p: Vec<rapier3d::prelude::Vector> = points.iter().map(|v| crate::check::f(*v)).collect();
-    let (verts, faces) = rapier3d::parry::transformation::convex_hull(&p);
-    (!faces.is_empty()).then(|| {
-        verts
-            .iter()
-            .map(|v| DVec3::new(v.x as f64, v.y as f64, v.z as f64))
-            .collect()
-    })
-}
-
 /// One `<collision>` geometry at `frame` (chassis frame).
 fn shape(
     dir: &std::path::Path,
     g: &urdf_rs::Geometry,
     frame: DAffine3,
+    meshes: &mut MeshCache,
 ) -> Result<CollisionShape, String> {
     match g {
         urdf_rs::Geometry::Box { size } => {
@@ -91,17 +81,21 @@ fn shape(
                     "<mesh scale> must be finite and non-zero; got {scale:?}"
                 ));
             }
-            let pts = super::mesh::mesh_points(dir, filename, scale)?;
-            let world: Vec<DVec3> = pts.iter().map(|p| frame.transform_point3(*p)).collect();
-            hull(&world).map(CollisionShape::Convex).ok_or_else(|| {
-                format!("the mesh {filename} is flat (its points are coplanar): it has no hull")
-            })
+            let hull = meshes.hull(dir, filename, scale)?;
+            // A rigid motion keeps a hull a hull: its vertices are placed, not hulled again.
+            let placed: Vec<DVec3> = hull.iter().map(|p| frame.transform_point3(*p)).collect();
+            Ok(CollisionShape::Convex(placed))
         }
     }
 }
 
 /// Reads the collision shapes of link `l` (frames already known).
-pub(super) fn link_shapes(src: &UrdfSource, l: &mut ImportedLink, issues: &mut Vec<SpecIssue>) {
+pub(super) fn link_shapes(
+    src: &UrdfSource,
+    l: &mut ImportedLink,
+    meshes: &mut MeshCache,
+    issues: &mut Vec<SpecIssue>,
+) {
     let Some(u) = src.robot.links.iter().find(|k| k.name == l.name) else {
         return;
     };
@@ -115,7 +109,12 @@ pub(super) fn link_shapes(src: &UrdfSource, l: &mut ImportedLink, issues: &mut V
             ));
             continue;
         }
-        match shape(dir, &c.geometry, l.pose * pose(&c.origin)) {
+        let frame = l.pose * pose(&c.origin);
+        if let Some(m) = super::pose::too_far(frame) {
+            issues.push(SpecIssue::new(&at, m));
+            continue;
+        }
+        match shape(dir, &c.geometry, frame, meshes) {
             Ok(s) => l.shapes.push(s),
             Err(m) => issues.push(SpecIssue::new(&at, m)),
         }

@@ -37,8 +37,10 @@ pub(crate) fn key(element: &str) -> String {
 
 impl UrdfSource {
     /// Reads the text of `path` (a URDF or SDF file), bounded; problems are keyed `urdf`.
+    /// Its nesting and element counts are checked here, before any tree parser sees it
+    /// (`limits.rs`).
     pub fn read_text(path: &Path) -> Result<String, Vec<SpecIssue>> {
-        crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
+        let text = crate::files::read_text_bounded(path, MAX_URDF_BYTES).map_err(|e| {
             vec![SpecIssue::new(
                 "urdf",
                 format!(
@@ -46,7 +48,10 @@ impl UrdfSource {
                      folder"
                 ),
             )]
-        })
+        })?;
+        super::limits::prescan_xml(path, &text, true)
+            .map_err(|m| vec![SpecIssue::new("urdf", m)])?;
+        Ok(text)
     }
 
     /// Parses `text`, the URDF file `path`; problems are keyed `urdf` (the vehicle file's key).
@@ -138,12 +143,16 @@ impl UrdfSource {
         self.at("joint", name, self.joint_lines.get(name))
     }
 
-    fn at(&self, tag: &str, name: &str, line: Option<&u32>) -> String {
-        let file = self
-            .path
+    /// The file's name, for messages.
+    pub fn file_name(&self) -> String {
+        self.path
             .file_name()
             .map(|f| f.to_string_lossy().into_owned())
-            .unwrap_or_default();
+            .unwrap_or_default()
+    }
+
+    fn at(&self, tag: &str, name: &str, line: Option<&u32>) -> String {
+        let file = self.file_name();
         match line {
             Some(l) => format!(
                 "<{tag} name=\"{}\"> ({file} line {l})",

@@ -4,7 +4,7 @@
 //! do not exist, and joint types tracksim cannot simulate are refused with the element named.
 
 use super::Owner;
-use super::pose::{finite_pose, pose};
+use super::pose::{finite_pose, pose, too_far};
 use super::source::{UrdfSource, key};
 use super::{ImportedArm, ImportedLink, JointRoles, LinkJoint};
 use crate::error::SpecIssue;
@@ -182,6 +182,7 @@ fn role(
 pub(super) fn walk(
     src: &UrdfSource,
     roles: &JointRoles,
+    meshes: &mut super::mesh::MeshCache,
     issues: &mut Vec<SpecIssue>,
     warnings: &mut Vec<String>,
 ) -> (Vec<ImportedLink>, Vec<ImportedArm>) {
@@ -224,6 +225,10 @@ pub(super) fn walk(
                 continue;
             }
             let mut frame = parent_pose * pose(&j.origin);
+            if let Some(m) = too_far(frame) {
+                issues.push(SpecIssue::new(&at, m));
+                continue;
+            }
             let (kind, owner) = match role(j, roles, &mut frame) {
                 Ok((kind, false)) => (kind, parent_owner),
                 Ok((kind, true)) => {
@@ -288,7 +293,7 @@ pub(super) fn walk(
     }
     for l in &mut links {
         super::inertial::link_mass(src, l, issues, warnings);
-        super::shapes::link_shapes(src, l, issues);
+        super::shapes::link_shapes(src, l, meshes, issues);
         super::inertial::far_com(src, l, warnings);
     }
     (links, arms)

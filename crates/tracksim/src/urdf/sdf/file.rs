@@ -129,15 +129,19 @@ pub(super) fn models<'a, 'input>(root: Node<'a, 'input>) -> Vec<Node<'a, 'input>
 }
 
 /// Reads and parses the SDF file `path` (`key`: the key prefix of its problems).
+/// Its nesting and element counts are checked before it is parsed (`urdf/limits.rs`).
 pub(super) fn read_text(path: &Path, key: &str) -> Result<String, Vec<SpecIssue>> {
-    crate::files::read_text_bounded(path, MAX_SDF_BYTES).map_err(|e| {
+    let text = crate::files::read_text_bounded(path, MAX_SDF_BYTES).map_err(|e| {
         vec![SpecIssue::new(
             key,
             format!(
                 "cannot read the SDF file: {e}; the path is relative to the vehicle file's folder"
             ),
         )]
-    })
+    })?;
+    super::super::limits::prescan_xml(path, &text, true)
+        .map_err(|m| vec![SpecIssue::new(key, m)])?;
+    Ok(text)
 }
 
 /// Parses `text` (the file `path`) as XML with an `<sdf>` root.

@@ -62,6 +62,23 @@ pub(super) fn pose_of(ctx: &Ctx, n: Node) -> Result<RawPose, SpecIssue> {
     } else {
         numbers(ctx, p, if quat { &[7] } else { &[6] })?
     };
+    // The TOML checker's bounds (what the f32 engine represents): a position within
+    // MAX_LENGTH_M, an angle or quaternion component within MAX_PLAIN (a quaternion of 1e308s
+    // has an infinite length and normalises to NaN).
+    let (max_m, max_plain) = (crate::check::MAX_LENGTH_M, crate::check::MAX_PLAIN);
+    if v[..3].iter().any(|x| x.abs() > max_m) || v[3..].iter().any(|x| x.abs() > max_plain) {
+        return Err(ctx.issue(
+            p,
+            format!(
+                "\"{}\" is beyond the f32 engine's bounds ({max_m:e} m for x y z, {max_plain:e} \
+                 for the angles or quaternion); check the units and the numbers",
+                v.iter()
+                    .map(|x| crate::check::num(*x))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ),
+        ));
+    }
     let t = DVec3::new(v[0], v[1], v[2]);
     let r = if quat && !empty {
         let q = DQuat::from_xyzw(v[3], v[4], v[5], v[6]);
