@@ -102,6 +102,9 @@ pub struct Simulation {
     /// step in which they come to rest creates their contacts afresh, so that the brake holds
     /// them where they stopped, not where the contacts began.
     held_at_rest: bool,
+    /// Every robot's chassis position in the last step they were all braked at rest (Rapier's
+    /// frame), m; empty before the first.
+    rest_positions: Vec<rapier3d::math::Vector>,
     /// The tracks' contact springs (`[tracks.compliance]`), by compliance tag index (every
     /// robot's).
     springs: Vec<compliance::SolverSpring>,

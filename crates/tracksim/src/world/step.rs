@@ -1,7 +1,7 @@
 //! One step of the world, as named stages: keep the ground tile under the vehicle, step the
 //! physics with the contact hook, the tracks' after-step work, and the stability check.
 
-use super::at_rest::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
+use super::at_rest::{REST_REANCHOR_M, STICK_RATE_RAD_S, STICK_SPEED_MPS};
 use super::contacts::ContactHooks;
 use super::{MAX_SPEED_MPS, Simulation};
 use crate::error::{Error, Result};
@@ -41,12 +41,19 @@ impl Simulation {
         // the links come back to the same pose every step and recycling holds them exactly
         // (0.23 mm/s of creep with fresh contacts), so it stays on.
         let recycling = self.world.integration_parameters.contact_recycling;
-        // Coming to rest on held belts, the contacts are made afresh where the robot stands:
-        // recycled, their anchors were where they began, before the skid to a stop, and the
-        // bias pass's friction then pulled a PackBot stopped from 0.3 m/s back 7.4 mm over 2 s,
-        // rocking at 11 mm/s across the at-rest threshold (issue 43's red slip bars at rest).
-        let coming_to_rest = held_all && !self.held_at_rest;
+        // Coming to rest on held belts after moving, the contacts are made afresh where the
+        // robot stands: recycled, their anchors were where they began, before the skid to a
+        // stop, and the bias pass's friction then pulled a PackBot stopped from 0.3 m/s back
+        // 7.4 mm over 2 s, rocking at 11 mm/s across the at-rest threshold (issue 43's red slip
+        // bars at rest). A robot standing still crosses that threshold many times a second
+        // (landing, solver noise) without moving: only a return to rest at least
+        // `REST_REANCHOR_M` from the last rest counts, else its anchors would be renewed as it
+        // creeps and it would creep on (2.6 mm in 20 s, against 0.02 mm).
+        let coming_to_rest = held_all && !self.held_at_rest && self.moved_since_rest();
         self.held_at_rest = held_all;
+        if held_all {
+            self.rest_positions = self.chassis_positions();
+        }
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
         self.world.integration_parameters.contact_recycling =
@@ -83,6 +90,25 @@ impl Simulation {
     /// [`STICK_SPEED_MPS`] and [`STICK_RATE_RAD_S`]): static friction holds it. A braked
     /// vehicle that slides (beyond the friction cone) leaves this state within milliseconds and
     /// slides with Rapier's plain friction.
+    /// Every robot's chassis position (Rapier's frame), m.
+    fn chassis_positions(&self) -> Vec<rapier3d::math::Vector> {
+        self.robots
+            .iter()
+            .map(|r| self.world.bodies[r.body].translation())
+            .collect()
+    }
+
+    /// Whether a robot's chassis is at least [`REST_REANCHOR_M`] from where it was last at rest
+    /// (or none was yet).
+    fn moved_since_rest(&self) -> bool {
+        self.rest_positions.len() != self.robots.len()
+            || self
+                .chassis_positions()
+                .iter()
+                .zip(&self.rest_positions)
+                .any(|(a, b)| (*a - *b).length() >= REST_REANCHOR_M)
+    }
+
     fn braked_at_rest(&self) -> bool {
         let b = &self.world.bodies[self.rb().body];
         self.rb().tracks.iter().all(|t| t.holds_belt())

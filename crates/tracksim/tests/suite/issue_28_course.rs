@@ -315,10 +315,11 @@ fn sessions_table_sorts_and_writes_csv() {
     sort_rows(&mut t.rows, SortKey::Trainee, false);
     let csv = table_csv(&t.rows);
     let lines: Vec<&str> = csv.lines().collect();
-    assert!(lines[0].starts_with("trainee,scenario,course,repetitions,time_s,faults"));
+    assert!(lines[0].starts_with("trainee,scenario,course,status,repetitions,time_s,faults"));
     assert!(
-        lines[1]
-            .starts_with("Adam,course_figure8_ramps.toml,figure-8,1/1,35.00,1,5.00,40.00,success,"),
+        lines[1].starts_with(
+            "Adam,course_figure8_ramps.toml,figure-8,completed,1/1,35.00,1,5.00,40.00,success,"
+        ),
         "{}",
         lines[1]
     );
