@@ -26,53 +26,13 @@ const LIMIT: Duration = Duration::from_secs(60);
 /// Longest message allowed for one bad file (no 2 MB line echoed whole).
 const MAX_MESSAGE: usize = 4_000;
 
-struct Ran {
-    code: Option<i32>,
-    text: String,
-    took: Duration,
-}
+#[path = "support/bounded.rs"]
+mod bounded;
+use bounded::Ran;
 
 /// Runs the binary with `args` under [`LIMIT`] (killed past it: a hang fails the test).
 fn run(args: &[&str]) -> Ran {
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let t0 = Instant::now();
-    let child = Command::new(bin())
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let pid = child.id().to_string();
-    let done = Arc::new(AtomicBool::new(false));
-    let killed = Arc::new(AtomicBool::new(false));
-    let watchdog = {
-        let (done, killed) = (done.clone(), killed.clone());
-        std::thread::spawn(move || {
-            while !done.load(Ordering::SeqCst) {
-                if t0.elapsed() > LIMIT {
-                    killed.store(true, Ordering::SeqCst);
-                    let _ = Command::new("kill").args(["-KILL", &pid]).status();
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(20));
-            }
-        })
-    };
-    // Reading both pipes to the end, so a long message cannot block the child.
-    let o = child.wait_with_output().unwrap();
-    done.store(true, Ordering::SeqCst);
-    watchdog.join().unwrap();
-    assert!(
-        !killed.load(Ordering::SeqCst),
-        "{args:?} took more than {LIMIT:?}: a hang"
-    );
-    Ran {
-        code: o.status.code(),
-        text: String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout),
-        took: t0.elapsed(),
-    }
+    bounded::run_bounded(args, LIMIT, None)
 }
 
 /// Asserts that `r` is a clean refusal (exit 2) naming `key`.

@@ -13,12 +13,7 @@
 
 use rand_core::{Rng, SeedableRng};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn bin() -> PathBuf {
-    PathBuf::from(env!("CARGO_BIN_EXE_tracksim"))
-}
 
 fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
@@ -38,57 +33,13 @@ const MEMORY_KIB: u64 = 1 << 20;
 /// Longest message allowed for one bad file.
 const MAX_MESSAGE: usize = 4_000;
 
-struct Ran {
-    code: Option<i32>,
-    signal: Option<i32>,
-    text: String,
-}
+#[path = "support/bounded.rs"]
+mod bounded;
+use bounded::Ran;
 
-/// Runs the binary with `args` under [`LIMIT`] and [`MEMORY_KIB`] (killed past the time: a
-/// hang fails the test).
+/// Runs the binary with `args` under [`LIMIT`] (killed past it: a hang fails the test).
 fn run(args: &[&str]) -> Ran {
-    use std::os::unix::process::ExitStatusExt;
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let t0 = Instant::now();
-    let child = Command::new("sh")
-        .arg("-c")
-        .arg(format!("ulimit -v {MEMORY_KIB} && exec \"$0\" \"$@\""))
-        .arg(bin())
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let pid = child.id().to_string();
-    let done = Arc::new(AtomicBool::new(false));
-    let killed = Arc::new(AtomicBool::new(false));
-    let watchdog = {
-        let (done, killed) = (done.clone(), killed.clone());
-        std::thread::spawn(move || {
-            while !done.load(Ordering::SeqCst) {
-                if t0.elapsed() > LIMIT {
-                    killed.store(true, Ordering::SeqCst);
-                    let _ = Command::new("kill").args(["-KILL", &pid]).status();
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(10));
-            }
-        })
-    };
-    let o = child.wait_with_output().unwrap();
-    done.store(true, Ordering::SeqCst);
-    watchdog.join().unwrap();
-    assert!(
-        !killed.load(Ordering::SeqCst),
-        "{args:?} took more than {LIMIT:?}: a hang"
-    );
-    Ran {
-        code: o.status.code(),
-        signal: o.status.signal(),
-        text: String::from_utf8_lossy(&o.stderr).into_owned() + &String::from_utf8_lossy(&o.stdout),
-    }
+    bounded::run_bounded(args, LIMIT, Some(MEMORY_KIB))
 }
 
 /// Asserts that `r` ended cleanly (no panic, no signal) with exit 0 or 2.

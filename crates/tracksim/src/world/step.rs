@@ -52,7 +52,12 @@ impl Simulation {
         let coming_to_rest = held_all && !self.held_at_rest && self.moved_since_rest();
         self.held_at_rest = held_all;
         if held_all {
-            self.rest_positions = self.chassis_positions();
+            // In place: no allocation in the steps a robot stands.
+            self.rest_positions
+                .resize(self.robots.len(), Default::default());
+            for (p, r) in self.rest_positions.iter_mut().zip(&self.robots) {
+                *p = self.world.bodies[r.body].translation();
+            }
         }
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
@@ -90,23 +95,13 @@ impl Simulation {
     /// [`STICK_SPEED_MPS`] and [`STICK_RATE_RAD_S`]): static friction holds it. A braked
     /// vehicle that slides (beyond the friction cone) leaves this state within milliseconds and
     /// slides with Rapier's plain friction.
-    /// Every robot's chassis position (Rapier's frame), m.
-    fn chassis_positions(&self) -> Vec<rapier3d::math::Vector> {
-        self.robots
-            .iter()
-            .map(|r| self.world.bodies[r.body].translation())
-            .collect()
-    }
-
     /// Whether a robot's chassis is at least [`REST_REANCHOR_M`] from where it was last at rest
     /// (or none was yet).
     fn moved_since_rest(&self) -> bool {
         self.rest_positions.len() != self.robots.len()
-            || self
-                .chassis_positions()
-                .iter()
-                .zip(&self.rest_positions)
-                .any(|(a, b)| (*a - *b).length() >= REST_REANCHOR_M)
+            || self.robots.iter().zip(&self.rest_positions).any(|(r, p)| {
+                (self.world.bodies[r.body].translation() - *p).length() >= REST_REANCHOR_M
+            })
     }
 
     fn braked_at_rest(&self) -> bool {
