@@ -81,7 +81,7 @@ fn the_files_commands_drive_until_the_first_ros_command_and_replay() {
     assert!(at(0.5).belt_cmd.iter().all(|&v| (v - 0.3).abs() < 1e-12));
     assert!(at(0.99).belt_cmd.iter().all(|&v| (v - 0.3).abs() < 1e-12));
     assert!(at(1.5).belt_cmd.iter().all(|&v| v == 0.0));
-    let x = |t: f64| at(t).pose.x - r.samples[0].pose.x;
+    let x = |t: f64| at(t).pose.x - r.samples.first().unwrap().pose.x;
     assert!(x(1.0) > 0.2, "the file's command drove: {} m", x(1.0));
     assert_eq!(peer.said.len(), 1, "{:?}", peer.said);
     assert!((peer.said[0].0 - 1.0).abs() < 1e-9);

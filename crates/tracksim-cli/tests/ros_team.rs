@@ -129,7 +129,7 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
     assert_eq!(peers.robots[1].counts.watchdog_stops, 1);
     let moved = |k: usize| {
         let s = &r.robots[k].1.samples;
-        (s.last().unwrap().pose.x - s[0].pose.x).abs()
+        (s.last().unwrap().pose.x - s.first().unwrap().pose.x).abs()
     };
     let speed = |k: usize| r.robots[k].1.samples.last().unwrap().belt_cmd.clone();
     eprintln!(

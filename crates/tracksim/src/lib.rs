@@ -6,8 +6,9 @@
 //!
 //! Layers, each importing only the ones above it in this list (docs/ARCHITECTURE.md):
 //! - [`error`], `check` (problem lists with key paths, f64 -> f32 conversions, limits),
-//!   [`files`] (bounded reading of regular files, atomic writes), [`rosmsg`] (ROS 2 messages,
-//!   CDR and `ros2msg` schemas): the base;
+//!   [`files`] (bounded reading of regular files, atomic writes), [`spill`] (a run's records
+//!   at a bounded memory, the older ones on disk), [`rosmsg`] (ROS 2 messages, CDR and
+//!   `ros2msg` schemas): the base;
 //! - [`spec`]: what the TOML files say (serde, unknown keys rejected);
 //! - [`geometry`]: track loops of straight and circular segments, grouser layout (exact);
 //! - [`terrain`]: terrain kinds compiled and checked, file parsers, insertion into Rapier;
@@ -58,6 +59,7 @@ pub mod sensor_bench;
 pub mod sensors;
 pub mod sessions;
 pub mod spec;
+pub mod spill;
 pub mod sweep;
 pub mod team_bench;
 pub mod terrain;

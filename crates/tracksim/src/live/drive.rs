@@ -16,6 +16,7 @@ use crate::error::Result;
 use crate::model::Scenario;
 use crate::run::{
     CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, RunView, Runner, SessionLimits,
+    SpillLog,
 };
 use crate::spec::CommandSpec;
 use std::path::{Path, PathBuf};
@@ -59,8 +60,8 @@ pub struct Session {
     /// Each control change, as a scenario's `[[commands]]` entry at the simulated time it
     /// was applied.
     pub log: CommandLog,
-    /// The controls in force at each sample of `result.samples`.
-    pub controls: Vec<DriveControl>,
+    /// The controls in force at each sample of `result.samples` (spilled to disk with them).
+    pub controls: SpillLog<DriveControl>,
     /// Flipper names, by index.
     pub flipper_names: Vec<String>,
     /// Initial flipper angles, degrees (what an uncommanded flipper holds).
@@ -86,7 +87,9 @@ pub(super) fn to_command(sc: &Scenario, t: f64, c: &DriveControl) -> CommandSpec
 }
 
 /// Mean forward speed of the body over the last 0.1 s of samples (along its heading), m/s.
-fn mean_forward_speed(samples: &[crate::world::Sample], interval: f64) -> f64 {
+fn mean_forward_speed(samples: &crate::run::SampleLog, interval: f64) -> f64 {
+    // The last 0.1 s are always in memory (`SampleLog::recent`).
+    let samples = samples.recent();
     let k = ((0.1 / interval).round() as usize).max(1);
     let n = samples.len();
     if n <= k {
@@ -244,7 +247,7 @@ struct PageSource<'a> {
     idle: DriveControl,
     current: DriveControl,
     /// The controls in force at each sample.
-    controls: Vec<DriveControl>,
+    controls: SpillLog<DriveControl>,
     last_publish: Option<Instant>,
     feeds: Feeds,
 }
@@ -265,7 +268,7 @@ impl ControlSource for PageSource<'_> {
             return false;
         }
         self.current = self.idle.clone();
-        self.controls = vec![self.current.clone()];
+        self.controls = SpillLog::from(vec![self.current.clone()]);
         self.feeds.hud.reset();
         self.feeds.rut_seq = 0;
         self.hub.clear_ruts();
@@ -321,7 +324,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         hub,
         speed: opts.speed,
         current: idle.clone(),
-        controls: vec![idle.clone()],
+        controls: SpillLog::from(vec![idle.clone()]),
         idle,
         last_publish: None,
         feeds: Feeds::default(),
@@ -427,8 +430,8 @@ impl Session {
 /// `controls.csv`: the controls in force at each of `samples` (`t_s`, m/s, rad/s, flipper
 /// targets in degrees: an uncommanded flipper's is its last target, from `initial_deg`).
 pub(super) fn controls_csv(
-    samples: &[crate::world::Sample],
-    controls: &[DriveControl],
+    samples: &crate::run::SampleLog,
+    controls: &SpillLog<DriveControl>,
     flipper_names: &[String],
     initial_deg: &[f64],
 ) -> String {
@@ -438,7 +441,7 @@ pub(super) fn controls_csv(
     }
     text.push('\n');
     let mut held = initial_deg.to_vec();
-    for (s, c) in samples.iter().zip(controls) {
+    for (s, c) in samples.iter().zip(controls.iter()) {
         text.push_str(&format!(
             "{:.6},{:.6},{:.6}",
             s.t, c.forward_mps, c.yaw_rate_rad_s

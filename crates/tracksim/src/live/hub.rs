@@ -83,7 +83,7 @@ const MAX_ERROR_CHARS: usize = 200;
 
 /// The operator's controls: body twist and flipper targets (degrees, as a scenario file's
 /// `flipper_angle_deg`; `None`: not commanded, held where it is).
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DriveControl {
     /// Forward speed, m/s.
     pub forward_mps: f64,

@@ -64,8 +64,8 @@ impl HudFeed {
         if samples.len() < self.seen {
             self.reset();
         }
-        for s in &samples[self.seen..] {
-            self.stalled_since = self.stall.update(s);
+        for s in samples.iter_from(self.seen) {
+            self.stalled_since = self.stall.update(&s);
         }
         self.seen = samples.len();
         let slip = samples.last().map(|s| s.slip.clone()).unwrap_or_default();

@@ -35,13 +35,13 @@ pub struct TeamSession {
     /// Each robot's control changes (by robot index), as `[[commands]]` entries.
     pub logs: Vec<CommandLog>,
     /// Each robot's controls in force at each of its samples.
-    pub controls: Vec<Vec<DriveControl>>,
+    pub controls: Vec<crate::run::SpillLog<DriveControl>>,
 }
 
 /// One seat's side of the session: the controls in force and recorded, the state feeds.
 struct SeatState {
     current: DriveControl,
-    controls: Vec<DriveControl>,
+    controls: crate::run::SpillLog<DriveControl>,
     feeds: Feeds,
 }
 
@@ -164,7 +164,7 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
                 ..DriveControl::default()
             };
             SeatState {
-                controls: vec![idle.clone()],
+                controls: crate::run::SpillLog::from(vec![idle.clone()]),
                 current: idle,
                 feeds: Feeds::default(),
             }

@@ -57,7 +57,7 @@ pub struct MotorElectrics {
 }
 
 /// The motor's electrical state at one instant.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ElectricalState {
     /// Current, A (signed: positive drives the belt forwards).
     pub current: f64,

@@ -69,7 +69,7 @@ use crate::rosmsg::{
     PointCloud2, RosMessage, TFMessage, TrackStates,
 };
 use crate::run::{RunResult, TeamResult};
-use crate::sensors::{LogData, SensorStream};
+use crate::sensors::{SensorStream, Values};
 use crate::world::Sample;
 use std::collections::BTreeMap;
 use std::io::Cursor;
@@ -337,13 +337,19 @@ fn record_samples(
     let mut models: Vec<_> = robots.iter().map(|r| encoder_model(r.0)).collect();
     let names: Vec<_> = robots.iter().map(|r| joint_names(r.1)).collect();
     let count = robots.iter().map(|r| r.1.samples.len()).max().unwrap_or(0);
-    for i in 0..count {
+    // Each robot's samples read once in order (they may be on disk), with the one before.
+    let mut iters: Vec<_> = robots.iter().map(|r| r.1.samples.iter()).collect();
+    let mut previous: Vec<Option<Sample>> = vec![None; robots.len()];
+    for _ in 0..count {
         // The robots' samples are taken at the same steps.
-        let here: Vec<(usize, &Sample, Odometry)> = robots
-            .iter()
+        let here: Vec<(usize, std::borrow::Cow<'_, Sample>, Odometry)> = iters
+            .iter_mut()
             .enumerate()
-            .filter_map(|(k, r)| r.1.samples.get(i).map(|s| (k, s)))
-            .map(|(k, s)| (k, s, encoder_odometry(s, &mut models[k])))
+            .filter_map(|(k, it)| it.next().map(|s| (k, s)))
+            .map(|(k, s)| {
+                let enc = encoder_odometry(&s, &mut models[k]);
+                (k, s, enc)
+            })
             .collect();
         let Some(t) = here.first().map(|h| h.1.t) else {
             continue;
@@ -366,15 +372,16 @@ fn record_samples(
         for (k, s, enc) in here {
             let (_, run, ns) = &robots[k];
             let ch = &channels[k];
-            let last = i.checked_sub(1).and_then(|j| run.samples.get(j));
+            let last = previous[k].as_ref();
             rec.push(ch.odom, s.t, &ns.odometry(enc))?;
-            rec.push(ch.truth, s.t, &ns.odometry(true_odometry(s)))?;
-            rec.push(ch.joints, s.t, &joint_state(&names[k], s, last))?;
+            rec.push(ch.truth, s.t, &ns.odometry(true_odometry(&s)))?;
+            rec.push(ch.joints, s.t, &joint_state(&names[k], &s, last))?;
             rec.push(
                 ch.tracks,
                 s.t,
-                &ns.track_states(track_states(s, &run.track_names)),
+                &ns.track_states(track_states(&s, &run.track_names)),
             )?;
+            previous[k] = Some(s.into_owned());
         }
     }
     Ok(())
@@ -412,8 +419,8 @@ fn record_scene(
     rec.push_json(ch, 0.0, &scene);
     for (_, run, ns) in robots {
         let mut ch = None;
-        for s in &run.samples {
-            let Some(m) = fx::soil_message(s, &run.track_names) else {
+        for s in run.samples.iter() {
+            let Some(m) = fx::soil_message(&s, &run.track_names) else {
                 continue;
             };
             let c = match ch {
@@ -444,36 +451,23 @@ fn record_descriptions(
     Ok(())
 }
 
-/// Reading `k` of a stream's channel called `name` (f64; empty if there is no such channel).
-fn reading(stream: &SensorStream, name: &str, k: usize) -> Vec<f64> {
-    let Some(c) = stream.channels.iter().find(|c| c.channel.name == name) else {
+/// Reading `r`'s channel called `name` (f64; empty if there is no such channel).
+fn reading(stream: &SensorStream, r: &crate::sensors::Reading, name: &str) -> Vec<f64> {
+    let Some(c) = stream.channels.iter().position(|c| c.name == name) else {
         return Vec::new();
     };
-    let n = c.channel.data.len();
-    match &c.values {
-        LogData::F64(v) => v.get(k * n..(k + 1) * n).unwrap_or(&[]).to_vec(),
-        LogData::F32(v) => v
-            .get(k * n..(k + 1) * n)
-            .unwrap_or(&[])
-            .iter()
-            .map(|x| *x as f64)
-            .collect(),
-        LogData::Png(v) => v
-            .get(k)
-            .and_then(|b| crate::render::encode::decode_values(b))
-            .unwrap_or_default(),
+    match &r.values[c] {
+        Values::F64(v) => v.clone(),
+        Values::F32(v) => v.iter().map(|x| *x as f64).collect(),
+        Values::Png(b) => crate::render::encode::decode_values(b).unwrap_or_default(),
     }
 }
 
-/// Reading `k` of a stream's image channel called `name` as its stored PNG bytes.
-fn reading_png(stream: &SensorStream, name: &str, k: usize) -> Option<Vec<u8>> {
-    match &stream
-        .channels
-        .iter()
-        .find(|c| c.channel.name == name)?
-        .values
-    {
-        LogData::Png(v) => v.get(k).cloned(),
+/// Reading `r`'s image channel called `name` as its stored PNG bytes.
+fn reading_png(stream: &SensorStream, r: &crate::sensors::Reading, name: &str) -> Option<Vec<u8>> {
+    let c = stream.channels.iter().position(|c| c.name == name)?;
+    match &r.values[c] {
+        Values::Png(v) => Some(v.clone()),
         _ => None,
     }
 }
@@ -510,9 +504,10 @@ fn record_sensor(
     let names = joint_names(result);
     let axis = |name: &str| axis(stream, name);
     let mut channels = None;
-    for (k, t) in stream.times.iter().enumerate() {
-        let get = |name: &str| reading(stream, name, k);
-        let png = |name: &str| reading_png(stream, name, k);
+    for one in stream.readings.iter() {
+        let t = &one.t;
+        let get = |name: &str| reading(stream, &one, name);
+        let png = |name: &str| reading_png(stream, &one, name);
         let r = Reading {
             channel: &get,
             axis: &axis,

@@ -186,71 +186,74 @@ fn track_cells(s: &Sample) -> String {
 }
 
 /// The text of `trajectory.csv`: a header, then one row per sample (6 decimals, SI units).
+/// (In memory: for tests and short runs; [`write_run`] streams the rows to the file.)
 pub fn trajectory_csv(result: &RunResult) -> String {
     let mut text = csv_header(result).join(",");
     text.push('\n');
-    for s in &result.samples {
-        let p = &s.pose;
-        let mut row = vec![
-            s.t,
-            p.x,
-            p.y,
-            p.z,
-            p.roll,
-            p.pitch,
-            p.yaw,
-            s.linvel[0],
-            s.linvel[1],
-            s.linvel[2],
-            s.angvel[0],
-            s.angvel[1],
-            s.angvel[2],
-        ];
-        row.extend(&s.belt_speed);
-        row.extend(&s.belt_phase);
-        row.extend(&s.flipper_angle);
-        let mut line = row
-            .iter()
-            .map(|v| format!("{v:.6}"))
-            .collect::<Vec<_>>()
-            .join(",");
-        line.push_str(&format!(",{},{:.6}", s.contacts, s.penetration));
-        line.push_str(&track_cells(s));
-        line.push('\n');
-        text.push_str(&line);
+    for s in result.samples.iter() {
+        text.push_str(&trajectory_row(&s));
     }
     text
 }
 
-/// Refuses a trajectory with a non-finite value (NaN or infinite) in any cell: such a run is
-/// reported as unstable (exit code 3), never written as a result.
-fn check_finite_csv(csv: &str) -> Result<()> {
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
-    for line in lines {
-        for (i, cell) in line.split(',').enumerate() {
-            let lower = cell.to_ascii_lowercase();
-            if lower.contains("nan") || lower.contains("inf") {
-                return Err(Error::Unstable {
-                    time_s: line
-                        .split(',')
-                        .next()
-                        .and_then(|t| t.parse().ok())
-                        .unwrap_or(0.0),
-                    body: "the trajectory".into(),
-                    what: format!(
-                        "has a non-finite value ({cell}) in column {}",
-                        header.get(i).copied().unwrap_or("?")
-                    ),
-                });
-            }
+/// One row of `trajectory.csv` (with its newline).
+fn trajectory_row(s: &Sample) -> String {
+    let p = &s.pose;
+    let mut row = vec![
+        s.t,
+        p.x,
+        p.y,
+        p.z,
+        p.roll,
+        p.pitch,
+        p.yaw,
+        s.linvel[0],
+        s.linvel[1],
+        s.linvel[2],
+        s.angvel[0],
+        s.angvel[1],
+        s.angvel[2],
+    ];
+    row.extend(&s.belt_speed);
+    row.extend(&s.belt_phase);
+    row.extend(&s.flipper_angle);
+    let mut line = row
+        .iter()
+        .map(|v| format!("{v:.6}"))
+        .collect::<Vec<_>>()
+        .join(",");
+    line.push_str(&format!(",{},{:.6}", s.contacts, s.penetration));
+    line.push_str(&track_cells(s));
+    line.push('\n');
+    line
+}
+
+/// Refuses a trajectory row with a non-finite value (NaN or infinite) in any cell: such a run
+/// is reported as unstable (exit code 3), never written as a result.
+fn check_finite_row(header: &[String], line: &str) -> Result<()> {
+    let line = line.trim_end();
+    for (i, cell) in line.split(',').enumerate() {
+        let lower = cell.to_ascii_lowercase();
+        if lower.contains("nan") || lower.contains("inf") {
+            return Err(Error::Unstable {
+                time_s: line
+                    .split(',')
+                    .next()
+                    .and_then(|t| t.parse().ok())
+                    .unwrap_or(0.0),
+                body: "the trajectory".into(),
+                what: format!(
+                    "has a non-finite value ({cell}) in column {}",
+                    header.get(i).map_or("?", String::as_str)
+                ),
+            });
         }
     }
     Ok(())
 }
 
 /// Refuses a summary with a non-finite number (serde writes it as `null`; the only optional
-/// fields are `scenario` and `trainee`), as [`check_finite_csv`] does for the trajectory.
+/// fields are `scenario` and `trainee`), as [`check_finite_row`] does for the trajectory.
 fn check_finite_summary(result: &RunResult) -> Result<()> {
     fn null_at(v: &serde_json::Value, at: &str) -> Option<String> {
         match v {
@@ -295,14 +298,31 @@ pub fn write_run(result: &RunResult, dir: &Path) -> Result<()> {
         move |source| Error::Io { path, source }
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
-    let csv = trajectory_csv(result);
-    check_finite_csv(&csv)?;
     check_finite_summary(result)?;
+    // The rows streamed to the file one by one (the samples may be on disk: issue 45), each
+    // checked; a non-finite one stops the writing and nothing is left.
+    let header = csv_header(result);
+    let mut unstable = None;
+    let tp = dir.join("trajectory.csv");
+    let written = crate::files::write_atomic_with(&tp, |w| {
+        writeln!(w, "{}", header.join(","))?;
+        for s in result.samples.iter() {
+            let row = trajectory_row(&s);
+            if let Err(e) = check_finite_row(&header, &row) {
+                unstable = Some(e);
+                return Err(std::io::Error::other("a non-finite value"));
+            }
+            w.write_all(row.as_bytes())?;
+        }
+        Ok(())
+    });
+    if let Some(e) = unstable {
+        return Err(e);
+    }
+    written?;
     let sp = dir.join("summary.json");
     let json = serde_json::to_string_pretty(&result.summary).expect("summary serialises");
     crate::files::write_atomic(&sp, (json + "\n").as_bytes())?;
-    let tp = dir.join("trajectory.csv");
-    crate::files::write_atomic(&tp, csv.as_bytes())?;
     Ok(())
 }
 

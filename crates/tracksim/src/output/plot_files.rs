@@ -4,7 +4,6 @@
 use crate::error::Result;
 use crate::model::Scenario;
 use crate::run::RunResult;
-use crate::world::Sample;
 use std::path::Path;
 
 /// Instants at which the side view draws the vehicle's outline.
@@ -15,27 +14,36 @@ pub use super::side_line::SideLine;
 /// The terrain under runs as drawn in the side view: the height profile along the first run's
 /// path (x, z) and the side outlines (x, z) of the terrain's boxes, m.
 pub fn side_view_terrain(sc: &Scenario, runs: &[&RunResult]) -> (SideLine, Vec<SideLine>) {
-    let samples: Vec<&Sample> = runs.iter().flat_map(|r| r.samples.iter()).collect();
-    if samples.is_empty() {
+    if runs.iter().all(|r| r.samples.is_empty()) {
         return (Vec::new(), Vec::new());
     }
-    let (lo, hi) = samples.iter().fold((f64::MAX, f64::MIN), |(lo, hi), s| {
-        (lo.min(s.pose.x), hi.max(s.pose.x))
-    });
+    let (lo, hi) = runs
+        .iter()
+        .flat_map(|r| r.samples.iter())
+        .fold((f64::MAX, f64::MIN), |(lo, hi), s| {
+            (lo.min(s.pose.x), hi.max(s.pose.x))
+        });
     let (lo, hi) = (lo - 0.5, hi + 0.5);
     let n = 400;
-    let first = &runs[0].samples;
-    let y_at = |x: f64| {
-        first
-            .iter()
-            .min_by(|a, b| (a.pose.x - x).abs().total_cmp(&(b.pose.x - x).abs()))
-            .map(|s| s.pose.y)
-            .unwrap_or(0.0)
-    };
     let xs: Vec<f64> = (0..=n)
         .map(|i| lo + (hi - lo) * i as f64 / n as f64)
         .collect();
-    let pts: Vec<(f64, f64)> = xs.iter().map(|&x| (x, y_at(x))).collect();
+    // At each x, the y of the first run's sample nearest in x (the first of equals), found in
+    // one pass over its samples (they may be on disk).
+    let mut nearest: Vec<Option<(f64, f64)>> = vec![None; xs.len()];
+    for s in runs[0].samples.iter() {
+        for (x, best) in xs.iter().zip(nearest.iter_mut()) {
+            let d = (s.pose.x - x).abs();
+            if best.is_none_or(|(bd, _)| d.total_cmp(&bd).is_lt()) {
+                *best = Some((d, s.pose.y));
+            }
+        }
+    }
+    let pts: Vec<(f64, f64)> = xs
+        .iter()
+        .zip(&nearest)
+        .map(|(&x, best)| (x, best.map_or(0.0, |b| b.1)))
+        .collect();
     let profile = xs
         .iter()
         .zip(sc.terrain.heights_at(&pts))

@@ -684,6 +684,13 @@ impl Scene {
 /// conveyor `i` its belt position `conveyor_position_i_m`, and per loose box `i` its pose
 /// `box_i_x_m`, `_y_m`, `_z_m`, `_roll_rad`, `_pitch_rad`, `_yaw_rad` (world frame, REP 103).
 pub fn belts_csv(result: &RunResult) -> String {
+    let mut bytes = Vec::new();
+    write_belts_csv(result, &mut bytes).expect("writing to memory");
+    String::from_utf8(bytes).expect("belts.csv is UTF-8")
+}
+
+/// Writes [`belts_csv`] to `w` a row at a time (the samples may be on disk: issue 45).
+fn write_belts_csv(result: &RunResult, w: &mut dyn std::io::Write) -> std::io::Result<()> {
     let mut text = String::from("t_s");
     for n in &result.track_names {
         text.push_str(&format!(",belt_position_{n}_m"));
@@ -698,7 +705,9 @@ pub fn belts_csv(result: &RunResult) -> String {
         }
     }
     text.push('\n');
-    for s in &result.samples {
+    w.write_all(text.as_bytes())?;
+    for s in result.samples.iter() {
+        text.clear();
         text.push_str(&format!("{:.6}", s.t));
         for p in s.belt_position.iter().chain(&s.conveyor_position) {
             text.push_str(&format!(",{p:.6}"));
@@ -709,8 +718,9 @@ pub fn belts_csv(result: &RunResult) -> String {
             }
         }
         text.push('\n');
+        w.write_all(text.as_bytes())?;
     }
-    text
+    Ok(())
 }
 
 /// The text of `ruts.csv`: every loaded soil cell at the end of a run, one row each: its centre
@@ -746,7 +756,7 @@ pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec
     }
     crate::files::write_atomic(&scene, s.to_json().as_bytes())?;
     let belts = dir.join("belts.csv");
-    crate::files::write_atomic(&belts, belts_csv(result).as_bytes())?;
+    crate::files::write_atomic_with(&belts, |w| write_belts_csv(result, w))?;
     written.splice(0..0, [scene, belts]);
     Ok(written)
 }

@@ -9,7 +9,7 @@
 //! the sensor's position and orientation).
 
 use crate::error::{Error, Result};
-use crate::sensors::{LogData, SensorStream, StreamFormat};
+use crate::sensors::{LogData, SensorStream, StreamFormat, Values};
 use ndarray::{ArrayD, IxDyn};
 use ndarray_npy::NpzWriter;
 use std::io::Cursor;
@@ -31,68 +31,73 @@ pub fn write_sensor_streams(streams: &[SensorStream], dir: &Path) -> Result<Vec<
         if s.format == StreamFormat::Png {
             written.extend(write_frames(s, dir)?);
         }
-        let bytes = match s.format {
-            StreamFormat::Csv | StreamFormat::Png => csv_bytes(s),
-            StreamFormat::Npz => npz_bytes(s),
+        match s.format {
+            // A row at a time (the readings may be on disk).
+            StreamFormat::Csv | StreamFormat::Png => {
+                crate::files::write_atomic_with(&path, |w| write_csv(s, w))?
+            }
+            StreamFormat::Npz => {
+                let bytes = npz_bytes(s).map_err(|e| Error::Io {
+                    path: path.clone(),
+                    source: std::io::Error::other(e),
+                })?;
+                crate::files::write_atomic(&path, &bytes)?;
+            }
         }
-        .map_err(|e| Error::Io {
-            path: path.clone(),
-            source: std::io::Error::other(e),
-        })?;
-        crate::files::write_atomic(&path, &bytes)?;
         written.push(path);
     }
     Ok(written)
 }
 
-/// `t_s` and one column per value, a row per reading.
-fn csv_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
+/// `t_s` and one column per value, a row per reading, written to `out` a row at a time.
+fn write_csv(s: &SensorStream, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+    let mut w = csv::Writer::from_writer(out);
     let mut header = vec!["t_s".to_string()];
-    for c in &s.channels {
-        match &c.values {
-            LogData::Png(_) => header.push(format!("{}_file", c.channel.name)),
-            _ if c.channel.columns.is_empty() => {
-                let key = c.channel.key();
-                header.extend((0..c.channel.data.len()).map(|i| format!("{key}_{i}")));
-            }
-            _ => header.extend(c.channel.columns.iter().cloned()),
+    for (i, c) in s.channels.iter().enumerate() {
+        if s.is_image(i) {
+            header.push(format!("{}_file", c.name));
+        } else if c.columns.is_empty() {
+            let key = c.key();
+            header.extend((0..c.data.len()).map(|i| format!("{key}_{i}")));
+        } else {
+            header.extend(c.columns.iter().cloned());
         }
     }
-    w.write_record(&header).map_err(|e| e.to_string())?;
-    for (k, t) in s.times.iter().enumerate() {
-        let mut row = vec![format!("{t:.6}")];
-        for c in &s.channels {
-            let n = c.channel.data.len();
-            match &c.values {
-                LogData::F64(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
-                LogData::F32(v) => row.extend(v[k * n..(k + 1) * n].iter().map(|x| format!("{x}"))),
-                LogData::Png(_) => row.push(frame_file(s, &c.channel, k)),
+    w.write_record(&header)?;
+    for (k, r) in s.readings.iter().enumerate() {
+        let mut row = vec![format!("{:.6}", r.t)];
+        for (c, v) in s.channels.iter().zip(&r.values) {
+            match v {
+                Values::F64(v) => row.extend(v.iter().map(|x| format!("{x}"))),
+                Values::F32(v) => row.extend(v.iter().map(|x| format!("{x}"))),
+                Values::Png(_) => row.push(frame_file(s, c, k)),
             }
         }
-        w.write_record(&row).map_err(|e| e.to_string())?;
+        w.write_record(&row)?;
     }
-    w.into_inner().map_err(|e| e.to_string())
+    w.flush()
 }
 
 /// The stream as numpy arrays in an (uncompressed) `.npz`.
 fn npz_bytes(s: &SensorStream) -> std::result::Result<Vec<u8>, String> {
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut npz = NpzWriter::new(Cursor::new(Vec::new()));
-    let n = s.times.len();
-    let t = ArrayD::from_shape_vec(IxDyn(&[n]), s.times.clone()).map_err(|e| err(&e))?;
+    let n = s.len();
+    let t = ArrayD::from_shape_vec(IxDyn(&[n]), s.times()).map_err(|e| err(&e))?;
     npz.add_array("t_s", &t).map_err(|e| err(&e))?;
-    for c in &s.channels {
+    // A channel at a time: numpy's arrays are written whole (the one output assembled in
+    // memory, channel by channel).
+    for (i, c) in s.channels.iter().enumerate() {
         let mut shape = vec![n];
-        shape.extend_from_slice(&c.channel.shape);
-        let key = c.channel.key();
-        match &c.values {
+        shape.extend_from_slice(&c.shape);
+        let key = c.key();
+        match s.channel_log(i) {
             LogData::F32(v) => {
-                let a = ArrayD::from_shape_vec(IxDyn(&shape), v.clone()).map_err(|e| err(&e))?;
+                let a = ArrayD::from_shape_vec(IxDyn(&shape), v).map_err(|e| err(&e))?;
                 npz.add_array(key.as_str(), &a).map_err(|e| err(&e))?;
             }
             LogData::F64(v) => {
-                let a = ArrayD::from_shape_vec(IxDyn(&shape), v.clone()).map_err(|e| err(&e))?;
+                let a = ArrayD::from_shape_vec(IxDyn(&shape), v).map_err(|e| err(&e))?;
                 npz.add_array(key.as_str(), &a).map_err(|e| err(&e))?;
             }
             LogData::Png(_) => return Err(format!("{}: images are written as PNG", s.name)),
@@ -124,10 +129,10 @@ fn write_frames(s: &SensorStream, dir: &Path) -> Result<Vec<PathBuf>> {
         source,
     })?;
     let mut written = Vec::new();
-    for c in &s.channels {
-        if let LogData::Png(frames) = &c.values {
-            for (k, bytes) in frames.iter().enumerate() {
-                let path = dir.join(frame_file(s, &c.channel, k));
+    for (k, r) in s.readings.iter().enumerate() {
+        for (c, v) in s.channels.iter().zip(&r.values) {
+            if let Values::Png(bytes) = v {
+                let path = dir.join(frame_file(s, c, k));
                 crate::files::write_atomic(&path, bytes)?;
                 written.push(path);
             }

@@ -97,7 +97,8 @@ pub fn snapshots(v: &VehicleModel, run: &RunResult, count: usize) -> Vec<Snapsho
     picks.dedup();
     picks
         .into_iter()
-        .map(|i| snapshot(v, &run.samples[i]))
+        .filter_map(|i| run.samples.get(i))
+        .map(|s| snapshot(v, &s))
         .collect()
 }
 

@@ -480,7 +480,9 @@ impl World<'_> {
 }
 
 /// The last sample of `samples` and the one before it.
-fn last_two(samples: &[Sample]) -> Option<(&Sample, Option<&Sample>)> {
+fn last_two(samples: &crate::run::SampleLog) -> Option<(&Sample, Option<&Sample>)> {
+    // The last two are always in memory (`SampleLog::recent`).
+    let samples = samples.recent();
     let n = samples.len();
     samples
         .last()

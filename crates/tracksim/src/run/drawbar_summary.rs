@@ -23,19 +23,17 @@ pub struct DrawbarSummary {
 
 /// The drawbar summary of a run of `sc` (None without `[drawbar]` or without samples in the
 /// window).
-pub fn drawbar_summary(sc: &Scenario, samples: &[Sample]) -> Option<DrawbarSummary> {
+pub fn drawbar_summary(sc: &Scenario, samples: &super::SampleLog) -> Option<DrawbarSummary> {
     let d = sc.drawbar.as_ref()?;
     let end = samples.last()?.t;
     let risen = d.start + d.ramp;
     let from = risen + 0.5 * (end - risen).max(0.0);
-    let w: Vec<&Sample> = samples.iter().filter(|s| s.t >= from).collect();
-    if w.is_empty() {
-        return None;
-    }
-    let n = w.len() as f64;
+    let w = || samples.iter().filter(|s| s.t >= from);
+    let first = w().next()?;
+    let n = w().count() as f64;
     let (c, s) = (sc.start_yaw.cos(), sc.start_yaw.sin());
-    let mean = |f: &dyn Fn(&Sample) -> f64| w.iter().map(|s| f(s)).sum::<f64>() / n;
-    let tracks = w[0].slip.len().max(1) as f64;
+    let mean = |f: &dyn Fn(&Sample) -> f64| w().map(|s| f(&s)).sum::<f64>() / n;
+    let tracks = first.slip.len().max(1) as f64;
     Some(DrawbarSummary {
         window_s: [from, end],
         mean_pull_n: mean(&|s| s.drawbar_n.unwrap_or(0.0)),

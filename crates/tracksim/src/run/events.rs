@@ -80,11 +80,16 @@ impl StallDetector {
 
 /// The stall episodes of `samples`: (begin, end) times, s (an episode still open at the last
 /// sample ends there).
-pub fn stalls(samples: &[Sample]) -> Vec<(f64, f64)> {
+pub fn stalls<S: std::borrow::Borrow<Sample>>(
+    samples: impl IntoIterator<Item = S>,
+) -> Vec<(f64, f64)> {
     let mut out: Vec<(f64, f64)> = Vec::new();
     let mut det = StallDetector::default();
     let mut open: Option<f64> = None;
+    let mut last = None;
     for s in samples {
+        let s = s.borrow();
+        last = Some(s.t);
         match (det.update(s), open) {
             (Some(b), None) => open = Some(b),
             (None, Some(b)) => {
@@ -94,8 +99,8 @@ pub fn stalls(samples: &[Sample]) -> Vec<(f64, f64)> {
             _ => {}
         }
     }
-    if let (Some(b), Some(last)) = (open, samples.last()) {
-        out.push((b, last.t));
+    if let (Some(b), Some(last)) = (open, last) {
+        out.push((b, last));
     }
     out
 }
@@ -104,11 +109,11 @@ pub fn stalls(samples: &[Sample]) -> Vec<(f64, f64)> {
 /// |pitch|, against `max_tilt` rad, the scenario's tip-over limit) and the outcome at its
 /// time, in time order.
 pub fn run_events(
-    samples: &[Sample],
+    samples: &super::SampleLog,
     max_tilt: f64,
     outcome: (&super::Outcome, f64),
 ) -> Vec<RunEvent> {
-    let mut events: Vec<RunEvent> = stalls(samples)
+    let mut events: Vec<RunEvent> = stalls(samples.iter())
         .into_iter()
         .map(|(b, e)| RunEvent {
             t_s: b,
@@ -130,7 +135,7 @@ pub fn run_events(
                 "roll {:.1} deg, pitch {:.1} deg ({:.0} % of the {:.1} deg limit)",
                 s.pose.roll.to_degrees(),
                 s.pose.pitch.to_degrees(),
-                100.0 * tilt(s) / max_tilt,
+                100.0 * tilt(&s) / max_tilt,
                 max_tilt.to_degrees()
             ),
         });

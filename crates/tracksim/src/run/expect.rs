@@ -76,7 +76,7 @@ pub fn check_expectations(e: &Expectation, r: &RunResult) -> Vec<String> {
                 "m",
             ));
         }
-        let first = &r.samples[0].conveyor_position;
+        let first = &r.samples.first().unwrap_or(last).conveyor_position;
         for (i, (a, b)) in first.iter().zip(&last.conveyor_position).enumerate() {
             checks.push((
                 format!("conveyor {i} travel"),

@@ -3,6 +3,8 @@
 //! written by [`crate::output`].
 //!
 //! - [`runner`]: the one run loop ([`Runner`]) that every way of running steps;
+//! - [`sample_log`]: a run's samples at a bounded memory, the older ones spilled to disk
+//!   ([`SampleLog`]);
 //! - [`timeline`]: the file's `[[commands]]` as a source of controls;
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`session`]: the session loop of a runner (or a team's) whose controls come from outside
@@ -30,6 +32,7 @@ pub mod events;
 pub mod expect;
 pub mod outcome;
 pub mod runner;
+pub mod sample_log;
 pub mod scripted;
 pub mod session;
 pub mod soil_summary;
@@ -49,6 +52,7 @@ pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
 pub use expect::{check_expectations, expect_verdict};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner, one_robot};
+pub use sample_log::{SPILL_CHUNK, SampleIter, SampleLog, SpillLog};
 pub use scripted::Scripted;
 pub use session::{
     ControlSource, SessionLimits, SessionRun, SessionWorld, WorldSessionRun, WorldSource,
@@ -67,13 +71,12 @@ pub use view::RunView;
 
 use crate::error::Result;
 use crate::model::Scenario;
-use crate::world::Sample;
 
 /// What a run produced.
 #[derive(Clone, Debug)]
 pub struct RunResult {
-    /// Samples at the output interval (the first at t = 0).
-    pub samples: Vec<Sample>,
+    /// Samples at the output interval (the first at t = 0), the older ones on disk.
+    pub samples: SampleLog,
     /// Track names (column order of per-track values).
     pub track_names: Vec<String>,
     /// Flipper names.

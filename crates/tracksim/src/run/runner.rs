@@ -11,12 +11,13 @@
 use super::RunResult;
 use super::course::{CourseScore, CourseTracker};
 use super::outcome::{self, Outcome, check_outcome};
+use super::sample_log::SampleLog;
 use super::scripted::Scripted;
 use super::summary::{Summary, WallTimes};
 use crate::error::Result;
 use crate::model::{Controls, Scenario};
 use crate::sensors::SensorSet;
-use crate::world::{Sample, Simulation};
+use crate::world::Simulation;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -70,7 +71,7 @@ pub struct Runner {
     stop_on_outcome: bool,
     /// Simulated seconds per wall-clock second when paced.
     pace: Option<f64>,
-    samples: Vec<Sample>,
+    samples: SampleLog,
     /// The vehicle's sensors, updated after every step at their rates.
     sensors: SensorSet,
     decided: Option<(Outcome, f64)>,
@@ -104,7 +105,7 @@ impl Runner {
             end_step,
             record: true,
             pace: None,
-            samples: Vec::new(),
+            samples: SampleLog::new(),
             sensors,
             decided: None,
             stepping: 0.0,
@@ -186,7 +187,7 @@ impl Runner {
     }
 
     /// The samples so far (the first at t = 0).
-    pub fn samples(&self) -> &[Sample] {
+    pub fn samples(&self) -> &SampleLog {
         &self.samples
     }
 
@@ -351,7 +352,7 @@ impl Runner {
             c.reset();
         }
         self.started = std::time::SystemTime::now();
-        self.samples = vec![self.sim.sample()];
+        self.samples = SampleLog::from(vec![self.sim.sample()]);
         if !self.sensors.is_empty() {
             self.sensors = SensorSet::new(&self.sim, self.record);
         }

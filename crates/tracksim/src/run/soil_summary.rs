@@ -1,7 +1,7 @@
 //! What a run on soil shows (issue 30): per track, the mean and largest sinkage, the mean soil
 //! thrust and compaction resistance, and the rut grid's memory at the end.
 
-use crate::world::{RutGridStats, Sample, Simulation};
+use crate::world::{RutGridStats, Simulation};
 use serde::Serialize;
 
 /// One track on soil.
@@ -31,26 +31,39 @@ pub struct SoilSummary {
 }
 
 /// The soil summary of a run (None without soil).
-pub fn soil_summary(sim: &Simulation, samples: &[Sample]) -> Option<SoilSummary> {
+pub fn soil_summary(sim: &Simulation, samples: &crate::run::SampleLog) -> Option<SoilSummary> {
     let rut_grid = sim.rut_grid_stats()?;
     let tracks = sim
         .track_names()
         .iter()
         .enumerate()
         .map(|(i, name)| {
-            let on: Vec<_> = samples
+            // One pass (the samples may be on disk); sums from -0.0 in order, as
+            // `Iterator::sum` adds.
+            let (mut count, mut max_sinkage) = (0usize, 0.0f64);
+            let mut sums = [-0.0f64; 4];
+            for g in samples
                 .iter()
-                .filter_map(|s| s.soil.get(i))
+                .filter_map(|s| s.soil.get(i).copied())
                 .filter(|g| g.normal_n > 0.0)
-                .collect();
-            let n = on.len().max(1) as f64;
+            {
+                count += 1;
+                max_sinkage = max_sinkage.max(g.max_sinkage_m);
+                for (sum, v) in
+                    sums.iter_mut()
+                        .zip([g.sinkage_m, g.thrust_n, g.compaction_n, g.normal_n])
+                {
+                    *sum += v;
+                }
+            }
+            let n = count.max(1) as f64;
             TrackSoilSummary {
                 track: name.clone(),
-                mean_sinkage_m: on.iter().map(|g| g.sinkage_m).sum::<f64>() / n,
-                max_sinkage_m: on.iter().map(|g| g.max_sinkage_m).fold(0.0, f64::max),
-                mean_thrust_n: on.iter().map(|g| g.thrust_n).sum::<f64>() / n,
-                mean_compaction_n: on.iter().map(|g| g.compaction_n).sum::<f64>() / n,
-                mean_normal_n: on.iter().map(|g| g.normal_n).sum::<f64>() / n,
+                mean_sinkage_m: sums[0] / n,
+                max_sinkage_m: max_sinkage,
+                mean_thrust_n: sums[1] / n,
+                mean_compaction_n: sums[2] / n,
+                mean_normal_n: sums[3] / n,
             }
         })
         .collect();

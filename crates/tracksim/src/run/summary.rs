@@ -148,7 +148,7 @@ impl SensorSummary {
             kind: stream.kind.to_string(),
             file: stream.file_name(),
             rate_hz: stream.rate_hz,
-            readings: stream.times.len(),
+            readings: stream.len(),
             cost_us_per_update: stream.mean_cost_us,
         }
     }
@@ -214,33 +214,39 @@ pub const PATH_WINDOW_S: f64 = 0.5;
 /// Horizontal path length of the samples, m: the start, the mean positions over consecutive
 /// [`PATH_WINDOW_S`] windows and the end, counted at [`PATH_RESOLUTION_M`], the last partial
 /// stretch to the final sample included.
-pub fn path_length(samples: &[Sample]) -> f64 {
-    let (Some(first), Some(end)) = (samples.first(), samples.last()) else {
+pub fn path_length<S: std::borrow::Borrow<Sample>>(samples: impl IntoIterator<Item = S>) -> f64 {
+    let d = |a: (f64, f64), b: (f64, f64)| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+    // The points of the path, taken one by one as their windows close (one pass: the samples
+    // may be on disk): `last` the last point counted, `total` the length to it.
+    let mut samples = samples.into_iter();
+    let Some(first) = samples.next() else {
         return 0.0;
     };
-    let mut points = vec![(first.pose.x, first.pose.y)];
-    let (mut sx, mut sy, mut n, mut t0) = (0.0, 0.0, 0.0, first.t);
-    for s in samples {
-        if s.t - t0 >= PATH_WINDOW_S && n > 0.0 {
-            points.push((sx / n, sy / n));
-            (sx, sy, n, t0) = (0.0, 0.0, 0.0, s.t);
-        }
-        sx += s.pose.x;
-        sy += s.pose.y;
-        n += 1.0;
-    }
-    points.push((end.pose.x, end.pose.y));
-    let d = |a: (f64, f64), b: (f64, f64)| ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
-    let mut last = points[0];
+    let first = first.borrow();
+    let mut last = (first.pose.x, first.pose.y);
     let mut total = 0.0;
-    for &p in &points {
+    let mut take = |p: (f64, f64)| {
         let step = d(last, p);
         if step >= PATH_RESOLUTION_M {
             total += step;
             last = p;
         }
+    };
+    let mut end = (first.pose.x, first.pose.y);
+    let (mut sx, mut sy, mut n, mut t0) = (0.0 + first.pose.x, 0.0 + first.pose.y, 1.0, first.t);
+    for s in samples {
+        let s = s.borrow();
+        if s.t - t0 >= PATH_WINDOW_S && n > 0.0 {
+            take((sx / n, sy / n));
+            (sx, sy, n, t0) = (0.0, 0.0, 0.0, s.t);
+        }
+        sx += s.pose.x;
+        sy += s.pose.y;
+        n += 1.0;
+        end = (s.pose.x, s.pose.y);
     }
-    total + d(last, *points.last().unwrap_or(&last))
+    take(end);
+    total + d(last, end)
 }
 
 /// Wall-clock times of a run, s.
@@ -261,15 +267,15 @@ impl Summary {
     pub fn new(
         sc: &Scenario,
         sim: &Simulation,
-        samples: &[Sample],
+        samples: &super::SampleLog,
         outcome: (&Outcome, f64),
         wall: WallTimes,
     ) -> Self {
-        let first = samples[0].pose;
+        let first = samples.first().expect("a run has its first sample").pose;
         let last = samples.last().map(|s| s.pose).unwrap_or(first);
         let (c, s) = (first.yaw.cos(), first.yaw.sin());
         let forward = (last.x - first.x) * c + (last.y - first.y) * s;
-        let distance = path_length(samples);
+        let distance = path_length(samples.iter());
         let (err_m, err_rad) = sim.max_link_error();
         let sim_time = sim.time();
         Summary {

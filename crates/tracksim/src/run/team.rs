@@ -14,7 +14,7 @@ use super::{RunOptions, RunResult, SensorSummary};
 use crate::error::{Error, Result};
 use crate::model::{Scenario, TeamRule};
 use crate::sensors::SensorSet;
-use crate::world::{Sample, Simulation};
+use crate::world::Simulation;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -23,7 +23,7 @@ struct RobotRun {
     view: Arc<Scenario>,
     timeline: Timeline,
     sensors: SensorSet,
-    samples: Vec<Sample>,
+    samples: super::SampleLog,
     decided: Option<(Outcome, f64)>,
     course: Option<CourseTracker>,
 }
@@ -377,7 +377,7 @@ fn robot_runs(sim: &mut Simulation, commands: bool) -> Vec<RobotRun> {
         robots.push(RobotRun {
             timeline: Timeline::new(if commands { &view.commands } else { &[] }),
             sensors: SensorSet::new(sim, true),
-            samples: vec![sim.sample()],
+            samples: super::SampleLog::from(vec![sim.sample()]),
             decided: None,
             course: view
                 .course

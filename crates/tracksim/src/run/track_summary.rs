@@ -1,5 +1,6 @@
 //! Per-track figures and the odometry error of a run, for `summary.json` (issue 14.2, 14.3).
 
+use super::SampleLog;
 use crate::world::Sample;
 use serde::Serialize;
 
@@ -53,17 +54,17 @@ pub struct DriveSummary {
 }
 
 /// The drive summary of track `i` (None if it has no motor).
-fn drive_summary(i: usize, samples: &[Sample]) -> Option<DriveSummary> {
+fn drive_summary(i: usize, samples: &SampleLog) -> Option<DriveSummary> {
     let d = |s: &Sample| s.drive.get(i).copied().flatten();
     d(samples.first()?)?;
     let trapezoid = |f: &dyn Fn(&Sample) -> f64| {
         samples
-            .windows(2)
-            .map(|w| 0.5 * (f(&w[0]) + f(&w[1])) * (w[1].t - w[0].t))
+            .pairs()
+            .map(|(a, b)| 0.5 * (f(&a) + f(&b)) * (b.t - a.t))
             .sum::<f64>()
     };
-    let peak = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(s).abs()).fold(0.0, f64::max);
-    let electrical = d(&samples[0])?.electrical.is_some();
+    let peak = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(&s).abs()).fold(0.0, f64::max);
+    let electrical = d(samples.first()?)?.electrical.is_some();
     let elec = |s: &Sample, g: fn(&crate::model::ElectricalState) -> f64| {
         d(s).and_then(|x| x.electrical).map_or(0.0, |e| g(&e))
     };
@@ -87,13 +88,13 @@ pub struct OdometrySummary {
 }
 
 /// Per-track summaries of `samples` for tracks named `names`.
-pub fn track_summaries(names: &[String], samples: &[Sample]) -> Vec<TrackSummary> {
+pub fn track_summaries(names: &[String], samples: &SampleLog) -> Vec<TrackSummary> {
     let n = samples.len().max(1) as f64;
     names
         .iter()
         .enumerate()
         .map(|(i, name)| {
-            let mean = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(f).sum::<f64>() / n;
+            let mean = |f: &dyn Fn(&Sample) -> f64| samples.iter().map(|s| f(&s)).sum::<f64>() / n;
             TrackSummary {
                 name: name.clone(),
                 mean_belt_cmd_mps: mean(&|s| s.belt_cmd.get(i).copied().unwrap_or(0.0)),
@@ -121,7 +122,7 @@ pub fn track_summaries(names: &[String], samples: &[Sample]) -> Vec<TrackSummary
 }
 
 /// The odometry error at the last sample.
-pub fn odometry_summary(samples: &[Sample]) -> OdometrySummary {
+pub fn odometry_summary(samples: &SampleLog) -> OdometrySummary {
     let Some(s) = samples.last() else {
         return OdometrySummary::default();
     };

@@ -3,7 +3,7 @@
 //! describe (the skid-steer kinematics the commands were made with) and the turn it drove.
 
 use crate::model::VehicleModel;
-use crate::world::{Odometry, Sample};
+use crate::world::Odometry;
 use serde::Serialize;
 
 /// One turn: a stretch of constant belt commands with a commanded yaw rate.
@@ -30,7 +30,7 @@ pub struct TurnSummary {
 
 /// The turns of a run of `v` recorded as `samples`: stretches of at least four samples with
 /// constant belt commands and a commanded yaw rate of at least 0.01 rad/s.
-pub fn turn_summaries(v: &VehicleModel, samples: &[Sample]) -> Vec<TurnSummary> {
+pub fn turn_summaries(v: &VehicleModel, samples: &crate::run::SampleLog) -> Vec<TurnSummary> {
     let offsets = Odometry::counted_offsets(v);
     let kin = Odometry::new(
         &offsets,
@@ -40,44 +40,59 @@ pub fn turn_summaries(v: &VehicleModel, samples: &[Sample]) -> Vec<TurnSummary> 
         0.0,
     );
     let mut turns = Vec::new();
-    let mut start = 0;
-    for i in 1..=samples.len() {
-        if i < samples.len() && samples[i].belt_cmd == samples[start].belt_cmd {
-            continue;
+    // The stretch being read: its first index, first sample's commands and time, its last
+    // sample's time (one pass; a turn's second half is read again from its index).
+    let mut open: Option<(usize, Vec<f64>, f64, f64)> = None;
+    for (i, s) in samples.iter().enumerate() {
+        if let Some((_, cmd, _, end)) = &mut open {
+            if *cmd == s.belt_cmd {
+                *end = s.t;
+                continue;
+            }
         }
-        if let Some(t) = turn(&kin, &samples[start..i]) {
-            turns.push(t);
+        if let Some(stretch) = open.take() {
+            turns.extend(turn(&kin, samples, stretch, i));
         }
-        start = i;
+        open = Some((i, s.belt_cmd.clone(), s.t, s.t));
+    }
+    if let Some(stretch) = open {
+        turns.extend(turn(&kin, samples, stretch, samples.len()));
     }
     turns
 }
 
-/// The turn of one stretch of constant commands, if it is one.
-fn turn(kin: &Odometry, stretch: &[Sample]) -> Option<TurnSummary> {
-    let first = stretch.first()?;
-    let (v, w) = kin.twist(&first.belt_cmd);
-    if stretch.len() < 4 || w.abs() < 0.01 {
+/// The turn of one stretch of constant commands (samples `start..stop`: its first index,
+/// commands, first and last times), if it is one.
+fn turn(
+    kin: &Odometry,
+    samples: &crate::run::SampleLog,
+    (start, belt_cmd, t0, end): (usize, Vec<f64>, f64, f64),
+    stop: usize,
+) -> Option<TurnSummary> {
+    let (v, w) = kin.twist(&belt_cmd);
+    let len = stop - start;
+    if len < 4 || w.abs() < 0.01 {
         return None;
     }
-    let end = stretch.last()?.t;
-    let half = &stretch[stretch.len() / 2..];
-    let n = half.len() as f64;
-    let speed = half
-        .iter()
+    let half = || samples.iter_from(start + len / 2).take(len - len / 2);
+    let n = (len - len / 2) as f64;
+    let speed = half()
         .map(|s| s.linvel[0] * s.pose.yaw.cos() + s.linvel[1] * s.pose.yaw.sin())
         .sum::<f64>()
         / n;
-    let rate = half.iter().map(|s| s.angvel[2]).sum::<f64>() / n;
-    let icr_x: Vec<f64> = half.iter().filter_map(|s| s.icr.map(|c| c[0])).collect();
+    let rate = half().map(|s| s.angvel[2]).sum::<f64>() / n;
+    let (icr_sum, icr_n) = half()
+        .filter_map(|s| s.icr.map(|c| c[0]))
+        .fold((-0.0, 0usize), |(sum, n), x| (sum + x, n + 1));
+    let first_t = t0;
     Some(TurnSummary {
-        window_s: [first.t, end],
+        window_s: [first_t, end],
         commanded_speed_mps: v,
         commanded_yaw_rate_rad_s: w,
         commanded_radius_m: v / w,
         achieved_speed_mps: speed,
         achieved_yaw_rate_rad_s: rate,
         achieved_radius_m: if rate.abs() > 1e-9 { speed / rate } else { 0.0 },
-        icr_x_m: icr_x.iter().sum::<f64>() / icr_x.len().max(1) as f64,
+        icr_x_m: icr_sum / icr_n.max(1) as f64,
     })
 }

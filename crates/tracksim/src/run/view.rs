@@ -7,7 +7,7 @@ use super::course::CourseScore;
 use super::outcome::Outcome;
 use crate::model::Scenario;
 use crate::sensors::SensorSet;
-use crate::world::{Sample, Simulation};
+use crate::world::Simulation;
 
 /// One robot of a running world.
 pub struct RunView<'a> {
@@ -16,7 +16,7 @@ pub struct RunView<'a> {
     /// The robot's scenario (the world with it as its one robot).
     pub scenario: &'a Scenario,
     /// Its samples so far (at the output interval; the first at t = 0).
-    pub samples: &'a [Sample],
+    pub samples: &'a super::SampleLog,
     /// Its sensors.
     pub sensors: &'a SensorSet,
     /// Its outcome and the time it was decided, s.

@@ -40,4 +40,4 @@ pub use elevation_map::ElevationMap;
 pub use mount::SensorFrame;
 pub use sensor::{Channel, Sensor, StreamFormat};
 pub use set::{SensorSet, build};
-pub use stream::{LogData, SensorStream};
+pub use stream::{LogData, Reading, SensorStream, Values};

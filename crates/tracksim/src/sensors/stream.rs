@@ -2,8 +2,10 @@
 //! appended at each update (scalar sensors in f64 for CSV, arrays in f32 for `.npz`).
 
 use super::sensor::{Channel, Sensor, StreamFormat};
+use crate::spill::SpillLog;
 
-/// The values of one channel over a run.
+/// The values of one channel over a run (every reading's, concatenated:
+/// [`SensorStream::channel_log`]).
 #[derive(Clone, Debug, PartialEq)]
 pub enum LogData {
     /// Full precision (CSV streams).
@@ -14,16 +16,28 @@ pub enum LogData {
     Png(Vec<Vec<u8>>),
 }
 
-/// One channel's log: its description and values, reading after reading.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ChannelLog {
-    /// The channel as described at the start (its `data` is the first reading).
-    pub channel: Channel,
-    /// Every reading's values, concatenated.
-    pub values: LogData,
+/// One channel's values at one reading.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub enum Values {
+    /// Full precision (CSV streams).
+    F64(Vec<f64>),
+    /// Single precision (array streams: the ray casts are f32).
+    F32(Vec<f32>),
+    /// A PNG (a colour camera's `rgb`, rgb8, and `depth`, 16-bit mm).
+    Png(Vec<u8>),
 }
 
-/// A sensor's readings over a run.
+/// One reading of a sensor: its time and every channel's values, in channel order.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Reading {
+    /// Time of the reading, s.
+    pub t: f64,
+    /// Each channel's values.
+    pub values: Vec<Values>,
+}
+
+/// A sensor's readings over a run, the older ones spilled to disk as the run goes
+/// ([`SpillLog`], issue 45: a 10-hour session's lidar holds the memory of a 10-minute one).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SensorStream {
     /// Sensor name.
@@ -34,10 +48,10 @@ pub struct SensorStream {
     pub rate_hz: f64,
     /// How it is written.
     pub format: StreamFormat,
-    /// Time of every reading, s.
-    pub times: Vec<f64>,
-    /// Every channel's log.
-    pub channels: Vec<ChannelLog>,
+    /// Every channel as described at the start (its `data` is the first reading).
+    pub channels: Vec<Channel>,
+    /// Every reading, in order.
+    pub readings: SpillLog<Reading>,
     /// Fixed arrays (ray angles, cell centres).
     pub axes: Vec<Channel>,
     /// Mean wall time of an update, us.
@@ -47,28 +61,21 @@ pub struct SensorStream {
 impl SensorStream {
     /// An empty stream of `sensor`.
     pub fn new(sensor: &dyn Sensor) -> Self {
-        let format = sensor.format();
         SensorStream {
             name: sensor.model().name.clone(),
             kind: sensor.model().kind.name(),
             rate_hz: sensor.model().rate_hz,
-            format,
-            times: Vec::new(),
-            channels: sensor
-                .channels()
-                .iter()
-                .map(|c| ChannelLog {
-                    channel: c.clone(),
-                    values: match format {
-                        StreamFormat::Png if c.shape.len() >= 2 => LogData::Png(Vec::new()),
-                        StreamFormat::Csv | StreamFormat::Png => LogData::F64(Vec::new()),
-                        StreamFormat::Npz => LogData::F32(Vec::new()),
-                    },
-                })
-                .collect(),
+            format: sensor.format(),
+            channels: sensor.channels().to_vec(),
+            readings: SpillLog::new(),
             axes: sensor.axes(),
             mean_cost_us: 0.0,
         }
+    }
+
+    /// Whether channel `c` is written as one PNG per reading.
+    pub fn is_image(&self, c: usize) -> bool {
+        self.format == StreamFormat::Png && self.channels[c].shape.len() >= 2
     }
 
     /// Its file name in the run folder: `sensors/NAME.csv` or `sensors/NAME.npz`.
@@ -80,16 +87,54 @@ impl SensorStream {
         format!("sensors/{}.{ext}", self.name)
     }
 
-    /// Appends a reading taken at `t` s.
-    pub fn push(&mut self, t: f64, channels: &[Channel]) {
-        self.times.push(t);
-        for (log, c) in self.channels.iter_mut().zip(channels) {
-            match &mut log.values {
-                LogData::F64(v) => v.extend_from_slice(&c.data),
-                LogData::F32(v) => v.extend(c.data.iter().map(|x| *x as f32)),
-                LogData::Png(v) => v.push(png_of(c)),
+    /// How many readings.
+    pub fn len(&self) -> usize {
+        self.readings.len()
+    }
+
+    /// Whether it has none.
+    pub fn is_empty(&self) -> bool {
+        self.readings.is_empty()
+    }
+
+    /// Time of every reading, s (memory grows with the run: for tests and short runs).
+    pub fn times(&self) -> Vec<f64> {
+        self.readings.iter().map(|r| r.t).collect()
+    }
+
+    /// Channel `c`'s values of every reading, concatenated (memory grows with the run: for
+    /// tests, short runs and the `.npz` arrays, assembled a channel at a time).
+    pub fn channel_log(&self, c: usize) -> LogData {
+        let mut log = if self.is_image(c) {
+            LogData::Png(Vec::new())
+        } else if self.format == StreamFormat::Npz {
+            LogData::F32(Vec::new())
+        } else {
+            LogData::F64(Vec::new())
+        };
+        for r in self.readings.iter() {
+            match (&mut log, &r.values[c]) {
+                (LogData::F64(v), Values::F64(x)) => v.extend_from_slice(x),
+                (LogData::F32(v), Values::F32(x)) => v.extend_from_slice(x),
+                (LogData::Png(v), Values::Png(x)) => v.push(x.clone()),
+                _ => unreachable!("a channel's values keep their kind"),
             }
         }
+        log
+    }
+
+    /// Appends a reading taken at `t` s.
+    pub fn push(&mut self, t: f64, channels: &[Channel]) {
+        let values = channels
+            .iter()
+            .enumerate()
+            .map(|(c, ch)| match self.format {
+                _ if self.is_image(c) => Values::Png(png_of(ch)),
+                StreamFormat::Npz => Values::F32(ch.data.iter().map(|x| *x as f32).collect()),
+                StreamFormat::Csv | StreamFormat::Png => Values::F64(ch.data.clone()),
+            })
+            .collect();
+        self.readings.push(Reading { t, values });
     }
 }
 

@@ -154,7 +154,7 @@ pub(super) fn pose_at(r: &RunResult, t: f64) -> crate::world::PoseRpy {
     r.samples
         .iter()
         .find(|s| s.t >= t - 1e-6)
-        .or(r.samples.last())
         .map(|s| s.pose)
+        .or(r.samples.last().map(|s| s.pose))
         .unwrap_or_default()
 }

@@ -240,7 +240,7 @@ fn unwrapped_yaw_at(r: &RunResult, t: f64) -> f64 {
         Some(s) => s.pose.yaw,
         None => return 0.0,
     };
-    for s in &r.samples {
+    for s in r.samples.iter() {
         let mut d = s.pose.yaw - prev;
         while d > std::f64::consts::PI {
             d -= std::f64::consts::TAU;

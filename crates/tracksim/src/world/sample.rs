@@ -38,7 +38,7 @@ impl PoseRpy {
 }
 
 /// One recorded instant of the vehicle's state.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Sample {
     /// Simulated time, s.
     pub t: f64,
@@ -88,7 +88,7 @@ pub struct Sample {
 }
 
 /// What a track's drive motor does (`[tracks.motor]`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DriveSample {
     /// Belt force, N: the motor's limit while it is saturated (the belt slower than
     /// commanded), else the track's traction (the belt force in steady state, the links'

@@ -25,7 +25,7 @@ use rapier3d::prelude::*;
 use std::collections::HashMap;
 
 /// The terrain's force on one track over the last step.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrackLoad {
     /// Active solver contact points between the track and the terrain.
     pub contacts: usize,

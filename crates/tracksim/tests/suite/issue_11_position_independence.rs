@@ -52,7 +52,7 @@ fn moved_with(
 
 /// Mean forward speed from 1 s to the end, m/s, and the mean body height then, m.
 fn speed_and_height(r: &tracksim::RunResult) -> (f64, f64) {
-    let s = &r.samples;
+    let s = &r.samples.to_vec();
     let a = s.iter().position(|s| s.t >= 1.0 - 1e-9).unwrap();
     let b = s.len() - 1;
     let v = (s[b].pose.x - s[a].pose.x) / (s[b].t - s[a].t);

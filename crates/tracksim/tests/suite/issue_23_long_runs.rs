@@ -112,7 +112,7 @@ fn a_spring_tether_near_the_friction_limit_never_spins_the_robot_up() {
     let max_ke = r
         .samples
         .iter()
-        .map(|s| kinetic_energy(&r, s))
+        .map(|s| kinetic_energy(&r, &s))
         .fold(0.0, f64::max);
     let last = r.samples.last().unwrap();
     println!(

@@ -25,7 +25,7 @@ fn a_sprocket_command_turns_a_lugged_wheel_at_the_commanded_rate() {
     let r = tracksim::run_scenario(&sc, |_, _| {}).unwrap();
     // Speed over the last 3 s (past the start): 2 rad/s at the rolling radius, less a little
     // slip; at the rim's 0.09 m it was 0.18 m/s.
-    let s = &r.samples;
+    let s = &r.samples.to_vec();
     let (a, b) = (&s[s.len() / 2], s.last().unwrap());
     let v = (b.pose.x - a.pose.x) / (b.t - a.t);
     println!(

@@ -222,13 +222,13 @@ rpy_deg = [90.0, 0.0, 0.0]
     let imu = &r.sensors[0];
     let rolled = &r.sensors[1];
     let gyro = |s: &tracksim::sensors::SensorStream, k: usize| -> [f64; 3] {
-        match &s.channels[1].values {
+        match &s.channel_log(1) {
             tracksim::sensors::LogData::F64(v) => [v[3 * k], v[3 * k + 1], v[3 * k + 2]],
             _ => unreachable!(),
         }
     };
-    assert_eq!(imu.times.len(), 1201);
-    for k in 0..imu.times.len() {
+    assert_eq!(imu.len(), 1201);
+    for k in 0..imu.len() {
         let (a, b) = (gyro(imu, k), gyro(rolled, k));
         assert!((a[2] - b[1]).abs() < 1e-6, "{k}: {a:?} {b:?}");
     }
@@ -496,8 +496,8 @@ fn sensors_do_not_change_the_trajectory_and_read_at_their_rates() {
             assert!(end > 8.0, "{end}");
             for s in &r.sensors {
                 let n = (end * s.rate_hz + 1e-9).floor() as usize + 1;
-                assert_eq!(s.times.len(), n, "{}", s.name);
-                for (k, t) in s.times.iter().enumerate() {
+                assert_eq!(s.len(), n, "{}", s.name);
+                for (k, t) in s.times().iter().enumerate() {
                     assert!(
                         (t - k as f64 / s.rate_hz).abs() < 1e-9,
                         "{} {k} {t}",

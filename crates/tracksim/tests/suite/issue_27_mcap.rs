@@ -126,8 +126,8 @@ fn run_mcap_has_every_topic_with_its_schema_and_counts() {
     assert_eq!(msgs["/tf_static"].len(), 1);
     for s in &r.sensors {
         let topic = format!("/{}", s.name);
-        assert_eq!(msgs[&topic].len(), s.times.len(), "{topic}");
-        for ((t, _), ts) in msgs[&topic].iter().zip(&s.times) {
+        assert_eq!(msgs[&topic].len(), s.len(), "{topic}");
+        for ((t, _), ts) in msgs[&topic].iter().zip(&s.times()) {
             assert_eq!(*t, Time::from_secs(*ts).nanos());
         }
     }
@@ -151,7 +151,7 @@ fn run_mcap_messages_carry_the_run_values() {
     let joints: Vec<JointState> = decoded(&msgs["/joint_states"]);
     let tracks: Vec<TrackStates> = decoded(&msgs["/tracks"]);
     for k in [0, r.samples.len() / 2, r.samples.len() - 1] {
-        let s = &r.samples[k];
+        let s = &r.samples.get(k).unwrap();
         let stamp = Time::from_secs(s.t);
         // Ground truth: the body pose in map, the velocity in base_link.
         let g = &truth[k];
@@ -263,12 +263,13 @@ fn check_sensor_messages(msgs: &BTreeMap<String, Vec<(u64, Vec<u8>)>>, r: &track
     let imu: Vec<Imu> = decoded(&msgs["/imu"]);
     assert_eq!(imu[0].header.frame_id, "imu_link");
     assert!((imu[0].linear_acceleration.z - 9.81).abs() < 0.1);
-    let accel = &imu_stream
-        .channels
-        .iter()
-        .find(|c| c.channel.name == "accel")
-        .unwrap()
-        .values;
+    let accel = imu_stream.channel_log(
+        imu_stream
+            .channels
+            .iter()
+            .position(|c| c.name == "accel")
+            .unwrap(),
+    );
     let tracksim::sensors::LogData::F64(a) = accel else {
         panic!("IMU logs in f64")
     };
@@ -523,17 +524,17 @@ fn a_3d_lidar_is_an_organised_point_cloud_of_its_points() {
     );
     let stream = r.sensors.iter().find(|s| s.name == "scan").unwrap();
     let clouds: Vec<rosmsg::PointCloud2> = decoded(&msgs["/scan"]);
-    assert_eq!(clouds.len(), stream.times.len());
+    assert_eq!(clouds.len(), stream.len());
     let points = stream
         .channels
         .iter()
-        .find(|c| c.channel.name == "points")
+        .position(|c| c.name == "points")
         .unwrap();
-    let n = points.channel.data.len();
+    let n = stream.channels[points].data.len();
     assert_eq!(n, 4 * 90 * 3);
-    let values: Vec<f32> = match &points.values {
+    let values: Vec<f32> = match stream.channel_log(points) {
         tracksim::sensors::LogData::F64(v) => v.iter().map(|x| *x as f32).collect(),
-        tracksim::sensors::LogData::F32(v) => v.clone(),
+        tracksim::sensors::LogData::F32(v) => v,
         tracksim::sensors::LogData::Png(_) => panic!("a lidar's points are numbers"),
     };
     for (k, c) in clouds.iter().enumerate() {

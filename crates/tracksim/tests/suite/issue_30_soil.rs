@@ -23,7 +23,12 @@ fn run(sc: &tracksim::Scenario) -> tracksim::RunResult {
 
 /// Mean over the samples from `t0` on of `f`.
 fn mean_from(r: &tracksim::RunResult, t0: f64, f: impl Fn(&tracksim::world::Sample) -> f64) -> f64 {
-    let s: Vec<f64> = r.samples.iter().filter(|s| s.t >= t0).map(f).collect();
+    let s: Vec<f64> = r
+        .samples
+        .iter()
+        .filter(|s| s.t >= t0)
+        .map(|s| f(&s))
+        .collect();
     s.iter().sum::<f64>() / s.len().max(1) as f64
 }
 
@@ -274,7 +279,7 @@ fn no_energy_appears_from_the_soil() {
         9.81 * s.pose.z + 0.5 * s.linvel.iter().map(|v| v * v).sum::<f64>()
     };
     let after: Vec<_> = held.samples.iter().filter(|s| s.t >= 1.0).collect();
-    let e0 = energy(after[0]);
+    let e0 = energy(&after[0]);
     let gain = after
         .iter()
         .map(|s| energy(s) - e0)

@@ -600,7 +600,7 @@ fn the_worlds_mcap_holds_each_robots_namespaced_topics_and_its_trajectory() {
         assert_eq!(last, run.samples.last().unwrap().odom[0]);
         let imu: Vec<Imu> = decoded(&msgs[&format!("/{name}/imu")]);
         assert!(imu[0].header.frame_id.starts_with(&format!("{name}/")));
-        let moved = run.samples.last().unwrap().pose.x - run.samples[0].pose.x;
+        let moved = run.samples.last().unwrap().pose.x - run.samples.first().unwrap().pose.x;
         assert!(
             if k == 0 { moved > 0.15 } else { moved < -0.1 },
             "{name} moved {moved} m as commanded"

@@ -101,7 +101,10 @@ fn odom_covariance_grows_with_the_distance_and_the_truth_is_exact() {
     let last = &odom.last().unwrap().pose.covariance;
     assert_eq!(first[0], 1e-6);
     // The robot drove; x's variance grows with the distance, 0.01 m^2/m per side, halved.
-    let (p0, p1) = (&r.samples[0].odom, &r.samples.last().unwrap().odom);
+    let (p0, p1) = (
+        &r.samples.first().unwrap().odom,
+        &r.samples.last().unwrap().odom,
+    );
     let dist = (p1[0] - p0[0]).hypot(p1[1] - p0[1]);
     assert!(dist > 0.3, "{dist}");
     let expect = 1e-6 + 0.005 * dist;

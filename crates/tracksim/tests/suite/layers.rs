@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 /// not import each other.
 pub(crate) const LAYERS: &[&[&str]] = &[
     &["error"],
-    &["check", "files", "rosmsg", "render"],
+    &["check", "files", "spill", "rosmsg", "render"],
     &["spec"],
     &["geometry"],
     &["terrain", "urdf"],

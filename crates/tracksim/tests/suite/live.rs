@@ -216,7 +216,7 @@ fn reset_restarts_the_session() {
     let _ = ws.flush();
     while ws.read().is_ok() {}
     let s = session.join().unwrap().unwrap();
-    assert!(s.result.samples[0].t == 0.0);
+    assert!(s.result.samples.first().unwrap().t == 0.0);
     assert!(
         s.log.is_empty(),
         "the reset cleared the commands: {:?}",

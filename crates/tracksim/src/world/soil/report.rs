@@ -1,7 +1,7 @@
 //! What the soil reports: per track (`TrackSoil`) and per rut cell (`RutCell`).
 
 /// What one track does in the soil over the last step.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TrackSoil {
     /// Mean sinkage of the track's loaded patches weighted by their load (belt level below the
     /// undisturbed surface), m; 0 off soil.
