@@ -239,7 +239,7 @@ fn marks_svg(out: &mut String, f: &Frame, marks: &[MapMark]) {
         };
         let _ = writeln!(
             out,
-            r##"<circle class="mark {}" cx="{u:.1}" cy="{v:.1}" r="4" fill="{colour}" stroke="#fff" stroke-width="1"><title>{}</title></circle>"##,
+            r##"<circle class="mark mark-{}" cx="{u:.1}" cy="{v:.1}" r="4" fill="{colour}" stroke="#fff" stroke-width="1"><title>{}</title></circle>"##,
             escape(m.kind.as_str()),
             escape(m.label.as_str())
         );
