@@ -149,7 +149,11 @@ fn reproduce_args(out: &[String]) -> Vec<String> {
         .iter()
         .find(|l| l.contains("reproduce: "))
         .unwrap_or_else(|| panic!("no reproduce line in {out:?}"));
-    let cmd = line.split("reproduce: ").nth(1).unwrap().trim_end_matches(')');
+    let cmd = line
+        .split("reproduce: ")
+        .nth(1)
+        .unwrap()
+        .trim_end_matches(')');
     let words: Vec<String> = cmd.split_whitespace().map(str::to_string).collect();
     assert_eq!(words[0], "tracksim", "{line}");
     words[1..].to_vec()
@@ -268,7 +272,10 @@ fn a_session_that_completes_its_course_and_drives_on_replays_with_the_printed_co
         short.lines().count(),
         session_csv.lines().count()
     );
-    assert!(session_csv.starts_with(&short), "the same samples up to the outcome");
+    assert!(
+        session_csv.starts_with(&short),
+        "the same samples up to the outcome"
+    );
 }
 
 /// Drives `robot`'s seat at `forward` m/s until the session closes the socket.
@@ -323,13 +330,24 @@ fn two_trainees_drive_their_seats_and_the_session_replays_for_both() {
         assert_eq!(line["score"], summary["course"]["score"], "{line}");
         assert!(line["score"]["time_s"].as_f64().unwrap() > 2.9, "{line}");
         assert!(
-            stdout.iter().any(|l| l.starts_with(name) && l.contains(trainee)),
+            stdout
+                .iter()
+                .any(|l| l.starts_with(name) && l.contains(trainee)),
             "{stdout:?}"
         );
     }
     // Each drove at its own speed: red further than blue.
-    let x = |n: &str| json(&out.join(n).join("summary.json"))["final_pose"]["x"].as_f64().unwrap();
-    assert!(x("red") > x("blue") + 0.2, "red {} blue {}", x("red"), x("blue"));
+    let x = |n: &str| {
+        json(&out.join(n).join("summary.json"))["final_pose"]["x"]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        x("red") > x("blue") + 0.2,
+        "red {} blue {}",
+        x("red"),
+        x("blue")
+    );
     let args = reproduce_args(&stdout);
     let replay = tmp.path().join("replay");
     run_into(&args, &replay);
@@ -358,9 +376,14 @@ fn links(html: &str) -> Vec<String> {
 fn a_course_run_writes_a_self_contained_debrief_with_its_numbers() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path().join("stairs");
-    let args: Vec<String> = ["run", "scenarios/course_stairs.toml", "--trainee", "C. Climber"]
-        .map(String::from)
-        .to_vec();
+    let args: Vec<String> = [
+        "run",
+        "scenarios/course_stairs.toml",
+        "--trainee",
+        "C. Climber",
+    ]
+    .map(String::from)
+    .to_vec();
     run_into(&args, &dir);
     let page = read(&dir.join("debrief.html"));
     let summary = json(&dir.join("summary.json"));
@@ -384,7 +407,11 @@ fn a_course_run_writes_a_self_contained_debrief_with_its_numbers() {
         rest[..rest.find("</td>").unwrap()].to_string()
     };
     let score = course["score"]["score_s"].as_f64().unwrap();
-    assert!(cell("score").contains(&format!("{score:.2} s")), "{}", cell("score"));
+    assert!(
+        cell("score").contains(&format!("{score:.2} s")),
+        "{}",
+        cell("score")
+    );
     let gates = course["events"]
         .as_array()
         .unwrap()
@@ -403,7 +430,11 @@ fn a_course_run_writes_a_self_contained_debrief_with_its_numbers() {
         assert!(page.contains(&t), "event at {t}");
     }
     assert_eq!(page.matches("class=\"gate\"").count(), 2);
-    assert_eq!(page.matches("class=\"obstacle\"").count(), 2, "the side rails");
+    assert_eq!(
+        page.matches("class=\"obstacle\"").count(),
+        2,
+        "the side rails"
+    );
     assert!(page.contains("class=\"path\""));
     assert!(page.matches("<svg").count() >= 4, "the map and three plots");
     assert!(page.contains("@media print"));
@@ -423,5 +454,8 @@ fn a_course_run_writes_a_self_contained_debrief_with_its_numbers() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("summary.json") && err.contains("folder of a run"), "{err}");
+    assert!(
+        err.contains("summary.json") && err.contains("folder of a run"),
+        "{err}"
+    );
 }

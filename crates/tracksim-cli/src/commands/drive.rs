@@ -160,11 +160,7 @@ fn finish(
     out!(
         "replay     tracksim view {}   (or reproduce: {})",
         a.out.display(),
-        tracksim::run::command_log::reproduce_command(
-            file,
-            &a.out.join("commands.toml"),
-            duration
-        )
+        tracksim::run::command_log::reproduce_command(file, &a.out.join("commands.toml"), duration)
     );
     if matches!(outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
@@ -228,13 +224,9 @@ fn drive_team(
             .trainee
             .as_ref()
             .map_or_else(String::new, |t| format!(" ({t})"));
-        let score = run
-            .summary
-            .course
-            .as_ref()
-            .map_or_else(String::new, |c| {
-                format!(", course {}: score {:.2} s", c.status, c.score.score_s)
-            });
+        let score = run.summary.course.as_ref().map_or_else(String::new, |c| {
+            format!(", course {}: score {:.2} s", c.status, c.score.score_s)
+        });
         out!(
             "{name:<10} {}: {}{who}{score}",
             run.summary.outcome,

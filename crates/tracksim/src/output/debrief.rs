@@ -79,8 +79,18 @@ fn run_table(out: &mut String, s: &Value) {
     row(out, "vehicle", "vehicle", &text("vehicle"));
     row(out, "track method", "method", &text("method"));
     row(out, "started (UTC)", "started", &text("started_utc"));
-    row(out, "simulated time", "sim-time", &format!("{} s", num(&s["sim_time_s"], 2)));
-    row(out, "distance driven", "distance", &format!("{} m", num(&s["distance_m"], 2)));
+    row(
+        out,
+        "simulated time",
+        "sim-time",
+        &format!("{} s", num(&s["sim_time_s"], 2)),
+    );
+    row(
+        out,
+        "distance driven",
+        "distance",
+        &format!("{} m", num(&s["distance_m"], 2)),
+    );
     let outcome = s["outcome"].as_str().unwrap_or("-");
     let class = match outcome {
         "success" => "status-completed",
@@ -111,7 +121,10 @@ fn score_table(out: &mut String, c: &Value) {
         out,
         "status",
         "status",
-        &format!(r#"<span class="{class}">{}</span>"#, h(&status.replace('_', " "))),
+        &format!(
+            r#"<span class="{class}">{}</span>"#,
+            h(&status.replace('_', " "))
+        ),
     );
     let reps = format!(
         "{} of {}",
@@ -121,23 +134,32 @@ fn score_table(out: &mut String, c: &Value) {
     row(out, "repetitions", "repetitions", &reps);
     let gates = c["gates_passed"].as_u64().map_or_else(
         || {
-            let n = c["events"].as_array().map_or(0, |e| {
-                e.iter().filter(|e| e["kind"] == "gate").count()
-            });
+            let n = c["events"]
+                .as_array()
+                .map_or(0, |e| e.iter().filter(|e| e["kind"] == "gate").count());
             n.to_string()
         },
         |n| n.to_string(),
     );
     let per_rep = c["gates_total"].as_u64().unwrap_or(0);
     row(out, "gates passed", "gates", &gates);
-    row(out, "gates per repetition", "gates-total", &per_rep.to_string());
+    row(
+        out,
+        "gates per repetition",
+        "gates-total",
+        &per_rep.to_string(),
+    );
     let times: Vec<String> = c["rep_times_s"]
         .as_array()
         .into_iter()
         .flatten()
         .map(|t| format!("{} s", num(t, 2)))
         .collect();
-    let times = if times.is_empty() { "-".to_string() } else { times.join(", ") };
+    let times = if times.is_empty() {
+        "-".to_string()
+    } else {
+        times.join(", ")
+    };
     row(out, "time per repetition", "rep-times", &times);
     let limit = c["time_limit_s"]
         .as_f64()
@@ -153,8 +175,16 @@ fn score_table(out: &mut String, c: &Value) {
         f["touch"].as_u64().unwrap_or(0)
     );
     row(out, "faults", "faults", &faults);
-    row(out, "penalty", "penalty", &format!("{} s", num(&c["penalty_s"], 2)));
-    let score = format!("<b>{} s</b> (time + penalty)", num(&c["score"]["score_s"], 2));
+    row(
+        out,
+        "penalty",
+        "penalty",
+        &format!("{} s", num(&c["penalty_s"], 2)),
+    );
+    let score = format!(
+        "<b>{} s</b> (time + penalty)",
+        num(&c["score"]["score_s"], 2)
+    );
     row(out, "score", "score", &score);
     out.push_str("</table>\n");
 }
@@ -204,8 +234,14 @@ fn events_table(out: &mut String, all: &[Moment]) {
             "outcome" | "finished" => "outcome",
             _ => "",
         };
-        let kind = if m.kind == "largest_tilt" { "largest tilt" } else { m.kind.as_str() };
-        let until = m.t_end.map_or_else(String::new, |e| format!(" (to {e:.2} s)"));
+        let kind = if m.kind == "largest_tilt" {
+            "largest tilt"
+        } else {
+            m.kind.as_str()
+        };
+        let until = m
+            .t_end
+            .map_or_else(String::new, |e| format!(" (to {e:.2} s)"));
         let _ = writeln!(
             out,
             r#"<tr class="{class}"><td class="num">{:.2}</td><td>{}</td><td>{}{until}</td></tr>"#,
@@ -234,7 +270,9 @@ fn marks(all: &[Moment], times: &[f64], pts: &[[f64; 2]]) -> Vec<MapMark> {
     all.iter()
         .filter(|m| matches!(m.kind.as_str(), "gate" | "fault" | "stall" | "outcome"))
         .filter_map(|m| {
-            let k = times.partition_point(|t| *t < m.t - 1e-9).min(pts.len().checked_sub(1)?);
+            let k = times
+                .partition_point(|t| *t < m.t - 1e-9)
+                .min(pts.len().checked_sub(1)?);
             Some(MapMark {
                 at: pts[k],
                 kind: m.kind.clone(),
@@ -263,9 +301,16 @@ fn map_section(out: &mut String, scene: &Value, c: &Columns, all: &[Moment]) {
 pub fn debrief_html(dir: &Path) -> Result<String> {
     let summary = read_json(&dir.join("summary.json"))?;
     let tp = dir.join("trajectory.csv");
-    let traj = Columns::parse(&crate::files::read_text_bounded(&tp, MAX_TRAJECTORY_BYTES)?, &tp)?;
+    let traj = Columns::parse(
+        &crate::files::read_text_bounded(&tp, MAX_TRAJECTORY_BYTES)?,
+        &tp,
+    )?;
     let sp = dir.join("scene.json");
-    let scene = if sp.is_file() { read_json(&sp)? } else { Value::Null };
+    let scene = if sp.is_file() {
+        read_json(&sp)?
+    } else {
+        Value::Null
+    };
     let course = &summary["course"];
     let title = match (course["name"].as_str(), summary["trainee"].as_str()) {
         (Some(c), Some(t)) => format!("Debrief: {t} on {c}"),

@@ -72,9 +72,14 @@ fn quat_yaw(q: &[f64]) -> f64 {
 /// waypoint: its diameter), and its centre.
 fn gate_ends(g: &Value) -> ([f64; 2], [f64; 2], [f64; 2], Option<f64>) {
     let c = nums(&g["centre_m"]);
-    let c = [c.first().copied().unwrap_or(0.0), c.get(1).copied().unwrap_or(0.0)];
+    let c = [
+        c.first().copied().unwrap_or(0.0),
+        c.get(1).copied().unwrap_or(0.0),
+    ];
     let radius = g["radius_m"].as_f64();
-    let half = g["width_m"].as_f64().map_or(radius.unwrap_or(0.5), |w| w / 2.0);
+    let half = g["width_m"]
+        .as_f64()
+        .map_or(radius.unwrap_or(0.5), |w| w / 2.0);
     let yaw = g["yaw_rad"].as_f64().unwrap_or(0.0);
     let (ax, ay) = (-yaw.sin() * half, yaw.cos() * half);
     (c, [c[0] + ax, c[1] + ay], [c[0] - ax, c[1] - ay], radius)
@@ -85,7 +90,12 @@ fn extent(scene: &Value, path: &[[f64; 2]]) -> [f64; 4] {
     let mut e = [f64::MAX, f64::MIN, f64::MAX, f64::MIN];
     let mut grow = |p: [f64; 2]| {
         if p[0].is_finite() && p[1].is_finite() {
-            e = [e[0].min(p[0]), e[1].max(p[0]), e[2].min(p[1]), e[3].max(p[1])];
+            e = [
+                e[0].min(p[0]),
+                e[1].max(p[0]),
+                e[2].min(p[1]),
+                e[3].max(p[1]),
+            ];
         }
     };
     path.iter().for_each(|p| grow(*p));
@@ -94,7 +104,11 @@ fn extent(scene: &Value, path: &[[f64; 2]]) -> [f64; 4] {
         grow(a);
         grow(b);
     }
-    for o in scene["course"]["obstacles"].as_array().into_iter().flatten() {
+    for o in scene["course"]["obstacles"]
+        .as_array()
+        .into_iter()
+        .flatten()
+    {
         let c = nums(&o["centre_m"]);
         if c.len() >= 2 {
             grow([c[0], c[1]]);
@@ -135,7 +149,11 @@ fn terrain(out: &mut String, f: &Frame, scene: &Value) {
         let style = r##"fill="#cdbf9f" fill-opacity="0.8" stroke="#9a8a66" stroke-width="0.5""##;
         polygon(out, f, &pts, style, Some(&top));
     }
-    for cy in scene["terrain"]["cylinders"].as_array().into_iter().flatten() {
+    for cy in scene["terrain"]["cylinders"]
+        .as_array()
+        .into_iter()
+        .flatten()
+    {
         let c = nums(&cy["centre_m"]);
         let (Some(r), Some(hl)) = (cy["radius_m"].as_f64(), cy["half_length_m"].as_f64()) else {
             continue;
@@ -152,7 +170,11 @@ fn terrain(out: &mut String, f: &Frame, scene: &Value) {
 
 /// The course's marked obstacles (red) and gates (blue, numbered from 1).
 fn course(out: &mut String, f: &Frame, scene: &Value) {
-    for o in scene["course"]["obstacles"].as_array().into_iter().flatten() {
+    for o in scene["course"]["obstacles"]
+        .as_array()
+        .into_iter()
+        .flatten()
+    {
         let (c, h) = (nums(&o["centre_m"]), nums(&o["half_m"]));
         if c.len() < 2 || h.len() < 2 {
             continue;
@@ -163,7 +185,12 @@ fn course(out: &mut String, f: &Frame, scene: &Value) {
         let style = r##"fill="#dc5a3c" fill-opacity="0.85" class="obstacle""##;
         polygon(out, f, &pts, style, Some(name));
     }
-    for (i, g) in scene["course"]["gates"].as_array().into_iter().flatten().enumerate() {
+    for (i, g) in scene["course"]["gates"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .enumerate()
+    {
         let (c, a, b, radius) = gate_ends(g);
         let (cu, cv) = f.px(c[0], c[1]);
         if let (Some(r), true) = (radius, g["width_m"].is_null()) {
@@ -319,7 +346,11 @@ mod tests {
         }];
         let svg = course_map_svg(&scene, &path, &marks);
         assert_eq!(svg.matches(r#"class="gate""#).count(), 2, "{svg}");
-        assert_eq!(svg.matches("<circle class=\"gate\"").count(), 1, "the waypoint a ring");
+        assert_eq!(
+            svg.matches("<circle class=\"gate\"").count(),
+            1,
+            "the waypoint a ring"
+        );
         assert_eq!(svg.matches(r#"class="obstacle""#).count(), 1);
         assert!(svg.contains("pylon &lt;A&gt;"), "names escaped");
         assert!(svg.contains("gate 0 passed &amp; more"));

@@ -31,7 +31,12 @@ impl Columns {
             path: path.to_path_buf(),
             message: format!("{e}: the trajectory.csv of a run is needed; re-run to write it"),
         };
-        let names: Vec<String> = r.headers().map_err(bad)?.iter().map(str::to_string).collect();
+        let names: Vec<String> = r
+            .headers()
+            .map_err(bad)?
+            .iter()
+            .map(str::to_string)
+            .collect();
         let mut rows = Vec::new();
         for rec in r.records() {
             let rec = rec.map_err(bad)?;
@@ -89,11 +94,15 @@ type Series = Vec<(String, Vec<(f64, f64)>)>;
 fn speeds(c: &Columns) -> Series {
     let mut out = Vec::new();
     if let (Some(vx), Some(vy), Some(yaw)) = (c.col("vx_mps"), c.col("vy_mps"), c.col("yaw_rad")) {
-        let fwd = c.series(|r| Some(r.get(vx)? * r.get(yaw)?.cos() + r.get(vy)? * r.get(yaw)?.sin()));
+        let fwd =
+            c.series(|r| Some(r.get(vx)? * r.get(yaw)?.cos() + r.get(vy)? * r.get(yaw)?.sin()));
         out.push(("body forward".to_string(), fwd));
     }
     for n in c.items("belt_speed_", "_mps") {
-        out.push((format!("belt {n}"), c.column(&format!("belt_speed_{n}_mps"))));
+        out.push((
+            format!("belt {n}"),
+            c.column(&format!("belt_speed_{n}_mps")),
+        ));
     }
     out
 }
@@ -132,7 +141,9 @@ fn panel_svg(y_desc: &str, series: &Series) -> Result<String> {
         source: std::io::Error::other(format!("drawing the plot {y_desc}: {e}")),
     };
     if !ensure_font() {
-        return Err(fail("the embedded DejaVu Sans font could not be loaded".into()));
+        return Err(fail(
+            "the embedded DejaVu Sans font could not be loaded".into(),
+        ));
     }
     let mut text = String::new();
     {

@@ -273,11 +273,9 @@ mod tests {
             2.5,
         );
         assert!(text.starts_with("# Test controls, applied at these simulated times.\n"));
-        assert!(
-            text.contains(
-                "#   tracksim run s.toml --commands d/commands.toml --duration 2.5 --keep-running\n"
-            )
-        );
+        assert!(text.contains(
+            "#   tracksim run s.toml --commands d/commands.toml --duration 2.5 --keep-running\n"
+        ));
         assert!(text.contains("# a note\n"));
         #[derive(serde::Deserialize)]
         struct File {
