@@ -43,7 +43,7 @@ function pacing(ticks) {
   const per = [];
   let lag = 0;
   for (let i = 0, j = 0; i < ticks.length; i++) {
-    while (j < i && ticks[i].wall - ticks[j].wall > 1.0) j++;
+    while (j + 1 < i && ticks[i].wall - ticks[j + 1].wall >= 0.99) j++;
     if (ticks[i].wall - ticks[j].wall >= 0.99) per.push((ticks[i].t - ticks[j].t) / (ticks[i].wall - ticks[j].wall));
     lag = Math.max(lag, ticks[i].wall - ticks[0].wall - (ticks[i].t - ticks[0].t));
   }
