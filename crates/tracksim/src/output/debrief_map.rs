@@ -228,7 +228,7 @@ fn path_svg(out: &mut String, f: &Frame, path: &[[f64; 2]]) {
         })
         .collect();
     if let Some(last) = path.last()
-        && (path.len() - 1) % stride != 0
+        && !(path.len() - 1).is_multiple_of(stride)
     {
         let (u, v) = f.px(last[0], last[1]);
         pts.push(format!("{u:.1},{v:.1}"));

@@ -73,7 +73,7 @@ impl Columns {
         self.rows
             .iter()
             .enumerate()
-            .filter(|(i, _)| i % stride == 0 || *i == last)
+            .filter(|(i, _)| i.is_multiple_of(stride) || *i == last)
             .filter_map(|(_, r)| Some((*r.get(it)?, f(r)?)))
             .filter(|(t, v)| t.is_finite() && v.is_finite())
             .collect()
