@@ -459,3 +459,47 @@ fn a_course_run_writes_a_self_contained_debrief_with_its_numbers() {
         "{err}"
     );
 }
+
+#[test]
+fn a_trainee_per_seat_is_checked_before_the_session_starts() {
+    let run = |trainees: &[&str]| {
+        let mut args = vec!["drive", "scenarios/team/race_step.toml", "--port", "0"];
+        for t in trainees {
+            args.extend(["--trainee", t]);
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_tracksim"))
+            .current_dir(root())
+            .args(&args)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    for (given, says) in [
+        (vec!["Ann"], "ROBOT=NAME"),
+        (vec!["green=Ann"], "no robot \"green\""),
+        (vec!["red=Ann", "red=Bo"], "twice"),
+        (vec!["red=\t"], "characters"),
+    ] {
+        let (code, err) = run(&given);
+        assert_eq!(code, Some(2), "{given:?}: {err}");
+        assert!(
+            err.contains("--trainee") && err.contains(says),
+            "{given:?}: {err}"
+        );
+        if says != "twice" && says != "characters" {
+            assert!(err.contains("red") && err.contains("blue"), "{err}");
+        }
+    }
+    // One robot has one trainee.
+    let o = Command::new(env!("CARGO_BIN_EXE_tracksim"))
+        .current_dir(root())
+        .args(["drive", "scenarios/packbot_flat.toml", "--port", "0"])
+        .args(["--trainee", "A", "--trainee", "B"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("give --trainee once"));
+}
