@@ -985,3 +985,85 @@ test('view: the replay page offers the run as an MP4 that the browser plays (iss
     view.child.kill();
   }
 });
+
+test('review of a course run (issue 43): the course panel at the replay time, the debrief linked, sessions as trainee ghosts', async () => {
+  const sessions = path.join(tmp, 'school');
+  const out = path.join(sessions, 'a-climb');
+  execFileSync(bin, ['run', 'scenarios/course_stairs.toml', '--out', out, '--no-plot', '--quiet', '--trainee', 'C. Climber'], { cwd: root, stdio: 'ignore' });
+  const summary = JSON.parse(fs.readFileSync(path.join(out, 'summary.json'), 'utf8'));
+  const gates = summary.course.events.filter((e) => e.kind === 'gate');
+  assert.equal(gates.length, 2, JSON.stringify(summary.course.events));
+  const view = start(['view', out, '--port', '0']);
+  const url = await view.url;
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, url);
+    const end = await page.evaluate(() => window.tracksim.replayEnd);
+    await page.click('#play'); // paused
+    const at = async (t) => {
+      await page.$eval('#scrub', (e, f) => { e.value = String(f); e.dispatchEvent(new Event('input')); }, t / end);
+      await frames(page, 2);
+      return { t: await page.evaluate(() => window.tracksim.replayTime), text: await page.textContent('#course'), c: await page.evaluate(() => window.tracksim.replayCourse) };
+    };
+    // Before the first gate, between the two, at the end.
+    const early = await at(gates[0].t_s / 2);
+    const middle = await at((gates[0].t_s + gates[1].t_s) / 2);
+    const last = await at(end);
+    assert.equal(early.c.gates_passed, 0, JSON.stringify(early.c));
+    assert.equal(middle.c.gates_passed, 1, JSON.stringify(middle.c));
+    assert.equal(last.c.gates_passed, 2, JSON.stringify(last.c));
+    assert.match(early.text, /passed\s+0 gates/);
+    assert.match(middle.text, /passed\s+1 gates/);
+    assert.match(last.text, /passed\s+2 gates/);
+    assert.match(early.text, /reps\s+0 \/ 1/);
+    assert.match(last.text, /reps\s+1 \/ 1/);
+    assert.doesNotMatch(early.text, /FINISHED/);
+    assert.match(last.text, /FINISHED/);
+    // The time shown is the replay time's; the score at the end is the run's.
+    assert.ok(Math.abs(early.c.elapsed_s - early.t) < 1e-9, JSON.stringify({ c: early.c.elapsed_s, t: early.t }));
+    assert.match(early.text, new RegExp(`time +${early.t.toFixed(1)} s`));
+    assert.match(last.text, new RegExp(`score +${summary.course.score.score_s.toFixed(1)} s`));
+    // The printable debrief, linked from the time bar, served under a policy that runs nothing.
+    assert.equal(await page.evaluate(() => window.tracksim.debrief), true);
+    assert.equal(await page.getAttribute('#debrief-link', 'href'), '/run/debrief.html');
+    assert.ok(await page.isVisible('#debrief-link'));
+    const got = await page.evaluate(async () => { const r = await fetch('/run/debrief.html'); return { status: r.status, type: r.headers.get('content-type'), csp: r.headers.get('content-security-policy'), text: await r.text() }; });
+    assert.equal(got.status, 200);
+    assert.match(got.type, /text\/html/);
+    assert.match(got.csp, /sandbox/);
+    assert.match(got.text, /C\. Climber/);
+    assert.ok(got.text.includes(`${summary.course.score.score_s.toFixed(2)} s`));
+    const dp = await ctx.newPage();
+    await dp.goto(new URL('/run/debrief.html', url).href);
+    assert.equal(await dp.locator('svg.map .gate').count(), 2);
+    await dp.pdf?.({ path: path.join(artifacts, 'debrief.pdf') }).catch(() => {});
+    await dp.screenshot({ path: path.join(artifacts, 'debrief.png'), fullPage: true });
+    await page.screenshot({ path: path.join(artifacts, 'review-course.png') });
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+  // A folder of sessions: every run a ghost named by its trainee (summary.json), not its folder.
+  const other = path.join(sessions, 'b-climb');
+  fs.cpSync(out, other, { recursive: true });
+  const s2 = JSON.parse(fs.readFileSync(path.join(other, 'summary.json'), 'utf8'));
+  s2.trainee = 'D. Driver';
+  fs.writeFileSync(path.join(other, 'summary.json'), JSON.stringify(s2));
+  const view2 = start(['view', sessions, '--port', '0']);
+  const url2 = await view2.url;
+  const ctx2 = await browser();
+  try {
+    const page = await openReplay(ctx2, url2);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.runs), ['a-climb', 'b-climb']);
+    const ghosts = await page.evaluate(() => window.tracksim.ghosts());
+    assert.equal(ghosts.length, 1);
+    assert.equal(ghosts[0].name, 'D. Driver');
+    assert.equal(ghosts[0].folder, 'b-climb');
+    const legend = await page.textContent('#legend');
+    assert.match(legend, /trainees.*C\. Climber.*D\. Driver/);
+    assert.doesNotMatch(legend, /a-climb|b-climb/);
+  } finally {
+    await ctx2.close();
+    view2.child.kill();
+  }
+});

@@ -58,6 +58,7 @@ enum Cmd {
     Merge(merge::MergeArgs),
     List(list::ListArgs),
     Sessions(sessions::SessionsArgs),
+    Debrief(debrief::DebriefArgs),
     Export(export::ExportArgs),
     Import(import::ImportArgs),
 }
@@ -77,6 +78,7 @@ fn main() -> ExitCode {
         Cmd::Merge(a) => merge::merge(a),
         Cmd::List(a) => list::list(a),
         Cmd::Sessions(a) => sessions::sessions(a),
+        Cmd::Debrief(a) => debrief::debrief(a),
         Cmd::Export(a) => export::export(a),
         Cmd::Import(a) => import::import(a),
     };

@@ -4,7 +4,7 @@ import * as THREE from 'three';
 import { OrbitControls } from '/vendor/OrbitControls.js';
 import { createHud, tiltDeg } from '/hud.js';
 import { createMinimap, gateEnds, itemYaw } from '/minimap.js';
-import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs } from '/review.js';
+import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs, courseAt } from '/review.js';
 import { createRuts, parseRuts } from '/ruts.js';
 
 const $ = (id) => document.getElementById(id);
@@ -955,10 +955,10 @@ if (!live) {
       const gsc = await fetch(`${run.base}/scene.json`);
       const gv = gsc.ok ? (await gsc.json()).vehicle ?? null : null;
       const made = makeGhost(colour, gv);
-      const gh = { name: run.name, colour, vehicle: gv?.name ?? v.name, traj: gt, summary: gs, ...made, pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((n) => gt.col(n)), flip: made.flipperNames.map((n) => gt.col(`flipper_${n}_rad`)), end: gt.rows[gt.rows.length - 1][0] };
+      const gh = { name: runLabel(run), folder: run.name, colour, vehicle: gv?.name ?? v.name, traj: gt, summary: gs, ...made, pose: ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((n) => gt.col(n)), flip: made.flipperNames.map((n) => gt.col(`flipper_${n}_rad`)), end: gt.rows[gt.rows.length - 1][0] };
       ghosts.push(gh);
       replay.end = Math.max(replay.end, gh.end);
-      if (gs && isNum(gs.outcome_time_s) && gs.outcome) events.push({ t_s: gs.outcome_time_s, kind: 'outcome', detail: `${run.name}: ${gs.outcome}: ${gs.outcome_reason ?? ''}` });
+      if (gs && isNum(gs.outcome_time_s) && gs.outcome) events.push({ t_s: gs.outcome_time_s, kind: 'outcome', detail: `${runLabel(run)}: ${gs.outcome}: ${gs.outcome_reason ?? ''}` });
     } catch (err) {
       api.errors.push(`run ${run.name}: ${err}`);
     }
@@ -975,13 +975,13 @@ if (!live) {
       lg.append(sw, document.createTextNode(text)); // names are folder names: text, never markup
     };
     const title = document.createElement('b');
-    title.textContent = runs.team ? 'robots' : 'compare';
+    title.textContent = runs.team ? 'robots' : runs.sessions ? 'trainees' : 'compare';
     lg.append(title);
-    entry('#4f5d3a', `${runs.runs[0].name}${out(summary)} (solid)`);
+    entry('#4f5d3a', `${runLabel(runs.runs[0])}${out(summary)} (solid)`);
     for (const g of ghosts) entry(hex(g.colour), `${g.name}${out(g.summary)}`);
   }
   api.runs = runs.runs.map((r) => r.name);
-  api.ghosts = () => ghosts.map((g) => ({ name: g.name, colour: hex(g.colour), vehicle: g.vehicle, position: g.group.position.toArray(), visible: g.group.visible }));
+  api.ghosts = () => ghosts.map((g) => ({ name: g.name, folder: g.folder, colour: hex(g.colour), vehicle: g.vehicle, position: g.group.position.toArray(), visible: g.group.visible }));
   api.events = events;
   lanes = inputSeries(controls, traj, trackNames);
   api.inputs = { lanes: lanes.map((l) => ({ title: l.title, series: l.series.map((x) => x.name) })), source: controls ? 'controls.csv' : 'trajectory.csv', drawn: 0 };
@@ -990,6 +990,7 @@ if (!live) {
   $('bar').classList.remove('hidden');
   // The run as an MP4 (`/video.mp4`, rendered by the server on the first request).
   if (session.video) $('video-link').classList.remove('hidden');
+  showDebriefLink(base);
   api.video = Boolean(session.video);
   $('play').addEventListener('click', togglePlay);
   $('scrub').addEventListener('input', (e) => { playTime = Number(e.target.value) * replay.end; });
@@ -1005,6 +1006,19 @@ if (!live) {
     b.addEventListener('click', () => jumpTo(ev));
     mk.appendChild(b);
   });
+}
+// A run's name on the page: its trainee (a folder of sessions, view/server.rs `label`), else
+// its folder's name.
+function runLabel(run) { return typeof run.label === 'string' && run.label ? run.label : run.name; }
+// The printable debrief of the run (debrief.html in its folder, output/debrief.rs), linked
+// from the time bar when the folder has one.
+async function showDebriefLink(base) {
+  const r = await fetch(`${base}/debrief.html`, { method: 'HEAD' }).catch(() => null);
+  api.debrief = Boolean(r?.ok);
+  if (!r?.ok) return;
+  const a = $('debrief-link');
+  a.href = `${base}/debrief.html`;
+  a.classList.remove('hidden');
 }
 function jumpTo(ev) {
   if (!ev) return;
@@ -1050,6 +1064,13 @@ function lerpRow(rows, t) {
   while (hi - lo > 1) { const mid = (lo + hi) >> 1; if (rows[mid][0] <= t) lo = mid; else hi = mid; }
   const a = rows[lo], b = rows[hi], w = (t - a[0]) / (b[0] - a[0] || 1);
   return a.map((x, i) => x + (b[i] - x) * w);
+}
+// The course panel of a replay: the score at the replay time (review.js courseAt), not the
+// final one; window.tracksim.courseAt(t) gives it for any time.
+function replayCourse(sm, t) {
+  const c = courseAt(sm?.course ?? null, t, replay.end);
+  api.replayCourse = c;
+  return c;
 }
 function lerpAngle(a, b, w) { let d = b - a; while (d > Math.PI) d -= 2 * Math.PI; while (d < -Math.PI) d += 2 * Math.PI; return a + d * w; }
 function replayFrame() {
@@ -1100,10 +1121,10 @@ function replayFrame() {
     tilt_limit_deg: [sceneTiltLimit, sm?.max_tilt_deg].find(isNum) ?? null,
     ahead: profileAhead(x, y, z, yaw),
     outcome: sm && isNum(sm.outcome_time_s) && playTime >= sm.outcome_time_s ? { name: sm.outcome, reason: sm.outcome_reason, t: sm.outcome_time_s } : null,
-    course: sm?.course ?? null, driver: null,
+    course: replayCourse(sm, playTime), driver: null,
   };
   warn.update(vs);
-  if (mapOn) minimap.draw(vs.pose, path, ghosts.filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), null);
+  if (mapOn) minimap.draw(vs.pose, path, ghosts.filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(vs.course?.next_gate) ? vs.course.next_gate : null);
   drawInputsStrip(playTime);
   $('scrub').value = String(playTime / (replay.end || 1));
   $('clock').textContent = `${fmt(playTime, 2)} / ${fmt(replay.end, 2)} s`;

@@ -255,8 +255,10 @@ export function createHud(vehicle, els) {
         `reps    ${reps ?? '-'}${laps !== undefined ? ' / ' + laps : ''}`,
         `time    ${fmt(pick('elapsed_s', 't_s'), 1)} s${num(pick('time_limit_s')) ? ' of ' + fmt(pick('time_limit_s'), 0) + ' s' : ''}`,
         `gate    ${num(next) ? next + 1 : '-'}${num(total) ? ' / ' + total : Array.isArray(total) ? ' / ' + total.length : ''}`,
+        ...(num(pick('gates_passed')) ? [`passed  ${pick('gates_passed')} gates`] : []),
         `faults  ${Object.entries(faults).map(([k, n]) => `${k.replace(/_/g, '-')} ${n}`).join(', ') || 'none'}`,
         ...(num(pick('penalty_s')) ? [`penalty ${fmt(pick('penalty_s'), 1)} s`] : []),
+        ...(num(cs.score?.score_s) ? [`score   ${fmt(cs.score.score_s, 1)} s`] : []),
         ...((pick('rep_times_s') ?? []).length ? [`laps    ${pick('rep_times_s').map((x) => fmt(x, 1)).join(' ')} s`] : []),
         ...(pick('finished') ? ['FINISHED'] : []),
         // Several robots on the course (run/standings.rs): the race or the team, best first.

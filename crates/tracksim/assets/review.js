@@ -141,3 +141,67 @@ export function drawInputs(canvas, lanes, end, t) {
   if (num(t)) { g.fillStyle = '#fff'; g.fillRect(Math.round(X(t)), 0, 1, h); }
   return drawn;
 }
+
+/** A fault's kind from an event (its `fault` key; older runs: from its words). */
+function faultKind(e) {
+  if (typeof e.fault === 'string') return e.fault;
+  const d = String(e.detail ?? '');
+  if (/^reset/.test(d)) return 'reset';
+  if (/^tip-over/.test(d)) return 'tip_over';
+  if (/^touched/.test(d)) return 'touch';
+  return null;
+}
+
+/**
+ * The course's score at replay time `t` s, from summary.json's `course` (run/course.rs
+ * `CourseScore`) and its timed events: gates passed, repetitions and their times, faults by
+ * kind, penalty and score so far, as the live page showed it then. At or after the run's
+ * last sample it is the final score itself. null without a course.
+ */
+export function courseAt(course, t, end = Infinity) {
+  if (!course || typeof course !== 'object') return null;
+  if (num(end) && t >= end - 1e-9) return course;
+  const total = num(course.gates_total) ? course.gates_total : null;
+  const required = course.repetitions_required;
+  let next = 0, passed = 0, lastEnd = 0, status = 'running', penalty = 0, penaltyKnown = true;
+  const reps = [];
+  const faults = { reset: 0, tip_over: 0, touch: 0 };
+  for (const e of course.events ?? []) {
+    if (!num(e.t_s) || e.t_s > t + 1e-9) continue;
+    if (e.kind === 'gate') {
+      passed++;
+      next = total ? (next + 1) % total : next + 1;
+    } else if (e.kind === 'repetition') {
+      reps.push(e.t_s - lastEnd);
+      lastEnd = e.t_s;
+    } else if (e.kind === 'fault') {
+      const k = faultKind(e);
+      if (k) faults[k] = (faults[k] ?? 0) + 1;
+      if (num(e.penalty_s)) penalty += e.penalty_s; else penaltyKnown = false;
+    } else if (e.kind === 'finished') {
+      status = num(required) && reps.length >= required ? 'completed' : 'time_limit';
+    }
+  }
+  const elapsed = Math.min(t, num(course.elapsed_s) ? course.elapsed_s : t);
+  const time = status === 'completed' ? lastEnd : elapsed;
+  const pen = penaltyKnown ? penalty : null;
+  const nFaults = faults.reset + faults.tip_over + faults.touch;
+  return {
+    name: course.name,
+    next_gate: next,
+    gates_passed: passed,
+    gates_total: total,
+    repetition: num(required) ? Math.min(reps.length + 1, required) : reps.length + 1,
+    repetitions_done: reps.length,
+    repetitions_required: required,
+    rep_times_s: reps,
+    elapsed_s: elapsed,
+    ...(num(course.time_limit_s) ? { time_limit_s: course.time_limit_s } : {}),
+    faults,
+    penalty_s: pen,
+    finished: status !== 'running',
+    status,
+    score: { repetitions: reps.length, time_s: time, faults: nFaults, penalty_s: pen, score_s: pen === null ? null : time + pen },
+    events: (course.events ?? []).filter((e) => num(e.t_s) && e.t_s <= t + 1e-9),
+  };
+}

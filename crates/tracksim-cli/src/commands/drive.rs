@@ -42,8 +42,10 @@ pub struct DriveArgs {
     #[arg(long, default_value_t = tracksim::live::DEFAULT_RECONNECT_GRACE_S)]
     pub reconnect_grace: f64,
     /// The trainee (operator) driving, recorded in summary.json (`tracksim sessions` lists it).
+    /// A session of several robots has a trainee per seat: `--trainee ROBOT=NAME`, once per
+    /// robot (recorded in that robot's summary.json and in team.json).
     #[arg(long)]
-    pub trainee: Option<String>,
+    pub trainee: Vec<String>,
     /// Who else may use the page (docs/LIVE.md, security).
     #[command(flatten)]
     pub access: AccessArgs,
@@ -54,7 +56,19 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
     use tracksim::live::{DriveOptions, Hub, Mode, Server};
     let file = scenario_file(&a.file)?;
     let sc = tracksim::load_scenario_with(&file, &overrides(a.method.as_deref(), None, None)?)?;
-    let trainee = super::trainee(a.trainee.as_deref())?;
+    if sc.team.is_none() && a.trainee.len() > 1 {
+        return Err(bad_arg(
+            "--trainee",
+            format!(
+                "one robot has one trainee, got {}: give --trainee once",
+                a.trainee.len()
+            ),
+        ));
+    }
+    let trainee = match sc.team {
+        None => super::trainee(a.trainee.first().map(String::as_str))?,
+        Some(_) => None,
+    };
     if !(a.speed.is_finite() && a.speed > 0.0) {
         return Err(bad_arg(
             "--speed",
@@ -82,14 +96,6 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         interrupt: Some(&super::STOP),
     };
     if sc.team.is_some() {
-        if a.trainee.is_some() {
-            return Err(bad_arg(
-                "--trainee",
-                "a session of several robots has a trainee per seat: not recorded yet; leave \
-                 --trainee out"
-                    .into(),
-            ));
-        }
         return drive_team(&a, &file, &sc, opts);
     }
     let hub = Hub::with_grace(a.reconnect_grace);
@@ -152,11 +158,9 @@ fn finish(
         out!("wrote      {}", w.display());
     }
     out!(
-        "replay     tracksim view {}   (or reproduce: tracksim run {} --commands {} --duration {})",
+        "replay     tracksim view {}   (or reproduce: {})",
         a.out.display(),
-        file.display(),
-        a.out.join("commands.toml").display(),
-        tracksim::run::duration_arg(duration)
+        tracksim::run::command_log::reproduce_command(file, &a.out.join("commands.toml"), duration)
     );
     if matches!(outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
@@ -173,6 +177,7 @@ fn drive_team(
 ) -> Result<(), Failure> {
     use tracksim::live::{Hub, Mode, Server};
     let names = sc.robot_names();
+    let trainees = seat_trainees(&a.trainee, &names)?;
     let hub = Hub::team(names.clone(), a.reconnect_grace);
     let scene_json = (0..names.len())
         .map(|k| tracksim::output::Scene::new(&sc.robot_view(k)).to_json())
@@ -207,12 +212,23 @@ fn drive_team(
     let session = tracksim::live::run_team_session(sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
-    let session = session?;
+    let mut session = session?;
+    for (name, run) in &mut session.result.robots {
+        run.summary.trainee = trainees.get(name).cloned();
+    }
     let written = session.write(sc, file, &a.out, !a.no_plot)?;
     tracksim::output::incomplete::mark_complete(&a.out)?;
     for (name, run) in &session.result.robots {
+        let who = run
+            .summary
+            .trainee
+            .as_ref()
+            .map_or_else(String::new, |t| format!(" ({t})"));
+        let score = run.summary.course.as_ref().map_or_else(String::new, |c| {
+            format!(", course {}: score {:.2} s", c.status, c.score.score_s)
+        });
         out!(
-            "{name:<10} {}: {}",
+            "{name:<10} {}: {}{who}{score}",
             run.summary.outcome,
             run.summary.outcome_reason
         );
@@ -220,4 +236,43 @@ fn drive_team(
     let o = session.outcome();
     out!("outcome    {}: {}", o.name(), o.reason());
     finish(a, file, &written, session.duration(), o)
+}
+
+/// The trainee of each seat from `--trainee ROBOT=NAME` (each robot at most once, every name
+/// checked as a one-robot session's).
+fn seat_trainees(
+    given: &[String],
+    robots: &[String],
+) -> Result<std::collections::BTreeMap<String, String>, Failure> {
+    let mut out = std::collections::BTreeMap::new();
+    for g in given {
+        let Some((robot, name)) = g.split_once('=') else {
+            return Err(bad_arg(
+                "--trainee",
+                format!(
+                    "a session of several robots has a trainee per seat: give --trainee \
+                     ROBOT=NAME for each (robots: {}), got {g:?}",
+                    robots.join(", ")
+                ),
+            ));
+        };
+        let robot = robot.trim();
+        if !robots.iter().any(|r| r == robot) {
+            return Err(bad_arg(
+                "--trainee",
+                format!(
+                    "no robot {robot:?} in this file (robots: {})",
+                    robots.join(", ")
+                ),
+            ));
+        }
+        let name = super::trainee(Some(name))?.unwrap_or_default();
+        if out.insert(robot.to_string(), name).is_some() {
+            return Err(bad_arg(
+                "--trainee",
+                format!("robot {robot:?} is given a trainee twice: one per seat"),
+            ));
+        }
+    }
+    Ok(out)
 }

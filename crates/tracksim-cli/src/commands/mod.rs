@@ -5,6 +5,7 @@
 pub mod bench;
 pub mod check;
 pub mod compare;
+pub mod debrief;
 pub mod drive;
 pub mod export;
 pub mod import;

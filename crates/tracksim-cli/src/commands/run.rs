@@ -48,6 +48,11 @@ pub struct RunArgs {
     /// `commands.toml` a `tracksim drive` session wrote: the run reproduces the session).
     #[arg(long)]
     pub commands: Option<PathBuf>,
+    /// Run on past the decided outcome to the duration (the scenario's `outcome.stop` set to
+    /// false), as a live session goes on after its course is completed: the reproduce command a
+    /// `drive` or `ros` session prints carries it.
+    #[arg(long)]
+    pub keep_running: bool,
     /// The trainee (operator) of the run, recorded in summary.json (`tracksim sessions`).
     #[arg(long)]
     pub trainee: Option<String>,
@@ -96,7 +101,10 @@ fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
 /// `tracksim run`.
 pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
-    let o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
+    let mut o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
+    if a.keep_running {
+        o.stop_at_outcome = Some(false);
+    }
     let template = tracksim::ScenarioTemplate::load_with(&file, &o)?;
     let sc = match a.seed {
         Some(seed) => template.instantiate(seed)?,

@@ -223,6 +223,26 @@ fn respond_to(
     stream.flush()
 }
 
+/// The run folder's printable debrief (`output::debrief`), served at `<base>/debrief.html`.
+const DEBRIEF: &str = crate::output::debrief::DEBRIEF_FILE;
+/// Its content type.
+const DEBRIEF_TYPE: &str = "text/html; charset=utf-8";
+
+/// Answers with an HTML page read from a run folder under a policy that runs no script and
+/// fetches nothing (inline styles and `data:` images only): a page put into the folder by
+/// someone else cannot act on this server's origin.
+fn respond_sandboxed(stream: &mut TcpStream, with_body: bool, body: &[u8]) -> std::io::Result<()> {
+    let head = format!(
+        "HTTP/1.1 200 OK\r\nContent-Type: {DEBRIEF_TYPE}\r\nContent-Length: {}\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\nContent-Security-Policy: sandbox; default-src 'none'; style-src 'unsafe-inline'; img-src data:\r\nConnection: close\r\n\r\n",
+        body.len()
+    );
+    stream.write_all(head.as_bytes())?;
+    if with_body {
+        stream.write_all(body)?;
+    }
+    stream.flush()
+}
+
 fn handle(mut stream: TcpStream, mode: &Mode, access: &Access) -> std::io::Result<()> {
     stream.set_nonblocking(false)?;
     stream.set_read_timeout(Some(Duration::from_secs(5)))?;
@@ -306,6 +326,9 @@ fn handle(mut stream: TcpStream, mode: &Mode, access: &Access) -> std::io::Resul
             ),
         },
         Mode::View { files, .. } => match files.iter().find(|f| f.0 == path) {
+            Some((_, ctype, bytes)) if *ctype == DEBRIEF_TYPE => {
+                respond_sandboxed(&mut stream, method == "GET", bytes)
+            }
             Some((_, ctype, bytes)) => respond(&mut stream, "200 OK", ctype, bytes),
             None => respond(&mut stream, "404 Not Found", "text/plain", b"not found\n"),
         },
@@ -379,7 +402,7 @@ pub type ViewFile = (String, &'static str, Vec<u8>);
 fn run_files(dir: &std::path::Path, prefix: &str, sensors: bool) -> Result<Vec<ViewFile>> {
     crate::output::incomplete::check_complete(dir)?;
     let required = ["scene.json", "trajectory.csv", "belts.csv"];
-    let optional = ["summary.json", "controls.csv", "ruts.csv"];
+    let optional = ["summary.json", "controls.csv", "ruts.csv", DEBRIEF];
     let mut files = Vec::new();
     for name in required.iter().chain(optional.iter()) {
         let p = dir.join(name);
@@ -387,6 +410,8 @@ fn run_files(dir: &std::path::Path, prefix: &str, sensors: bool) -> Result<Vec<V
             Ok(bytes) => {
                 let ctype = if name.ends_with(".json") {
                     "application/json"
+                } else if *name == DEBRIEF {
+                    DEBRIEF_TYPE
                 } else {
                     "text/csv; charset=utf-8"
                 };
@@ -466,6 +491,38 @@ fn compare_runs(dir: &std::path::Path) -> Vec<(String, std::path::PathBuf)> {
     subs
 }
 
+/// The trainee of a run (`summary.json`'s `trainee`, at `url` among its files), if named.
+fn trainee_of(files: &[ViewFile], url: &str) -> Option<String> {
+    let summary = files.iter().find(|f| f.0 == url)?;
+    let v: serde_json::Value = serde_json::from_slice(&summary.2).ok()?;
+    v["trainee"]
+        .as_str()
+        .map(|t| t.trim().to_string())
+        .filter(|t| !t.is_empty())
+}
+
+/// Each listed run's `label`, what the page names its ghost and legend entry by: the trainee
+/// (a robot of a team: `robot (trainee)`); a trainee with several runs in the folder, or a run
+/// without one, also by its folder name.
+fn label_runs(listed: &mut [serde_json::Value], team: bool) {
+    let trainees: Vec<Option<String>> = listed
+        .iter()
+        .map(|r| r["trainee"].as_str().map(str::to_string))
+        .collect();
+    for (r, t) in listed.iter_mut().zip(&trainees) {
+        let name = r["name"].as_str().unwrap_or("").to_string();
+        let label = match t {
+            Some(t) if team => format!("{name} ({t})"),
+            Some(t) if trainees.iter().filter(|o| o.as_ref() == Some(t)).count() > 1 => {
+                format!("{t} ({name})")
+            }
+            Some(t) => t.clone(),
+            None => name,
+        };
+        r["label"] = serde_json::Value::String(label);
+    }
+}
+
 /// The files of a finished run that `tracksim view` serves, read from `dir` once: `scene.json`,
 /// `trajectory.csv`, `belts.csv` (required) and `summary.json`, `controls.csv` (if present),
 /// and the `.npz` sensor streams `summary.json` lists (see [`MAX_SENSOR_FILE_BYTES`]), under
@@ -510,15 +567,23 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
             let scene = ("/scene.json".to_string(), scene.1, scene.2.clone());
             these.push(scene);
         }
+        let trainee = trainee_of(&these, &format!("{prefix}/summary.json"));
         files.extend(these);
-        listed.push(serde_json::json!({ "index": i, "name": name, "base": prefix }));
+        listed.push(serde_json::json!({
+            "index": i, "name": name, "base": prefix, "trainee": trainee,
+        }));
     }
     if listed.is_empty() {
         return run_files(dir, "/run", true);
     }
-    // A team run's folder (`team.json`: several robots of one world) or a compare folder.
+    // A team run's folder (`team.json`: several robots of one world), a folder of sessions
+    // (runs with a trainee) or a compare folder.
     let team = dir.join("team.json").is_file();
-    let list = serde_json::json!({ "compare": true, "team": team, "runs": listed });
+    label_runs(&mut listed, team);
+    let sessions = !team && listed.iter().any(|r| r["trainee"].is_string());
+    let list = serde_json::json!({
+        "compare": true, "team": team, "sessions": sessions, "runs": listed,
+    });
     files.push((
         "/runs.json".into(),
         "application/json",

@@ -18,7 +18,12 @@
 //! - [`urdf_export`]: `/robot_description`, the URDF file's text or one generated from the
 //!   vehicle model;
 //! - [`ros_names`]: a robot's topics and frames namespaced in a world of several robots;
+//! - [`debrief`]: `debrief.html`, a run's printable debrief (score, events, the path on the
+//!   course map: [`debrief_map`], key plots: [`debrief_plots`]), read back from its folder;
 
+pub mod debrief;
+pub mod debrief_map;
+pub mod debrief_plots;
 pub mod foxglove_scene;
 pub mod incomplete;
 pub mod mcap;
@@ -370,7 +375,8 @@ pub fn write_session(
 }
 
 /// Writes every output of a run of `sc` into `dir` (`summary.json`, `trajectory.csv`, and
-/// what `which` selects; `run.mcap` also when the scenario's `[output] mcap` is true);
+/// what `which` selects; `run.mcap` also when the scenario's `[output] mcap` is true; with the
+/// replay data, `debrief.html` when the scenario has a `[course]`);
 /// returns the paths written. `run`, `drive`, `compare` and every
 /// other front end write through here.
 pub fn write_outputs(
@@ -393,6 +399,9 @@ pub fn write_outputs(
             raw_images: which.raw_images,
         };
         written.push(mcap::write_mcap(sc, result, dir, opts)?);
+    }
+    if which.replay && sc.course.is_some() {
+        written.push(debrief::write_debrief(dir)?);
     }
     Ok(written)
 }

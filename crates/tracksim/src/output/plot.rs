@@ -69,7 +69,7 @@ pub(super) fn colour(i: usize) -> RGBColor {
 }
 
 /// Registers the embedded font once; false if the bytes were rejected.
-fn ensure_font() -> bool {
+pub(super) fn ensure_font() -> bool {
     static DONE: OnceLock<bool> = OnceLock::new();
     *DONE.get_or_init(|| {
         register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()

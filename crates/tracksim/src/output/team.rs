@@ -47,6 +47,12 @@ pub struct RobotLine {
     pub final_pose: [f64; 4],
     /// Path length driven, m.
     pub distance_m: f64,
+    /// Its trainee (`tracksim drive --trainee ROBOT=NAME`), `null` when not given.
+    pub trainee: Option<String>,
+    /// Its score on the course (repetitions, time, faults, penalty, score; absent without
+    /// `[course]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub score: Option<crate::run::ScoreSummary>,
 }
 
 impl TeamSummary {
@@ -72,6 +78,8 @@ impl TeamSummary {
                         outcome_time_s: s.outcome_time_s,
                         final_pose: [p.x, p.y, p.z, p.yaw],
                         distance_m: s.distance_m,
+                        trainee: s.trainee.clone(),
+                        score: s.course.as_ref().map(|c| c.score),
                     }
                 })
                 .collect(),

@@ -5,7 +5,8 @@
 //! Each entry is a [`CommandSpec`] in the units a scenario's command takes (m/s, rad/s,
 //! degrees), applied at its `t_s` through the same compilation as a file's commands
 //! ([`crate::model::compile_commands`]); `tracksim run FILE --commands DIR/commands.toml
-//! --duration T` therefore replays the session's `trajectory.csv` byte for byte.
+//! --duration T --keep-running` ([`reproduce_command`]) therefore replays the session's
+//! `trajectory.csv` byte for byte, a session that went on past its decided outcome too.
 
 use crate::error::Result;
 use crate::spec::CommandSpec;
@@ -109,6 +110,25 @@ pub fn duration_arg(duration_s: f64) -> String {
     format!("{}", (duration_s * 1e6).round() / 1e6)
 }
 
+/// The flag of `tracksim run` that keeps a run going past its decided outcome (the
+/// scenario's `outcome.stop` set to false), as a live session goes on past it.
+pub const KEEP_RUNNING_FLAG: &str = "--keep-running";
+
+/// The command that reproduces a session of `scenario_file` whose controls are in
+/// `commands_file`, for `duration_s` s: `tracksim run FILE --commands FILE --duration T
+/// --keep-running`. A session goes on after its outcome is decided (a course completed, a
+/// success line crossed) until its operator ends it, and `run` would stop there: the flag
+/// keeps the run going to `--duration` as the session went, so that it takes every step the
+/// session took (a run whose outcome is never decided is the same with or without it).
+pub fn reproduce_command(scenario_file: &Path, commands_file: &Path, duration_s: f64) -> String {
+    format!(
+        "tracksim run {} --commands {} --duration {} {KEEP_RUNNING_FLAG}",
+        scenario_file.display(),
+        commands_file.display(),
+        duration_arg(duration_s),
+    )
+}
+
 impl LogHeader<'_> {
     /// The comment lines opening a `commands.toml`: what the controls were, the command that
     /// reproduces `what_replays` of the run of `scenario_file` for `duration_s` s, the notes.
@@ -122,11 +142,9 @@ impl LogHeader<'_> {
         let mut text = format!(
             "# {}, applied at these simulated times.\n\
              # This run reproduces its {what_replays}:\n\
-             #   tracksim run {} --commands {} --duration {}\n",
+             #   {}\n",
             self.what,
-            scenario_file.display(),
-            commands_file.display(),
-            duration_arg(duration_s),
+            reproduce_command(scenario_file, commands_file, duration_s),
         );
         for n in self.notes {
             text.push_str(&format!("# {n}\n"));
@@ -255,9 +273,9 @@ mod tests {
             2.5,
         );
         assert!(text.starts_with("# Test controls, applied at these simulated times.\n"));
-        assert!(
-            text.contains("#   tracksim run s.toml --commands d/commands.toml --duration 2.5\n")
-        );
+        assert!(text.contains(
+            "#   tracksim run s.toml --commands d/commands.toml --duration 2.5 --keep-running\n"
+        ));
         assert!(text.contains("# a note\n"));
         #[derive(serde::Deserialize)]
         struct File {

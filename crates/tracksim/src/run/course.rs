@@ -66,6 +66,13 @@ pub struct CourseEvent {
     pub kind: &'static str,
     /// In words (which gate, repetition time, which fault).
     pub detail: String,
+    /// A fault's kind: `reset`, `tip_over` or `touch` (absent for other events), so that a
+    /// replay counts the faults up to any time without reading `detail`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fault: Option<&'static str>,
+    /// A fault's penalty, s (the course's `penalty_s` of its kind; absent for other events).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub penalty_s: Option<f64>,
 }
 
 /// The compact score: what a table of sessions lists.
@@ -90,6 +97,8 @@ pub struct CourseScore {
     pub name: String,
     /// Index of the gate to pass next (0-based).
     pub next_gate: usize,
+    /// Gates passed since the start (or the last reset), every repetition's.
+    pub gates_passed: u32,
     /// Gates of one repetition.
     pub gates_total: usize,
     /// The repetition under way (1-based; the last one once finished).
@@ -128,6 +137,7 @@ pub struct CourseTracker {
     next: usize,
     /// The gate passed last while the point has not yet left it (waypoints).
     just_passed: Option<usize>,
+    passed: u32,
     rep_times: Vec<f64>,
     last_rep_end: f64,
     prev: Option<DVec2>,
@@ -147,6 +157,7 @@ impl CourseTracker {
             max_tilt,
             next: 0,
             just_passed: None,
+            passed: 0,
             rep_times: Vec::new(),
             last_rep_end: 0.0,
             prev: None,
@@ -165,12 +176,35 @@ impl CourseTracker {
     }
 
     fn event(&mut self, t: f64, kind: &'static str, detail: String) {
+        self.push(CourseEvent {
+            t_s: t,
+            kind,
+            detail,
+            fault: None,
+            penalty_s: None,
+        });
+    }
+
+    /// A fault event of kind `fault` (`reset`, `tip_over`, `touch`) with its penalty, s.
+    fn fault_event(&mut self, t: f64, fault: &'static str, detail: String) {
+        let p = &self.model.penalties;
+        let penalty = match fault {
+            "reset" => p.reset,
+            "tip_over" => p.tip_over,
+            _ => p.touch,
+        };
+        self.push(CourseEvent {
+            t_s: t,
+            kind: "fault",
+            detail,
+            fault: Some(fault),
+            penalty_s: Some(penalty),
+        });
+    }
+
+    fn push(&mut self, e: CourseEvent) {
         if self.events.len() < MAX_COURSE_EVENTS {
-            self.events.push(CourseEvent {
-                t_s: t,
-                kind,
-                detail,
-            });
+            self.events.push(e);
         }
     }
 
@@ -192,9 +226,9 @@ impl CourseTracker {
         let tilt = p.roll.abs().max(p.pitch.abs());
         if tilt > self.max_tilt && !self.tipped {
             self.faults.tip_over += 1;
-            self.event(
+            self.fault_event(
                 t,
-                "fault",
+                "tip_over",
                 format!(
                     "tip-over (roll {:.1} deg, pitch {:.1} deg)",
                     p.roll.to_degrees(),
@@ -208,7 +242,7 @@ impl CourseTracker {
             if now && !self.touching[i] {
                 self.faults.touch += 1;
                 let name = self.model.obstacles[i].name.clone();
-                self.event(t, "fault", format!("touched {name}"));
+                self.fault_event(t, "touch", format!("touched {name}"));
             }
             self.touching[i] = now;
         }
@@ -240,6 +274,7 @@ impl CourseTracker {
             }
             let i = self.next;
             self.event(t, "gate", format!("gate {i} passed"));
+            self.passed += 1;
             self.just_passed = Some(i);
             self.next += 1;
             if self.next == self.model.gates.len() {
@@ -289,9 +324,9 @@ impl CourseTracker {
         let before = self.elapsed;
         *self = CourseTracker::new(&self.model, self.max_tilt);
         self.faults.reset = resets;
-        self.event(
+        self.fault_event(
             0.0,
-            "fault",
+            "reset",
             format!(
                 "reset {resets} (at t = {before:.2} s of the previous attempt): the course restarts"
             ),
@@ -352,6 +387,7 @@ impl CourseTracker {
         CourseScore {
             name: self.model.name.clone(),
             next_gate: self.next,
+            gates_passed: self.passed,
             gates_total: self.model.gates.len(),
             repetition: (done + 1).min(self.model.repetitions),
             repetitions_done: done,

@@ -161,6 +161,7 @@ mod tests {
         CourseScore {
             name: "c".into(),
             next_gate,
+            gates_passed: 0,
             gates_total: 3,
             repetition: reps + 1,
             repetitions_done: reps,
