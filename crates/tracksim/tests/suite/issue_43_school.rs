@@ -190,12 +190,12 @@ fn a_jammed_flipper_stays_where_it_was() {
         "jammed on its way: {} deg",
         held.to_degrees()
     );
-    // Stopped from `rate` by its position motor, it overshoots the jam angle a little (within
-    // 2 deg at the ~500 deg/s it turns at), then stays: less than 0.1 deg in the next second,
-    // 58 deg short of its target.
-    let overshoot = (settled - held).abs().to_degrees();
-    eprintln!("jam: rate {rate:.1} deg/s held {:.2} deg settled {:.2} deg", held.to_degrees(), settled.to_degrees());
-    assert!(overshoot < 2.0, "jammed at {rate:.0} deg/s, it went on {overshoot} deg");
+    // Jammed at the sample boundary at `before` while turning at `rate` (~1100 deg/s), the
+    // arm goes on ~1 deg in the step and its position motor brings it back to the jam angle:
+    // within 0.5 deg of it 0.5 s later (measured: 13.33 deg jammed, 13.26 deg at 0.5 s), then
+    // it stays (less than 0.1 deg in the next second), some 47 deg short of its 60 deg target.
+    let off = (settled - before).abs().to_degrees();
+    assert!(off < 0.5, "jammed at {rate:.0} deg/s, it settled {off} deg from the jam angle");
     let moved = (sim.flipper_angle(0) - settled).abs().to_degrees();
     assert!(moved < 0.1, "a jammed flipper moved {moved} deg in 1 s");
     // Freed at 1.5 s: it goes on to 60 deg.
