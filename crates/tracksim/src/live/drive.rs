@@ -323,7 +323,7 @@ impl ControlSource for PageSource<'_> {
 
     fn paused(&mut self, runner: &Runner) -> bool {
         self.t = runner.time();
-        self.desk.take(self.hub, self.t, &self.names);
+        self.desk.take(self.hub.take_actions(), self.t, &self.names);
         let paused = self.desk.paused();
         if paused && self.due_publish() {
             self.publish(runner, None);

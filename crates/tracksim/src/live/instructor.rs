@@ -10,13 +10,12 @@
 //! `fault` table of a `[[commands]]` entry ([`crate::spec::FaultSpec`]: `track`, `flipper`,
 //! `latency_s`, `video`), checked against the scenario before it is queued.
 //!
-//! The session takes the queued actions at each sample boundary ([`Desk::take`]): a pause
+//! The session takes the queued actions at each sample boundary (`Desk::take`): a pause
 //! holds the loop (simulated time stands still; the pacing clock is moved on by the pause),
 //! a reset ends the attempt, an end ends the session, a fault goes into the robot's next
 //! `[[commands]]` entry (applied and recorded like any control, so `commands.toml` replays
 //! it). Every action is an event of the attempt it happened in (`summary.json` `events`).
 
-use super::hub::Hub;
 use crate::run::events::RunEvent;
 use crate::spec::FaultSpec;
 use crate::world::Simulation;
@@ -66,10 +65,10 @@ impl Desk {
         }
     }
 
-    /// Takes the instructor's queued actions at simulated time `t` s (the robots named
-    /// `names`), recording each as an event.
-    pub(super) fn take(&mut self, hub: &Hub, t: f64, names: &[String]) {
-        for a in hub.take_actions() {
+    /// Takes the instructor's queued `actions` (`Hub::take_actions`) at simulated time `t` s
+    /// (the robots named `names`), recording each as an event.
+    pub(super) fn take(&mut self, actions: Vec<InstructorAction>, t: f64, names: &[String]) {
+        for a in actions {
             let (kind, detail) = match a {
                 InstructorAction::Pause if !self.paused => {
                     self.paused = true;
