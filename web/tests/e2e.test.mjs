@@ -1010,7 +1010,8 @@ test('the instructor (issue 43): pause stops simulated time, a track stop and a 
     const trainee = await ctx.newPage();
     trainee.on('pageerror', (e) => errors.push(String(e)));
     await trainee.goto(url);
-    await trainee.waitForFunction(() => window.tracksim?.state && window.tracksim.role === 'driver', null, { timeout: 60000 });
+    await trainee.waitForFunction(() => window.tracksim?.state && window.tracksim.role === 'driver', null, { timeout: 60000 })
+      .catch((e) => { throw new Error(`${e.message}; page errors: ${errors.join(' | ') || 'none'}`); });
     const teacher = await ctx.newPage();
     teacher.on('pageerror', (e) => errors.push(String(e)));
     await teacher.goto(instructorUrl);

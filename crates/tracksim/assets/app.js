@@ -32,8 +32,6 @@ const attempt = attempts.find((a) => String(a.attempt) === query.get('attempt'))
 if (attempt && attempt.base !== '/run') runs.runs[0].base = attempt.base;
 const sceneUrl = attempt && attempt.base !== '/run' ? `${attempt.base}/scene.json` : `/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`;
 const scene = await (await fetch(sceneUrl)).json();
-api.attempts = attempts.map((a) => a.attempt);
-api.attempt = attempt ? attempt.attempt : null;
 if (attempts.length > 1) {
   const sel = document.createElement('select');
   sel.id = 'attempt';
@@ -52,6 +50,9 @@ if (attempts.length > 1) {
 // Exposed for tests and curious users: the latest state and what is drawn.
 const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [], hudOverride: null };
 window.tracksim = api;
+// A session's attempts (replay), and the one shown.
+api.attempts = attempts.map((a) => a.attempt);
+api.attempt = attempt ? attempt.attempt : null;
 
 // ---------- renderer, camera, lights ----------
 THREE.Object3D.DEFAULT_UP.set(0, 0, 1);

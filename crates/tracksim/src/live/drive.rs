@@ -340,8 +340,11 @@ impl ControlSource for PageSource<'_> {
             return false;
         };
         if by == "the driver" {
-            self.desk
-                .event(self.t, "reset", "the driver reset: a new attempt begins".into());
+            self.desk.event(
+                self.t,
+                "reset",
+                "the driver reset: a new attempt begins".into(),
+            );
         }
         self.kept.push(Kept {
             controls: std::mem::replace(&mut self.controls, vec![self.idle.clone()]),
@@ -398,14 +401,15 @@ pub(super) fn fault_check(sc: &Scenario) -> super::hub::FaultCheck {
             fault: Some(f.clone()),
             ..CommandSpec::default()
         };
-        let compiled = crate::model::compile_commands(std::slice::from_ref(&c), &vehicle)
-            .map_err(|issues| {
+        let compiled = crate::model::compile_commands(std::slice::from_ref(&c), &vehicle).map_err(
+            |issues| {
                 issues
                     .iter()
                     .map(|i| i.to_string().replacen("commands[0].", "", 1))
                     .collect::<Vec<_>>()
                     .join("; ")
-            })?;
+            },
+        )?;
         if compiled.iter().any(|c| c.controls.faults.unpowers())
             && !crate::model::models_unpowered(method)
         {

@@ -39,6 +39,11 @@
 //!   robots the driver's seat closes (the robot stops) and the session ends once every seat
 //!   that was taken has closed.
 //!
+//! A connection presenting the instructor's token (`/ws?instructor=TOKEN`, issue 43) never
+//! drives: it watches with the role `instructor` and its messages are the instructor's (pause,
+//! resume, reset, end, fault: [`super::instructor`]), checked and queued for the session
+//! ([`Hub::take_actions`]).
+//!
 //! When the driver's connection closes, the robot stops and the seat is held for the driver
 //! for the grace period ([`super::seat::Seat`]); the session ends on `stop`, Ctrl-C/SIGTERM,
 //! its `--duration`, or when the grace has passed with no page connected.

@@ -86,7 +86,10 @@ impl Desk {
                 InstructorAction::Reset(k) => {
                     self.reset = true;
                     let who = names.get(k).map_or("the robot", String::as_str);
-                    ("reset", format!("the instructor reset {who}: a new attempt begins"))
+                    (
+                        "reset",
+                        format!("the instructor reset {who}: a new attempt begins"),
+                    )
                 }
                 InstructorAction::Fault(k, f) => {
                     let detail = fault_words(&f);
@@ -102,7 +105,10 @@ impl Desk {
                         }
                     });
                     let who = names.get(k).map_or("", String::as_str);
-                    ("fault", format!("the instructor injected on {who}: {detail}"))
+                    (
+                        "fault",
+                        format!("the instructor injected on {who}: {detail}"),
+                    )
                 }
             };
             self.event(t, kind, detail);
@@ -174,7 +180,13 @@ impl Desk {
             .map(|i| sim.track_fault(i).name())
             .collect();
         let flippers: Vec<&str> = (0..sim.flipper_names().len())
-            .map(|i| if sim.flipper_jammed(i) { "jammed" } else { "ok" })
+            .map(|i| {
+                if sim.flipper_jammed(i) {
+                    "jammed"
+                } else {
+                    "ok"
+                }
+            })
             .collect();
         let video = if self.video_dropped.get(k).copied().unwrap_or(false) {
             "dropped"

@@ -58,7 +58,11 @@ mod tests {
         // The latency lowered: a newer control due earlier drops the older ones queued.
         d.push(2.0, fwd(0.3));
         d.push(1.0, fwd(0.4));
-        assert_eq!(d.due(3.0), Some(fwd(0.4)), "the old control never applies after");
+        assert_eq!(
+            d.due(3.0),
+            Some(fwd(0.4)),
+            "the old control never applies after"
+        );
         assert_eq!(d.due(4.0), None);
     }
 }

@@ -561,9 +561,13 @@ fn attempt_files(dir: &std::path::Path, files: &mut Vec<ViewFile>) -> Vec<serde_
 
 /// A run's outcome in words from its served `summary.json` (under `prefix`), if any.
 fn outcome_of(files: &[ViewFile], prefix: &str) -> Option<String> {
-    let f = files.iter().find(|f| f.0 == format!("{prefix}/summary.json"))?;
+    let f = files
+        .iter()
+        .find(|f| f.0 == format!("{prefix}/summary.json"))?;
     let v: serde_json::Value = serde_json::from_slice(&f.2).ok()?;
-    let status = v["course"]["status"].as_str().map(|s| format!(", course {s}"));
+    let status = v["course"]["status"]
+        .as_str()
+        .map(|s| format!(", course {s}"));
     Some(format!(
         "{}{} after {:.1} s",
         v["outcome"].as_str()?,

@@ -69,7 +69,8 @@ impl WorldSource<TeamRunner> for Seats<'_> {
     }
 
     fn paused(&mut self, world: &mut TeamRunner) -> bool {
-        self.desk.take(self.hub.take_actions(), world.sim().time(), &self.names);
+        self.desk
+            .take(self.hub.take_actions(), world.sim().time(), &self.names);
         let paused = self.desk.paused();
         if paused
             && self

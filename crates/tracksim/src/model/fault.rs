@@ -89,7 +89,10 @@ pub(crate) fn compile_faults(
         match (vehicle.track_index(name), TrackFault::from_name(kind)) {
             (None, _) => c.push(
                 key,
-                format!("no track called \"{name}\"; the vehicle has {}", tracks.join(", ")),
+                format!(
+                    "no track called \"{name}\"; the vehicle has {}",
+                    tracks.join(", ")
+                ),
             ),
             (_, None) => c.push(
                 key,

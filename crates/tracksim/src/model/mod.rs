@@ -89,9 +89,9 @@ pub use course::{
 };
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
-pub use fault::{Faults, MAX_LATENCY_S, TrackFault, models_unpowered};
-pub(crate) use fault::compile_faults;
 pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Range};
+pub(crate) use fault::compile_faults;
+pub use fault::{Faults, MAX_LATENCY_S, TrackFault, models_unpowered};
 pub use load::{load_scenario, load_scenario_with, load_template};
 pub use method::Method;
 pub(crate) use motor::compile_motor;

@@ -643,9 +643,13 @@ impl Track for SegmentLinks {
     }
 
     fn belt_force_limit(&self) -> Option<f64> {
-        self.motor
-            .as_ref()
-            .map(|_| if self.unpowered { 0.0 } else { self.force_limit })
+        self.motor.as_ref().map(|_| {
+            if self.unpowered {
+                0.0
+            } else {
+                self.force_limit
+            }
+        })
     }
 
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {

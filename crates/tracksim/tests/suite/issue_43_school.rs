@@ -78,8 +78,17 @@ fn a_stopped_track_holds_its_belt_and_the_robot_turns_about_it() {
     for s in &late {
         // The belt is commanded to 0 and measured at 0 (the links' motors hold it).
         assert_eq!(s.belt_cmd[left], 0.0, "t = {}", s.t);
-        assert!(s.belt_speed[left].abs() < 0.01, "left belt {} m/s at t = {}", s.belt_speed[left], s.t);
-        assert!((s.belt_speed[right] - 0.3).abs() < 0.01, "right belt {} m/s", s.belt_speed[right]);
+        assert!(
+            s.belt_speed[left].abs() < 0.01,
+            "left belt {} m/s at t = {}",
+            s.belt_speed[left],
+            s.t
+        );
+        assert!(
+            (s.belt_speed[right] - 0.3).abs() < 0.01,
+            "right belt {} m/s",
+            s.belt_speed[right]
+        );
     }
     let end = run.last().unwrap();
     let at_fault = run.iter().find(|s| s.t >= 1.0).unwrap();
@@ -87,7 +96,10 @@ fn a_stopped_track_holds_its_belt_and_the_robot_turns_about_it() {
     // pivot would turn 0.3 / 0.5 * 2 = 1.2 rad; skid turning loses some. Without the fault the
     // robot holds its heading within 0.01 rad.
     let turned = end.pose.yaw - at_fault.pose.yaw;
-    assert!(turned > 0.3, "turned {turned} rad towards the stopped left track");
+    assert!(
+        turned > 0.3,
+        "turned {turned} rad towards the stopped left track"
+    );
     let straight = samples(&flat("vehicles/packbot510.toml", 3.0, vec![]));
     assert!(straight.last().unwrap().pose.yaw.abs() < 0.01);
 }
@@ -123,7 +135,11 @@ fn an_unpowered_belt_free_wheels_with_no_motor_torque() {
     let before = run.iter().find(|s| s.t > 1.0).unwrap();
     // The motor cannot hold -0.3 m/s in a spin on flat ground (its torque limit): the belt
     // runs backwards all the same, driven.
-    assert!(before.belt_speed[left] < -0.05, "{}", before.belt_speed[left]);
+    assert!(
+        before.belt_speed[left] < -0.05,
+        "{}",
+        before.belt_speed[left]
+    );
     assert!(before.drive[left].as_ref().unwrap().motor_torque_nm.abs() > 0.0);
     let late: Vec<_> = run.iter().filter(|s| s.t > 2.5).collect();
     let mut worst: f64 = 0.0;
@@ -131,18 +147,31 @@ fn an_unpowered_belt_free_wheels_with_no_motor_torque() {
         let d = s.drive[left].as_ref().expect("the motor's figures");
         assert_eq!(d.motor_torque_nm, 0.0, "t = {}", s.t);
         assert_eq!(d.belt_force_n, 0.0, "t = {}", s.t);
-        assert_eq!(s.belt_cmd[left], -0.3, "the trainee's command stays in the record");
+        assert_eq!(
+            s.belt_cmd[left], -0.3,
+            "the trainee's command stays in the record"
+        );
         worst = worst.max((s.belt_speed[left] - ground_speed(&sc, s, left)).abs());
     }
-    assert!(worst < 0.03, "the free belt strays {worst} m/s from the ground's speed");
+    assert!(
+        worst < 0.03,
+        "the free belt strays {worst} m/s from the ground's speed"
+    );
     let mean = late.iter().map(|s| s.belt_speed[left]).sum::<f64>() / late.len() as f64;
-    assert!(mean > 0.0, "the free belt rolls forwards with the ground: {mean} m/s");
+    assert!(
+        mean > 0.0,
+        "the free belt rolls forwards with the ground: {mean} m/s"
+    );
     let back = spin(vec![
         fault_at(1.5, &[("left", "unpowered")], &[]),
         fault_at(3.0, &[("left", "ok")], &[]),
     ]);
     let end = samples(&back).last().unwrap().clone();
-    assert!(end.belt_speed[left] < -0.05, "driven backwards again: {}", end.belt_speed[left]);
+    assert!(
+        end.belt_speed[left] < -0.05,
+        "driven backwards again: {}",
+        end.belt_speed[left]
+    );
 }
 
 /// When the flipper jams on its way, s.
@@ -186,7 +215,8 @@ fn a_jammed_flipper_stays_where_it_was() {
     common::run_until(&mut sim, 1.5);
     let start = sc.vehicle.flippers[0].initial_angle;
     assert!(
-        (held - start).abs() > 2f64.to_radians() && (held - 60f64.to_radians()).abs() > 10f64.to_radians(),
+        (held - start).abs() > 2f64.to_radians()
+            && (held - 60f64.to_radians()).abs() > 10f64.to_radians(),
         "jammed on its way: {} deg",
         held.to_degrees()
     );
@@ -195,7 +225,10 @@ fn a_jammed_flipper_stays_where_it_was() {
     // within 0.5 deg of it 0.5 s later (measured: 13.33 deg jammed, 13.26 deg at 0.5 s), then
     // it stays (less than 0.1 deg in the next second), some 47 deg short of its 60 deg target.
     let off = (settled - before).abs().to_degrees();
-    assert!(off < 0.5, "jammed at {rate:.0} deg/s, it settled {off} deg from the jam angle");
+    assert!(
+        off < 0.5,
+        "jammed at {rate:.0} deg/s, it settled {off} deg from the jam angle"
+    );
     let moved = (sim.flipper_angle(0) - settled).abs().to_degrees();
     assert!(moved < 0.1, "a jammed flipper moved {moved} deg in 1 s");
     // Freed at 1.5 s: it goes on to 60 deg.
@@ -229,18 +262,31 @@ fn bad_faults_are_refused_naming_the_key() {
         });
         let v = tracksim::model::load_vehicle(&root().join("vehicles/packbot510.toml")).unwrap();
         let issues = tracksim::compile_scenario(&spec, v, &root().join("scenarios")).unwrap_err();
-        issues.iter().map(|i| i.to_string()).collect::<Vec<_>>().join("\n")
+        issues
+            .iter()
+            .map(|i| i.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
     };
     let track = |n: &str, k: &str| FaultSpec {
         track: [(n.to_string(), k.to_string())].into(),
         ..FaultSpec::default()
     };
     let e = bad(track("lft", "stopped"), "okada2020");
-    assert!(e.contains("commands[1].fault.track.lft") && e.contains("no track called"), "{e}");
+    assert!(
+        e.contains("commands[1].fault.track.lft") && e.contains("no track called"),
+        "{e}"
+    );
     let e = bad(track("left", "broken"), "okada2020");
-    assert!(e.contains("commands[1].fault.track.left") && e.contains("\"unpowered\""), "{e}");
+    assert!(
+        e.contains("commands[1].fault.track.left") && e.contains("\"unpowered\""),
+        "{e}"
+    );
     let e = bad(track("left", "unpowered"), "constraint_to_ground");
-    assert!(e.contains("commands[1].fault.track") && e.contains("\"stopped\""), "{e}");
+    assert!(
+        e.contains("commands[1].fault.track") && e.contains("\"stopped\""),
+        "{e}"
+    );
     let e = bad(
         FaultSpec {
             latency_s: Some(-1.0),
@@ -259,8 +305,14 @@ fn bad_faults_are_refused_naming_the_key() {
     let dir = std::env::temp_dir().join(format!("tracksim-43-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let f = dir.join("s.toml");
-    std::fs::write(&f, text.replace("../vehicles", &root().join("vehicles").display().to_string()))
-        .unwrap();
+    std::fs::write(
+        &f,
+        text.replace(
+            "../vehicles",
+            &root().join("vehicles").display().to_string(),
+        ),
+    )
+    .unwrap();
     let e = tracksim::load_scenario(&f).unwrap_err().to_string();
     assert!(e.contains("lag_s"), "{e}");
 }
@@ -364,35 +416,26 @@ fn the_instructor_pauses_injects_resets_and_ends_and_every_attempt_replays() {
         &mut driver,
         serde_json::json!({"type":"control","forward_mps":0.3,"yaw_rate_rad_s":0.0}),
     );
-    state_where(&mut ins, 5000, "t > 0.5 s", |m| m["t"].as_f64().unwrap() > 0.5);
-    // Pause: simulated time stands still for 0.6 s of wall time.
-    send(&mut ins, serde_json::json!({"type": "pause"}));
-    let p = state_where(&mut ins, 5000, "paused", |m| m["paused"] == true);
-    let t_pause = p["t"].as_f64().unwrap();
-    let wall = std::time::Instant::now();
-    while wall.elapsed().as_secs_f64() < 0.6 {
-        let m = state_where(&mut ins, 5000, "a state", |_| true);
-        assert_eq!(m["t"].as_f64().unwrap(), t_pause, "time moved while paused");
-    }
-    send(&mut ins, serde_json::json!({"type": "resume"}));
-    let r = state_where(&mut ins, 5000, "resumed", |m| m["paused"] == false);
-    let resumed = std::time::Instant::now();
-    // No burst: at speed 2 the 0.6 s pause would be 1.2 s of catch-up; 0.15 s of wall after
-    // the resume the session is at most 0.3 s (+ one state interval and stepping) further.
-    let m = state_where(&mut ins, 5000, "0.15 s later", |_| {
-        resumed.elapsed().as_secs_f64() > 0.15
+    state_where(&mut ins, 5000, "t > 0.5 s", |m| {
+        m["t"].as_f64().unwrap() > 0.5
     });
-    let ahead = m["t"].as_f64().unwrap() - r["t"].as_f64().unwrap();
-    let allowed = 2.0 * resumed.elapsed().as_secs_f64() + 0.1;
-    assert!(ahead < allowed, "{ahead} s simulated in {allowed} s allowed: a catch-up burst");
+    pause_and_resume(&mut ins);
     // A fault: the left track stops; a bad one is refused with the reason.
-    send(&mut ins, serde_json::json!({"type":"fault","fault":{"track":{"lft":"stopped"}}}));
+    send(
+        &mut ins,
+        serde_json::json!({"type":"fault","fault":{"track":{"lft":"stopped"}}}),
+    );
     assert!(error_of(&mut ins, 500).contains("no track called \"lft\""));
-    send(&mut ins, serde_json::json!({"type":"fault","fault":{"track":{"left":"stopped"}}}));
+    send(
+        &mut ins,
+        serde_json::json!({"type":"fault","fault":{"track":{"left":"stopped"}}}),
+    );
     state_where(&mut ins, 5000, "the left track stopped", |m| {
         m["faults"]["track"][0] == "stopped" || m["faults"]["track"][1] == "stopped"
     });
-    state_where(&mut driver, 5000, "t > 1.5 s", |m| m["t"].as_f64().unwrap() > 1.5);
+    state_where(&mut driver, 5000, "t > 1.5 s", |m| {
+        m["t"].as_f64().unwrap() > 1.5
+    });
     // Reset: a second attempt.
     send(&mut ins, serde_json::json!({"type": "reset"}));
     state_where(&mut ins, 5000, "attempt 2", |m| m["attempt"] == 2);
@@ -410,11 +453,19 @@ fn the_instructor_pauses_injects_resets_and_ends_and_every_attempt_replays() {
     let _ = std::fs::remove_dir_all(&dir);
     s.write(&sc, &file, &dir, false).unwrap();
     let first = dir.join("attempts/1");
-    for f in ["summary.json", "trajectory.csv", "commands.toml", "controls.csv"] {
+    for f in [
+        "summary.json",
+        "trajectory.csv",
+        "commands.toml",
+        "controls.csv",
+    ] {
         assert!(first.join(f).is_file(), "attempts/1/{f}");
     }
     let commands = std::fs::read_to_string(first.join("commands.toml")).unwrap();
-    assert!(commands.contains("[commands.fault.track]") || commands.contains("fault"), "{commands}");
+    assert!(
+        commands.contains("[commands.fault.track]") || commands.contains("fault"),
+        "{commands}"
+    );
     assert!(commands.contains("left = \"stopped\""), "{commands}");
     replays(&file, &first);
     replays(&file, &dir);
@@ -426,14 +477,28 @@ fn the_instructor_pauses_injects_resets_and_ends_and_every_attempt_replays() {
     assert_eq!(attempts[0]["ended_by"], "the instructor");
     assert_eq!(attempts[1]["folder"], ".");
     let kinds = |v: &serde_json::Value| -> Vec<String> {
-        v["events"].as_array().unwrap().iter().map(|e| e["kind"].as_str().unwrap().to_string()).collect()
+        v["events"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| e["kind"].as_str().unwrap().to_string())
+            .collect()
     };
     let one: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(first.join("summary.json")).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(first.join("summary.json")).unwrap())
+            .unwrap();
     for k in ["pause", "resume", "fault", "reset"] {
-        assert!(kinds(&one).iter().any(|e| e == k), "{k} in {:?}", kinds(&one));
+        assert!(
+            kinds(&one).iter().any(|e| e == k),
+            "{k} in {:?}",
+            kinds(&one)
+        );
     }
-    assert!(kinds(&summary).iter().any(|e| e == "end"), "{:?}", kinds(&summary));
+    assert!(
+        kinds(&summary).iter().any(|e| e == "end"),
+        "{:?}",
+        kinds(&summary)
+    );
     // The instructor's token is never served to a page.
     let body = get(addr, "/session.json");
     assert!(body.contains("\"token\""), "{body}");
@@ -444,7 +509,12 @@ fn the_instructor_pauses_injects_resets_and_ends_and_every_attempt_replays() {
 fn get(addr: std::net::SocketAddr, target: &str) -> String {
     use std::io::{Read, Write};
     let mut s = std::net::TcpStream::connect(addr).unwrap();
-    write!(s, "GET {target} HTTP/1.1\r\nHost: localhost:{}\r\n\r\n", addr.port()).unwrap();
+    write!(
+        s,
+        "GET {target} HTTP/1.1\r\nHost: localhost:{}\r\n\r\n",
+        addr.port()
+    )
+    .unwrap();
     let mut text = String::new();
     s.read_to_string(&mut text).unwrap();
     text
@@ -459,4 +529,32 @@ fn hello_of(ws: &mut Ws) -> serde_json::Value {
         }
     }
     panic!("no hello");
+}
+
+/// The instructor pauses: simulated time stands still for 0.6 s of wall time; resumes: no
+/// catch-up burst.
+fn pause_and_resume(ins: &mut Ws) {
+    // Pause: simulated time stands still for 0.6 s of wall time.
+    send(ins, serde_json::json!({"type": "pause"}));
+    let p = state_where(ins, 5000, "paused", |m| m["paused"] == true);
+    let t_pause = p["t"].as_f64().unwrap();
+    let wall = std::time::Instant::now();
+    while wall.elapsed().as_secs_f64() < 0.6 {
+        let m = state_where(ins, 5000, "a state", |_| true);
+        assert_eq!(m["t"].as_f64().unwrap(), t_pause, "time moved while paused");
+    }
+    send(ins, serde_json::json!({"type": "resume"}));
+    let r = state_where(ins, 5000, "resumed", |m| m["paused"] == false);
+    let resumed = std::time::Instant::now();
+    // No burst: at speed 2 the 0.6 s pause would be 1.2 s of catch-up; 0.15 s of wall after
+    // the resume the session is at most 0.3 s (+ one state interval and stepping) further.
+    let m = state_where(ins, 5000, "0.15 s later", |_| {
+        resumed.elapsed().as_secs_f64() > 0.15
+    });
+    let ahead = m["t"].as_f64().unwrap() - r["t"].as_f64().unwrap();
+    let allowed = 2.0 * resumed.elapsed().as_secs_f64() + 0.1;
+    assert!(
+        ahead < allowed,
+        "{ahead} s simulated in {allowed} s allowed: a catch-up burst"
+    );
 }
