@@ -486,11 +486,13 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "run".into());
         let attempts = attempt_files(dir, &mut files);
-        let list = serde_json::json!({
+        let mut list = serde_json::json!({
             "compare": false,
             "runs": [{ "index": 0, "name": name, "base": "/run" }],
-            "attempts": attempts,
         });
+        if !attempts.is_empty() {
+            list["attempts"] = serde_json::json!(attempts);
+        }
         files.push((
             "/runs.json".into(),
             "application/json",
