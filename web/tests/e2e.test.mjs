@@ -1067,3 +1067,99 @@ test('review of a course run (issue 43): the course panel at the replay time, th
     view2.child.kill();
   }
 });
+
+test('the instructor (issue 43): pause stops simulated time, a track stop and a video drop, a reset keeps the attempt', async () => {
+  const dir = path.join(tmp, 'instructor');
+  const child = spawn(bin, ['drive', 'scenarios/packbot_flat.toml', '--port', '0', '--out', dir, '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let printed = '';
+  const urls = new Promise((resolve, reject) => {
+    child.stdout.on('data', (d) => {
+      printed += d;
+      const m = printed.match(/open (http:\/\/127\.0\.0\.1:\d+\/) in a browser/);
+      const i = printed.match(/instructor open (http:\/\/127\.0\.0\.1:\d+\/\?instructor=[0-9a-f]{32})/);
+      if (m && i) resolve([m[1], i[1]]);
+    });
+    child.on('exit', (code) => reject(new Error(`tracksim drive exited ${code}: ${printed}`)));
+  });
+  const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+  const [url, instructorUrl] = await urls;
+  // The trainee's page does not get the instructor's token.
+  const served = await (await fetch(`${url}session.json`)).text();
+  assert.ok(!served.includes(instructorUrl.split('=')[1]), served);
+  const ctx = await browser();
+  try {
+    const errors = [];
+    const trainee = await ctx.newPage();
+    trainee.on('pageerror', (e) => errors.push(String(e)));
+    await trainee.goto(url);
+    await trainee.waitForFunction(() => window.tracksim?.state && window.tracksim.role === 'driver', null, { timeout: 60000 })
+      .catch((e) => { throw new Error(`${e.message}; page errors: ${errors.join(' | ') || 'none'}`); });
+    const teacher = await ctx.newPage();
+    teacher.on('pageerror', (e) => errors.push(String(e)));
+    await teacher.goto(instructorUrl);
+    await teacher.waitForFunction(() => window.tracksim?.role === 'instructor' && document.getElementById('i-pause'), null, { timeout: 60000 });
+    await trainee.bringToFront();
+    await trainee.keyboard.down('ArrowUp');
+    await trainee.waitForFunction(() => window.tracksim.state.t > 1 && window.tracksim.state.forward_mps > 0.1, null, { timeout: 60000 });
+    await trainee.keyboard.up('ArrowUp');
+    // Pause: simulated time stands still on both pages, the trainee's HUD says so.
+    await teacher.click('#i-pause');
+    await trainee.waitForFunction(() => window.tracksim.state.paused === true, null, { timeout: 20000 });
+    const t0 = await trainee.evaluate(() => window.tracksim.state.t);
+    await new Promise((r) => setTimeout(r, 1000));
+    assert.equal(await trainee.evaluate(() => window.tracksim.state.t), t0, 'simulated time moved while paused');
+    assert.match(await trainee.evaluate(() => document.getElementById('hud').textContent), /PAUSED by the instructor/);
+    await teacher.click('#i-pause');
+    await trainee.waitForFunction((t) => window.tracksim.state.paused === false && window.tracksim.state.t > t + 0.2, t0, { timeout: 20000 });
+    // A track stop: in the state and on the instructor's HUD.
+    await teacher.selectOption('#instructor div:nth-child(3) select', 'stopped');
+    await teacher.waitForFunction(() => window.tracksim.state.faults?.track?.includes('stopped'), null, { timeout: 20000 });
+    assert.match(await teacher.evaluate(() => document.getElementById('hud').textContent), /faults +track \w+ stopped/);
+    // The video drops: the trainee sees NO SIGNAL, the instructor everything.
+    await teacher.evaluate(() => window.tracksim.instructor.fault({ video: 'dropped' }));
+    await trainee.waitForFunction(() => window.tracksim.noSignal === true, null, { timeout: 20000 });
+    assert.equal(await trainee.evaluate(() => getComputedStyle(document.getElementById('nosignal')).display), 'flex');
+    await teacher.waitForFunction(() => window.tracksim.state.faults.video === 'dropped', null, { timeout: 20000 });
+    assert.equal(await teacher.evaluate(() => window.tracksim.noSignal), false);
+    await trainee.screenshot({ path: path.join(artifacts, 'instructor-no-signal.png') });
+    await teacher.screenshot({ path: path.join(artifacts, 'instructor.png') });
+    // A reset: a second attempt.
+    await teacher.click('#i-reset');
+    await trainee.waitForFunction(() => window.tracksim.state.attempt === 2 && window.tracksim.noSignal === false, null, { timeout: 20000 });
+    await trainee.waitForFunction(() => window.tracksim.state.t > 0.5, null, { timeout: 20000 });
+    await teacher.click('#i-end');
+    assert.equal(await exited, 0, printed);
+    assert.deepEqual(errors, []);
+  } finally {
+    await ctx.close();
+    child.kill();
+  }
+  const first = path.join(dir, 'attempts/1');
+  for (const f of ['trajectory.csv', 'summary.json', 'commands.toml', 'controls.csv', 'scene.json']) {
+    assert.ok(fs.existsSync(path.join(first, f)), `attempts/1/${f}`);
+  }
+  const commands = fs.readFileSync(path.join(first, 'commands.toml'), 'utf8');
+  assert.match(commands, /= "stopped"/);
+  assert.match(commands, /video = "dropped"/);
+  const summary = JSON.parse(fs.readFileSync(path.join(dir, 'summary.json'), 'utf8'));
+  assert.deepEqual(summary.attempts.map((a) => a.folder), ['attempts/1', '.']);
+  const kinds = JSON.parse(fs.readFileSync(path.join(first, 'summary.json'), 'utf8')).events.map((e) => e.kind);
+  for (const k of ['pause', 'resume', 'fault', 'reset']) assert.ok(kinds.includes(k), `${k} in ${kinds}`);
+  // The first attempt replays byte for byte.
+  const again = path.join(tmp, 'school-replay');
+  execFileSync(bin, ['run', 'scenarios/packbot_flat.toml', '--commands', path.join(first, 'commands.toml'),
+    '--duration', String(JSON.parse(fs.readFileSync(path.join(first, 'summary.json'), 'utf8')).sim_time_s), '--out', again, '--no-plot'], { cwd: root, stdio: 'ignore' });
+  assert.ok(fs.readFileSync(path.join(again, 'trajectory.csv')).equals(fs.readFileSync(path.join(first, 'trajectory.csv'))), 'attempt 1 does not replay byte for byte');
+  // The review steps through the attempts.
+  const view = start(['view', dir, '--port', '0']);
+  const vctx = await browser();
+  try {
+    const page = await openReplay(vctx, `${await view.url}?attempt=1`);
+    assert.equal(await page.evaluate(() => window.tracksim.attempt), 1);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.attempts), [1, 2]);
+    assert.equal(await page.evaluate(() => document.querySelectorAll('#attempt option').length), 2);
+  } finally {
+    await vctx.close();
+    view.child.kill();
+  }
+});

@@ -15,7 +15,10 @@ const session = await (await fetch('/session.json')).json();
 const query = new URLSearchParams(location.search);
 const askedRobot = /^[a-z][a-z0-9_]{0,63}$/.test(query.get('robot') ?? '') ? query.get('robot') : null;
 const watchOnly = query.get('watch') === '1';
-const scene = await (await fetch(`/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`)).json();
+// The instructor's page (issue 43): opened as /?instructor=TOKEN, the URL `tracksim drive`
+// printed (the token is never served: live/instructor.rs). It never drives, shows everything
+// (a trainee's dropped video too) and has the instructor's panel.
+const instructorToken = /^[0-9a-f]{32}$/.test(query.get('instructor') ?? '') ? query.get('instructor') : null;
 const live = session.mode === 'drive';
 // The runs a replay shows: one, or every method of a `tracksim compare` folder (/runs.json).
 let runs = { compare: false, runs: [{ index: 0, name: 'run', base: '/run' }] };
@@ -23,10 +26,33 @@ if (!live) {
   const r = await fetch('/runs.json');
   if (r.ok) runs = await r.json();
 }
+// A session's attempts (issue 43): `?attempt=N` replays attempt N (each reset kept one).
+const attempts = Array.isArray(runs.attempts) ? runs.attempts : [];
+const attempt = attempts.find((a) => String(a.attempt) === query.get('attempt')) ?? attempts[attempts.length - 1] ?? null;
+if (attempt && attempt.base !== '/run') runs.runs[0].base = attempt.base;
+const sceneUrl = attempt && attempt.base !== '/run' ? `${attempt.base}/scene.json` : `/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`;
+const scene = await (await fetch(sceneUrl)).json();
+if (attempts.length > 1) {
+  const sel = document.createElement('select');
+  sel.id = 'attempt';
+  sel.style.cssText = 'position:fixed;top:8px;left:50%;transform:translateX(-50%);z-index:6;font:13px monospace';
+  for (const a of attempts) {
+    const o = document.createElement('option');
+    o.value = a.attempt;
+    o.textContent = `attempt ${a.attempt} of ${attempts.length}${a.outcome ? `: ${a.outcome}` : ''}`;
+    o.selected = a === attempt;
+    sel.appendChild(o);
+  }
+  sel.addEventListener('change', () => { location.search = `?attempt=${sel.value}`; });
+  document.body.appendChild(sel);
+}
 
 // Exposed for tests and curious users: the latest state and what is drawn.
 const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [], hudOverride: null };
 window.tracksim = api;
+// A session's attempts (replay), and the one shown.
+api.attempts = attempts.map((a) => a.attempt);
+api.attempt = attempt ? attempt.attempt : null;
 
 // ---------- renderer, camera, lights ----------
 THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
@@ -664,6 +690,7 @@ window.addEventListener('keydown', (e) => {
   const k = e.key.toLowerCase();
   if (k in moveKeys) { held.add(k); e.preventDefault(); return; }
   if (k === ' ' || k === 'k') { stopAll(); e.preventDefault(); return; }
+  if (k === 'backspace' && api.instructor) { api.instructor.reset(); e.preventDefault(); return; }
   if (k === 'backspace') { stopAll(); send({ type: 'reset' }); flipperDeg.forEach((_, i) => { flipperDeg[i] = deg(v.flippers[i].initial_angle_rad); flipperTouched[i] = false; }); e.preventDefault(); return; }
   if (k === 'q') { speedLin *= 1.1; speedAng *= 1.1; }
   if (k === 'z') { speedLin /= 1.1; speedAng /= 1.1; }
@@ -696,6 +723,7 @@ function gamepadControl() {
 
 let lastSent = '';
 function driveTick() {
+  if (instructorToken) return; // the instructor's page never drives
   let f = 0, w = 0;
   for (const k of held) { f += moveKeys[k][0]; w += moveKeys[k][1]; }
   f = Math.sign(f) * speedLin;
@@ -780,10 +808,13 @@ function connect() {
   const params = new URLSearchParams();
   if (api.robot) params.set('robot', api.robot);
   if (watchOnly) params.set('watch', '1');
-  if (token) params.set('token', token);
-  // The session's token (from /session.json, which only this server's own pages can read):
-  // without it the server lets a connection watch, never drive (live/access.rs).
-  if (typeof session.token === 'string') params.set('session', session.token);
+  if (instructorToken) params.set('instructor', instructorToken);
+  else {
+    if (token) params.set('token', token);
+    // The session's token (from /session.json, which only this server's own pages can read):
+    // without it the server lets a connection watch, never drive (live/access.rs).
+    if (typeof session.token === 'string') params.set('session', session.token);
+  }
   const q = params.toString();
   ws = new WebSocket(`ws://${location.host}/ws${q ? `?${q}` : ''}`);
   ws.onopen = () => { api.connected = true; lostAt = null; lastSent = ''; };
@@ -804,8 +835,11 @@ function connect() {
       if (several) api.robot = m.robot;
       if (m.token) try { sessionStorage.setItem(tokenKey(), m.token); } catch (_) { /* no storage */ }
       showRobotPicker();
+      if (m.role === 'instructor') showInstructorPanel();
     } else if (m.type === 'state') {
-      api.state = m; api.states++; liveSensors(m.sensors);
+      api.state = m; api.states++;
+      // A trainee's dropped video: no new sensor readings either (the feed is frozen).
+      if (!(m.faults?.video === 'dropped' && api.role !== 'instructor')) liveSensors(m.sensors);
       placeOthers(m.others);
       if (m.session_ended) ended = true;
     } else if (m.type === 'ruts') {
@@ -827,15 +861,78 @@ function connect() {
     setTimeout(() => { api.reconnects++; connect(); }, 500);
   };
 }
-$('stop').addEventListener('click', () => send({ type: 'stop' }));
+$('stop').addEventListener('click', () => send({ type: instructorToken ? 'end' : 'stop' }));
+
+// ---------- the instructor's seat (issue 43; protocol in live/instructor.rs) ----------
+const noSignal = document.createElement('div');
+noSignal.id = 'nosignal';
+noSignal.className = 'hidden';
+noSignal.textContent = 'NO SIGNAL';
+noSignal.style.cssText = 'position:fixed;inset:0;display:flex;align-items:center;justify-content:center;'
+  + 'font:bold 48px monospace;color:#ddd;background:rgba(20,20,20,0.9);pointer-events:none;z-index:5';
+document.body.appendChild(noSignal);
+// Faults in force, in words (the instructor's HUD).
+function faultLine(f) {
+  const parts = [];
+  (f.track ?? []).forEach((k, i) => { if (k !== 'ok') parts.push(`track ${trackNames[i]} ${k}`); });
+  (f.flipper ?? []).forEach((k, i) => { if (k !== 'ok') parts.push(`flipper ${flipperNames[i]} ${k}`); });
+  if (f.latency_s > 0) parts.push(`latency ${fmt(f.latency_s, 2)} s`);
+  if (f.video === 'dropped') parts.push('video dropped');
+  return `faults     ${parts.length ? parts.join(', ') : 'none'}`;
+}
+const robotOf = (msg) => (api.robots.length > 1 && api.robot ? { ...msg, robot: api.robot } : msg);
+api.instructor = instructorToken ? {
+  pause: () => send({ type: 'pause' }),
+  resume: () => send({ type: 'resume' }),
+  reset: () => send(robotOf({ type: 'reset' })),
+  end: () => send({ type: 'end' }),
+  fault: (fault) => send(robotOf({ type: 'fault', fault })),
+} : null;
+let panelShown = false;
+function showInstructorPanel() {
+  if (panelShown || !api.instructor) return;
+  panelShown = true;
+  const p = document.createElement('div');
+  p.id = 'instructor';
+  p.style.cssText = 'position:fixed;right:10px;bottom:70px;background:rgba(0,0,0,0.75);color:#fff;'
+    + 'font:12px monospace;padding:8px;border-radius:4px;z-index:6;max-width:300px';
+  const row = (html) => { const d = document.createElement('div'); d.style.margin = '3px 0'; d.innerHTML = html; p.appendChild(d); return d; };
+  row('<b>Instructor</b>');
+  const b = row('<button id="i-pause">Pause</button> <button id="i-reset">Reset robot</button> <button id="i-end">End session</button>');
+  b.querySelector('#i-pause').addEventListener('click', () => (api.state?.paused ? api.instructor.resume() : api.instructor.pause()));
+  b.querySelector('#i-reset').addEventListener('click', () => api.instructor.reset());
+  b.querySelector('#i-end').addEventListener('click', () => api.instructor.end());
+  const select = (opts) => `<select>${opts.map((o) => `<option>${o}</option>`).join('')}</select>`;
+  trackNames.forEach((n) => {
+    const r = row(`track ${n} ${select(['ok', 'stopped', 'unpowered'])}`);
+    r.querySelector('select').addEventListener('change', (e) => api.instructor.fault({ track: { [n]: e.target.value } }));
+  });
+  flipperNames.forEach((n) => {
+    const r = row(`flipper ${n} ${select(['ok', 'jammed'])}`);
+    r.querySelector('select').addEventListener('change', (e) => api.instructor.fault({ flipper: { [n]: e.target.value } }));
+  });
+  const lat = row('latency <input type="number" min="0" max="10" step="0.1" value="0" style="width:4em"> s <button>set</button>');
+  lat.querySelector('button').addEventListener('click', () => api.instructor.fault({ latency_s: Number(lat.querySelector('input').value) }));
+  const vid = row(`trainee's video ${select(['ok', 'dropped'])}`);
+  vid.querySelector('select').addEventListener('change', (e) => api.instructor.fault({ video: e.target.value }));
+  document.body.appendChild(p);
+  $('stop').textContent = 'End session (instructor)';
+  setInterval(() => { b.querySelector('#i-pause').textContent = api.state?.paused ? 'Resume' : 'Pause'; }, 250);
+}
 
 function liveFrame() {
   driveTick();
   const s = api.state;
   if (!s) { hud(['waiting for the simulation ...']); return; }
   const [x, y, z, roll, pitch, yaw] = s.pose;
-  pose(x, y, z, roll, pitch, yaw, s.flipper, s.belt_position);
-  recordPath(x, y);
+  // The onboard video and sensors dropped (an instructor's fault): the trainee's view stays
+  // frozen at its last picture under "NO SIGNAL"; the instructor's page shows everything.
+  api.noSignal = s.faults?.video === 'dropped' && api.role !== 'instructor';
+  noSignal.classList.toggle('hidden', !api.noSignal);
+  if (!api.noSignal) {
+    pose(x, y, z, roll, pitch, yaw, s.flipper, s.belt_position);
+    recordPath(x, y);
+  }
   // The warnings: the server's fields where it sends them (slip, stall, ahead, tilt_limit_deg,
   // course, driver), else what the page can tell. A test may show a made-up state instead.
   const vs = api.hudOverride ?? {
@@ -852,8 +949,11 @@ function liveFrame() {
   if (mapOn) minimap.draw(vs.pose, path, [...others.values()].filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(s.course?.next_gate) ? s.course.next_gate : null);
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
   hud([
-    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
+    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : api.role === 'instructor' ? 'INSTRUCTOR (sees everything)' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
     ...(s.team?.outcome ? [`team       ${s.team.rule}: ${s.team.outcome.name}: ${s.team.outcome.reason}`] : []),
+    ...(s.paused ? ['PAUSED by the instructor (simulated time stands still)'] : []),
+    ...(isNum(s.attempt) && s.attempt > 1 ? [`attempt    ${s.attempt} (each reset keeps the one before)`] : []),
+    ...(api.role === 'instructor' && s.faults ? [faultLine(s.faults)] : []),
     `sim time   ${fmt(s.t, 2)} s   x${fmt(s.speed, 2)} requested`,
     `RTF        paced ${fmt(s.rtf_paced, 2)}   compute ${fmt(s.rtf_compute, 1)}`,
     `speed      ${fmt(s.forward_mps, 3)} m/s (0.1 s mean)   cmd ${fmt(s.control.forward_mps, 2)} m/s, ${fmt(s.control.yaw_rate_rad_s, 2)} rad/s`,

@@ -116,13 +116,22 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
          reconnect within {} s (the robot stops meanwhile)",
         a.reconnect_grace
     );
-    session_token(&hub);
+    session_token(&hub, &server.url());
     tracksim::output::incomplete::mark_incomplete(&a.out)?;
     let session = tracksim::live::run_session(&sc, &hub, opts);
     hub.request_stop();
     server.shutdown();
     let mut session = session?;
-    session.result.summary.trainee = trainee;
+    session.set_trainee(trainee);
+    if !session.attempts.is_empty() {
+        out!(
+            "attempts   {} (each reset kept: {}/attempts/1 .. {}; the last is the session's \
+             folder)",
+            session.attempts.len() + 1,
+            a.out.display(),
+            session.attempts.len()
+        );
+    }
     let written = session.write(&sc, &file, &a.out, !a.no_plot)?;
     tracksim::output::incomplete::mark_complete(&a.out)?;
     super::session_report(&session.result.summary);
@@ -136,12 +145,19 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
 }
 
 /// Prints the session's token: what a client other than the page (which reads it itself)
-/// presents to drive (`/ws?session=TOKEN`).
-fn session_token(hub: &tracksim::live::Hub) {
+/// presents to drive (`/ws?session=TOKEN`); and the instructor's URL (its own token, never
+/// served to a page).
+fn session_token(hub: &tracksim::live::Hub, url: &str) {
     if let Some(t) = hub.session_token() {
         out!(
             "           session token {t} (the page has it; another client presents \
              /ws?session=TOKEN to drive)"
+        );
+    }
+    if let Some(t) = hub.instructor_token() {
+        out!(
+            "instructor open {url}?instructor={t} (pause, reset, end, faults; keep this URL \
+             to the instructor)"
         );
     }
 }
@@ -202,7 +218,7 @@ fn drive_team(
         "           watch any robot: {}?watch=1&robot=NAME",
         server.url()
     );
-    session_token(&hub);
+    session_token(&hub, &server.url());
     out!(
         "           a driver's stop closes their seat; the session ends when every seat taken \
          has stopped, on Ctrl-C or SIGTERM; a dropped page may reconnect within {} s",

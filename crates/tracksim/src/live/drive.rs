@@ -10,13 +10,16 @@
 
 use super::hub::{DriveControl, Hub};
 use super::hud_feed::HudFeed;
+use super::instructor::Desk;
+use super::latency::Delayed;
 use super::seat::DriverStatus;
 use super::sensor_feed::SensorFeed;
 use crate::error::Result;
 use crate::model::Scenario;
+use crate::run::events::RunEvent;
 use crate::run::{
-    CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, RunView, Runner, SessionLimits,
-    SpillLog,
+    AttemptRecord, CommandLog, ControlSource, End, LogHeader, Outcome, RunResult, RunView, Runner,
+    SessionLimits, SpillLog, attempt_folder,
 };
 use crate::spec::CommandSpec;
 use std::path::{Path, PathBuf};
@@ -53,10 +56,23 @@ impl Default for DriveOptions {
     }
 }
 
+/// An attempt of a session that a reset ended (issue 43): kept as a run of its own.
+pub struct Attempt {
+    /// Its run (`summary.json` `events` with the instructor's actions in it).
+    pub result: RunResult,
+    /// Its controls, as `[[commands]]` entries.
+    pub log: CommandLog,
+    /// The controls in force at each of its samples.
+    pub controls: Vec<DriveControl>,
+}
+
 /// A finished session: the run, and the controls the operator gave.
 pub struct Session {
-    /// The run (since the last reset), as `tracksim run` returns it.
+    /// The run (since the last reset: the last attempt), as `tracksim run` returns it; its
+    /// summary lists every attempt (`attempts`).
     pub result: RunResult,
+    /// The attempts resets ended, in order (written in `attempts/N/`).
+    pub attempts: Vec<Attempt>,
     /// Each control change, as a scenario's `[[commands]]` entry at the simulated time it
     /// was applied.
     pub log: CommandLog,
@@ -204,12 +220,13 @@ pub(super) fn robot_state(
     state
 }
 
-/// The state of a one-robot session's `runner` ([`robot_state`]), its new rut cells handed to
-/// the hub first.
+/// The state of a one-robot session's `runner` ([`robot_state`]) with, in a drive session,
+/// the instructor's seat's fields ([`Desk::fields`]) and the attempt's number; its new rut
+/// cells handed to the hub first.
 pub(super) fn state_json(
     runner: &Runner,
     control: &DriveControl,
-    (speed, hub): (f64, &Hub),
+    (speed, hub, desk): (f64, &Hub, Option<(&Desk, usize)>),
     ended: Option<&(Outcome, f64)>,
     feeds: &mut Feeds,
 ) -> String {
@@ -220,7 +237,12 @@ pub(super) fn state_json(
         wall_s: runner.wall_elapsed(),
         stepping_s: runner.stepping(),
     };
-    robot_state(&runner.view(), control, (clock, driver), ended, feeds).to_string()
+    let mut state = robot_state(&runner.view(), control, (clock, driver), ended, feeds);
+    if let (serde_json::Value::Object(m), Some((desk, attempt))) = (&mut state, desk) {
+        m.extend(desk.fields(0, runner.sim()));
+        m.insert("attempt".into(), serde_json::json!(attempt));
+    }
+    state.to_string()
 }
 
 /// Robot `k`'s new controls from its seat, if they changed from `current`: its driver's
@@ -239,22 +261,60 @@ pub(super) fn next_control(hub: &Hub, k: usize, current: &DriveControl) -> Optio
     wanted.filter(|c| c != current)
 }
 
-/// The page as a session's control source: its controls, reset and stop, and the states it
-/// is sent.
+/// What the page source keeps of an attempt a reset ended: its controls and events, and who
+/// reset it.
+struct Kept {
+    controls: Vec<DriveControl>,
+    events: Vec<RunEvent>,
+    by: &'static str,
+}
+
+/// The page (and the instructor's) as a session's control source: its controls, reset and
+/// stop, the instructor's pause and faults, and the states it is sent.
 struct PageSource<'a> {
     hub: &'a Hub,
     speed: f64,
     idle: DriveControl,
+    /// The driver's latest control (what it wants).
+    wanted: DriveControl,
+    /// The controls in force (applied, after any latency).
     current: DriveControl,
+    /// The driver's controls on their way (an injected latency).
+    delayed: Delayed,
     /// The controls in force at each sample.
     controls: SpillLog<DriveControl>,
     last_publish: Option<Instant>,
     feeds: Feeds,
+    desk: Desk,
+    /// Simulated time at the last sample boundary, s.
+    t: f64,
+    /// The attempts resets ended.
+    kept: Vec<Kept>,
+    names: Vec<String>,
+}
+
+impl PageSource<'_> {
+    fn publish(&mut self, runner: &Runner, ended: Option<&(Outcome, f64)>) {
+        self.last_publish = Some(Instant::now());
+        let attempt = self.kept.len() + 1;
+        self.hub.publish(state_json(
+            runner,
+            &self.current,
+            (self.speed, self.hub, Some((&self.desk, attempt))),
+            ended,
+            &mut self.feeds,
+        ));
+    }
+
+    fn due_publish(&self) -> bool {
+        self.last_publish
+            .is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S)
+    }
 }
 
 impl ControlSource for PageSource<'_> {
     fn end(&mut self, _runner: &Runner) -> Option<End> {
-        if self.hub.stop_requested() {
+        if self.hub.stop_requested() || self.desk.ended() {
             Some(End::ByOperator)
         } else if self.hub.abandoned() {
             Some(End::Abandoned(self.hub.grace_s()))
@@ -263,12 +323,42 @@ impl ControlSource for PageSource<'_> {
         }
     }
 
-    fn reset(&mut self) -> bool {
-        if !self.hub.take_reset() {
-            return false;
+    fn paused(&mut self, runner: &Runner) -> bool {
+        self.t = runner.time();
+        self.desk.take(self.hub.take_actions(), self.t, &self.names);
+        let paused = self.desk.paused();
+        if paused && self.due_publish() {
+            self.publish(runner, None);
         }
+        paused
+    }
+
+    fn reset(&mut self) -> bool {
+        let by = if self.hub.take_reset() {
+            "the driver"
+        } else if self.desk.take_reset() {
+            "the instructor"
+        } else {
+            return false;
+        };
+        if by == "the driver" {
+            self.desk.event(
+                self.t,
+                "reset",
+                "the driver reset: a new attempt begins".into(),
+            );
+        }
+        self.kept.push(Kept {
+            controls: std::mem::replace(
+                &mut self.controls,
+                SpillLog::from(vec![self.idle.clone()]),
+            ),
+            events: self.desk.next_attempt(),
+            by,
+        });
         self.current = self.idle.clone();
-        self.controls = SpillLog::from(vec![self.current.clone()]);
+        self.wanted = self.idle.clone();
+        self.delayed.clear();
         self.feeds.hud.reset();
         self.feeds.rut_seq = 0;
         self.hub.clear_ruts();
@@ -276,29 +366,64 @@ impl ControlSource for PageSource<'_> {
     }
 
     fn controls(&mut self, runner: &Runner) -> Option<CommandSpec> {
-        self.current = next_control(self.hub, 0, &self.current)?;
-        Some(to_command(runner.scenario(), runner.time(), &self.current))
+        let t = runner.time();
+        if let Some(c) = next_control(self.hub, 0, &self.wanted) {
+            self.wanted = c.clone();
+            self.delayed.push(t + self.desk.latency_s(0), c);
+        }
+        let applied = self.delayed.due(t).filter(|c| *c != self.current);
+        let fault = self.desk.take_fault(0);
+        if applied.is_none() && fault.is_none() {
+            return None;
+        }
+        if let Some(c) = applied {
+            self.current = c;
+        }
+        let mut cmd = to_command(runner.scenario(), t, &self.current);
+        cmd.fault = fault;
+        Some(cmd)
     }
 
     fn after_step(&mut self, runner: &Runner) {
-        if self
-            .last_publish
-            .is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S)
-        {
-            self.last_publish = Some(Instant::now());
-            self.hub.publish(state_json(
-                runner,
-                &self.current,
-                (self.speed, self.hub),
-                None,
-                &mut self.feeds,
-            ));
+        if self.due_publish() {
+            self.publish(runner, None);
         }
     }
 
     fn after_sample(&mut self, _runner: &Runner) {
         self.controls.push(self.current.clone());
     }
+}
+
+/// The session's check of an instructor's fault for the robot of scenario `sc`: compiled as a
+/// `[[commands]]` entry's `fault` table, an unpowered track refused where the method does not
+/// model it.
+pub(super) fn fault_check(sc: &Scenario) -> super::hub::FaultCheck {
+    let vehicle = sc.vehicle.clone();
+    let method = sc.method;
+    Box::new(move |_k, f| {
+        let c = CommandSpec {
+            fault: Some(f.clone()),
+            ..CommandSpec::default()
+        };
+        let compiled = crate::model::compile_commands(std::slice::from_ref(&c), &vehicle).map_err(
+            |issues| {
+                issues
+                    .iter()
+                    .map(|i| i.to_string().replacen("commands[0].", "", 1))
+                    .collect::<Vec<_>>()
+                    .join("; ")
+            },
+        )?;
+        if compiled.iter().any(|c| c.controls.faults.unpowers())
+            && !crate::model::models_unpowered(method)
+        {
+            return Err(format!(
+                "an unpowered track is not modelled by method {method}; use \"stopped\""
+            ));
+        }
+        Ok(())
+    })
 }
 
 /// Runs a session until the hub is asked to stop (or `opts.max_time`): a [`Runner`] paced to
@@ -313,6 +438,7 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
         ..DriveControl::default()
     };
     hub.set_flipper_count(0, sc.vehicle.flippers.len());
+    hub.set_fault_check(fault_check(sc));
     if opts.wait_for_page {
         hub.wait_for_page();
     }
@@ -323,26 +449,49 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     let mut page = PageSource {
         hub,
         speed: opts.speed,
+        wanted: idle.clone(),
         current: idle.clone(),
+        delayed: Delayed::default(),
         controls: SpillLog::from(vec![idle.clone()]),
         idle,
         last_publish: None,
         feeds: Feeds::default(),
+        desk: Desk::new(1),
+        t: 0.0,
+        kept: Vec::new(),
+        names: hub.robots().to_vec(),
     };
     let limits = SessionLimits {
         max_time: opts.max_time,
         interrupt: opts.interrupt,
     };
     let run = crate::run::run_session(runner, &mut page, limits)?;
-    let result = runner_result(
-        run.runner,
-        run.end,
-        (opts.speed, hub),
-        &page.current,
-        &mut page.feeds,
-    );
+    page.publish(&run.runner, Some(&run.runner.outcome(&run.end)));
+    let mut result = run.runner.finish(run.end);
+    with_events(&mut result, page.desk.take_events());
+    let mut attempts = Vec::new();
+    for ((mut r, log), kept) in run.attempts.into_iter().zip(page.kept) {
+        with_events(&mut r, kept.events);
+        let n = attempts.len() + 1;
+        let record = AttemptRecord::of(n, attempt_folder(n), kept.by, &r);
+        result.summary.attempts.push(record);
+        attempts.push(Attempt {
+            result: r,
+            log,
+            controls: kept.controls,
+        });
+    }
+    if !attempts.is_empty() {
+        let n = attempts.len() + 1;
+        let record = AttemptRecord::of(n, ".".into(), "the session's end", &result);
+        result.summary.attempts.push(record);
+        for a in &mut attempts {
+            a.result.summary.attempts = result.summary.attempts.clone();
+        }
+    }
     Ok(Session {
         result,
+        attempts,
         log: run.log,
         controls: page.controls,
         flipper_names: sc.vehicle.flippers.iter().map(|f| f.name.clone()).collect(),
@@ -355,23 +504,11 @@ pub fn run_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<Sessi
     })
 }
 
-/// Publishes the last state with the session's outcome, and finishes the run.
-fn runner_result(
-    runner: Runner,
-    end: End,
-    (speed, hub): (f64, &Hub),
-    current: &DriveControl,
-    feeds: &mut Feeds,
-) -> RunResult {
-    let outcome = runner.outcome(&end);
-    hub.publish(state_json(
-        &runner,
-        current,
-        (speed, hub),
-        Some(&outcome),
-        feeds,
-    ));
-    runner.finish(end)
+/// Adds the instructor's actions (and the driver's resets) `events` to a run's review events,
+/// in time order.
+fn with_events(r: &mut RunResult, events: Vec<RunEvent>) {
+    r.summary.events.extend(events);
+    r.summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
 }
 
 impl Session {
@@ -423,7 +560,35 @@ impl Session {
         let p = dir.join("controls.csv");
         crate::files::write_atomic(&p, self.controls_csv().as_bytes())?;
         written.push(p);
+        for (i, a) in self.attempts.iter().enumerate() {
+            let sub = dir.join(attempt_folder(i + 1));
+            written.extend(crate::output::write_session(
+                sc,
+                &a.result,
+                (&a.log, header),
+                scenario_file,
+                &sub,
+                which,
+            )?);
+            let text = controls_csv(
+                &a.result.samples,
+                &a.controls,
+                &self.flipper_names,
+                &self.flipper_initial_deg,
+            );
+            let p = sub.join("controls.csv");
+            crate::files::write_atomic(&p, text.as_bytes())?;
+            written.push(p);
+        }
         Ok(written)
+    }
+
+    /// Records the trainee's name in the summary of the session and of every attempt.
+    pub fn set_trainee(&mut self, trainee: Option<String>) {
+        for a in &mut self.attempts {
+            a.result.summary.trainee.clone_from(&trainee);
+        }
+        self.result.summary.trainee = trainee;
     }
 }
 

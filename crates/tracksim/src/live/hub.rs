@@ -39,11 +39,17 @@
 //!   robots the driver's seat closes (the robot stops) and the session ends once every seat
 //!   that was taken has closed.
 //!
+//! A connection presenting the instructor's token (`/ws?instructor=TOKEN`, issue 43) never
+//! drives: it watches with the role `instructor` and its messages are the instructor's (pause,
+//! resume, reset, end, fault: [`super::instructor`]), checked and queued for the session
+//! ([`Hub::take_actions`]).
+//!
 //! When the driver's connection closes, the robot stops and the seat is held for the driver
 //! for the grace period ([`super::seat::Seat`]); the session ends on `stop`, Ctrl-C/SIGTERM,
 //! its `--duration`, or when the grace has passed with no page connected.
 
 use super::access::SessionToken;
+pub use super::instructor::InstructorAction;
 use super::seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus, Seat};
 use serde::Deserialize;
 use std::net::TcpStream;
@@ -106,6 +112,29 @@ enum ClientMessage {
     Stop,
 }
 
+/// What an instructor's page sends (`{"type": ...}`; see [`super::instructor`]).
+#[derive(Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+enum InstructorMessage {
+    Pause,
+    Resume,
+    End,
+    Reset {
+        #[serde(default)]
+        robot: Option<String>,
+    },
+    Fault {
+        #[serde(default)]
+        robot: Option<String>,
+        fault: crate::spec::FaultSpec,
+    },
+}
+
+/// Checks an instructor's fault for robot `k` against the session's scenario (the track and
+/// flipper names, the method): `Err` with the reason, sent back to the instructor's page.
+pub type FaultCheck =
+    Box<dyn Fn(usize, &crate::spec::FaultSpec) -> std::result::Result<(), String> + Send + Sync>;
+
 /// State shared by the simulation loop and the connections.
 pub struct Hub {
     /// Each robot's generation and text of its newest state.
@@ -132,6 +161,13 @@ pub struct Hub {
     token: SessionToken,
     /// Each robot's flipper count: the longest table a control may carry.
     flippers: Mutex<Vec<usize>>,
+    /// What a connection presents to take the instructor's seat (issue 43): printed on the
+    /// terminal, never served.
+    instructor: SessionToken,
+    /// The instructor's actions not yet taken by the session, in order.
+    actions: Mutex<Vec<InstructorAction>>,
+    /// The session's check of an instructor's fault ([`Hub::set_fault_check`]).
+    fault_check: Mutex<Option<FaultCheck>>,
 }
 
 impl Hub {
@@ -173,7 +209,92 @@ impl Hub {
             ruts: Mutex::default(),
             token: SessionToken::new(),
             flippers: Mutex::new(vec![MAX_FLIPPER_TABLE; n]),
+            instructor: SessionToken::new(),
+            actions: Mutex::default(),
+            fault_check: Mutex::default(),
         }
+    }
+
+    /// The instructor's token, which a connection presents (`/ws?instructor=TOKEN`, the page
+    /// opened as `/?instructor=TOKEN`) to pause, reset, end and inject faults; `None` for a
+    /// watch-only hub. Never served: the terminal prints the instructor's URL.
+    pub fn instructor_token(&self) -> Option<&str> {
+        (!self.watch_only).then(|| self.instructor.as_str())
+    }
+
+    /// Sets the check an instructor's fault must pass before it is queued (the session's
+    /// scenario knows the names and the method).
+    pub fn set_fault_check(&self, check: FaultCheck) {
+        *self.fault_check.lock().expect("hub lock") = Some(check);
+    }
+
+    /// The instructor's actions since the last call, in order.
+    pub fn take_actions(&self) -> Vec<InstructorAction> {
+        std::mem::take(&mut *self.actions.lock().expect("hub lock"))
+    }
+
+    /// Queues an instructor's action as its page would (what `receive_instructor` does with a
+    /// checked message).
+    pub fn push_action(&self, a: InstructorAction) {
+        self.actions.lock().expect("hub lock").push(a);
+    }
+
+    /// Handles one message of the instructor's connection; returns an error text for it.
+    fn receive_instructor(&self, text: &str) -> Option<String> {
+        let msg = match serde_json::from_str::<InstructorMessage>(text) {
+            Ok(m) => m,
+            Err(e) => {
+                return Some(format!(
+                    "bad instructor message ({}); see the protocol in live/instructor.rs",
+                    e.to_string()
+                        .chars()
+                        .take(MAX_ERROR_CHARS)
+                        .collect::<String>()
+                ));
+            }
+        };
+        let robot = |name: &Option<String>| match name {
+            None => Ok(0),
+            Some(n) => self.robots.iter().position(|r| r == n).ok_or_else(|| {
+                format!(
+                    "no robot `{}` in this session (its robots: {})",
+                    n.chars().take(64).collect::<String>(),
+                    self.robots.join(", ")
+                )
+            }),
+        };
+        let action = match msg {
+            InstructorMessage::Pause => InstructorAction::Pause,
+            InstructorMessage::Resume => InstructorAction::Resume,
+            InstructorMessage::End => InstructorAction::End,
+            InstructorMessage::Reset { robot: r } => {
+                if self.team {
+                    return Some(
+                        "a reset would start every robot again: not in a session of several \
+                         robots yet"
+                            .into(),
+                    );
+                }
+                match robot(&r) {
+                    Ok(k) => InstructorAction::Reset(k),
+                    Err(e) => return Some(e),
+                }
+            }
+            InstructorMessage::Fault { robot: r, fault } => {
+                let k = match robot(&r) {
+                    Ok(k) => k,
+                    Err(e) => return Some(e),
+                };
+                if let Some(check) = self.fault_check.lock().expect("hub lock").as_ref()
+                    && let Err(e) = check(k, &fault)
+                {
+                    return Some(e.chars().take(MAX_ERROR_CHARS).collect());
+                }
+                InstructorAction::Fault(k, fault)
+            }
+        };
+        self.push_action(action);
+        None
     }
 
     /// The session's token, which a connection presents (`/ws?session=TOKEN`) to drive;
@@ -482,9 +603,21 @@ fn query_seat(
     (robot, watch)
 }
 
-/// The hello of a connection that drives (with its token) or watches robot `robot`.
-fn hello(token: Option<&str>, grace_s: f64, robot: &str, robots: &[String]) -> String {
-    let role = if token.is_some() { "driver" } else { "watcher" };
+/// The hello of a connection that drives (with its token), is the instructor's or watches
+/// robot `robot`.
+fn hello(
+    (token, instructor): (Option<&str>, bool),
+    grace_s: f64,
+    robot: &str,
+    robots: &[String],
+) -> String {
+    let role = if token.is_some() {
+        "driver"
+    } else if instructor {
+        "instructor"
+    } else {
+        "watcher"
+    };
     serde_json::json!({
         "type": "hello", "role": role, "token": token, "grace_s": grace_s,
         "robot": robot, "robots": robots,
@@ -498,6 +631,8 @@ struct Wants {
     seats: Vec<usize>,
     follow: usize,
     token: Option<String>,
+    /// The connection is the instructor's (it presented the instructor's token).
+    instructor: bool,
 }
 
 /// Serves one WebSocket connection (its request's query in `query`) until it closes or the
@@ -515,10 +650,11 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
     let presented = query_token(query);
     let session = query_value(query, "session");
     let authorised = hub.token.matches(session);
+    let instructor = !hub.watch_only && hub.instructor.matches(query_value(query, "instructor"));
     let (robot, watch) = query_seat(query, &hub.robots);
     let asked = robot.clone().unwrap_or(None);
     let seats = match asked {
-        _ if hub.watch_only || watch || robot.is_err() || !authorised => Vec::new(),
+        _ if hub.watch_only || watch || instructor || robot.is_err() || !authorised => Vec::new(),
         Some(k) => vec![k],
         None => (0..hub.robots.len()).collect(),
     };
@@ -526,6 +662,7 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
         seats,
         follow: asked.unwrap_or(0),
         token: None,
+        instructor,
     };
     if let Some((k, t)) = hub.claim(id, presented, &wants.seats) {
         wants.follow = k;
@@ -534,6 +671,12 @@ pub(super) fn serve_socket(stream: TcpStream, hub: &Hub, query: &str) -> std::io
     hub.watchers.fetch_add(1, Ordering::Relaxed);
     ws.get_mut().set_read_timeout(Some(POLL))?;
     if let Err(why) = robot {
+        let msg = serde_json::json!({ "type": "error", "message": why }).to_string();
+        let _ = ws.send(Message::text(msg));
+    }
+    if query_value(query, "instructor").is_some() && !instructor && !hub.watch_only {
+        let why = "not the instructor's token: watching (`tracksim drive` printed the \
+                   instructor's URL)";
         let msg = serde_json::json!({ "type": "error", "message": why }).to_string();
         let _ = ws.send(Message::text(msg));
     }
@@ -562,7 +705,7 @@ fn socket_loop(
     let grace = hub.grace_s();
     let hi = |w: &Wants| {
         hello(
-            w.token.as_deref(),
+            (w.token.as_deref(), w.instructor),
             grace,
             &hub.robots[w.follow],
             &hub.robots,
@@ -597,7 +740,12 @@ fn socket_loop(
         }
         match ws.read() {
             Ok(Message::Text(t)) => {
-                if let Some(err) = hub.receive(id, t.as_str()) {
+                let err = if wants.instructor {
+                    hub.receive_instructor(t.as_str())
+                } else {
+                    hub.receive(id, t.as_str())
+                };
+                if let Some(err) = err {
                     let msg = serde_json::json!({ "type": "error", "message": err }).to_string();
                     ws.send(Message::text(msg)).map_err(other)?;
                 }

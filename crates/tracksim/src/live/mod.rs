@@ -8,6 +8,8 @@
 //!   loopback unless told otherwise;
 //! - [`hub`]: the latest-value state and control shared by the simulation and the
 //!   connections, and the WebSocket protocol;
+//! - [`instructor`]: the instructor's seat: pause, reset, end, faults (issue 43); `latency`:
+//!   a trainee's controls delayed by an injected latency;
 //! - [`seat`]: who drives, and the grace a dropped driver has to come back;
 //! - [`drive`]: the paced session loop, recorded as a run;
 //! - [`team_drive`]: a session of several robots, a seat each;
@@ -20,6 +22,8 @@ pub mod assets;
 pub mod drive;
 pub mod hub;
 pub mod hud_feed;
+pub mod instructor;
+mod latency;
 pub mod seat;
 pub mod sensor_feed;
 pub mod server;
@@ -29,6 +33,7 @@ pub mod watch;
 pub use access::{Access, SessionToken};
 pub use drive::{DriveOptions, Session, run_session};
 pub use hub::{DriveControl, Hub};
+pub use instructor::InstructorAction;
 pub use seat::{DEFAULT_RECONNECT_GRACE_S, DriverStatus};
 pub use server::{Mode, Server, ViewVideo, view_files};
 pub use team_drive::{TeamSession, run_team_session};

@@ -542,10 +542,14 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "run".into());
-        let list = serde_json::json!({
+        let attempts = attempt_files(dir, &mut files);
+        let mut list = serde_json::json!({
             "compare": false,
             "runs": [{ "index": 0, "name": name, "base": "/run" }],
         });
+        if !attempts.is_empty() {
+            list["attempts"] = serde_json::json!(attempts);
+        }
         files.push((
             "/runs.json".into(),
             "application/json",
@@ -590,4 +594,51 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
         list.to_string().into_bytes(),
     ));
     Ok(files)
+}
+
+/// Most earlier attempts of a session that `tracksim view` serves.
+pub const MAX_ATTEMPTS: usize = 100;
+
+/// The earlier attempts of a drive session in `dir` (`attempts/N/`, issue 43), each a run
+/// served under `/attempt/N/` (its `scene.json` there too; no sensor streams), appended to
+/// `files`; returns the list the page's selector shows (`attempt`, `base`, `outcome`), the
+/// session's folder itself last (the last attempt, at `/run`). Empty without attempts.
+fn attempt_files(dir: &std::path::Path, files: &mut Vec<ViewFile>) -> Vec<serde_json::Value> {
+    let mut list = Vec::new();
+    for n in 1..=MAX_ATTEMPTS {
+        let sub = dir.join(crate::run::attempt_folder(n));
+        if !sub.join("scene.json").is_file() {
+            break;
+        }
+        let prefix = format!("/attempt/{n}");
+        let Ok(these) = run_files(&sub, &prefix, false) else {
+            break;
+        };
+        let outcome = outcome_of(&these, &prefix);
+        files.extend(these);
+        list.push(serde_json::json!({ "attempt": n, "base": prefix, "outcome": outcome }));
+    }
+    if !list.is_empty() {
+        let outcome = outcome_of(files, "/run");
+        let n = list.len() + 1;
+        list.push(serde_json::json!({ "attempt": n, "base": "/run", "outcome": outcome }));
+    }
+    list
+}
+
+/// A run's outcome in words from its served `summary.json` (under `prefix`), if any.
+fn outcome_of(files: &[ViewFile], prefix: &str) -> Option<String> {
+    let f = files
+        .iter()
+        .find(|f| f.0 == format!("{prefix}/summary.json"))?;
+    let v: serde_json::Value = serde_json::from_slice(&f.2).ok()?;
+    let status = v["course"]["status"]
+        .as_str()
+        .map(|s| format!(", course {s}"));
+    Some(format!(
+        "{}{} after {:.1} s",
+        v["outcome"].as_str()?,
+        status.unwrap_or_default(),
+        v["sim_time_s"].as_f64()?
+    ))
 }

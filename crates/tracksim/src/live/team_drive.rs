@@ -18,6 +18,7 @@ use super::drive::{
     to_command,
 };
 use super::hub::{DriveControl, Hub};
+use super::instructor::Desk;
 use crate::error::Result;
 use crate::model::Scenario;
 use crate::run::{
@@ -51,11 +52,14 @@ struct Seats<'a> {
     speed: f64,
     seats: Vec<SeatState>,
     last_publish: Option<Instant>,
+    /// The instructor's seat: pause, end, faults (a reset restarts every robot: refused).
+    desk: Desk,
+    names: Vec<String>,
 }
 
 impl WorldSource<TeamRunner> for Seats<'_> {
     fn end(&mut self, _world: &TeamRunner) -> Option<End> {
-        if self.hub.stop_requested() || self.hub.all_stopped() {
+        if self.hub.stop_requested() || self.hub.all_stopped() || self.desk.ended() {
             Some(End::ByOperator)
         } else if self.hub.abandoned() {
             Some(End::Abandoned(self.hub.grace_s()))
@@ -64,14 +68,34 @@ impl WorldSource<TeamRunner> for Seats<'_> {
         }
     }
 
+    fn paused(&mut self, world: &mut TeamRunner) -> bool {
+        self.desk
+            .take(self.hub.take_actions(), world.sim().time(), &self.names);
+        let paused = self.desk.paused();
+        if paused
+            && self
+                .last_publish
+                .is_none_or(|l| l.elapsed().as_secs_f64() >= PUBLISH_INTERVAL_S)
+        {
+            self.last_publish = Some(Instant::now());
+            self.publish(world, None);
+        }
+        paused
+    }
+
     fn controls(&mut self, world: &TeamRunner, k: usize) -> Option<CommandSpec> {
         let seat = &mut self.seats[k];
-        seat.current = next_control(self.hub, k, &seat.current)?;
-        Some(to_command(
-            world.robot_scenario(k),
-            world.sim().time(),
-            &seat.current,
-        ))
+        let changed = next_control(self.hub, k, &seat.current);
+        let fault = self.desk.take_fault(k);
+        if changed.is_none() && fault.is_none() {
+            return None;
+        }
+        if let Some(c) = changed {
+            seat.current = c;
+        }
+        let mut cmd = to_command(world.robot_scenario(k), world.sim().time(), &seat.current);
+        cmd.fault = fault;
+        Some(cmd)
     }
 
     fn after_step(&mut self, world: &mut TeamRunner) {
@@ -132,6 +156,7 @@ impl Seats<'_> {
                 &mut seat.feeds,
             );
             if let Value::Object(m) = &mut state {
+                m.extend(self.desk.fields(k, v.sim));
                 m.insert("robot".into(), json!(names[k]));
                 let others: Vec<&Value> = (0..n).filter(|&j| j != k).map(|j| &bodies[j]).collect();
                 m.insert("others".into(), json!(others));
@@ -170,11 +195,23 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
             }
         })
         .collect();
+    let checks: Vec<_> = (0..world.sim().robot_count())
+        .map(|k| super::drive::fault_check(world.robot_scenario(k)))
+        .collect();
+    hub.set_fault_check(Box::new(move |k, f| match checks.get(k) {
+        _ if f.latency_s.is_some() => {
+            Err("added latency is not in a session of several robots yet".into())
+        }
+        Some(check) => check(k, f),
+        None => Err(format!("no robot {k}")),
+    }));
     let mut source = Seats {
         hub,
         speed: opts.speed,
         seats,
         last_publish: None,
+        desk: Desk::new(hub.robots().len()),
+        names: hub.robots().to_vec(),
     };
     let limits = SessionLimits {
         max_time: opts.max_time,
@@ -183,8 +220,15 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
     let run = crate::run::run_world_session(world, &mut source, limits, &order)?;
     let mut world = run.world;
     source.publish(&mut world, Some(&run.end));
+    let mut result = world.finish(run.end);
+    // The instructor's actions: events of every robot's run.
+    let events = source.desk.take_events();
+    for (_, r) in &mut result.robots {
+        r.summary.events.extend(events.iter().cloned());
+        r.summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    }
     Ok(TeamSession {
-        result: world.finish(run.end),
+        result,
         logs: run.logs,
         controls: source.seats.into_iter().map(|s| s.controls).collect(),
     })

@@ -111,7 +111,7 @@ impl Watch {
         let json = state_json(
             env.runner(),
             &control,
-            (self.speed.unwrap_or(0.0), &self.hub),
+            (self.speed.unwrap_or(0.0), &self.hub, None),
             None,
             &mut self.feeds,
         );

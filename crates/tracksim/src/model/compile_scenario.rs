@@ -49,6 +49,7 @@ pub fn compile_scenario(
     let method = match Method::parse("simulation.method", &s.method) {
         Ok(m) => {
             c.issues.extend(method_problems(m, &vehicle));
+            unpowered_problems(&mut c, m, &commands);
             m
         }
         Err(issue) => {
@@ -431,12 +432,18 @@ fn command(
              motor_torque_nm in one command, not both",
         );
     }
+    let faults = cmd
+        .fault
+        .as_ref()
+        .map(|f| super::compile_faults(c, k, f, vehicle))
+        .unwrap_or_default();
     Command {
         t: cmd.t_s,
         controls: Controls {
             belt_speed: belt,
             flipper_angle: flip,
             motor,
+            faults,
         },
     }
 }
@@ -627,5 +634,24 @@ fn outcome(c: &mut Checker, o: &OutcomeSpec) -> OutcomeModel {
         max_tilt: o.max_tilt_deg.to_radians(),
         fail_off_terrain: o.fail_off_terrain,
         stop: o.stop,
+    }
+}
+
+/// A command that makes a track unpowered under a method that does not model it: refused with
+/// its key path and the methods that do.
+fn unpowered_problems(c: &mut Checker, method: Method, commands: &[Command]) {
+    if super::models_unpowered(method) {
+        return;
+    }
+    for (i, cmd) in commands.iter().enumerate() {
+        if cmd.controls.faults.unpowers() {
+            c.push(
+                format!("commands[{i}].fault.track"),
+                format!(
+                    "an \"unpowered\" track is not modelled by method \"{method}\" (its belt has no \
+                     drive to let go); use okada2020 (any variant) or wheelsK, or \"stopped\""
+                ),
+            );
+        }
     }
 }

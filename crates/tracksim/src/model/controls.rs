@@ -55,6 +55,8 @@ pub struct Controls {
     /// A duty or torque command per track index (tracks with a drive motor); replaces the
     /// track's belt speed set-point until a belt speed is given again. May be empty.
     pub motor: Vec<Option<MotorCommand>>,
+    /// Faults set or cleared (a command's `fault` table; issue 43), applied before the rest.
+    pub faults: super::Faults,
 }
 
 impl Controls {
@@ -64,6 +66,7 @@ impl Controls {
             belt_speed: vec![None; v.tracks.len()],
             flipper_angle: vec![None; v.flippers.len()],
             motor: vec![None; v.tracks.len()],
+            faults: super::Faults::default(),
         }
     }
 

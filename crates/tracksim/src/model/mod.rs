@@ -13,6 +13,8 @@
 //!   ([`LooseBoxModel`]) of `[terrain]`;
 //! - `course.rs`: a scenario's `[course]` ([`CourseModel`]: gates, repetitions, penalties);
 //! - `expect.rs`: a scenario's `[expect]` table ([`Expectation`]);
+//! - `fault.rs`: a command's `fault` table compiled ([`Faults`], [`TrackFault`]): an
+//!   instructor's injected faults (issue 43);
 //! - `controls.rs`: the inputs of one step ([`Controls`]) and timed [`Command`]s;
 //! - `steering.rs`: a twist command as belt speeds, per track or per side ([`Steering`]);
 //! - `method.rs`: the track method as data ([`Method`]: names, what it models);
@@ -50,6 +52,7 @@ mod course;
 mod design;
 mod drawbar;
 mod expect;
+mod fault;
 mod load;
 mod method;
 mod motor;
@@ -87,6 +90,8 @@ pub use course::{
 pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Range};
+pub(crate) use fault::compile_faults;
+pub use fault::{Faults, MAX_LATENCY_S, TrackFault, models_unpowered};
 pub use load::{load_scenario, load_scenario_with, load_template};
 pub use method::Method;
 pub(crate) use motor::compile_motor;

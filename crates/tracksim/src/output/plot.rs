@@ -696,6 +696,7 @@ mod tests {
                 trainee: None,
                 started_utc: "2026-01-01T00:00:00Z".into(),
                 course: None,
+                attempts: Vec::new(),
             },
             samples: samples.into(),
             track_names: vec!["left".into(), "right".into()],

@@ -9,6 +9,8 @@
 //! - [`scripted`]: a simulation driven by its timeline, step by step;
 //! - [`session`]: the session loop of a runner (or a team's) whose controls come from outside
 //!   (a page, ROS topics), with one end rule;
+//! - [`attempt`]: a session's attempts (a reset starts the next), as `summary.json` lists
+//!   them ([`AttemptRecord`]);
 //! - [`command_log`]: the controls a session or an episode gave ([`CommandLog`]) and the one
 //!   writer of `commands.toml`;
 //! - [`outcome`]: success and failure conditions;
@@ -25,6 +27,7 @@
 //!   world's outcome by its rule;
 //! - [`view`]: one robot of a running world as a live front end reads it ([`RunView`]).
 
+pub mod attempt;
 pub mod command_log;
 pub mod course;
 pub mod drawbar_summary;
@@ -44,6 +47,7 @@ pub mod track_summary;
 pub mod turn_summary;
 pub mod view;
 
+pub use attempt::{AttemptRecord, attempt_folder};
 pub use command_log::{CommandLog, LogHeader, duration_arg, team_toml, write_team_log};
 pub use course::{
     CourseEvent, CourseScore, CourseTracker, FaultCounts, MAX_COURSE_EVENTS, ScoreSummary,

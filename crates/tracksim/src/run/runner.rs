@@ -51,6 +51,9 @@ pub enum End {
     Interrupted,
     /// The operator of a live session ended it.
     ByOperator,
+    /// The attempt of a live session ended with a reset (the driver's or an instructor's):
+    /// the session goes on with a new attempt (issue 43).
+    Reset,
     /// The driver's page of a live session left and did not come back within the grace
     /// period, s, with no other page connected.
     Abandoned(f64),
@@ -311,6 +314,13 @@ impl Runner {
                 )),
                 t,
             ),
+            End::Reset => (
+                Outcome::EndedByOperator(format!(
+                    "reset at t = {t:.3} s (a new attempt began); the scenario's outcome: {}",
+                    self.decided_text()
+                )),
+                t,
+            ),
             End::Abandoned(grace) => (
                 Outcome::EndedByOperator(format!(
                     "the driver's page left and no page came back within the {grace} s grace; \
@@ -366,10 +376,35 @@ impl Runner {
     /// The run as it ended with `end`: its samples (the state now added if it was not the
     /// last sample), summary and outcome.
     pub fn finish(mut self, end: End) -> RunResult {
+        self.take_result(&end)
+    }
+
+    /// A session's attempt ends with `end` (a reset, issue 43): its result as
+    /// [`Runner::finish`] gives it, and the run starts again ([`Runner::reset`]) as the next
+    /// attempt.
+    pub fn end_attempt(&mut self, end: End) -> Result<RunResult> {
+        let sensing = !self.sensors.is_empty();
+        let result = self.take_result(&end);
+        if sensing {
+            self.sensors = SensorSet::new(&self.sim, self.record);
+        }
+        self.reset(None)?;
+        Ok(result)
+    }
+
+    /// A live session was paused for `wall` of wall-clock time (simulated time stood still):
+    /// pacing goes on from here at its speed, without catching up the pause in a burst.
+    pub fn paused_for(&mut self, wall: Duration) {
+        self.wall += wall;
+    }
+
+    /// The result of the run so far (see [`Runner::finish`]); the samples and sensor streams
+    /// move into it.
+    fn take_result(&mut self, end: &End) -> RunResult {
         if self.record && self.samples.last().is_some_and(|s| s.t < self.sim.time()) {
             self.samples.push(self.sim.sample());
         }
-        let (outcome, t) = self.outcome(&end);
+        let (outcome, t) = self.outcome(end);
         let times = WallTimes {
             stepping: self.stepping,
             elapsed: self.wall.elapsed().as_secs_f64(),
@@ -380,11 +415,11 @@ impl Runner {
             c.close();
         }
         let mut summary = Summary::new(&self.sc, &self.sim, &self.samples, (&outcome, t), times);
-        let sensors = self.sensors.into_streams();
+        let sensors = std::mem::replace(&mut self.sensors, SensorSet::none()).into_streams();
         summary.sensors = sensors.iter().map(super::SensorSummary::of).collect();
         summary.course = self.course.as_ref().map(CourseTracker::score);
         RunResult {
-            samples: self.samples,
+            samples: std::mem::take(&mut self.samples),
             track_names: self.sim.track_names().to_vec(),
             flipper_names: self.sim.flipper_names().to_vec(),
             summary,

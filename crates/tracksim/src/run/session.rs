@@ -4,8 +4,11 @@
 //!
 //! At every sample boundary (`output_interval_s`), in this order: an interrupt (Ctrl-C,
 //! SIGTERM) ends the session; then the source may end it ([`ControlSource::end`]: the operator
-//! stopped, the page left); then `max_time` ends it; then the source may start it again
-//! ([`ControlSource::reset`]); then its new controls, if any, are compiled as a scenario's
+//! stopped, the page left); then `max_time` ends it; then, while the source holds the session
+//! paused ([`ControlSource::paused`]: an instructor's pause), nothing steps (simulated time
+//! stands still, the end checks above go on, and the wall clock of pacing is moved on by the
+//! pause when it ends, so no burst catches it up); then the source may start it again
+//! ([`ControlSource::reset`]: the attempt so far is kept, [`SessionWorld::end_attempt`]); then its new controls, if any, are compiled as a scenario's
 //! command and applied before the next step, and logged. The world then steps to the next
 //! sample ([`ControlSource::after_step`] after every step, [`ControlSource::after_sample`] at
 //! the sample).
@@ -20,6 +23,10 @@ use crate::error::{Error, Result};
 use crate::model::Command;
 use crate::spec::CommandSpec;
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+/// How often a paused session asks its source whether it is still paused.
+pub const PAUSE_POLL: Duration = Duration::from_millis(5);
 
 /// Where a session's controls come from. Every method is called at a sample boundary except
 /// [`ControlSource::after_step`].
@@ -30,9 +37,16 @@ pub trait ControlSource {
         None
     }
 
-    /// Whether the session starts again from its scenario here (the runner is reset and the
-    /// log cleared; the source clears its own state before returning true).
+    /// Whether the session starts again from its scenario here (the attempt so far is kept,
+    /// the runner is reset and the log starts afresh; the source clears its own state before
+    /// returning true).
     fn reset(&mut self) -> bool {
+        false
+    }
+
+    /// Whether the session is held paused now (asked at a sample boundary, and every few
+    /// milliseconds while it is).
+    fn paused(&mut self, _runner: &Runner) -> bool {
         false
     }
 
@@ -92,6 +106,16 @@ pub trait SessionWorld {
     fn restart(&mut self) -> Result<()>;
     /// Applies command entry `c` to robot `k` as a file's `[[commands]]` entry is applied.
     fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()>;
+    /// The world was held paused for `wall` of wall-clock time: pacing goes on from here.
+    fn paused_for(&mut self, wall: Duration);
+    /// What a finished attempt keeps.
+    type Attempt;
+    /// Ends the attempt so far (a reset): returns what it keeps, if the world keeps attempts,
+    /// and starts again from the scenario ([`SessionWorld::restart`]).
+    fn end_attempt(&mut self) -> Result<Option<Self::Attempt>> {
+        self.restart()?;
+        Ok(None)
+    }
 }
 
 impl SessionWorld for Runner {
@@ -115,6 +139,13 @@ impl SessionWorld for Runner {
     }
     fn apply_command(&mut self, _k: usize, c: &CommandSpec) -> Result<()> {
         apply(self, c)
+    }
+    fn paused_for(&mut self, wall: Duration) {
+        Runner::paused_for(self, wall)
+    }
+    type Attempt = super::RunResult;
+    fn end_attempt(&mut self) -> Result<Option<super::RunResult>> {
+        Ok(Some(Runner::end_attempt(self, End::Reset)?))
     }
 }
 
@@ -144,6 +175,11 @@ impl SessionWorld for TeamRunner {
         }
         Ok(())
     }
+    fn paused_for(&mut self, wall: Duration) {
+        TeamRunner::paused_for(self, wall)
+    }
+    /// A team's attempts are not kept yet: a reset restarts every robot.
+    type Attempt = ();
 }
 
 /// Where the controls of a session of world `W` come from, robot by robot: a
@@ -156,6 +192,10 @@ pub trait WorldSource<W> {
     }
     /// As [`ControlSource::reset`] (every robot starts again).
     fn reset(&mut self) -> bool {
+        false
+    }
+    /// As [`ControlSource::paused`].
+    fn paused(&mut self, _world: &mut W) -> bool {
         false
     }
     /// Robot `k`'s controls from now on, if they changed (asked for every robot, in the
@@ -177,6 +217,9 @@ impl WorldSource<Runner> for OneRobot<'_> {
     fn reset(&mut self) -> bool {
         self.0.reset()
     }
+    fn paused(&mut self, w: &mut Runner) -> bool {
+        self.0.paused(w)
+    }
     fn controls(&mut self, w: &Runner, _k: usize) -> Option<CommandSpec> {
         self.0.controls(w)
     }
@@ -195,19 +238,24 @@ pub struct SessionRun {
     pub runner: Runner,
     /// How the session ended.
     pub end: End,
-    /// The controls applied, as `[[commands]]` entries.
+    /// The controls applied (of the last attempt), as `[[commands]]` entries.
     pub log: CommandLog,
+    /// Each attempt a reset ended, in order: its run and its controls.
+    pub attempts: Vec<(super::RunResult, CommandLog)>,
 }
 
 /// A finished session of a world of several robots: the world, how it ended, and each
 /// robot's controls (by robot index).
-pub struct WorldSessionRun<W> {
+pub struct WorldSessionRun<W: SessionWorld> {
     /// The world as the session left it.
     pub world: W,
     /// How the session ended.
     pub end: End,
-    /// Each robot's controls, as `[[commands]]` entries.
+    /// Each robot's controls (of the last attempt), as `[[commands]]` entries.
     pub logs: Vec<CommandLog>,
+    /// Each attempt a reset ended and the world kept ([`SessionWorld::end_attempt`]), with
+    /// each robot's controls.
+    pub attempts: Vec<(W::Attempt, Vec<CommandLog>)>,
 }
 
 /// Runs `runner` (built without the file's commands, unbounded, paced if wanted) with
@@ -222,11 +270,16 @@ pub fn run_session(
         world,
         end,
         mut logs,
+        attempts,
     } = run;
     Ok(SessionRun {
         runner: world,
         end,
         log: logs.remove(0),
+        attempts: attempts
+            .into_iter()
+            .map(|(r, mut l)| (r, l.remove(0)))
+            .collect(),
     })
 }
 
@@ -240,6 +293,8 @@ pub fn run_world_session<W: SessionWorld>(
     order: &[usize],
 ) -> Result<WorldSessionRun<W>> {
     let mut logs = vec![CommandLog::new(); world.robot_count()];
+    let mut attempts = Vec::new();
+    let mut paused_since: Option<Instant> = None;
     let dt = world.dt();
     let end = loop {
         if limits.interrupted() {
@@ -251,9 +306,20 @@ pub fn run_world_session<W: SessionWorld>(
         if limits.reached(world.time(), dt) {
             break End::Reached;
         }
+        if source.paused(&mut world) {
+            paused_since.get_or_insert_with(Instant::now);
+            std::thread::sleep(PAUSE_POLL);
+            continue;
+        }
+        if let Some(since) = paused_since.take() {
+            world.paused_for(since.elapsed());
+        }
         if source.reset() {
-            world.restart()?;
-            logs.iter_mut().for_each(CommandLog::clear);
+            let fresh = vec![CommandLog::new(); world.robot_count()];
+            let log = std::mem::replace(&mut logs, fresh);
+            if let Some(a) = world.end_attempt()? {
+                attempts.push((a, log));
+            }
         }
         for &k in order {
             if let Some(c) = source.controls(&world, k) {
@@ -270,7 +336,12 @@ pub fn run_world_session<W: SessionWorld>(
         }
         source.after_sample(&mut world);
     };
-    Ok(WorldSessionRun { world, end, logs })
+    Ok(WorldSessionRun {
+        world,
+        end,
+        logs,
+        attempts,
+    })
 }
 
 /// Applies command entry `c` to `runner` as a file's `[[commands]]` entry is applied.

@@ -96,6 +96,10 @@ pub struct Summary {
     /// The course's score (`[course]` scenarios only; docs/COURSES.md).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub course: Option<super::CourseScore>,
+    /// A live session's attempts, in order (a reset starts the next; issue 43); left out of
+    /// a run without resets.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub attempts: Vec<super::AttemptRecord>,
 }
 
 /// `t` as an ISO 8601 UTC date and time to the second (`2026-12-03T12:27:37Z`); a time before
@@ -316,6 +320,7 @@ impl Summary {
             trainee: None,
             started_utc: iso8601_utc(wall.started.unwrap_or_else(std::time::SystemTime::now)),
             course: None,
+            attempts: Vec::new(),
         }
     }
 }

@@ -168,6 +168,12 @@ impl TeamRunner {
         self.wall.elapsed().as_secs_f64()
     }
 
+    /// A live session was paused for `wall` of wall-clock time: pacing goes on from here,
+    /// without catching up the pause in a burst.
+    pub fn paused_for(&mut self, wall: std::time::Duration) {
+        self.wall += wall;
+    }
+
     /// Wall-clock seconds spent stepping.
     pub fn stepping(&self) -> f64 {
         self.stepping
@@ -394,6 +400,7 @@ fn robot_runs(sim: &mut Simulation, commands: bool) -> Vec<RobotRun> {
 fn operator(end: &End) -> Option<String> {
     match end {
         End::ByOperator => Some("ended by the operator".into()),
+        End::Reset => Some("reset (a new attempt began)".into()),
         End::Abandoned(grace) => Some(format!(
             "every driver's page left and none came back within the {grace} s grace; ended"
         )),

@@ -11,6 +11,7 @@
 //! - `conveyor.rs`: conveyors and loose boxes of `[terrain]` ([`ConveyorSpec`], [`LooseBoxSpec`]).
 //! - `course.rs`: a scenario's `[course]` table ([`CourseSpec`]): gates, repetitions, faults.
 //! - `expect.rs`: a scenario's `[expect]` table ([`ExpectSpec`]): what a run must show.
+//! - `fault.rs`: a command's `fault` table ([`FaultSpec`]): what an instructor injects.
 //! - `sensor.rs`: a vehicle's `[[sensors]]` table ([`SensorSpec`]).
 //! - `strict.rs`: the strict second pass ([`strict::from_value`]): no table read from an array
 //!   by position, no fixed-size array with extra entries.
@@ -18,6 +19,7 @@
 mod conveyor;
 mod course;
 mod expect;
+mod fault;
 mod randomize;
 mod scenario;
 mod sensor;
@@ -28,6 +30,7 @@ mod vehicle;
 pub use conveyor::*;
 pub use course::*;
 pub use expect::*;
+pub use fault::*;
 pub use randomize::*;
 pub use scenario::*;
 pub use sensor::*;

@@ -398,4 +398,8 @@ pub struct CommandSpec {
     /// driver delivers it whatever the speed, within the torque-speed curve and its limit.
     #[serde(default)]
     pub motor_torque_nm: Option<PerTrack>,
+    /// Faults set or cleared at this time (`fault`, issue 43: an instructor's injection):
+    /// tracks stopped or unpowered, flippers jammed, latency, the video dropped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fault: Option<super::FaultSpec>,
 }

@@ -143,6 +143,8 @@ pub struct SegmentLinks {
     force_limit: f64,
     /// With a motor and a zero command, the belt position it holds, m (None: not held).
     hold: Option<f64>,
+    /// The drive gives no force (an instructor's fault, issue 43): the belt free-wheels.
+    unpowered: bool,
 }
 
 /// Time constant of a held motor's return to the belt position it holds, s: the driver's
@@ -326,6 +328,7 @@ impl SegmentLinks {
             motor_cmd: None,
             force_limit: 0.0,
             hold: None,
+            unpowered: false,
         };
         if let Some(m) = &s.motor {
             let loads = vec![0.0; s.links.len()];
@@ -533,7 +536,10 @@ impl SegmentLinks {
             // deficit accumulated: a raised flipper's belt slowed by 0.3-0.6 m/s per second
             // until a grouser touched again, by how much depending on where the grousers lie
             // on the loop, i.e. on the pulley order (issue 38).
-            let target = if *load > 0.0 || sum <= 0.0 {
+            // Unpowered, every link follows the belt (the loaded ones with no force at all).
+            let target = if self.unpowered {
+                belt
+            } else if *load > 0.0 || sum <= 0.0 {
                 self.hold_target()
             } else {
                 belt
@@ -614,17 +620,43 @@ impl Track for SegmentLinks {
     }
 
     fn holds_belt(&self) -> bool {
-        self.motor_cmd.is_none() && self.speed_cmd == 0.0
+        !self.unpowered && self.motor_cmd.is_none() && self.speed_cmd == 0.0
+    }
+
+    fn set_unpowered(&mut self, world: &mut PhysicsWorld, unpowered: bool) -> bool {
+        if unpowered == self.unpowered {
+            return true;
+        }
+        self.unpowered = unpowered;
+        self.hold = None;
+        // Unpowered: no link motor gives any force until `after_step` shares out the links'
+        // own weights. Powered again without a motor model: no limit, as built; with one,
+        // the next `after_step` sets the limits.
+        let cap = if unpowered { 0.0 } else { f32::MAX };
+        for l in &self.links {
+            if let Some(j) = world.impulse_joints.get_mut(l.joint, true) {
+                j.data.set_motor_max_force(l.kind.motor_axis(), cap);
+            }
+        }
+        self.force_limit = 0.0;
+        true
     }
 
     fn belt_force_limit(&self) -> Option<f64> {
-        self.motor.as_ref().map(|_| self.force_limit)
+        self.motor.as_ref().map(|_| {
+            if self.unpowered {
+                0.0
+            } else {
+                self.force_limit
+            }
+        })
     }
 
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
         // With a motor the belt moves as fast as its links did (it slows when the motor cannot
         // hold the command); without, exactly at the command.
-        let loaded = self.motor.as_ref().map(|_| {
+        // Unpowered (a fault), the belt moves as its links do, as with a motor.
+        let loaded = (self.motor.is_some() || self.unpowered).then(|| {
             let loads = self.link_loads(world);
             let v = Self::loaded_belt_speed(&self.link_speeds(world), &loads);
             (loads, v)
@@ -685,7 +717,13 @@ impl Track for SegmentLinks {
             self.reassign_shapes(world, wraps);
         }
         self.wraps = wraps;
-        if let (Some(m), Some((loads, v))) = (self.motor.clone(), loaded) {
+        if self.unpowered {
+            if let Some((loads, v)) = loaded {
+                // No drive force: each link carries only its own weight along the belt.
+                self.speed_measured = v;
+                self.limit_link_forces(world, 0.0, &loads, v);
+            }
+        } else if let (Some(m), Some((loads, v))) = (self.motor.clone(), loaded) {
             self.speed_measured = v;
             self.hold = (self.speed_cmd == 0.0 && self.motor_cmd.is_none())
                 .then(|| self.hold.unwrap_or(self.position));

@@ -47,6 +47,13 @@ pub trait Track: Send + Sync + std::fmt::Debug {
     /// Sets a duty or torque command (tracks with a drive motor; the model refuses it for the
     /// others, so the default ignores it).
     fn set_motor_command(&mut self, _world: &mut PhysicsWorld, _cmd: crate::model::MotorCommand) {}
+    /// Lets the belt's drive go (`true`: no drive force, the belt free-wheels, its speed set
+    /// by the ground and the vehicle) or takes it back (`false`: the latest command applies);
+    /// an instructor's fault (issue 43). Returns whether the method models it (the model
+    /// refuses the fault for the others: `model::models_unpowered`).
+    fn set_unpowered(&mut self, _world: &mut PhysicsWorld, _unpowered: bool) -> bool {
+        false
+    }
     /// Whether the belt is held (commanded to stand still): a speed set-point of 0; a duty or
     /// torque command never holds.
     fn holds_belt(&self) -> bool {

@@ -32,6 +32,8 @@ pub struct Wheels {
     position: f64,
     speed_cmd: f64,
     speed_measured: f64,
+    /// The drive gives no force (an instructor's fault, issue 43): the wheels spin freely.
+    unpowered: bool,
 }
 
 /// The lower run of a loop: the straight whose outward normal points most downwards, with the
@@ -107,6 +109,7 @@ impl Wheels {
             position: 0.0,
             speed_cmd: 0.0,
             speed_measured: 0.0,
+            unpowered: false,
         })
     }
 }
@@ -123,8 +126,25 @@ impl Track for Wheels {
         self.speed_cmd
     }
 
+    fn holds_belt(&self) -> bool {
+        !self.unpowered && self.speed_cmd == 0.0
+    }
+
+    fn set_unpowered(&mut self, world: &mut PhysicsWorld, unpowered: bool) -> bool {
+        self.unpowered = unpowered;
+        let cap = if unpowered { 0.0 } else { f32::MAX };
+        for w in &self.wheels {
+            if let Some(j) = world.impulse_joints.get_mut(w.joint, true) {
+                j.data.set_motor_max_force(JointAxis::AngX, cap);
+            }
+        }
+        true
+    }
+
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
-        self.position += self.speed_cmd * dt;
+        if !self.unpowered {
+            self.position += self.speed_cmd * dt;
+        }
         let parent = &world.bodies[self.parent];
         let (rot, w_parent) = (parent.rotation(), parent.angvel());
         let sum: f64 = self
@@ -136,6 +156,9 @@ impl Track for Wheels {
             })
             .sum();
         self.speed_measured = sum / self.wheels.len().max(1) as f64;
+        if self.unpowered {
+            self.position += self.speed_measured * dt;
+        }
     }
 
     fn belt_position(&self) -> f64 {

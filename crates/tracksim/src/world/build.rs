@@ -192,6 +192,10 @@ fn build_robot(
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
         drawbar: None,
         load_window: Default::default(),
+        faults: super::fault_state::FaultState::new(
+            v.tracks.len(),
+            v.flippers.iter().map(|f| f.initial_angle).collect(),
+        ),
         view: view.clone(),
     })
 }

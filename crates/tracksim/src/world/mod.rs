@@ -11,7 +11,7 @@
 //!
 //! - Types: `appearance` (the colour of every collider in camera images), `flipper` (a
 //!   flipper arm), `robot` (one robot's bodies, tracks, flippers,
-//!   odometry, drawbar and loads; [`RobotCollision`]), `drawbar` (a drawbar's state),
+//!   odometry, drawbar and loads; [`RobotCollision`]), `drawbar` (a drawbar's state), `fault_state` (a robot's faults in force),
 //!   `conveyor` (conveyors and loose boxes, built), `compliance` (grousers and belts as springs
 //!   and dampers), `odometry` (what the encoders report), `origin` (the floating origin's
 //!   shift rule), `sample` ([`Sample`], [`PoseRpy`]), `track_loads` ([`TrackLoad`]), `mass`
@@ -24,7 +24,8 @@
 //!   contacts, compliance, slop), `sampling` (samples and contact queries), `loads` (the
 //!   terrain's force on each track), `floating_origin` (the shift of the f32 world near the
 //!   robots), `mass_stage` (floored link masses taken back from their parents; the report),
-//!   `drawbar_pull`, `conveyor_queries`.
+//!   `drawbar_pull`, `conveyor_queries`, `faults` (a track stopped or unpowered, a flipper
+//!   jammed: issue 43).
 
 #![warn(clippy::too_many_lines)]
 
@@ -37,6 +38,8 @@ mod conveyor;
 mod conveyor_queries;
 mod drawbar;
 mod drawbar_pull;
+mod fault_state;
+mod faults;
 mod flipper;
 mod floating_origin;
 mod loads;

@@ -32,6 +32,8 @@ pub(crate) struct Robot {
     pub(crate) drawbar: Option<DrawbarState>,
     /// The per-step track loads of the last output interval.
     pub(crate) load_window: LoadWindow,
+    /// The faults in force (issue 43).
+    pub(crate) faults: super::fault_state::FaultState,
 }
 
 impl Robot {

@@ -34,6 +34,9 @@ impl Simulation {
     /// Applies a step's controls: every `Some` belt speed (m/s), flipper target (rad) and
     /// motor duty or torque command.
     pub fn apply(&mut self, c: &Controls) {
+        if !c.faults.is_empty() {
+            self.apply_faults(&c.faults);
+        }
         for (i, v) in c.belt_speed.iter().enumerate() {
             if let Some(v) = v {
                 self.set_belt_speed(i, *v);
@@ -54,7 +57,11 @@ impl Simulation {
     /// Sets a duty or torque command on track `i` (a track with a drive motor; others ignore
     /// it). A later belt speed replaces it.
     pub fn set_motor_command(&mut self, i: usize, cmd: crate::model::MotorCommand) {
-        self.robots[self.focus].tracks[i].set_motor_command(&mut self.world, cmd);
+        let rb = &mut self.robots[self.focus];
+        rb.faults.wanted[i] = super::fault_state::BeltCommand::Motor(cmd);
+        if rb.faults.track[i] != crate::model::TrackFault::Stopped {
+            rb.tracks[i].set_motor_command(&mut self.world, cmd);
+        }
     }
 
     /// Body-level command: forward speed m/s and yaw rate rad/s (skid steering, see
@@ -66,12 +73,25 @@ impl Simulation {
 
     /// Sets the belt speed of track `i`, m/s (positive drives forwards).
     pub fn set_belt_speed(&mut self, i: usize, v: f64) {
-        self.robots[self.focus].tracks[i].set_belt_speed(&mut self.world, v);
+        let rb = &mut self.robots[self.focus];
+        rb.faults.wanted[i] = super::fault_state::BeltCommand::Speed(v);
+        // A stopped track (a fault) holds its belt at 0 whatever is commanded.
+        let v = if rb.faults.track[i] == crate::model::TrackFault::Stopped {
+            0.0
+        } else {
+            v
+        };
+        rb.tracks[i].set_belt_speed(&mut self.world, v);
     }
 
     /// Sets the target angle of flipper `i`, rad (clamped to the joint's limits, if it has
     /// them).
     pub fn set_flipper_angle(&mut self, i: usize, a: f64) {
+        if self.robots[self.focus].faults.jammed[i] {
+            // A jammed flipper (a fault) stays where it is; the target applies once freed.
+            self.robots[self.focus].faults.wanted_flipper[i] = a;
+            return;
+        }
         let fl = &mut self.robots[self.focus].flippers[i];
         let a = match fl.limits {
             Some([lo, hi]) => a.clamp(lo, hi),
