@@ -15,6 +15,10 @@ use std::process::Command;
 
 /// Runs `tracksim run` on `file` for `duration_s` into `out`; returns its peak resident set
 /// size, bytes (the kernel's `ru_maxrss` of the child, from `wait4`).
+#[expect(
+    clippy::zombie_processes,
+    reason = "the child is reaped by wait4, which also gives its peak memory"
+)]
 fn peak_rss(file: &Path, out: &Path, duration_s: f64) -> u64 {
     let child = Command::new(env!("CARGO_BIN_EXE_tracksim"))
         .arg("run")

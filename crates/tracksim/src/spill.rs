@@ -116,14 +116,15 @@ impl<T: Record> SpillLog<T> {
             self.first = Some(s.clone());
         }
         self.recent.push(s);
-        if self.recent.len() >= 2 * SPILL_CHUNK && !self.spill_failed {
-            if let Err(e) = self.spill_oldest() {
-                eprintln!(
-                    "warning: the run's samples could not be spilled to a temporary file ({e}); \
-                     they are kept in memory (set TMPDIR to a writable folder with free space)"
-                );
-                self.spill_failed = true;
-            }
+        if self.recent.len() >= 2 * SPILL_CHUNK
+            && !self.spill_failed
+            && let Err(e) = self.spill_oldest()
+        {
+            eprintln!(
+                "warning: the run's records could not be spilled to a temporary file ({e}); \
+                 they are kept in memory (set TMPDIR to a writable folder with free space)"
+            );
+            self.spill_failed = true;
         }
     }
 
@@ -305,7 +306,7 @@ mod tests {
         Rec {
             t: i as f64 * 0.01 + 1e-17,
             v: vec![i as f32 / 3.0, f32::MIN_POSITIVE],
-            o: (i % 3 == 0).then_some([1.0 / 7.0, i as f64]),
+            o: i.is_multiple_of(3).then_some([1.0 / 7.0, i as f64]),
         }
     }
 

@@ -62,8 +62,8 @@ pub struct Attempt {
     pub result: RunResult,
     /// Its controls, as `[[commands]]` entries.
     pub log: CommandLog,
-    /// The controls in force at each of its samples.
-    pub controls: Vec<DriveControl>,
+    /// The controls in force at each of its samples (spilled to disk with them).
+    pub controls: SpillLog<DriveControl>,
 }
 
 /// A finished session: the run, and the controls the operator gave.
@@ -264,7 +264,7 @@ pub(super) fn next_control(hub: &Hub, k: usize, current: &DriveControl) -> Optio
 /// What the page source keeps of an attempt a reset ended: its controls and events, and who
 /// reset it.
 struct Kept {
-    controls: Vec<DriveControl>,
+    controls: SpillLog<DriveControl>,
     events: Vec<RunEvent>,
     by: &'static str,
 }

@@ -196,9 +196,9 @@ mod tests {
         assert!((st[0].0 - 1.0).abs() < 0.011, "{st:?}");
         assert!((st[0].1 - 2.5).abs() < 0.1, "{st:?}");
         // Still but not driven: no stall.
-        assert!(stalls(&run(300, |_| 0.0, |_| 0.0)).is_empty());
+        assert!(stalls(run(300, |_| 0.0, |_| 0.0)).is_empty());
         // Driven and creeping at 0.03 m/s (a slow climb): no stall.
-        assert!(stalls(&run(300, |_| 0.3, |_| 0.03)).is_empty());
+        assert!(stalls(run(300, |_| 0.3, |_| 0.03)).is_empty());
         // Still for less than the hold time: none.
         let short = run(
             300,

@@ -21,7 +21,7 @@ mod tests {
             t: i as f64 * 0.01 + 1e-17,
             belt_speed: vec![i as f64 / 3.0, -0.1],
             slip: vec![f64::MIN_POSITIVE, 1.0 / 7.0],
-            icr: (i % 3 == 0).then_some([0.1, i as f64]),
+            icr: i.is_multiple_of(3).then_some([0.1, i as f64]),
             drive: vec![None, Some(crate::world::DriveSample::default())],
             drawbar_n: Some(-0.0),
             soil: vec![crate::world::TrackSoil::default()],

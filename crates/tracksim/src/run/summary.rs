@@ -404,9 +404,9 @@ mod tests {
                 })
                 .collect()
         };
-        let stalled = path_length(&chatter(0.0));
+        let stalled = path_length(chatter(0.0));
         assert!(stalled < 0.02, "{stalled}");
-        let driving = path_length(&chatter(0.3));
+        let driving = path_length(chatter(0.3));
         assert!((driving - 0.3 * 9.99).abs() < 0.03, "{driving}");
     }
 }

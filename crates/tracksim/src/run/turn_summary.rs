@@ -44,11 +44,11 @@ pub fn turn_summaries(v: &VehicleModel, samples: &crate::run::SampleLog) -> Vec<
     // sample's time (one pass; a turn's second half is read again from its index).
     let mut open: Option<(usize, Vec<f64>, f64, f64)> = None;
     for (i, s) in samples.iter().enumerate() {
-        if let Some((_, cmd, _, end)) = &mut open {
-            if *cmd == s.belt_cmd {
-                *end = s.t;
-                continue;
-            }
+        if let Some((_, cmd, _, end)) = &mut open
+            && *cmd == s.belt_cmd
+        {
+            *end = s.t;
+            continue;
         }
         if let Some(stretch) = open.take() {
             turns.extend(turn(&kin, samples, stretch, i));

@@ -48,7 +48,10 @@ fn flat(vehicle_file: &str, duration: f64, more: Vec<CommandSpec>) -> tracksim::
 
 /// The samples of a run of `sc` from its start to its end.
 fn samples(sc: &tracksim::Scenario) -> Vec<tracksim::world::Sample> {
-    tracksim::run_scenario(sc, |_, _| {}).unwrap().samples
+    tracksim::run_scenario(sc, |_, _| {})
+        .unwrap()
+        .samples
+        .to_vec()
 }
 
 /// The ground's speed along the track under track `i` (the body's forward speed less the yaw
