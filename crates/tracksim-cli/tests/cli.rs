@@ -593,8 +593,10 @@ fn realtime_reports_paced_and_compute_speed_apart() {
     let s: serde_json::Value = serde_json::from_str(&o.stdout).unwrap();
     assert_eq!(s["paced"], true);
     // Paced to the wall clock: 0.5 s simulated take at least 0.5 s (sleep granularity 2 ms).
+    // (How far below 1 it falls on a loaded machine is the machine's, not a property of the
+    // pacing: a lower bound here failed at 0.78 while CI ran beside it.)
     let paced = s["paced_real_time_factor"].as_f64().unwrap();
-    assert!(paced > 0.8 && paced <= 1.01, "paced {paced}");
+    assert!(paced > 0.0 && paced <= 1.01, "paced {paced}");
     assert!(s["elapsed_time_s"].as_f64().unwrap() >= 0.49);
     // The compute speed is the stepping alone, and stepping is faster than the wall clock.
     let compute = s["real_time_factor"].as_f64().unwrap();
@@ -879,4 +881,59 @@ fn a_killed_runs_folder_is_never_read_as_a_result() {
         "{}",
         r.stderr
     );
+}
+
+/// Issue 45: each method's folder of `compare` is marked while its run writes it: a compare
+/// that finishes leaves no mark; one killed while a method simulates leaves that method's
+/// folder marked beside the earlier compare's files, and `video` refuses it.
+#[test]
+fn a_killed_compares_method_folder_is_never_read_as_a_result() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cmp");
+    let o = out.to_str().unwrap();
+    let args = |d: &'static str| {
+        [
+            "compare",
+            "scenarios/packbot_flat.toml",
+            "--methods",
+            "okada2020",
+            "--duration",
+            d,
+            "--out",
+            o,
+        ]
+        .map(str::to_string)
+    };
+    let first = args("0.3");
+    let r = run(&first.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let dir = out.join("okada2020");
+    assert!(dir.join("summary.json").is_file());
+    assert!(
+        !dir.join("INCOMPLETE").exists(),
+        "a finished compare leaves no mark"
+    );
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_tracksim"))
+        .args(args("600"))
+        .current_dir(root())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !dir.join("INCOMPLETE").exists() && t0.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    assert!(
+        dir.join("INCOMPLETE").is_file(),
+        "the method's run marked its folder"
+    );
+    assert!(
+        dir.join("summary.json").is_file(),
+        "the earlier compare's files stay"
+    );
+    let r = run(&["video", dir.to_str().unwrap()]);
+    assert_eq!(r.code, 2, "{}", r.stderr);
+    assert!(r.stderr.contains("INCOMPLETE"), "{}", r.stderr);
 }

@@ -91,6 +91,9 @@ pub fn run_compare(
             ..Overrides::default()
         };
         let ran = load_scenario_with(file, &o).and_then(|sc| {
+            // The method's folder is marked while its run writes it (issue 45).
+            let dir = out.join(m.name());
+            crate::output::incomplete::mark_incomplete(&dir)?;
             let opts = crate::run::RunOptions {
                 realtime: false,
                 stop,
@@ -102,7 +105,8 @@ pub fn run_compare(
                 mcap: false,
                 raw_images: false,
             };
-            crate::output::write_outputs(&sc, &r, &out.join(m.name()), which)?;
+            crate::output::write_outputs(&sc, &r, &dir, which)?;
+            crate::output::incomplete::mark_complete(&dir)?;
             Ok(r)
         });
         match ran {

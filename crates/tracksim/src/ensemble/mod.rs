@@ -176,6 +176,11 @@ fn run_member(
         realtime: false,
         stop,
     };
+    // A member's folder is marked while its run writes it (issue 45); the mark stays on a
+    // member that was interrupted or went unstable (its folder holds no result of this run).
+    if let Some(dir) = &dir {
+        crate::output::incomplete::mark_incomplete(dir)?;
+    }
     match crate::run::run_scenario_with(&msc, opts, |_, _| {}) {
         Ok(result) if matches!(result.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
         Ok(result) => {
@@ -187,6 +192,7 @@ fn run_member(
                     raw_images: false,
                 };
                 crate::output::write_outputs(&msc, &result, dir, which)?;
+                crate::output::incomplete::mark_complete(dir)?;
             }
             Ok(Some(MemberResult::of_run(*m, sc, &result, dir)))
         }

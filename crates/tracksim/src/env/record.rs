@@ -141,7 +141,11 @@ impl EpisodeRecord {
             what: &what,
             notes: &notes,
         };
+        // Marked while it is written (issue 45): an episode folder a killed process left half
+        // written is never read as a result.
+        crate::output::incomplete::mark_incomplete(&dir)?;
         crate::output::write_session(sc, &result, (&self.log, header), file, &dir, which)?;
+        crate::output::incomplete::mark_complete(&dir)?;
         Ok(Some(dir))
     }
 }
