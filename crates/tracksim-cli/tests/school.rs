@@ -10,108 +10,15 @@
 
 #![warn(clippy::too_many_lines)]
 
-use std::io::{BufRead, BufReader, Read};
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{Receiver, channel};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 use tungstenite::Message;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A `tracksim` process, its output lines as they come.
-struct Proc {
-    child: Child,
-    stdout: Receiver<String>,
-    stderr: Receiver<String>,
-    seen: Vec<String>,
-}
-
-fn lines(r: impl Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = channel();
-    std::thread::spawn(move || {
-        for l in BufReader::new(r).lines().map_while(Result::ok) {
-            let _ = tx.send(l);
-        }
-    });
-    rx
-}
-
-fn spawn(args: &[&str]) -> Proc {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tracksim"))
-        .current_dir(root())
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let stdout = lines(child.stdout.take().unwrap());
-    let stderr = lines(child.stderr.take().unwrap());
-    Proc {
-        child,
-        stdout,
-        stderr,
-        seen: Vec::new(),
-    }
-}
-
-impl Proc {
-    /// The first stdout line holding `what`.
-    fn line_with(&mut self, what: &str) -> String {
-        let t0 = Instant::now();
-        while t0.elapsed() < Duration::from_secs(30) {
-            if let Ok(l) = self.stdout.recv_timeout(Duration::from_millis(100)) {
-                self.seen.push(l.clone());
-                if l.contains(what) {
-                    return l;
-                }
-            }
-        }
-        panic!("no line with {what:?} in {:?}", self.seen);
-    }
-
-    /// The server's address and the session's token, as `drive` prints them.
-    fn address_and_token(&mut self) -> (SocketAddr, String) {
-        let url = self.line_with("http://");
-        let addr: SocketAddr = url
-            .split("http://")
-            .nth(1)
-            .and_then(|r| r.split('/').next())
-            .unwrap()
-            .parse()
-            .unwrap();
-        let token = self.line_with("session token");
-        let token = token
-            .split_whitespace()
-            .skip_while(|w| *w != "token")
-            .nth(1)
-            .unwrap()
-            .to_string();
-        (addr, token)
-    }
-
-    /// Waits for the end (at most 120 s): the exit code and every stdout and stderr line.
-    fn finish(mut self) -> (i32, Vec<String>, Vec<String>) {
-        let t0 = Instant::now();
-        let code = loop {
-            if let Some(s) = self.child.try_wait().unwrap() {
-                break s.code().unwrap_or(-1);
-            }
-            if t0.elapsed() > Duration::from_secs(120) {
-                let _ = self.child.kill();
-                panic!("did not end");
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        };
-        let mut out = self.seen;
-        out.extend(self.stdout.iter());
-        let err = self.stderr.iter().collect();
-        (code, out, err)
-    }
-}
+#[path = "support/proc.rs"]
+mod proc;
+use proc::{root, spawn};
 
 type Ws = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<std::net::TcpStream>>;
 
@@ -230,7 +137,7 @@ fn a_session_that_completes_its_course_and_drives_on_replays_with_the_printed_co
     // Driving on after the outcome: a turn.
     control(&mut ws, 0.2, 0.8);
     while next_json(&mut ws).is_some() {}
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(120));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
     let summary = json(&out.join("summary.json"));
     assert_eq!(summary["course"]["status"], "completed", "{summary}");
@@ -317,7 +224,7 @@ fn two_trainees_drive_their_seats_and_the_session_replays_for_both() {
     let blue = seat(addr, &token, "blue", 0.25);
     red.join().unwrap();
     blue.join().unwrap();
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(120));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
     let team = json(&out.join("team.json"));
     let robots = team["robots"].as_array().unwrap();

@@ -11,100 +11,20 @@
 
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::{Context, MessageTypeName, Name, NodeName, NodeOptions};
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
-use std::sync::mpsc::{Receiver, channel};
+use std::path::Path;
 use std::time::{Duration, Instant};
 use tracksim::rosmsg::{JointState, RosString};
 use tungstenite::Message;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// A `tracksim` process, its output lines as they come.
-struct Proc {
-    child: Child,
-    stdout: Receiver<String>,
-    stderr: Receiver<String>,
-}
-
-fn lines(r: impl Read + Send + 'static) -> Receiver<String> {
-    let (tx, rx) = channel();
-    std::thread::spawn(move || {
-        for l in BufReader::new(r).lines().map_while(Result::ok) {
-            let _ = tx.send(l);
-        }
-    });
-    rx
-}
-
-fn spawn(args: &[&str]) -> Proc {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tracksim"))
-        .current_dir(root())
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let stdout = lines(child.stdout.take().unwrap());
-    let stderr = lines(child.stderr.take().unwrap());
-    Proc {
-        child,
-        stdout,
-        stderr,
-    }
-}
-
-impl Proc {
-    /// The first stdout line holding `what` (all lines read meanwhile kept in `seen`).
-    fn line_with(&self, what: &str, seen: &mut Vec<String>) -> String {
-        let t0 = Instant::now();
-        while t0.elapsed() < Duration::from_secs(20) {
-            if let Ok(l) = self.stdout.recv_timeout(Duration::from_millis(100)) {
-                seen.push(l.clone());
-                if l.contains(what) {
-                    return l;
-                }
-            }
-        }
-        panic!("no line with {what:?} in {seen:?}");
-    }
-
-    /// Its resident memory, kB (`VmRSS`).
-    fn rss_kb(&self) -> u64 {
-        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
-        status
-            .lines()
-            .find_map(|l| l.strip_prefix("VmRSS:"))
-            .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-            .expect("VmRSS")
-    }
-
-    /// Waits for the end (at most 30 s) and returns the exit code and the rest of the output.
-    fn finish(mut self) -> (i32, Vec<String>, Vec<String>) {
-        let t0 = Instant::now();
-        let code = loop {
-            if let Some(s) = self.child.try_wait().unwrap() {
-                break s.code().unwrap_or(-1);
-            }
-            if t0.elapsed() > Duration::from_secs(30) {
-                let _ = self.child.kill();
-                panic!("did not end");
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        };
-        let out = self.stdout.iter().collect();
-        let err = self.stderr.iter().collect();
-        (code, out, err)
-    }
-}
+#[path = "support/proc.rs"]
+mod proc;
+use proc::{Proc, spawn};
 
 /// `tracksim drive` of packbot_flat on a free port: its address and the token it printed.
 fn drive(duration: &str, out: &Path) -> (Proc, SocketAddr, String) {
-    let p = spawn(&[
+    let mut p = spawn(&[
         "drive",
         "scenarios/packbot_flat.toml",
         "--port",
@@ -115,22 +35,7 @@ fn drive(duration: &str, out: &Path) -> (Proc, SocketAddr, String) {
         out.to_str().unwrap(),
         "--no-plot",
     ]);
-    let mut seen = Vec::new();
-    let url = p.line_with("open http://", &mut seen);
-    let addr: SocketAddr = url
-        .split("http://")
-        .nth(1)
-        .and_then(|r| r.split('/').next())
-        .unwrap()
-        .parse()
-        .unwrap();
-    let token = p.line_with("session token", &mut seen);
-    let token = token
-        .split_whitespace()
-        .skip_while(|w| *w != "token")
-        .nth(1)
-        .unwrap()
-        .to_string();
+    let (addr, token) = p.address_and_token();
     assert_eq!(token.len(), 32, "{token}");
     (p, addr, token)
 }
@@ -196,7 +101,7 @@ fn drive_serves_only_its_own_pages_and_drives_with_its_token() {
     assert_eq!(next_json(&mut w)["role"], "watcher");
     let (mut d, _) = tungstenite::connect(format!("ws://{addr}/ws?session={token}")).unwrap();
     assert_eq!(next_json(&mut d)["role"], "driver");
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(30));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
 }
 
@@ -247,7 +152,7 @@ fn a_pages_huge_flipper_table_leaves_the_servers_memory_flat() {
     let grown = after.saturating_sub(before);
     eprintln!("RSS {before} kB -> {after} kB");
     assert!(grown < 20_000, "RSS {before} kB -> {after} kB");
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(30));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
 }
 
@@ -295,7 +200,7 @@ fn count_before(stdout: &[String], what: &str) -> u64 {
 #[test]
 fn ros_joint_states_of_50000_unknown_names_are_refused_as_read() {
     let out = tempfile::tempdir().unwrap();
-    let p = ros(145, "11", out.path());
+    let mut p = ros(145, "11", out.path());
     let (_ctx, mut node) = peer(145);
     let q = tracksim::ros::dds::service_qos();
     let topic = node
@@ -314,8 +219,7 @@ fn ros_joint_states_of_50000_unknown_names_are_refused_as_read() {
         ..JointState::default()
     };
     let sample_kb = tracksim::rosmsg::encode(&js).unwrap().len() as u64 / 1024;
-    let mut seen = Vec::new();
-    p.line_with("ros        node", &mut seen);
+    p.line_with("ros        node");
     std::thread::sleep(Duration::from_millis(1000));
     let before = p.rss_kb();
     // 120 samples at 20 Hz: RustDDS keeps at most 64 received samples of a topic (its cache's
@@ -332,7 +236,7 @@ fn ros_joint_states_of_50000_unknown_names_are_refused_as_read() {
     }
     assert!(t0.elapsed() < Duration::from_secs(9), "{:?}", t0.elapsed());
     let after = p.rss_kb();
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(30));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
     let dropped = count_before(&stdout, "samples not of their topic's type");
     assert!(
@@ -364,7 +268,7 @@ fn ros_joint_states_of_50000_unknown_names_are_refused_as_read() {
 #[test]
 fn ros_a_string_under_the_twist_type_is_dropped_and_counted() {
     let out = tempfile::tempdir().unwrap();
-    let p = ros(146, "5", out.path());
+    let mut p = ros(146, "5", out.path());
     let (_ctx, mut node) = peer(146);
     let q = tracksim::ros::dds::service_qos();
     let topic = node
@@ -379,14 +283,13 @@ fn ros_a_string_under_the_twist_type_is_dropped_and_counted() {
     let text = RosString {
         data: "x".repeat(47),
     };
-    let mut seen = Vec::new();
-    p.line_with("ros        node", &mut seen);
+    p.line_with("ros        node");
     let t0 = Instant::now();
     while t0.elapsed() < Duration::from_secs(4) {
         let _ = publisher.publish(text.clone());
         std::thread::sleep(Duration::from_millis(20));
     }
-    let (code, stdout, stderr) = p.finish();
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(30));
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
     assert!(
         count_before(&stdout, "samples not of their topic's type") >= 10,
