@@ -42,7 +42,10 @@ struct Spill {
 pub struct SpillLog<T> {
     /// The first record (kept in memory: a run's start pose).
     first: Option<T>,
-    /// The chunks written to the spill file, oldest first, each of [`SPILL_CHUNK`] samples.
+    /// Records per chunk ([`SPILL_CHUNK`] unless the log was made with
+    /// [`SpillLog::with_chunk`]).
+    chunk: usize,
+    /// The chunks written to the spill file, oldest first, each of `chunk` records.
     chunks: Vec<Chunk>,
     spill: Option<Arc<Spill>>,
     /// The samples after the spilled ones.
@@ -55,6 +58,7 @@ pub struct SpillLog<T> {
 impl<T> Default for SpillLog<T> {
     fn default() -> Self {
         SpillLog {
+            chunk: SPILL_CHUNK,
             first: None,
             chunks: Vec::new(),
             spill: None,
@@ -109,14 +113,23 @@ impl<T: Record> SpillLog<T> {
         Self::default()
     }
 
-    /// Appends a sample; spills the oldest [`SPILL_CHUNK`] in memory to disk when twice that
+    /// An empty log whose chunks hold `records` records (at least 1): a log of large records
+    /// (a lidar's scans, a camera's frames) keeps fewer of them in memory.
+    pub fn with_chunk(records: usize) -> Self {
+        SpillLog {
+            chunk: records.max(1),
+            ..Self::default()
+        }
+    }
+
+    /// Appends a sample; spills the oldest chunk in memory to disk when twice that
     /// many are held.
     pub fn push(&mut self, s: T) {
         if self.first.is_none() {
             self.first = Some(s.clone());
         }
         self.recent.push(s);
-        if self.recent.len() >= 2 * SPILL_CHUNK
+        if self.recent.len() >= 2 * self.chunk
             && !self.spill_failed
             && let Err(e) = self.spill_oldest()
         {
@@ -128,10 +141,10 @@ impl<T: Record> SpillLog<T> {
         }
     }
 
-    /// Writes the oldest [`SPILL_CHUNK`] samples in memory to the spill file.
+    /// Writes the oldest chunk of records in memory to the spill file.
     fn spill_oldest(&mut self) -> std::io::Result<()> {
         let mut bytes = Vec::new();
-        for s in &self.recent[..SPILL_CHUNK] {
+        for s in &self.recent[..self.chunk] {
             bytes = postcard::to_extend(s, bytes).map_err(std::io::Error::other)?;
         }
         let spill = match &self.spill {
@@ -151,7 +164,7 @@ impl<T: Record> SpillLog<T> {
             offset,
             len: bytes.len() as u64,
         });
-        self.recent.drain(..SPILL_CHUNK);
+        self.recent.drain(..self.chunk);
         Ok(())
     }
 
@@ -168,7 +181,7 @@ impl<T: Record> SpillLog<T> {
                     panic!("the run's spilled samples could not be read back: {e}")
                 });
         }
-        let mut out = Vec::with_capacity(SPILL_CHUNK);
+        let mut out = Vec::with_capacity(self.chunk);
         let mut rest = bytes.as_slice();
         while !rest.is_empty() {
             let (s, r) = postcard::take_from_bytes::<T>(rest)
@@ -181,7 +194,7 @@ impl<T: Record> SpillLog<T> {
 
     /// How many samples.
     pub fn len(&self) -> usize {
-        self.chunks.len() * SPILL_CHUNK + self.recent.len()
+        self.chunks.len() * self.chunk + self.recent.len()
     }
 
     /// Whether there are none.
@@ -199,7 +212,7 @@ impl<T: Record> SpillLog<T> {
         self.recent.last()
     }
 
-    /// The samples still in memory: the most recent ones (at least [`SPILL_CHUNK`] of them,
+    /// The records still in memory: the most recent ones (at least a chunk of them,
     /// or all), the first of them at index [`SampleLog::recent_start`].
     pub fn recent(&self) -> &[T] {
         &self.recent
@@ -207,7 +220,7 @@ impl<T: Record> SpillLog<T> {
 
     /// Index of the first sample of [`SampleLog::recent`].
     pub fn recent_start(&self) -> usize {
-        self.chunks.len() * SPILL_CHUNK
+        self.chunks.len() * self.chunk
     }
 
     /// How many samples are on disk.
@@ -270,10 +283,10 @@ impl<'a, T: Record> Iterator for SampleIter<'a, T> {
             self.next += 1;
             return Some(Cow::Borrowed(s));
         }
-        let k = self.next / SPILL_CHUNK;
+        let k = self.next / log.chunk;
         if self.chunk.as_ref().is_none_or(|(c, _)| *c != k) {
             let mut samples = log.read_chunk(k).into_iter();
-            for _ in 0..self.next % SPILL_CHUNK {
+            for _ in 0..self.next % log.chunk {
                 samples.next();
             }
             self.chunk = Some((k, samples));
@@ -347,6 +360,19 @@ mod tests {
         assert_eq!(log.first(), Some(&rec(0)));
         assert_eq!(log.last(), Some(&rec(n - 1)));
         assert_eq!(log.get(n), None);
+    }
+
+    #[test]
+    fn a_log_of_small_chunks_reads_back_in_order() {
+        let mut log = SpillLog::with_chunk(3);
+        for i in 0..20 {
+            log.push(rec(i));
+        }
+        assert_eq!(log.spilled(), 15);
+        assert_eq!(log.recent().len(), 5);
+        assert_eq!(log.to_vec(), (0..20).map(rec).collect::<Vec<_>>());
+        assert_eq!(*log.get(7).unwrap(), rec(7));
+        assert_eq!(log.iter_from(4).count(), 16);
     }
 
     #[test]

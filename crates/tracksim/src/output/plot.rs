@@ -632,6 +632,36 @@ mod tests {
         }
     }
 
+    /// A run longer than [`PLOT_POINTS`] is drawn from at most that many points, in time order,
+    /// with its one-sample spike and dip kept (the min-max envelope); a shorter one from every
+    /// sample.
+    #[test]
+    fn a_long_run_is_plotted_from_its_envelope() {
+        let n = 3 * PLOT_POINTS + 7;
+        let z = |i: usize| match i {
+            40_001 => 5.0,
+            50_003 => -4.0,
+            _ => (i as f64 * 0.01).sin(),
+        };
+        let r = result(
+            (0..n)
+                .map(|i| sample(i as f64 * 0.01, 0.0, 0.0, z(i), 0.0, 0.0))
+                .collect(),
+        );
+        let pts = points(&r, |s| (s.t, s.pose.z));
+        assert!(pts.len() <= PLOT_POINTS + 2, "{}", pts.len());
+        assert!(pts.len() >= PLOT_POINTS / 2);
+        assert!(pts.windows(2).all(|w| w[0].0 < w[1].0), "in time order");
+        assert!(pts.contains(&(40_001.0 * 0.01, 5.0)) && pts.contains(&(50_003.0 * 0.01, -4.0)));
+        assert_eq!(pts.first().unwrap().0, 0.0);
+        let short = result(
+            (0..100)
+                .map(|i| sample(i as f64, 0.0, 0.0, z(i), 0.0, 0.0))
+                .collect(),
+        );
+        assert_eq!(points(&short, |s| (s.t, s.pose.z)).len(), 100);
+    }
+
     fn result(samples: Vec<Sample>) -> RunResult {
         let first = samples.first().map(|s| s.pose).unwrap_or_default();
         let last = samples.last().map(|s| s.pose).unwrap_or(first);

@@ -58,16 +58,36 @@ pub struct SensorStream {
     pub mean_cost_us: f64,
 }
 
+/// Bytes of readings a chunk of a stream's [`SpillLog`] holds at most (about: images counted
+/// raw): a stream keeps at most two chunks in memory, so a lidar's or a camera's stream holds
+/// about 8 MiB however long the run, a scalar sensor's up to [`crate::spill::SPILL_CHUNK`]
+/// readings.
+pub const CHUNK_BYTES: usize = 4 << 20;
+
 impl SensorStream {
     /// An empty stream of `sensor`.
     pub fn new(sensor: &dyn Sensor) -> Self {
+        let format = sensor.format();
+        let bytes: usize = sensor
+            .channels()
+            .iter()
+            .map(|c| {
+                let per_value = match format {
+                    StreamFormat::Png if c.shape.len() >= 2 => 1,
+                    StreamFormat::Npz => 4,
+                    StreamFormat::Csv | StreamFormat::Png => 8,
+                };
+                c.data.len() * per_value
+            })
+            .sum();
+        let chunk = (CHUNK_BYTES / bytes.max(1)).clamp(1, crate::spill::SPILL_CHUNK);
         SensorStream {
             name: sensor.model().name.clone(),
             kind: sensor.model().kind.name(),
             rate_hz: sensor.model().rate_hz,
-            format: sensor.format(),
+            format,
             channels: sensor.channels().to_vec(),
-            readings: SpillLog::new(),
+            readings: SpillLog::with_chunk(chunk),
             axes: sensor.axes(),
             mean_cost_us: 0.0,
         }
