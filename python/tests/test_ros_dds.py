@@ -224,11 +224,13 @@ def test_team_session_writes_the_world_and_replays(team, tmp_path):
     text = (out / "commands.toml").read_text()
     assert 'name = "west"' in text and 'name = "east"' in text
     line = next(x for x in text.splitlines() if "tracksim run" in x)
-    duration = line.split("--duration")[1].strip()
+    # The header's command: `--duration T`, then `--keep-running` (a session goes on past
+    # its outcome, so its replay does too).
+    duration, *rest = line.split("--duration")[1].split()
     again = tmp_path / "again"
     p = subprocess.run(
         [cli(), "run", team["scenario"], "--commands", str(out / "commands.toml"),
-         "--duration", duration, "--out", str(again), "--no-plot", "--quiet"],
+         "--duration", duration, *rest, "--out", str(again), "--no-plot", "--quiet"],
         capture_output=True, text=True, timeout=300,
     )
     assert p.returncode in (0, 1), p.stderr
