@@ -1114,7 +1114,8 @@ test('the instructor (issue 43): pause stops simulated time, a track stop and a 
     // A track stop: in the state and on the instructor's HUD.
     await teacher.selectOption('#instructor div:nth-child(3) select', 'stopped');
     await teacher.waitForFunction(() => window.tracksim.state.faults?.track?.includes('stopped'), null, { timeout: 20000 });
-    assert.match(await teacher.evaluate(() => document.getElementById('hud').textContent), /faults +track \w+ stopped/);
+    // The HUD is redrawn on its own frames (slower in a loaded headless browser): wait for it.
+    await teacher.waitForFunction(() => /faults +track \w+ stopped/.test(document.getElementById('hud').textContent), null, { timeout: 20000 });
     // The video drops: the trainee sees NO SIGNAL, the instructor everything.
     await teacher.evaluate(() => window.tracksim.instructor.fault({ video: 'dropped' }));
     await trainee.waitForFunction(() => window.tracksim.noSignal === true, null, { timeout: 20000 });
