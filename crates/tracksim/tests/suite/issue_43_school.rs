@@ -6,7 +6,7 @@
 //! `commands.toml`.
 
 use crate::common::{self, root};
-use crate::live::{Ws, next_json};
+use crate::live::{Ws, next_json, until as state_where};
 use std::collections::BTreeMap;
 use std::path::Path;
 use tracksim::Scripted;
@@ -318,22 +318,6 @@ fn bad_faults_are_refused_naming_the_key() {
     .unwrap();
     let e = tracksim::load_scenario(&f).unwrap_err().to_string();
     assert!(e.contains("lag_s"), "{e}");
-}
-
-/// Reads states until `pred` holds; panics after `max` messages.
-fn state_where(
-    ws: &mut Ws,
-    max: usize,
-    what: &str,
-    pred: impl Fn(&serde_json::Value) -> bool,
-) -> serde_json::Value {
-    for _ in 0..max {
-        let m = next_json(ws);
-        if m["type"] == "state" && pred(&m) {
-            return m;
-        }
-    }
-    panic!("no state with {what} in {max} messages");
 }
 
 fn send(ws: &mut Ws, v: serde_json::Value) {

@@ -30,7 +30,7 @@ pub(crate) fn next_json(ws: &mut Ws) -> serde_json::Value {
 }
 
 /// Reads states until `pred` holds; panics after `max` messages.
-fn until(
+pub(crate) fn until(
     ws: &mut Ws,
     max: usize,
     what: &str,
