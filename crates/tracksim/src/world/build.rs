@@ -43,7 +43,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
             .damping_ratio = z as f32;
     }
     let centre = start_centre(&views);
-    let origin = DVec3::new(shift_for(centre.0), shift_for(centre.1), 0.0);
+    let origin = start_origin(centre, !sc.terrain.soils.is_empty());
     insert_order_salt(&mut world, sc.solver.order_salt);
     let inserted = sc.terrain.insert_into(
         &mut world,
@@ -151,6 +151,21 @@ fn build_order(views: &[Arc<Scenario>]) -> Vec<usize> {
             .unwrap_or(std::cmp::Ordering::Equal)
     });
     order
+}
+
+/// Where the floating origin starts (world x, y; z 0), m, for robots whose start positions
+/// centre on `centre`: that centre itself, so the Rapier world holds the same f32 numbers
+/// wherever a scenario is placed (translating a file's robots and terrain together, or starting
+/// on a plane at another x, gives the same trajectory shifted; issue 38.3). With deformable
+/// soil the origin stays on whole metres: the soil's cells are indexed from it
+/// (`world/rut_grid.rs`), as before: rounded when the centre is more than
+/// [`super::origin::ORIGIN_SHIFT_M`] out, else 0.
+fn start_origin(centre: (f64, f64), soil: bool) -> DVec3 {
+    if soil {
+        DVec3::new(shift_for(centre.0), shift_for(centre.1), 0.0)
+    } else {
+        DVec3::new(centre.0, centre.1, 0.0)
+    }
 }
 
 /// The centre of the robots' start positions (x, y), m: where the floating origin starts.

@@ -8,7 +8,8 @@ use rapier3d::prelude::*;
 
 impl Simulation {
     /// World position of the Rapier world's origin, m: world = origin + Rapier coordinates.
-    /// Changes as the robots drive (whole metres in x and y; z is 0): it follows their centre.
+    /// Starts at the robots' start centre (on deformable soil: rounded to whole metres) and
+    /// changes by whole metres in x and y as they drive, following their centre; z is 0.
     pub fn origin(&self) -> DVec3 {
         self.origin
     }

@@ -18,8 +18,24 @@ use common::root;
 use tracksim::model::read_toml;
 use tracksim::spec::{BoxSpec, ScenarioSpec};
 
-/// Largest differences between the two runs: position (m) and linear velocity (m/s).
-fn differences(spec: &ScenarioSpec, dir: &std::path::Path) -> (f64, f64, usize) {
+/// Differences between the two runs.
+struct Differences {
+    /// Largest position difference over the run, m.
+    dp: f64,
+    /// Largest linear-velocity difference over the run, m/s.
+    dv: f64,
+    /// Largest linear-velocity difference in the [`KICK_WINDOW_S`] after the first shift, m/s:
+    /// the kick, if there is one.
+    dv_at_shift: f64,
+    /// Simulated time of the first shift, s (None: the window saw none).
+    shift_t: Option<f64>,
+}
+
+/// How long after a shift its kick is looked for, s (the kick of issue 23.1 came at the first
+/// step after the shift).
+const KICK_WINDOW_S: f64 = 0.25;
+
+fn differences(spec: &ScenarioSpec, dir: &std::path::Path) -> Differences {
     let run = |floating: bool| {
         let mut s = spec.clone();
         s.simulation.floating_origin = floating;
@@ -34,24 +50,37 @@ fn differences(spec: &ScenarioSpec, dir: &std::path::Path) -> (f64, f64, usize) 
     };
     let (a, b) = (run(true), run(false));
     assert_eq!(a.samples.len(), b.samples.len());
-    let mut shifts = 0;
-    let (mut dp, mut dv) = (0.0f64, 0.0f64);
+    // The Rapier world's origin starts at the start position; the floating run shifts when the
+    // chassis is more than ORIGIN_SHIFT_M from it (then every further ORIGIN_SHIFT_M or so).
+    let (x0, y0) = (spec.vehicle.x_m, spec.vehicle.y_m);
+    let beyond = tracksim::world::ORIGIN_SHIFT_M;
+    let mut d = Differences {
+        dp: 0.0,
+        dv: 0.0,
+        dv_at_shift: 0.0,
+        shift_t: None,
+    };
     for (x, y) in a.samples.iter().zip(&b.samples) {
-        let d = [
+        let p = [
             x.pose.x - y.pose.x,
             x.pose.y - y.pose.y,
             x.pose.z - y.pose.z,
         ];
-        dp = dp.max(d.iter().map(|v| v * v).sum::<f64>().sqrt());
-        let e: f64 = (0..3).map(|i| (x.linvel[i] - y.linvel[i]).powi(2)).sum();
-        dv = dv.max(e.sqrt());
-        // The floating run shifts when its x passes 2 m, then each further metre (roughly:
-        // the shift rounds): at least one must have happened in the window.
-        if x.pose.x > 2.0 + shifts as f64 {
-            shifts += 1;
+        d.dp = d.dp.max(p.iter().map(|v| v * v).sum::<f64>().sqrt());
+        let e = (0..3)
+            .map(|i| (x.linvel[i] - y.linvel[i]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        d.dv = d.dv.max(e);
+        if d.shift_t.is_none() && ((x.pose.x - x0).abs() > beyond || (x.pose.y - y0).abs() > beyond)
+        {
+            d.shift_t = Some(x.t);
+        }
+        if d.shift_t.is_some_and(|t| x.t <= t + KICK_WINDOW_S) {
+            d.dv_at_shift = d.dv_at_shift.max(e);
         }
     }
-    (dp, dv, shifts)
+    d
 }
 
 /// A plate through the origin at `angle_deg` (positive: rising towards +x), the PackBot on it
@@ -79,17 +108,24 @@ fn slope(angle_deg: f64, x0: f64, t: f64) -> ScenarioSpec {
 #[test]
 fn slopes_up_and_down_do_not_see_the_origin_shift() {
     let dir = root().join("scenarios");
-    // x0 = 1.0: the chassis passes x = 2 m (the first shift) after about 3.3 s along the
-    // slope, and again at 3 m after another 3.3 s.
+    // x0 = 1.0: the chassis passes 2 m from its start (the first shift) after about 6.7 s
+    // along the slope.
     for angle in [-15.0, -5.0, 5.0, 15.0, 25.0] {
-        let (dp, dv, shifts) = differences(&slope(angle, 1.0, 8.0), &dir);
-        println!("slope {angle} deg: {shifts} shifts, max |dp| {dp:.2e} m, |dv| {dv:.2e} m/s");
-        assert!(shifts >= 1, "slope {angle}: no shift in the window");
+        let d = differences(&slope(angle, 1.0, 8.0), &dir);
+        println!(
+            "slope {angle} deg: shift at {:?} s, max |dp| {:.2e} m, |dv| {:.2e} m/s, at the \
+             shift {:.2e} m/s",
+            d.shift_t, d.dp, d.dv, d.dv_at_shift
+        );
+        assert!(d.shift_t.is_some(), "slope {angle}: no shift in the window");
         // The kick was metres per second; what is left is f32 noise of the two arrangements
-        // grown over 8 s of contact: micrometres and mm/s.
+        // grown over the run after the shift: micrometres and mm/s.
         assert!(
-            dp < 1e-3 && dv < 0.02,
-            "slope {angle} deg: {dp} m, {dv} m/s"
+            d.dp < 1e-3 && d.dv < 0.02 && d.dv_at_shift < 0.01,
+            "slope {angle} deg: {} m, {} m/s, {} m/s at the shift",
+            d.dp,
+            d.dv,
+            d.dv_at_shift
         );
     }
 }
@@ -100,9 +136,22 @@ fn mesh_and_height_field_do_not_see_the_origin_shift() {
     for (file, t) in [("packbot_mesh.toml", 12.0), ("packbot_rough.toml", 10.0)] {
         let mut s: ScenarioSpec = read_toml(&dir.join(file)).unwrap();
         s.simulation.duration_s = t;
-        let (dp, dv, shifts) = differences(&s, &dir);
-        println!("{file}: {shifts} shifts, max |dp| {dp:.2e} m, |dv| {dv:.2e} m/s");
-        assert!(shifts >= 1, "{file}: no shift in the window");
-        assert!(dp < 5e-3 && dv < 0.05, "{file}: {dp} m, {dv} m/s");
+        let d = differences(&s, &dir);
+        println!(
+            "{file}: shift at {:?} s, max |dp| {:.2e} m, |dv| {:.2e} m/s, at the shift {:.2e} m/s",
+            d.shift_t, d.dp, d.dv, d.dv_at_shift
+        );
+        assert!(d.shift_t.is_some(), "{file}: no shift in the window");
+        // At the shift: measured 1e-4 m/s on the mesh (the kick was 3.2 m/s). Over the run
+        // the two arrangements' f32 noise grows on the rough surfaces (the mesh: 0.06 m/s
+        // from 1.3 s after the shift, in single samples of its grousers' impacts on edges)
+        // while the positions stay within millimetres.
+        assert!(
+            d.dp < 5e-3 && d.dv < 0.15 && d.dv_at_shift < 0.01,
+            "{file}: {} m, {} m/s, {} m/s at the shift",
+            d.dp,
+            d.dv,
+            d.dv_at_shift
+        );
     }
 }
