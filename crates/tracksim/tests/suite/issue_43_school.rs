@@ -316,46 +316,70 @@ fn a_jammed_flipper_stays_where_it_was() {
     assert!((end - 60.0).abs() < 2.0, "freed, it reached {end} deg");
 }
 
+/// The problems of the packbot_flat scenario under `method` with a fault entry `f` at 1 s, one
+/// per line (its compile must fail).
+fn refused(f: FaultSpec, method: &str) -> String {
+    let mut spec: ScenarioSpec =
+        tracksim::model::read_toml(&root().join("scenarios/packbot_flat.toml")).unwrap();
+    spec.simulation.method = method.into();
+    spec.commands.push(CommandSpec {
+        t_s: 1.0,
+        fault: Some(f),
+        ..CommandSpec::default()
+    });
+    let v = tracksim::model::load_vehicle(&root().join("vehicles/packbot510.toml")).unwrap();
+    let issues = tracksim::compile_scenario(&spec, v, &root().join("scenarios")).unwrap_err();
+    issues
+        .iter()
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The packbot_flat scenario file with `entry` appended (a `[[commands]]` entry's text),
+/// loaded from a temporary folder (`name` tells the tests' files apart).
+fn load_with_entry(name: &str, entry: &str) -> tracksim::Result<tracksim::Scenario> {
+    let text = std::fs::read_to_string(root().join("scenarios/packbot_flat.toml")).unwrap()
+        + "\n[[commands]]\nt_s = 1.0\n"
+        + entry
+        + "\n";
+    let dir = std::env::temp_dir().join(format!("tracksim-43-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("s.toml");
+    std::fs::write(
+        &f,
+        text.replace(
+            "../vehicles",
+            &root().join("vehicles").display().to_string(),
+        ),
+    )
+    .unwrap();
+    tracksim::load_scenario(&f)
+}
+
 /// Bad fault keys are refused with their key path and what to write instead.
 #[test]
 fn bad_faults_are_refused_naming_the_key() {
-    let bad = |f: FaultSpec, method: &str| {
-        let mut spec: ScenarioSpec =
-            tracksim::model::read_toml(&root().join("scenarios/packbot_flat.toml")).unwrap();
-        spec.simulation.method = method.into();
-        spec.commands.push(CommandSpec {
-            t_s: 1.0,
-            fault: Some(f),
-            ..CommandSpec::default()
-        });
-        let v = tracksim::model::load_vehicle(&root().join("vehicles/packbot510.toml")).unwrap();
-        let issues = tracksim::compile_scenario(&spec, v, &root().join("scenarios")).unwrap_err();
-        issues
-            .iter()
-            .map(|i| i.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
     let track = |n: &str, k: &str| FaultSpec {
         track: [(n.to_string(), k.to_string())].into(),
         ..FaultSpec::default()
     };
-    let e = bad(track("lft", "stopped"), "okada2020");
+    let e = refused(track("lft", "stopped"), "okada2020");
     assert!(
         e.contains("commands[1].fault.track.lft") && e.contains("no track called"),
         "{e}"
     );
-    let e = bad(track("left", "broken"), "okada2020");
+    let e = refused(track("left", "broken"), "okada2020");
     assert!(
         e.contains("commands[1].fault.track.left") && e.contains("\"unpowered\""),
         "{e}"
     );
-    let e = bad(track("left", "unpowered"), "constraint_to_ground");
+    let e = refused(track("left", "unpowered"), "constraint_to_ground");
     assert!(
         e.contains("commands[1].fault.track") && e.contains("\"stopped\""),
         "{e}"
     );
-    let e = bad(
+    let e = refused(
         FaultSpec {
             latency_s: Some(-1.0),
             video: Some("snow".into()),
@@ -367,7 +391,22 @@ fn bad_faults_are_refused_naming_the_key() {
     for key in ["fault.latency_s", "fault.video", "fault.flipper.tail"] {
         assert!(e.contains(&format!("commands[1].{key}")), "{key} in {e}");
     }
-    let e = bad(
+    // An unknown key of the table is refused by the parser, naming it.
+    let e = load_with_entry(
+        "bad",
+        "fault = { track = { left = \"stopped\" }, lag_s = 1 }",
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("lag_s"), "{e}");
+}
+
+/// A bad low-friction patch is refused naming its key (a non-finite centre, a side of 0, a
+/// friction above 2, a word other than "ok", an unknown key of its table, a centre of three
+/// numbers); a good one and "ok" are read back from a file as written.
+#[test]
+fn bad_patches_are_refused_naming_the_key() {
+    let e = refused(
         FaultSpec {
             patch: Some(PatchSpec::Area(PatchArea {
                 centre_m: [f64::NAN, 0.0],
@@ -384,7 +423,7 @@ fn bad_faults_are_refused_naming_the_key() {
             "{key} in {e}"
         );
     }
-    let e = bad(
+    let e = refused(
         FaultSpec {
             patch: Some(PatchSpec::Word("wet".into())),
             ..FaultSpec::default()
@@ -395,36 +434,7 @@ fn bad_faults_are_refused_naming_the_key() {
         e.contains("commands[1].fault.patch") && e.contains("use \"ok\" to remove"),
         "{e}"
     );
-    // An unknown key of the table is refused by the parser, naming it.
-    let text = std::fs::read_to_string(root().join("scenarios/packbot_flat.toml")).unwrap()
-        + "\n[[commands]]\nt_s = 1.0\nfault = { track = { left = \"stopped\" }, lag_s = 1 }\n";
-    let dir = std::env::temp_dir().join(format!("tracksim-43-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let f = dir.join("s.toml");
-    std::fs::write(
-        &f,
-        text.replace(
-            "../vehicles",
-            &root().join("vehicles").display().to_string(),
-        ),
-    )
-    .unwrap();
-    let e = tracksim::load_scenario(&f).unwrap_err().to_string();
-    assert!(e.contains("lag_s"), "{e}");
-    // So is one of the patch's table (its keys listed), and a patch read back from a file.
-    let patched = |entry: &str| {
-        let t = text
-            .replace(
-                "../vehicles",
-                &root().join("vehicles").display().to_string(),
-            )
-            .replace(
-                "fault = { track = { left = \"stopped\" }, lag_s = 1 }",
-                &format!("fault.patch = {entry}"),
-            );
-        std::fs::write(&f, t).unwrap();
-        tracksim::load_scenario(&f)
-    };
+    let patched = |entry: &str| load_with_entry("patch", &format!("fault.patch = {entry}"));
     let e = patched("{ centre_m = [0, 0], size_m = [1, 1], mu = 0.1 }")
         .unwrap_err()
         .to_string();
@@ -434,9 +444,8 @@ fn bad_faults_are_refused_naming_the_key() {
         .to_string();
     assert!(e.contains("centre_m"), "{e}");
     let sc = patched("{ centre_m = [1, 2], size_m = [3, 4], friction = 0.1 }").unwrap();
-    let p = sc.commands.last().unwrap().controls.faults.patch;
     assert_eq!(
-        p,
+        sc.commands.last().unwrap().controls.faults.patch,
         Some(Some(tracksim::model::FrictionPatch {
             centre: [1.0, 2.0],
             size: [3.0, 4.0],
