@@ -822,7 +822,8 @@ fn forward_at(log: &tracksim::run::CommandLog, forward: f64) -> f64 {
 /// Added latency in a session of several robots: the instructor gives robot `red` 0.4 s of
 /// latency; both trainees send a control while the session is paused, so the session takes
 /// both at the resume's time exactly; red's is applied and recorded 0.4 s later (within one
-/// output interval), blue's at once. The session replays byte for byte for both robots.
+/// output interval), blue's at once. The session replays byte for byte for both robots. The
+/// instructor's reset of one robot is refused there, with the reason.
 #[test]
 fn latency_in_a_team_session_delays_only_that_robot() {
     let file = root().join("scenarios/team/race_step.toml");
@@ -848,6 +849,13 @@ fn latency_in_a_team_session_delays_only_that_robot() {
     let itoken = hub.instructor_token().unwrap().to_string();
     let (mut ins, _) = tungstenite::connect(format!("ws://{addr}/ws?instructor={itoken}")).unwrap();
     assert_eq!(hello_of(&mut ins)["role"], "instructor");
+    // A reset of one robot is not in a session of several robots: refused, saying why.
+    send(&mut ins, serde_json::json!({"type":"reset","robot":"red"}));
+    let e = error_of(&mut ins, 500);
+    assert!(
+        e.contains("not in a session of several robots") && e.contains("restart every robot"),
+        "{e}"
+    );
     send(
         &mut ins,
         serde_json::json!({"type":"fault","robot":"red","fault":{"latency_s":0.4}}),
