@@ -1068,7 +1068,7 @@ test('review of a course run (issue 43): the course panel at the replay time, th
   }
 });
 
-test('the instructor (issue 43): pause stops simulated time, a track stop and a video drop, a reset keeps the attempt', async () => {
+test('the instructor (issue 43): pause stops simulated time, a track stop, a video drop and a low-friction patch, a reset keeps the attempt', async () => {
   const dir = path.join(tmp, 'instructor');
   const child = spawn(bin, ['drive', 'scenarios/packbot_flat.toml', '--port', '0', '--out', dir, '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
   let printed = '';
@@ -1116,6 +1116,15 @@ test('the instructor (issue 43): pause stops simulated time, a track stop and a 
     await teacher.waitForFunction(() => window.tracksim.state.faults?.track?.includes('stopped'), null, { timeout: 20000 });
     // The HUD is redrawn on its own frames (slower in a loaded headless browser): wait for it.
     await teacher.waitForFunction(() => /faults +track \w+ stopped/.test(document.getElementById('hud').textContent), null, { timeout: 20000 });
+    // A low-friction patch put under the robot from the panel: in the state, drawn on both
+    // pages (a wet patch is visible in reality), listed on the instructor's HUD.
+    await teacher.fill('#i-patch-mu', '0.15');
+    await teacher.click('#i-patch-put');
+    for (const p of [trainee, teacher]) {
+      await p.waitForFunction(() => window.tracksim.patch?.friction === 0.15 && window.tracksim.patchDrawn > 0 && window.tracksim.state.faults.patch?.size_m[0] === 2, null, { timeout: 20000 });
+    }
+    await teacher.waitForFunction(() => /low-friction patch 0\.15 \(2\.0 x 2\.0 m/.test(document.getElementById('hud').textContent), null, { timeout: 20000 });
+    await trainee.screenshot({ path: path.join(artifacts, 'instructor-patch-trainee.png') });
     // The video drops: the trainee sees NO SIGNAL, the instructor everything.
     await teacher.evaluate(() => window.tracksim.instructor.fault({ video: 'dropped' }));
     await trainee.waitForFunction(() => window.tracksim.noSignal === true, null, { timeout: 20000 });
@@ -1142,6 +1151,7 @@ test('the instructor (issue 43): pause stops simulated time, a track stop and a 
   const commands = fs.readFileSync(path.join(first, 'commands.toml'), 'utf8');
   assert.match(commands, /= "stopped"/);
   assert.match(commands, /video = "dropped"/);
+  assert.match(commands, /friction = 0\.15/);
   const summary = JSON.parse(fs.readFileSync(path.join(dir, 'summary.json'), 'utf8'));
   assert.deepEqual(summary.attempts.map((a) => a.folder), ['attempts/1', '.']);
   const kinds = JSON.parse(fs.readFileSync(path.join(first, 'summary.json'), 'utf8')).events.map((e) => e.kind);

@@ -5,6 +5,8 @@
 //! - two trainees drive the two seats of a `[[vehicles]]` file over WebSocket, each named in
 //!   their robot's `summary.json` and in `team.json` with their score, and the session replays
 //!   byte for byte for both robots;
+//! - an instructor's command latency delays a trainee's control by that much in the recorded
+//!   controls, and the session still replays byte for byte;
 //! - `debrief.html` is written with a course run, self-contained, holding the run's numbers,
 //!   and `tracksim debrief DIR` writes the same page again.
 
@@ -265,6 +267,127 @@ fn two_trainees_drive_their_seats_and_the_session_replays_for_both() {
             "{name}'s replay is its session"
         );
     }
+}
+
+/// Sets a 30 s read timeout on `ws`: a server that stops answering fails the test (`next_json`
+/// gives `None`) instead of hanging it.
+fn bounded(ws: &mut Ws) {
+    if let tungstenite::stream::MaybeTlsStream::Plain(s) = ws.get_mut() {
+        s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    }
+}
+
+fn send(ws: &mut Ws, v: serde_json::Value) {
+    ws.send(Message::text(v.to_string())).unwrap();
+}
+
+/// The instructor pauses the session; the trainee sends `forward` m/s while it stands still;
+/// the instructor resumes. Returns the simulated time of the pause, s: the session takes the
+/// control at that time exactly (no sample passes while paused).
+fn control_while_paused(ins: &mut Ws, trainee: &mut Ws, forward: f64) -> f64 {
+    send(ins, serde_json::json!({"type": "pause"}));
+    let held = until(trainee, |s| s["paused"] == true).expect("paused");
+    control(trainee, forward, 0.0);
+    std::thread::sleep(Duration::from_millis(300));
+    send(ins, serde_json::json!({"type": "resume"}));
+    held["t"].as_f64().unwrap()
+}
+
+/// `(t_s, forward_mps)` of every `[[commands]]` entry of a `commands.toml` that has both.
+fn forward_entries(text: &str) -> Vec<(f64, f64)> {
+    text.split("[[commands]]")
+        .skip(1)
+        .filter_map(|entry| {
+            let value = |key: &str| {
+                entry
+                    .lines()
+                    .find_map(|l| l.strip_prefix(key))
+                    .and_then(|v| v.trim().parse::<f64>().ok())
+            };
+            Some((value("t_s = ")?, value("forward_mps = ")?))
+        })
+        .collect()
+}
+
+/// An instructor's command latency end to end (`tracksim drive`, every packet on 127.0.0.1):
+/// with `latency_s = 0.5` a trainee's control taken at the resume of a pause (a known
+/// simulated time) is applied and recorded in `commands.toml` 0.5 s later (within one output
+/// interval); with the latency cleared the next is recorded at its resume's time exactly. The
+/// printed command replays the session byte for byte.
+#[test]
+fn a_trainees_control_under_latency_is_applied_that_much_later() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("latency");
+    let mut p = spawn(&[
+        "drive",
+        "scenarios/packbot_flat.toml",
+        "--port",
+        "0",
+        "--duration",
+        "20",
+        "--speed",
+        "2",
+        "--wait-for-page",
+        "--no-plot",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let (addr, token) = p.address_and_token();
+    let itoken = p.instructor_token();
+    let (mut ws, _) = tungstenite::connect(format!("ws://{addr}/ws?session={token}")).unwrap();
+    let (mut ins, _) = tungstenite::connect(format!("ws://{addr}/ws?instructor={itoken}")).unwrap();
+    bounded(&mut ws);
+    bounded(&mut ins);
+    let fault = |ins: &mut Ws, l: f64| {
+        send(
+            ins,
+            serde_json::json!({"type": "fault", "fault": {"latency_s": l}}),
+        );
+    };
+    fault(&mut ins, 0.5);
+    until(&mut ws, |s| s["faults"]["latency_s"] == 0.5).expect("latency in force");
+    let late = control_while_paused(&mut ins, &mut ws, 0.3);
+    let on = until(&mut ws, |s| s["control"]["forward_mps"] == 0.3).expect("applied");
+    // Live too: the control in force shows no earlier than 0.5 s after it was taken.
+    assert!(on["t"].as_f64().unwrap() >= late + 0.5 - 1e-9, "{on}");
+    fault(&mut ins, 0.0);
+    until(&mut ws, |s| s["faults"]["latency_s"] == 0.0).expect("latency cleared");
+    let prompt = control_while_paused(&mut ins, &mut ws, 0.1);
+    until(&mut ws, |s| s["control"]["forward_mps"] == 0.1).expect("applied");
+    send(&mut ins, serde_json::json!({"type": "end"}));
+    while next_json(&mut ws).is_some() {}
+    let (code, stdout, stderr) = p.finish(Duration::from_secs(120));
+    assert_eq!(code, 0, "{stdout:?} {stderr:?}");
+    let commands = read(&out.join("commands.toml"));
+    assert!(commands.contains("latency_s = 0.5"), "{commands}");
+    let entries = forward_entries(&commands);
+    let first = |v: f64| {
+        entries
+            .iter()
+            .find(|e| e.1 == v)
+            .unwrap_or_else(|| panic!("no {v} m/s in {entries:?}"))
+            .0
+    };
+    let interval = 0.01; // scenarios/packbot_flat.toml's output interval, s
+    let (t_late, t_prompt) = (first(0.3), first(0.1));
+    println!(
+        "taken at {late} s, recorded at {t_late} s; without latency {prompt} s -> {t_prompt} s"
+    );
+    assert!(
+        t_late >= late + 0.5 - 1e-9 && t_late < late + 0.5 + interval,
+        "taken at {late} s under 0.5 s of latency, recorded at {t_late} s"
+    );
+    assert!(
+        (t_prompt - prompt).abs() < 1e-9,
+        "taken at {prompt} s without latency, recorded at {t_prompt} s"
+    );
+    let replay = tmp.path().join("replay");
+    run_into(&reproduce_args(&stdout), &replay);
+    assert_eq!(
+        read(&replay.join("trajectory.csv")),
+        read(&out.join("trajectory.csv")),
+        "the replay is the session"
+    );
 }
 
 /// Every `src="..."` and `href="..."` value of `html`.

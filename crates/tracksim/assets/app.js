@@ -878,6 +878,7 @@ function faultLine(f) {
   (f.flipper ?? []).forEach((k, i) => { if (k !== 'ok') parts.push(`flipper ${flipperNames[i]} ${k}`); });
   if (f.latency_s > 0) parts.push(`latency ${fmt(f.latency_s, 2)} s`);
   if (f.video === 'dropped') parts.push('video dropped');
+  if (f.patch) parts.push(`low-friction patch ${fmt(f.patch.friction, 2)} (${fmt(f.patch.size_m[0], 1)} x ${fmt(f.patch.size_m[1], 1)} m at x ${fmt(f.patch.centre_m[0], 1)}, y ${fmt(f.patch.centre_m[1], 1)} m)`);
   return `faults     ${parts.length ? parts.join(', ') : 'none'}`;
 }
 const robotOf = (msg) => (api.robots.length > 1 && api.robot ? { ...msg, robot: api.robot } : msg);
@@ -915,9 +916,63 @@ function showInstructorPanel() {
   lat.querySelector('button').addEventListener('click', () => api.instructor.fault({ latency_s: Number(lat.querySelector('input').value) }));
   const vid = row(`trainee's video ${select(['ok', 'dropped'])}`);
   vid.querySelector('select').addEventListener('change', (e) => api.instructor.fault({ video: e.target.value }));
+  // A low-friction patch (friction, a square of side, its centre this far ahead of the robot).
+  const pat = row('patch friction <input id="i-patch-mu" type="number" min="0" max="2" step="0.05" value="0.1" style="width:4em">'
+    + ' side <input id="i-patch-side" type="number" min="0.1" step="0.5" value="2" style="width:3.5em"> m'
+    + ' ahead <input id="i-patch-ahead" type="number" step="0.5" value="0" style="width:3.5em"> m'
+    + ' <button id="i-patch-put">put</button> <button id="i-patch-remove">remove</button>');
+  pat.querySelector('#i-patch-put').addEventListener('click', () => {
+    const [x, y, , , , yaw] = api.state?.pose ?? [0, 0, 0, 0, 0, 0];
+    const num = (id) => Number(pat.querySelector(id).value);
+    const side = num('#i-patch-side'), ahead = num('#i-patch-ahead');
+    api.instructor.fault({ patch: { centre_m: [x + ahead * Math.cos(yaw), y + ahead * Math.sin(yaw)], size_m: [side, side], friction: num('#i-patch-mu') } });
+  });
+  pat.querySelector('#i-patch-remove').addEventListener('click', () => api.instructor.fault({ patch: 'ok' }));
   document.body.appendChild(p);
   $('stop').textContent = 'End session (instructor)';
   setInterval(() => { b.querySelector('#i-pause').textContent = api.state?.paused ? 'Resume' : 'Pause'; }, 250);
+}
+
+// ---------- a low-friction patch on the ground (an instructor's fault, issue 43) ----------
+// Every page shows it (a wet or icy patch is visible in reality): a translucent blue sheet
+// draped 5 mm over the ground inside the patch's rectangle (heights by downward rays); the
+// instructor's HUD lists it with the faults. `api.patch`: the patch drawn (centre_m, size_m,
+// friction), or null; `api.patchDrawn`: its sheet's triangles.
+const patchMat = new THREE.MeshBasicMaterial({ color: 0x3a8fe0, transparent: true, opacity: 0.5, side: THREE.DoubleSide, depthWrite: false });
+let patchMesh = null, patchKey = '';
+api.patch = null;
+api.patchDrawn = 0;
+function showPatch(p, zNear) {
+  const key = p ? JSON.stringify(p) : '';
+  if (key === patchKey) return;
+  patchKey = key;
+  if (patchMesh) { world.remove(patchMesh); patchMesh.geometry.dispose(); patchMesh = null; }
+  api.patch = p ?? null;
+  api.patchDrawn = 0;
+  if (!p) return;
+  const [cx, cy] = p.centre_m, [sx, sy] = p.size_m;
+  const nx = Math.min(60, Math.max(1, Math.ceil(sx / 0.1))), ny = Math.min(60, Math.max(1, Math.ceil(sy / 0.1)));
+  const pos = [], idx = [];
+  for (let j = 0; j <= ny; j++) {
+    for (let i = 0; i <= nx; i++) {
+      const x = cx - sx / 2 + (sx * i) / nx, y = cy - sy / 2 + (sy * j) / ny;
+      pos.push(x, y, (groundAt(x, y, zNear + 20) ?? 0) + 0.005);
+    }
+  }
+  for (let j = 0; j < ny; j++) {
+    for (let i = 0; i < nx; i++) {
+      const a = j * (nx + 1) + i;
+      idx.push(a, a + 1, a + nx + 2, a, a + nx + 2, a + nx + 1);
+    }
+  }
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.Float32BufferAttribute(pos, 3));
+  g.setIndex(idx);
+  patchMesh = new THREE.Mesh(g, patchMat);
+  patchMesh.name = 'friction-patch';
+  patchMesh.renderOrder = 1;
+  world.add(patchMesh);
+  api.patchDrawn = idx.length / 3;
 }
 
 function liveFrame() {
@@ -925,6 +980,7 @@ function liveFrame() {
   const s = api.state;
   if (!s) { hud(['waiting for the simulation ...']); return; }
   const [x, y, z, roll, pitch, yaw] = s.pose;
+  showPatch(s.faults?.patch ?? null, z);
   // The onboard video and sensors dropped (an instructor's fault): the trainee's view stays
   // frozen at its last picture under "NO SIGNAL"; the instructor's page shows everything.
   api.noSignal = s.faults?.video === 'dropped' && api.role !== 'instructor';

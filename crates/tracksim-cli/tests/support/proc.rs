@@ -90,6 +90,19 @@ impl Proc {
         (addr, token)
     }
 
+    /// The instructor's token, from the instructor's URL `drive` prints (`?instructor=TOKEN`).
+    pub fn instructor_token(&mut self) -> String {
+        let line = match self.seen.iter().find(|l| l.contains("?instructor=")) {
+            Some(l) => l.clone(),
+            None => self.line_with("?instructor="),
+        };
+        line.split("?instructor=")
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .unwrap()
+            .to_string()
+    }
+
     /// Its resident memory, kB (`VmRSS`).
     pub fn rss_kb(&self) -> u64 {
         let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();

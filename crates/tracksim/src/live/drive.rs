@@ -419,7 +419,8 @@ pub(super) fn fault_check(sc: &Scenario) -> super::hub::FaultCheck {
             && !crate::model::models_unpowered(method)
         {
             return Err(format!(
-                "an unpowered track is not modelled by method {method}; use \"stopped\""
+                "an unpowered track is not modelled by method {method} (its belt is a speed \
+                 imposed on its contacts, with no drive to let go); use \"stopped\""
             ));
         }
         Ok(())

@@ -270,8 +270,9 @@ impl Hub {
             InstructorMessage::Reset { robot: r } => {
                 if self.team {
                     return Some(
-                        "a reset would start every robot again: not in a session of several \
-                         robots yet"
+                        "a reset of one robot is not in a session of several robots yet (one \
+                         world holds them all: a reset would restart every robot); end the \
+                         session and start a new one"
                             .into(),
                     );
                 }

@@ -8,7 +8,7 @@
 //! refused): `{"type":"pause"}`, `{"type":"resume"}`, `{"type":"end"}`,
 //! `{"type":"reset","robot":NAME?}`, `{"type":"fault","robot":NAME?,"fault":{...}}` with the
 //! `fault` table of a `[[commands]]` entry ([`crate::spec::FaultSpec`]: `track`, `flipper`,
-//! `latency_s`, `video`), checked against the scenario before it is queued.
+//! `latency_s`, `video`, `patch`), checked against the scenario before it is queued.
 //!
 //! The session takes the queued actions at each sample boundary (`Desk::take`): a pause
 //! holds the loop (simulated time stands still; the pacing clock is moved on by the pause),
@@ -101,6 +101,7 @@ impl Desk {
                             p.flipper.extend(f.flipper);
                             p.latency_s = f.latency_s.or(p.latency_s);
                             p.video = f.video.or(p.video);
+                            p.patch = f.patch.or(p.patch);
                             p
                         }
                     });
@@ -173,7 +174,8 @@ impl Desk {
 
     /// What a state of robot `k` carries of the instructor's seat: `paused`, and `faults`
     /// (`track`: each track's `ok`, `stopped` or `unpowered`; `flipper`: each flipper's `ok` or
-    /// `jammed`; `latency_s`; `video`: `ok` or `dropped`) read from `sim` (robot `k`
+    /// `jammed`; `latency_s`; `video`: `ok` or `dropped`; `patch`: the low-friction patch on
+    /// the ground, `centre_m`, `size_m`, `friction`, or null) read from `sim` (robot `k`
     /// selected).
     pub(super) fn fields(&self, k: usize, sim: &Simulation) -> Map<String, Value> {
         let tracks: Vec<&str> = (0..sim.track_names().len())
@@ -193,13 +195,16 @@ impl Desk {
         } else {
             "ok"
         };
+        let patch = sim
+            .friction_patch()
+            .map(|p| json!({"centre_m": p.centre, "size_m": p.size, "friction": p.friction}));
         let mut m = Map::new();
         m.insert("paused".into(), json!(self.paused));
         m.insert(
             "faults".into(),
             json!({
                 "track": tracks, "flipper": flippers,
-                "latency_s": self.latency_s(k), "video": video,
+                "latency_s": self.latency_s(k), "video": video, "patch": patch,
             }),
         );
         m
@@ -216,6 +221,14 @@ pub fn fault_words(f: &FaultSpec) -> String {
     }
     if let Some(v) = &f.video {
         parts.push(format!("video {v}"));
+    }
+    match &f.patch {
+        Some(crate::spec::PatchSpec::Area(a)) => parts.push(format!(
+            "low-friction patch (friction {}) of {} m x {} m at x {} m, y {} m",
+            a.friction, a.size_m[0], a.size_m[1], a.centre_m[0], a.centre_m[1]
+        )),
+        Some(crate::spec::PatchSpec::Word(w)) => parts.push(format!("patch {w}")),
+        None => {}
     }
     if parts.is_empty() {
         "nothing".into()

@@ -19,6 +19,7 @@ use super::drive::{
 };
 use super::hub::{DriveControl, Hub};
 use super::instructor::Desk;
+use super::latency::Delayed;
 use crate::error::Result;
 use crate::model::Scenario;
 use crate::run::{
@@ -39,8 +40,14 @@ pub struct TeamSession {
     pub controls: Vec<crate::run::SpillLog<DriveControl>>,
 }
 
-/// One seat's side of the session: the controls in force and recorded, the state feeds.
+/// One seat's side of the session: the driver's latest control, those on their way (an
+/// instructor's added latency), the controls in force and recorded, the state feeds.
 struct SeatState {
+    /// The driver's latest control (what it wants).
+    wanted: DriveControl,
+    /// The driver's controls on their way to the robot (`fault.latency_s`).
+    delayed: Delayed,
+    /// The controls in force (applied, after any latency).
     current: DriveControl,
     controls: crate::run::SpillLog<DriveControl>,
     feeds: Feeds,
@@ -52,7 +59,8 @@ struct Seats<'a> {
     speed: f64,
     seats: Vec<SeatState>,
     last_publish: Option<Instant>,
-    /// The instructor's seat: pause, end, faults (a reset restarts every robot: refused).
+    /// The instructor's seat: pause, end, faults and each robot's latency (a reset restarts
+    /// every robot: refused).
     desk: Desk,
     names: Vec<String>,
 }
@@ -84,16 +92,21 @@ impl WorldSource<TeamRunner> for Seats<'_> {
     }
 
     fn controls(&mut self, world: &TeamRunner, k: usize) -> Option<CommandSpec> {
+        let t = world.sim().time();
         let seat = &mut self.seats[k];
-        let changed = next_control(self.hub, k, &seat.current);
+        if let Some(c) = next_control(self.hub, k, &seat.wanted) {
+            seat.wanted = c.clone();
+            seat.delayed.push(t + self.desk.latency_s(k), c);
+        }
+        let applied = seat.delayed.due(t).filter(|c| *c != seat.current);
         let fault = self.desk.take_fault(k);
-        if changed.is_none() && fault.is_none() {
+        if applied.is_none() && fault.is_none() {
             return None;
         }
-        if let Some(c) = changed {
+        if let Some(c) = applied {
             seat.current = c;
         }
-        let mut cmd = to_command(world.robot_scenario(k), world.sim().time(), &seat.current);
+        let mut cmd = to_command(world.robot_scenario(k), t, &seat.current);
         cmd.fault = fault;
         Some(cmd)
     }
@@ -190,6 +203,8 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
             };
             SeatState {
                 controls: crate::run::SpillLog::from(vec![idle.clone()]),
+                wanted: idle.clone(),
+                delayed: Delayed::default(),
                 current: idle,
                 feeds: Feeds::default(),
             }
@@ -199,9 +214,6 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
         .map(|k| super::drive::fault_check(world.robot_scenario(k)))
         .collect();
     hub.set_fault_check(Box::new(move |k, f| match checks.get(k) {
-        _ if f.latency_s.is_some() => {
-            Err("added latency is not in a session of several robots yet".into())
-        }
         Some(check) => check(k, f),
         None => Err(format!("no robot {k}")),
     }));

@@ -648,8 +648,9 @@ fn unpowered_problems(c: &mut Checker, method: Method, commands: &[Command]) {
             c.push(
                 format!("commands[{i}].fault.track"),
                 format!(
-                    "an \"unpowered\" track is not modelled by method \"{method}\" (its belt has no \
-                     drive to let go); use okada2020 (any variant) or wheelsK, or \"stopped\""
+                    "an \"unpowered\" track is not modelled by method \"{method}\" (its belt is a \
+                     speed imposed on its contacts, with no drive to let go); use okada2020 (any \
+                     variant), wheelsK or plates, or \"stopped\""
                 ),
             );
         }

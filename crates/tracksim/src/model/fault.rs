@@ -3,10 +3,34 @@
 
 use super::{Method, VehicleModel};
 use crate::check::Checker;
-use crate::spec::FaultSpec;
+use crate::spec::{FaultSpec, PatchSpec};
 
 /// Longest added command latency, s.
 pub const MAX_LATENCY_S: f64 = 10.0;
+
+/// Largest friction coefficient of a low-friction patch (dimensionless): rubber on dry
+/// concrete is about 1; a patch is meant to be slippery.
+pub const MAX_PATCH_FRICTION: f64 = 2.0;
+
+/// A low-friction patch on the ground (`fault.patch`; a wet or icy patch): contacts of a
+/// robot with the fixed ground whose contact point lies inside the rectangle have its friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionPatch {
+    /// The rectangle's centre, world x and y, m.
+    pub centre: [f64; 2],
+    /// The rectangle's side lengths along world x and y, m.
+    pub size: [f64; 2],
+    /// The friction coefficient inside it, dimensionless.
+    pub friction: f64,
+}
+
+impl FrictionPatch {
+    /// Whether the world point (`x`, `y`) m lies inside the rectangle (its edges included).
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        (x - self.centre[0]).abs() <= 0.5 * self.size[0]
+            && (y - self.centre[1]).abs() <= 0.5 * self.size[1]
+    }
+}
 
 /// A track's fault.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -54,6 +78,8 @@ pub struct Faults {
     pub latency_s: Option<f64>,
     /// The trainee's onboard video dropped (true) or back (false). No effect on the physics.
     pub video_dropped: Option<bool>,
+    /// A low-friction patch put on the ground (`Some(Some(..))`) or removed (`Some(None)`).
+    pub patch: Option<Option<FrictionPatch>>,
 }
 
 impl Faults {
@@ -63,6 +89,7 @@ impl Faults {
             && self.flipper_jammed.iter().all(Option::is_none)
             && self.latency_s.is_none()
             && self.video_dropped.is_none()
+            && self.patch.is_none()
     }
 
     /// Whether it makes some track unpowered.
@@ -160,12 +187,58 @@ pub(crate) fn compile_faults(
             ),
         }
     }
+    if let Some(p) = &f.patch {
+        out.patch = compile_patch(c, &format!("{k}.fault.patch"), p);
+    }
     out
 }
 
-/// Whether `method` models an unpowered (free-wheeling) belt: the segment links and the
-/// wheels have joints whose drive can be let go; a belt of surface velocity
-/// (`constraint_to_ground`) or the plate chain's sprocket do not model it yet.
+/// Compiles a `fault.patch` value at key `key`: a rectangle of positive finite sides, a finite
+/// centre and a friction in [0, [`MAX_PATCH_FRICTION`]], or `"ok"` (removed).
+fn compile_patch(c: &mut Checker, key: &str, p: &PatchSpec) -> Option<Option<FrictionPatch>> {
+    let a = match p {
+        PatchSpec::Word(w) if w == "ok" => return Some(None),
+        PatchSpec::Word(w) => {
+            c.push(
+                key,
+                format!(
+                    "unknown patch state \"{}\"; use \"ok\" to remove the patch, or a table \
+                     {{ centre_m = [x, y], size_m = [a, b], friction = 0.1 }} to put one",
+                    crate::check::echoed(w)
+                ),
+            );
+            return None;
+        }
+        PatchSpec::Area(a) => a,
+    };
+    let before = c.issues.len();
+    c.finite(&format!("{key}.centre_m"), &a.centre_m);
+    for (i, s) in a.size_m.iter().enumerate() {
+        c.positive(&format!("{key}.size_m[{i}]"), *s, "m");
+    }
+    if !(a.friction.is_finite() && (0.0..=MAX_PATCH_FRICTION).contains(&a.friction)) {
+        c.push(
+            format!("{key}.friction"),
+            format!(
+                "must be a friction coefficient in [0, {MAX_PATCH_FRICTION}], got {}",
+                crate::check::num(a.friction)
+            ),
+        );
+    }
+    (c.issues.len() == before).then_some(Some(FrictionPatch {
+        centre: a.centre_m,
+        size: a.size_m,
+        friction: a.friction,
+    }))
+}
+
+/// Whether `method` models an unpowered (free-wheeling) belt: the segment links, the wheels
+/// and the plate chain's sprocket have joints whose drive can be let go. A belt of surface
+/// velocity (`constraint_to_ground`) cannot: it has no belt body or drive joint, only a speed
+/// imposed on its contacts, and Rapier's friction is one coefficient per contact manifold, the
+/// same in every direction, so a belt free along its length but gripping sideways has no
+/// expression there (a surface velocity equal to the ground's, renewed each step, would hold
+/// the speed along the belt like a brake within each step, not let it roll).
 pub fn models_unpowered(method: Method) -> bool {
     matches!(
         method,
@@ -174,5 +247,6 @@ pub fn models_unpowered(method: Method) -> bool {
             | Method::Okada2020LineTips
             | Method::Okada2020Clustered
             | Method::Wheels(_)
+            | Method::Plates
     )
 }

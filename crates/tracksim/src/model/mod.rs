@@ -91,7 +91,9 @@ pub use design::*;
 pub use drawbar::{Drawbar, DrawbarLoad};
 pub use expect::{DEFAULT_ENSEMBLE_MEMBERS, EnsembleExpectation, Expectation, Range};
 pub(crate) use fault::compile_faults;
-pub use fault::{Faults, MAX_LATENCY_S, TrackFault, models_unpowered};
+pub use fault::{
+    Faults, FrictionPatch, MAX_LATENCY_S, MAX_PATCH_FRICTION, TrackFault, models_unpowered,
+};
 pub use load::{load_scenario, load_scenario_with, load_template};
 pub use method::Method;
 pub(crate) use motor::compile_motor;

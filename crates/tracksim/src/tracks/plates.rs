@@ -113,6 +113,8 @@ pub struct Plates {
     position: f64,
     speed_cmd: f64,
     speed_measured: f64,
+    /// The sprocket's drive let go (an instructor's fault): the chain free-wheels.
+    unpowered: bool,
 }
 
 /// A point of the hinge line (the loop moved inwards by `inset`) at loop arc length `s`.
@@ -484,6 +486,7 @@ impl Plates {
             position: 0.0,
             speed_cmd: 0.0,
             speed_measured: 0.0,
+            unpowered: false,
         })
     }
 }
@@ -503,10 +506,31 @@ impl Track for Plates {
         self.speed_cmd
     }
 
-    /// The chain is free: only the belt position is integrated and the speed measured.
+    fn holds_belt(&self) -> bool {
+        !self.unpowered && self.speed_cmd == 0.0
+    }
+
+    /// Unpowered: the sprocket's motor gives no torque (its force limit 0), so the sprocket,
+    /// the idlers and the chain turn freely, as the ground and the vehicle move them.
+    fn set_unpowered(&mut self, world: &mut PhysicsWorld, unpowered: bool) -> bool {
+        self.unpowered = unpowered;
+        let cap = if unpowered { 0.0 } else { f32::MAX };
+        if let Some(j) = world.impulse_joints.get_mut(self.sprocket_joint, true) {
+            j.data.set_motor_max_force(JointAxis::AngX, cap);
+        }
+        true
+    }
+
+    /// The chain is free: only the belt position is integrated (the commanded speed; the
+    /// measured one while unpowered) and the speed measured.
     fn after_step(&mut self, world: &mut PhysicsWorld, dt: f64) {
-        self.position += self.speed_cmd * dt;
+        if !self.unpowered {
+            self.position += self.speed_cmd * dt;
+        }
         self.speed_measured = self.measured_belt_speed_now(world);
+        if self.unpowered {
+            self.position += self.speed_measured * dt;
+        }
     }
 
     fn belt_position(&self) -> f64 {

@@ -83,6 +83,8 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         slop: sc.solver.contact_slop as f32,
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
         held_at_rest: false,
+        friction_patch: None,
+        ground_hooked: false,
         rest_positions: Vec::new(),
         springs,
         ground_tile,

@@ -3,13 +3,17 @@
 //! take the first match and return, so a track's own contact code never ran on soil):
 //!
 //! 1. soil (`world/soil.rs`): how deep the part may sink and the soil's shear limit;
+//!    then a low-friction patch's friction on ground contacts inside it (`fault.patch`,
+//!    `world/friction_patch.rs`), when the world has one;
 //! 2. the track's own contacts (`Track::modify_contacts`: constraint-to-ground's belt speed);
 //! 3. compliance of grousers and belts (`[tracks.compliance]`, `world/compliance.rs`);
 //! 4. the contact slop (`simulation.contact_slop_m`, ODE's `min_depth`) on every track
 //!    contact, whatever the method.
 
 use super::compliance::{SolverSpring, apply_compliance};
+use super::friction_patch::apply_patch;
 use super::soil::modify_soil_contacts;
+use crate::model::FrictionPatch;
 use crate::terrain::tagged_soil;
 use crate::tracks::{SLOP_TAG, Track, TrackContact, tagged_compliance, tagged_track};
 use rapier3d::prelude::*;
@@ -29,6 +33,8 @@ pub(crate) struct ContactHooks<'a> {
     pub soil: Option<&'a super::soil::SoilState>,
     /// The floating origin (world position of the Rapier origin), m.
     pub origin: glam::DVec3,
+    /// The low-friction patch on the ground (`fault.patch`), if one is in force.
+    pub patch: Option<&'a FrictionPatch>,
 }
 
 /// Applies the slop to every solver contact of the pair.
@@ -83,6 +89,9 @@ impl ContactHooks<'_> {
     fn soil_stage(&self, ctx: &mut ContactModificationContext, u1: u128, u2: u128) {
         if let (Some(state), Some(i)) = (self.soil, tagged_soil(u1).or(tagged_soil(u2))) {
             modify_soil_contacts(ctx, state, i, self.origin);
+        }
+        if let Some(p) = self.patch {
+            apply_patch(ctx, p, self.origin);
         }
     }
 

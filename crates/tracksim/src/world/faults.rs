@@ -1,12 +1,13 @@
 //! `impl Simulation`: faults applied to the selected robot (issue 43): a track stopped (its
 //! belt held at 0 m/s whatever is commanded) or unpowered (its drive lets go: the belt
 //! free-wheels), a flipper jammed (held at the angle it has), each cleared by `"ok"`, after
-//! which the latest command applies again. The setters of `simulation.rs` consult the state
+//! which the latest command applies again; and the world's low-friction patch (the contact
+//! hook's stage in `friction_patch.rs`). The setters of `simulation.rs` consult the state
 //! (`fault_state.rs`); a robot without faults steps exactly as before.
 
 use super::Simulation;
 use super::fault_state::BeltCommand;
-use crate::model::{Faults, TrackFault};
+use crate::model::{Faults, FrictionPatch, TrackFault};
 
 impl Simulation {
     /// Sets or clears the faults `f` names on the selected robot.
@@ -21,6 +22,25 @@ impl Simulation {
                 self.set_flipper_jammed(i, *j);
             }
         }
+        if let Some(p) = f.patch {
+            self.set_friction_patch(p);
+        }
+    }
+
+    /// Puts a low-friction patch on the ground (replacing the one before) or removes it
+    /// (`None`): the world's, whichever robot is selected. Ground contacts of every robot whose
+    /// contact point lies inside it take its friction coefficient from the next step on.
+    pub fn set_friction_patch(&mut self, patch: Option<FrictionPatch>) {
+        if patch.is_some() && !self.ground_hooked {
+            super::friction_patch::hook_the_ground(&mut self.world);
+            self.ground_hooked = true;
+        }
+        self.friction_patch = patch;
+    }
+
+    /// The low-friction patch on the ground, if one is in force.
+    pub fn friction_patch(&self) -> Option<FrictionPatch> {
+        self.friction_patch
     }
 
     /// The fault of the selected robot's track `i`.

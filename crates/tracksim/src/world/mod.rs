@@ -17,7 +17,8 @@
 //!   shift rule), `sample` ([`Sample`], [`PoseRpy`]), `track_loads` ([`TrackLoad`]), `mass`
 //!   ([`MassReport`]), `at_rest` (when a braked robot is at rest), `soil` (deformable soil:
 //!   Bekker, Mohr-Coulomb, Janosi; its state, the contact hook's stage and the after-step
-//!   update) and `rut_grid` (the bounded grid of ruts and shear displacement).
+//!   update), `rut_grid` (the bounded grid of ruts and shear displacement) and
+//!   `friction_patch` (the contact hook's stage of a low-friction patch: issue 43).
 //! - `impl Simulation`: `simulation` (construction, controls, basic queries), `build` (the
 //!   build stages of [`Simulation::new`] and the overlap check), `robots` (selection),
 //!   `step` (the stages of one step), `contacts` (the contact hook: soil, the track's own
@@ -25,7 +26,7 @@
 //!   terrain's force on each track), `floating_origin` (the shift of the f32 world near the
 //!   robots), `mass_stage` (floored link masses taken back from their parents; the report),
 //!   `drawbar_pull`, `conveyor_queries`, `faults` (a track stopped or unpowered, a flipper
-//!   jammed: issue 43).
+//!   jammed, a low-friction patch on the ground: issue 43).
 
 #![warn(clippy::too_many_lines)]
 
@@ -42,6 +43,7 @@ mod fault_state;
 mod faults;
 mod flipper;
 mod floating_origin;
+mod friction_patch;
 mod loads;
 mod mass;
 mod mass_stage;
@@ -131,4 +133,8 @@ pub struct Simulation {
     soil: Option<soil::SoilState>,
     /// The colour of every collider in camera images.
     appearance: Appearance,
+    /// The low-friction patch on the ground (`fault.patch`, issue 43), if one is in force.
+    friction_patch: Option<crate::model::FrictionPatch>,
+    /// Whether the ground's colliders ask for the contact hook (since the first patch).
+    ground_hooked: bool,
 }

@@ -33,6 +33,7 @@ impl Simulation {
             dt: self.dt as f32,
             soil: self.soil.as_ref(),
             origin: self.origin,
+            patch: self.friction_patch.as_ref(),
         };
         // After an origin shift no pair may keep contacts frozen at the old place. Held at
         // rest on motors neither: their held belt position moves by the solver's residual, the

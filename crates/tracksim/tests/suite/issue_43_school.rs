@@ -11,7 +11,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use tracksim::Scripted;
 use tracksim::live::{DriveOptions, Hub, Mode, Server};
-use tracksim::spec::{CommandSpec, FaultSpec, PerTrack, ScenarioSpec};
+use tracksim::spec::{CommandSpec, FaultSpec, PatchArea, PatchSpec, PerTrack, ScenarioSpec};
 use tungstenite::Message;
 
 /// A fault entry at `t` s: tracks by name to `track` faults, flippers to `flipper` ones.
@@ -177,6 +177,71 @@ fn an_unpowered_belt_free_wheels_with_no_motor_torque() {
     );
 }
 
+/// The plate chain (`plates`) unpowered: the sprocket's motor lets go, so the chain of the
+/// left track, driven backwards at -0.3 m/s in a spin, runs with the ground under it
+/// (forwards) within 0.06 m/s on average; given back (`"ok"`), it is driven backwards again.
+#[test]
+fn an_unpowered_plate_chain_free_wheels() {
+    let spin = |more: Vec<CommandSpec>| {
+        let mut c = vec![CommandSpec {
+            t_s: 0.0,
+            belt_speed_mps: Some(PerTrack::ByName(
+                [("left".to_string(), -0.3), ("right".to_string(), 0.3)].into(),
+            )),
+            ..CommandSpec::default()
+        }];
+        c.extend(more);
+        common::packbot(
+            |s: &mut ScenarioSpec| {
+                s.simulation.method = "plates".into();
+                s.simulation.duration_s = 3.0;
+                s.expect = Default::default();
+                s.commands = c;
+            },
+            |_| {},
+        )
+    };
+    let sc = spin(vec![fault_at(1.0, &[("left", "unpowered")], &[])]);
+    let left = sc.vehicle.track_index("left").unwrap();
+    let run = samples(&sc);
+    let before = run.iter().find(|s| s.t > 0.9).unwrap();
+    assert!(
+        before.belt_speed[left] < -0.2,
+        "driven backwards: {}",
+        before.belt_speed[left]
+    );
+    let late: Vec<_> = run.iter().filter(|s| s.t > 1.8).collect();
+    let n = late.len() as f64;
+    let mean = late.iter().map(|s| s.belt_speed[left]).sum::<f64>() / n;
+    let ground = late.iter().map(|s| ground_speed(&sc, s, left)).sum::<f64>() / n;
+    let off = late
+        .iter()
+        .map(|s| (s.belt_speed[left] - ground_speed(&sc, s, left)).abs())
+        .sum::<f64>()
+        / n;
+    println!(
+        "plates unpowered: belt {mean:.4} m/s, ground under it {ground:.4} m/s, mean off {off:.4} m/s"
+    );
+    // The belt speed reported is the sprocket's (a free wheel now, turned by the chain through
+    // friction and the chain's polygon): it lags the ground's by a few cm/s (0.040 m/s
+    // measured), where a driven chain would run at -0.3 m/s, 0.55 m/s off.
+    assert!(
+        off < 0.06,
+        "the free chain strays {off} m/s from the ground's speed on average"
+    );
+    assert!(mean > 0.1, "the free chain rolls forwards: {mean} m/s");
+    let back = spin(vec![
+        fault_at(1.0, &[("left", "unpowered")], &[]),
+        fault_at(2.2, &[("left", "ok")], &[]),
+    ]);
+    let end = samples(&back).last().unwrap().clone();
+    assert!(
+        end.belt_speed[left] < -0.2,
+        "driven backwards again: {}",
+        end.belt_speed[left]
+    );
+}
+
 /// When the flipper jams on its way, s.
 const JAM_S: f64 = 0.02;
 
@@ -251,46 +316,70 @@ fn a_jammed_flipper_stays_where_it_was() {
     assert!((end - 60.0).abs() < 2.0, "freed, it reached {end} deg");
 }
 
+/// The problems of the packbot_flat scenario under `method` with a fault entry `f` at 1 s, one
+/// per line (its compile must fail).
+fn refused(f: FaultSpec, method: &str) -> String {
+    let mut spec: ScenarioSpec =
+        tracksim::model::read_toml(&root().join("scenarios/packbot_flat.toml")).unwrap();
+    spec.simulation.method = method.into();
+    spec.commands.push(CommandSpec {
+        t_s: 1.0,
+        fault: Some(f),
+        ..CommandSpec::default()
+    });
+    let v = tracksim::model::load_vehicle(&root().join("vehicles/packbot510.toml")).unwrap();
+    let issues = tracksim::compile_scenario(&spec, v, &root().join("scenarios")).unwrap_err();
+    issues
+        .iter()
+        .map(|i| i.to_string())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The packbot_flat scenario file with `entry` appended (a `[[commands]]` entry's text),
+/// loaded from a temporary folder (`name` tells the tests' files apart).
+fn load_with_entry(name: &str, entry: &str) -> tracksim::Result<tracksim::Scenario> {
+    let text = std::fs::read_to_string(root().join("scenarios/packbot_flat.toml")).unwrap()
+        + "\n[[commands]]\nt_s = 1.0\n"
+        + entry
+        + "\n";
+    let dir = std::env::temp_dir().join(format!("tracksim-43-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("s.toml");
+    std::fs::write(
+        &f,
+        text.replace(
+            "../vehicles",
+            &root().join("vehicles").display().to_string(),
+        ),
+    )
+    .unwrap();
+    tracksim::load_scenario(&f)
+}
+
 /// Bad fault keys are refused with their key path and what to write instead.
 #[test]
 fn bad_faults_are_refused_naming_the_key() {
-    let bad = |f: FaultSpec, method: &str| {
-        let mut spec: ScenarioSpec =
-            tracksim::model::read_toml(&root().join("scenarios/packbot_flat.toml")).unwrap();
-        spec.simulation.method = method.into();
-        spec.commands.push(CommandSpec {
-            t_s: 1.0,
-            fault: Some(f),
-            ..CommandSpec::default()
-        });
-        let v = tracksim::model::load_vehicle(&root().join("vehicles/packbot510.toml")).unwrap();
-        let issues = tracksim::compile_scenario(&spec, v, &root().join("scenarios")).unwrap_err();
-        issues
-            .iter()
-            .map(|i| i.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    };
     let track = |n: &str, k: &str| FaultSpec {
         track: [(n.to_string(), k.to_string())].into(),
         ..FaultSpec::default()
     };
-    let e = bad(track("lft", "stopped"), "okada2020");
+    let e = refused(track("lft", "stopped"), "okada2020");
     assert!(
         e.contains("commands[1].fault.track.lft") && e.contains("no track called"),
         "{e}"
     );
-    let e = bad(track("left", "broken"), "okada2020");
+    let e = refused(track("left", "broken"), "okada2020");
     assert!(
         e.contains("commands[1].fault.track.left") && e.contains("\"unpowered\""),
         "{e}"
     );
-    let e = bad(track("left", "unpowered"), "constraint_to_ground");
+    let e = refused(track("left", "unpowered"), "constraint_to_ground");
     assert!(
         e.contains("commands[1].fault.track") && e.contains("\"stopped\""),
         "{e}"
     );
-    let e = bad(
+    let e = refused(
         FaultSpec {
             latency_s: Some(-1.0),
             video: Some("snow".into()),
@@ -303,21 +392,71 @@ fn bad_faults_are_refused_naming_the_key() {
         assert!(e.contains(&format!("commands[1].{key}")), "{key} in {e}");
     }
     // An unknown key of the table is refused by the parser, naming it.
-    let text = std::fs::read_to_string(root().join("scenarios/packbot_flat.toml")).unwrap()
-        + "\n[[commands]]\nt_s = 1.0\nfault = { track = { left = \"stopped\" }, lag_s = 1 }\n";
-    let dir = std::env::temp_dir().join(format!("tracksim-43-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let f = dir.join("s.toml");
-    std::fs::write(
-        &f,
-        text.replace(
-            "../vehicles",
-            &root().join("vehicles").display().to_string(),
-        ),
+    let e = load_with_entry(
+        "bad",
+        "fault = { track = { left = \"stopped\" }, lag_s = 1 }",
     )
-    .unwrap();
-    let e = tracksim::load_scenario(&f).unwrap_err().to_string();
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("lag_s"), "{e}");
+}
+
+/// A bad low-friction patch is refused naming its key (a non-finite centre, a side of 0, a
+/// friction above 2, a word other than "ok", an unknown key of its table, a centre of three
+/// numbers); a good one and "ok" are read back from a file as written.
+#[test]
+fn bad_patches_are_refused_naming_the_key() {
+    let e = refused(
+        FaultSpec {
+            patch: Some(PatchSpec::Area(PatchArea {
+                centre_m: [f64::NAN, 0.0],
+                size_m: [0.0, 1.0],
+                friction: 3.0,
+            })),
+            ..FaultSpec::default()
+        },
+        "okada2020",
+    );
+    for key in ["centre_m", "size_m[0]", "friction"] {
+        assert!(
+            e.contains(&format!("commands[1].fault.patch.{key}")),
+            "{key} in {e}"
+        );
+    }
+    let e = refused(
+        FaultSpec {
+            patch: Some(PatchSpec::Word("wet".into())),
+            ..FaultSpec::default()
+        },
+        "okada2020",
+    );
+    assert!(
+        e.contains("commands[1].fault.patch") && e.contains("use \"ok\" to remove"),
+        "{e}"
+    );
+    let patched = |entry: &str| load_with_entry("patch", &format!("fault.patch = {entry}"));
+    let e = patched("{ centre_m = [0, 0], size_m = [1, 1], mu = 0.1 }")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("mu") && e.contains("friction"), "{e}");
+    let e = patched("{ centre_m = [0, 0, 0], size_m = [1, 1], friction = 0.1 }")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("centre_m"), "{e}");
+    let sc = patched("{ centre_m = [1, 2], size_m = [3, 4], friction = 0.1 }").unwrap();
+    assert_eq!(
+        sc.commands.last().unwrap().controls.faults.patch,
+        Some(Some(tracksim::model::FrictionPatch {
+            centre: [1.0, 2.0],
+            size: [3.0, 4.0],
+            friction: 0.1
+        }))
+    );
+    let sc = patched("\"ok\"").unwrap();
+    assert_eq!(
+        sc.commands.last().unwrap().controls.faults.patch,
+        Some(None)
+    );
 }
 
 fn send(ws: &mut Ws, v: serde_json::Value) {
@@ -544,4 +683,234 @@ fn pause_and_resume(ins: &mut Ws) {
         ahead < allowed,
         "{ahead} s simulated in {allowed} s allowed: a catch-up burst"
     );
+}
+
+/// A `fault.patch` entry at `t` s: a low-friction patch centred at `centre` m (world x, y) of
+/// sides `size` m and friction `mu`.
+fn patch_at(t: f64, centre: [f64; 2], size: [f64; 2], mu: f64) -> CommandSpec {
+    CommandSpec {
+        t_s: t,
+        fault: Some(FaultSpec {
+            patch: Some(PatchSpec::Area(PatchArea {
+                centre_m: centre,
+                size_m: size,
+                friction: mu,
+            })),
+            ..FaultSpec::default()
+        }),
+        ..CommandSpec::default()
+    }
+}
+
+/// The patch removed at `t` s (`fault.patch = "ok"`).
+fn patch_gone(t: f64) -> CommandSpec {
+    CommandSpec {
+        t_s: t,
+        fault: Some(FaultSpec {
+            patch: Some(PatchSpec::Word("ok".into())),
+            ..FaultSpec::default()
+        }),
+        ..CommandSpec::default()
+    }
+}
+
+/// The plate's angle in `scenarios/packbot_parked_slope.toml`, deg (friction 0.6).
+const PLATE_DEG: f64 = 20.0;
+
+/// PackBot parked (belts held at 0) on the 20 deg plate of friction 0.6 of
+/// `scenarios/packbot_parked_slope.toml`, with the commands `more`, for `duration` s.
+fn parked(duration: f64, more: Vec<CommandSpec>) -> tracksim::Scenario {
+    common::file_with(
+        "scenarios/packbot_parked_slope.toml",
+        |s: &mut ScenarioSpec| {
+            s.simulation.duration_s = duration;
+            s.expect = Default::default();
+            s.commands.extend(more);
+        },
+        |_| {},
+    )
+}
+
+/// The body's speed down the plate, m/s (the plate rises along +x).
+fn downhill_speed(s: &tracksim::world::Sample) -> f64 {
+    let a = PLATE_DEG.to_radians();
+    -s.linvel[0] * a.cos() - s.linvel[2] * a.sin()
+}
+
+/// A low-friction patch: a PackBot parked on 20 deg with friction 0.6 holds (tan 20 = 0.36 <
+/// 0.6); a patch of friction 0.1 put under it makes it slide down at g (sin 20 - 0.1 cos 20) =
+/// 2.43 m/s^2 as a block would, since the held belts make the robot one rigid body; removed,
+/// friction 0.6 stops it again. A patch beside it does not move it.
+#[test]
+fn a_low_friction_patch_under_a_parked_robot_makes_it_slide() {
+    let sc = parked(
+        3.2,
+        vec![patch_at(1.0, [0.0, 0.0], [8.0, 3.0], 0.1), patch_gone(1.8)],
+    );
+    let th = PLATE_DEG.to_radians();
+    let run = samples(&sc);
+    let at = |t: f64| run.iter().find(|s| s.t >= t - 1e-9).unwrap();
+    let start = &run[0];
+    let before = at(1.0);
+    assert!(
+        (before.pose.x - start.pose.x).abs() < 0.002,
+        "holds before the patch: moved {} m",
+        before.pose.x - start.pose.x
+    );
+    // The acceleration from the speed down the plate between 1.2 s and 1.7 s (after the
+    // first moments of breaking loose, before the patch is removed).
+    let (a0, a1) = (at(1.2), at(1.7));
+    let accel = (downhill_speed(a1) - downhill_speed(a0)) / (a1.t - a0.t);
+    let expected = 9.81 * (th.sin() - 0.1 * th.cos());
+    println!("patch: {accel:.4} m/s^2 down the plate, expected {expected:.4}");
+    // The held belts make the robot one rigid body sliding on its contacts: Rapier's Coulomb
+    // friction at the sliding limit is exact up to the solver's convergence (0.01 % measured);
+    // 1 % leaves room for its iterations, and is far from no patch (0) or friction 0 (3.36).
+    assert!(
+        (accel - expected).abs() < 0.01 * expected,
+        "slides at {accel} m/s^2 on the patch, expected g (sin - mu cos) = {expected}"
+    );
+    // Removed at 1.8 s (1.9 m/s down the plate): friction 0.6 brakes it at
+    // g (0.6 cos 20 - sin 20) = 2.18 m/s^2 to a stop in 0.9 s.
+    let (d0, d1) = (at(1.9), at(2.4));
+    let decel = (downhill_speed(d0) - downhill_speed(d1)) / (d1.t - d0.t);
+    let braking = 9.81 * (0.6 * th.cos() - th.sin());
+    let end = run.last().unwrap();
+    println!(
+        "patch removed at 1.8 s: braking {decel:.4} m/s^2, expected {braking:.4}; speed {:.4} m/s at {} s",
+        downhill_speed(end),
+        end.t
+    );
+    assert!(
+        (decel - braking).abs() < 0.01 * braking,
+        "brakes at {decel} m/s^2 off the patch, expected g (mu cos - sin) = {braking}"
+    );
+    assert!(
+        downhill_speed(end).abs() < 0.02,
+        "friction 0.6 again stops it: {} m/s at {} s",
+        downhill_speed(end),
+        end.t
+    );
+    // A patch of friction 0 beside the robot (y from 1.5 to 3.5 m; the robot stands within
+    // 0.3 m of y = 0) leaves it parked as without one (on it, it would slide at
+    // g sin 20 = 3.4 m/s^2: 1.7 m in the second after).
+    let still = |run: &[tracksim::world::Sample]| {
+        let (a, b) = (&run[0], run.last().unwrap());
+        ((b.pose.x - a.pose.x).powi(2) + (b.pose.y - a.pose.y).powi(2)).sqrt()
+    };
+    let plain = still(&samples(&parked(1.5, vec![])));
+    let beside = still(&samples(&parked(
+        1.5,
+        vec![patch_at(0.5, [0.0, 2.5], [8.0, 2.0], 0.0)],
+    )));
+    println!("parked 1.5 s: moved {plain:.2e} m, with a patch beside {beside:.2e} m");
+    assert!(
+        beside < 0.002 && plain < 0.002,
+        "a patch beside it moved it {beside} m (without one: {plain} m)"
+    );
+}
+
+/// The time of the first entry of `log` that commands `forward` m/s, s.
+fn forward_at(log: &tracksim::run::CommandLog, forward: f64) -> f64 {
+    log.commands()
+        .iter()
+        .find(|c| c.forward_mps == Some(forward))
+        .unwrap_or_else(|| panic!("no {forward} m/s entry in {:?}", log.commands()))
+        .t_s
+}
+
+/// Added latency in a session of several robots: the instructor gives robot `red` 0.4 s of
+/// latency; both trainees send a control while the session is paused, so the session takes
+/// both at the resume's time exactly; red's is applied and recorded 0.4 s later (within one
+/// output interval), blue's at once. The session replays byte for byte for both robots. The
+/// instructor's reset of one robot is refused there, with the reason.
+#[test]
+fn latency_in_a_team_session_delays_only_that_robot() {
+    let file = root().join("scenarios/team/race_step.toml");
+    let sc = tracksim::load_scenario(&file).unwrap();
+    let hub = Hub::team(sc.robot_names(), 5.0);
+    let mode = Mode::Drive {
+        hub: hub.clone(),
+        scene_json: vec!["{}".into(), "{}".into()],
+    };
+    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap();
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let opts = DriveOptions {
+        speed: 2.0,
+        ..DriveOptions::default()
+    };
+    let session = std::thread::spawn(move || tracksim::live::run_team_session(&sc2, &hub2, opts));
+    let addr = server.addr();
+    let url = format!("ws://{addr}/ws?session={}", hub.session_token().unwrap());
+    let (mut red, _) = tungstenite::connect(format!("{url}&robot=red")).unwrap();
+    assert_eq!(hello_of(&mut red)["robot"], "red");
+    let (mut blue, _) = tungstenite::connect(format!("{url}&robot=blue")).unwrap();
+    assert_eq!(hello_of(&mut blue)["robot"], "blue");
+    let itoken = hub.instructor_token().unwrap().to_string();
+    let (mut ins, _) = tungstenite::connect(format!("ws://{addr}/ws?instructor={itoken}")).unwrap();
+    assert_eq!(hello_of(&mut ins)["role"], "instructor");
+    // A reset of one robot is not in a session of several robots: refused, saying why.
+    send(&mut ins, serde_json::json!({"type":"reset","robot":"red"}));
+    let e = error_of(&mut ins, 500);
+    assert!(
+        e.contains("not in a session of several robots") && e.contains("restart every robot"),
+        "{e}"
+    );
+    send(
+        &mut ins,
+        serde_json::json!({"type":"fault","robot":"red","fault":{"latency_s":0.4}}),
+    );
+    state_where(&mut red, 5000, "red's latency 0.4 s", |m| {
+        m["faults"]["latency_s"] == 0.4
+    });
+    send(&mut ins, serde_json::json!({"type": "pause"}));
+    let held = state_where(&mut red, 5000, "paused", |m| m["paused"] == true);
+    let t_pause = held["t"].as_f64().unwrap();
+    for ws in [&mut red, &mut blue] {
+        send(
+            ws,
+            serde_json::json!({"type":"control","forward_mps":0.3,"yaw_rate_rad_s":0.0}),
+        );
+    }
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    send(&mut ins, serde_json::json!({"type": "resume"}));
+    state_where(&mut red, 5000, "red driving", |m| {
+        m["control"]["forward_mps"] == 0.3
+    });
+    state_where(&mut blue, 5000, "t 0.3 s past the latency", |m| {
+        m["t"].as_f64().unwrap() > t_pause + 0.7
+    });
+    send(&mut ins, serde_json::json!({"type": "end"}));
+    let s = session.join().unwrap().unwrap();
+    let interval = sc.output_interval;
+    let (r, b) = (forward_at(&s.logs[0], 0.3), forward_at(&s.logs[1], 0.3));
+    println!("paused at {t_pause} s: red applied at {r} s, blue at {b} s");
+    assert!(
+        (b - t_pause).abs() < 1e-9,
+        "blue (no latency) at the resume: {b} s, paused at {t_pause} s"
+    );
+    assert!(
+        r >= t_pause + 0.4 - 1e-9 && r < t_pause + 0.4 + interval,
+        "red 0.4 s late: {r} s, paused at {t_pause} s"
+    );
+    let dir = std::env::temp_dir().join(format!("tracksim-43-team-lat-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    s.write(&sc, &file, &dir, false).unwrap();
+    let replay = tracksim::load_scenario_with(
+        &file,
+        &tracksim::Overrides {
+            commands: Some(dir.join("commands.toml")),
+            duration_s: Some(s.duration()),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let r = tracksim::run::run_team(&replay, tracksim::RunOptions::default()).unwrap();
+    for (name, run) in &r.robots {
+        assert_eq!(
+            tracksim::output::trajectory_csv(run),
+            std::fs::read_to_string(dir.join(name).join("trajectory.csv")).unwrap(),
+            "{name}'s replay is its session"
+        );
+    }
 }
