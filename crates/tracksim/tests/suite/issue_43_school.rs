@@ -14,6 +14,19 @@ use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tracksim::spec::{CommandSpec, FaultSpec, PatchArea, PatchSpec, PerTrack, ScenarioSpec};
 use tungstenite::Message;
 
+/// A spin on the spot (left belt -0.3 m/s, right +0.3 m/s from t = 0), then `more`.
+fn spin_commands(more: Vec<CommandSpec>) -> Vec<CommandSpec> {
+    let mut c = vec![CommandSpec {
+        t_s: 0.0,
+        belt_speed_mps: Some(PerTrack::ByName(
+            [("left".to_string(), -0.3), ("right".to_string(), 0.3)].into(),
+        )),
+        ..CommandSpec::default()
+    }];
+    c.extend(more);
+    c
+}
+
 /// A fault entry at `t` s: tracks by name to `track` faults, flippers to `flipper` ones.
 fn fault_at(t: f64, track: &[(&str, &str)], flipper: &[(&str, &str)]) -> CommandSpec {
     let map = |v: &[(&str, &str)]| -> BTreeMap<String, String> {
@@ -114,14 +127,7 @@ fn a_stopped_track_holds_its_belt_and_the_robot_turns_about_it() {
 #[test]
 fn an_unpowered_belt_free_wheels_with_no_motor_torque() {
     let spin = |more: Vec<CommandSpec>| {
-        let mut c = vec![CommandSpec {
-            t_s: 0.0,
-            belt_speed_mps: Some(PerTrack::ByName(
-                [("left".to_string(), -0.3), ("right".to_string(), 0.3)].into(),
-            )),
-            ..CommandSpec::default()
-        }];
-        c.extend(more);
+        let c = spin_commands(more);
         common::with_vehicle(
             "vehicles/packbot510_motors.toml",
             |s: &mut ScenarioSpec| {
@@ -183,14 +189,7 @@ fn an_unpowered_belt_free_wheels_with_no_motor_torque() {
 #[test]
 fn an_unpowered_plate_chain_free_wheels() {
     let spin = |more: Vec<CommandSpec>| {
-        let mut c = vec![CommandSpec {
-            t_s: 0.0,
-            belt_speed_mps: Some(PerTrack::ByName(
-                [("left".to_string(), -0.3), ("right".to_string(), 0.3)].into(),
-            )),
-            ..CommandSpec::default()
-        }];
-        c.extend(more);
+        let c = spin_commands(more);
         common::packbot(
             |s: &mut ScenarioSpec| {
                 s.simulation.method = "plates".into();
