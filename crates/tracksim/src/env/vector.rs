@@ -263,10 +263,12 @@ impl VecEnv {
 /// pool of `threads` worker threads started at the first step that needs it and kept for every
 /// step after (issue 44: threads used to be started and joined at every step), until the thread
 /// count changes or the environment is dropped. One thread steps on the calling thread, without
-/// a pool.
+/// a pool. A process forked from the one that started the pool (Python's multiprocessing
+/// "fork") has none of its threads: it starts a pool of its own.
 pub(crate) struct StepPool {
     threads: usize,
-    pool: Option<rayon::ThreadPool>,
+    /// The pool and the process id that started it.
+    pool: Option<(u32, rayon::ThreadPool)>,
 }
 
 impl StepPool {
@@ -289,7 +291,18 @@ impl StepPool {
         let t = t.max(1);
         if t != self.threads {
             self.threads = t;
-            self.pool = None;
+            self.stop();
+        }
+    }
+
+    /// Stops the pool's threads. In a forked process the pool's threads stayed in the parent:
+    /// dropping the pool there would signal threads that are not there (under locks they may
+    /// have held at the fork), so it is left alone (its memory kept) instead.
+    fn stop(&mut self) {
+        if let Some((owner, pool)) = self.pool.take()
+            && owner != std::process::id()
+        {
+            std::mem::forget(pool);
         }
     }
 
@@ -306,9 +319,14 @@ impl StepPool {
         let results: Vec<Result<R>> = if self.threads == 1 || items.len() < 2 {
             items.iter_mut().enumerate().map(|(i, x)| f(i, x)).collect()
         } else {
-            let pool = match &mut self.pool {
+            let pid = std::process::id();
+            if self.pool.as_ref().is_some_and(|(owner, _)| *owner != pid) {
+                self.stop(); // forked: a pool of this process is started below
+            }
+            let (_, pool) = match &mut self.pool {
                 Some(p) => p,
-                slot => slot.insert(
+                slot => slot.insert((
+                    pid,
                     rayon::ThreadPoolBuilder::new()
                         .num_threads(self.threads)
                         .thread_name(|i| format!("tracksim-env-{i}"))
@@ -320,7 +338,7 @@ impl StepPool {
                                 format!("could not start {} threads: {e}", self.threads),
                             )
                         })?,
-                ),
+                )),
             };
             pool.install(|| {
                 items
@@ -331,6 +349,12 @@ impl StepPool {
             })
         };
         results.into_iter().collect()
+    }
+}
+
+impl Drop for StepPool {
+    fn drop(&mut self) {
+        self.stop();
     }
 }
 
