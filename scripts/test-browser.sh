@@ -3,6 +3,8 @@
 # clean clone: installs Debian's chromium if missing (apt-get, as root), the pinned
 # playwright-core (npm ci, no browser download), builds the release binary and runs
 # web/tests/e2e.test.mjs with node's test runner. Screenshots: web/tests/artifacts/.
+# The test of a learning environment's page (render_mode="human") runs the Python package
+# of .venv-ci (made by scripts/test-python.sh, which CI runs first) or of TRACKSIM_PYTHON.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if ! command -v chromium >/dev/null 2>&1; then

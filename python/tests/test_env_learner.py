@@ -164,6 +164,9 @@ def test_human_render_serves_the_live_page_with_moving_states(capsys):
     assert b"<html" in page.lower()
     scene = json.loads(urllib.request.urlopen(url + "scene.json", timeout=10).read())
     assert scene
+    # Watch-only (issue 44): the page is told so and has no token to drive with.
+    session = json.loads(urllib.request.urlopen(url + "session.json", timeout=10).read())
+    assert session["watch_only"] is True and session["token"] is None
     got = {}
     reader = threading.Thread(target=lambda: got.setdefault("s", ws_states(url, 5)))
     reader.start()
@@ -176,6 +179,12 @@ def test_human_render_serves_the_live_page_with_moving_states(capsys):
     first, last = got["s"][0], got["s"][-1]
     assert last["t"] > first["t"]
     assert last["pose"][0] > first["pose"][0]  # driving forwards: the robot moves on the page
+    # Nobody drives: no driver's status; the belts, speed and slip of the learner's robot (an
+    # environment that records nothing: read from its simulation).
+    assert last["driver"] is None
+    assert last["belt_position"][0] > first["belt_position"][0]
+    assert min(last["belt_speed"]) > 0.05 and last["forward_mps"] > 0.0  # 0.0 without samples
+    assert len(last["slip"]) == len(last["belt_speed"])
     env.close()
 
 

@@ -57,3 +57,35 @@ def test_randomized_values_per_env_come_from_their_seeds():
     venv.reset(seed=100)
     sc = tracksim.Scenario(STEP)
     assert [venv.randomized(i) for i in range(3)] == [sc.sample(100 + i) for i in range(3)]
+
+
+def _step_and_send(venv, action, queue):
+    queue.put(venv.step(action)[0])
+
+
+def test_a_forked_process_steps_on_threads_of_its_own(write_scenario):
+    """The vector env's thread pool (started at its first step, kept) stays in the process that
+    started it: a process forked after a step (multiprocessing's "fork") starts a pool of its
+    own rather than waiting for its parent's threads, and steps as its parent does."""
+    import multiprocessing as mp
+    from queue import Empty
+
+    p = write_scenario(SHORT_FLAT % "0.3")
+    venv = tracksim.TracksimVectorEnv(p, 4, threads=2)
+    venv.reset(seed=3)
+    a = np.tile(np.array([1.0, 0.2], np.float32), (4, 1))
+    venv.step(a)  # the pool started
+    ctx = mp.get_context("fork")
+    queue = ctx.Queue()
+    child = ctx.Process(target=_step_and_send, args=(venv, a, queue))
+    child.start()
+    try:
+        got = queue.get(timeout=60)
+    except Empty:
+        got = None
+    child.join(5)
+    hung = child.is_alive()
+    if hung:
+        child.kill()
+    assert got is not None and not hung, "the forked process hung on its parent's pool"
+    np.testing.assert_array_equal(got, venv.step(a)[0])

@@ -199,10 +199,12 @@ class TracksimEnv(gym.Env):
     so :class:`ProgressReward` reads roll and pitch as from the state vector).
 
     Watching: ``render_mode="human"`` serves the live 3-D page (the one of ``tracksim drive``,
-    watch-only) on 127.0.0.1 (``render_port``, default a free port) from the first
-    :meth:`step` (the URL is then printed and in ``render_url``; an environment never stepped,
-    such as the ones gymnasium's ``check_env`` makes to try each render mode, serves nothing)
-    and shows every step, paced to ``render_speed`` simulated seconds per wall
+    watch-only: no drive controls and no driver's status; the HUD shows each belt's commanded
+    speed and position and each flipper's target, and the belts run in the 3-D view) on
+    127.0.0.1 (``render_port``, default a free port) from the first :meth:`step` (the URL is
+    then printed and in ``render_url``; an environment never stepped, such as the ones
+    gymnasium's ``check_env`` makes to try each render mode, serves nothing) and shows every
+    step, paced to ``render_speed`` simulated seconds per wall
     second (default 1: real time, the training runs no faster; None: never waits).
     ``config={"record_dir": DIR}`` writes every episode as a run folder
     ``DIR/seed<SEED>-ep<K>`` (summary.json, trajectory.csv, scene.json, belts.csv,

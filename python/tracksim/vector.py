@@ -17,8 +17,10 @@ from .env import (ProgressReward, as_scenario, check_render_mode, learner_obs,
 
 class TracksimVectorEnv(gym.vector.VectorEnv):
     """``num_envs`` copies of :class:`tracksim.TracksimEnv` stepped together on ``threads`` Rust
-    threads with the GIL released. Results are bit-identical whatever ``threads`` is: each
-    environment is advanced by one thread and owns its state.
+    threads with the GIL released (a pool of ``threads`` threads started at the first step and
+    kept for every later step; setting :attr:`threads` starts a new one). Results are
+    bit-identical whatever ``threads`` is: each environment is advanced by one thread and owns
+    its state.
 
     Autoreset is Gymnasium's "next step" mode: the step after an episode ended resets that
     environment (its action is ignored, reward 0, not terminated) with the next seed of its
@@ -74,7 +76,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
 
     @property
     def threads(self) -> int:
-        """Rust threads used per step."""
+        """Rust threads used per step (the pool's; another count replaces the pool at the
+        next step)."""
         return self._core.threads
 
     @threads.setter

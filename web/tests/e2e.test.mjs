@@ -1174,3 +1174,73 @@ test('the instructor (issue 43): pause stops simulated time, a track stop, a vid
     view.child.kill();
   }
 });
+
+// The Python package (a learning environment's render_mode="human" page is served by the
+// environment): the venv scripts/test-python.sh makes, or TRACKSIM_PYTHON.
+const python = process.env.TRACKSIM_PYTHON || path.join(root, '.venv-ci/bin/python');
+const noPython = fs.existsSync(python) ? false : `needs the Python package: run scripts/test-python.sh (it makes ${python}) or set TRACKSIM_PYTHON`;
+
+test('a learning environment\'s human-mode page (issue 44): watch-only, no drive controls, no driver status, the belts shown and running', { skip: noPython }, async () => {
+  const child = spawn(python, [path.join(here, 'human_env.py'), '150'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let printed = '';
+  const url = await new Promise((resolve, reject) => {
+    child.stdout.on('data', (d) => {
+      printed += d;
+      const m = printed.match(/http:\/\/127\.0\.0\.1:\d+\//);
+      if (m) resolve(m[0]);
+    });
+    child.on('exit', (code) => reject(new Error(`human_env.py exited ${code}: ${printed}`)));
+  });
+  const ctx = await browser();
+  try {
+    const { page, errors } = await openDrive(ctx, url);
+    // The server says the session is watch-only; the page watches.
+    const session = await page.evaluate(async () => (await fetch('/session.json')).json());
+    assert.equal(session.watch_only, true, JSON.stringify(session));
+    assert.equal(session.token, null);
+    assert.equal(await page.evaluate(() => window.tracksim.watchOnly), true);
+    assert.equal(await page.evaluate(() => window.tracksim.role), 'watcher');
+    assert.equal(await page.evaluate(() => window.tracksim.state.driver), null, 'no driver in a watch-only state');
+    // No drive controls: the drive help and its End session button are not shown, the watch help is.
+    const shown = (sel) => page.evaluate((s) => { const e = document.querySelector(s); return !!e && e.getClientRects().length > 0; }, sel);
+    assert.equal(await shown('#help-drive'), false);
+    assert.equal(await shown('#stop'), false);
+    assert.equal(await shown('#help-watch'), true);
+    // Drive keys do nothing (no control is sent: the server would refuse it with an error).
+    await page.keyboard.down('ArrowUp');
+    await page.waitForTimeout(500);
+    await page.keyboard.up('ArrowUp');
+    // The belts: a HUD line per track with its commanded speed (turning: they differ), and the
+    // grousers drawn moving with the belts.
+    const tracks = await page.evaluate(async () => (await (await fetch('/scene.json')).json()).vehicle.tracks.map((t) => t.name));
+    assert.ok(tracks.length >= 2, JSON.stringify(tracks));
+    const before = await page.evaluate(() => ({ t: window.tracksim.state.t, belt: window.tracksim.state.belt_position, g: window.tracksim.grouser(0) }));
+    await page.waitForFunction((t) => window.tracksim.state.t > t + 1, before.t, { timeout: 30000 });
+    await page.waitForTimeout(200); // a frame drawn from the newer state
+    const after = await page.evaluate(() => ({ belt: window.tracksim.state.belt_position, speed: window.tracksim.state.belt_speed, g: window.tracksim.grouser(0) }));
+    after.belt.forEach((b, i) => assert.ok(b > before.belt[i] + 0.1, `belt ${tracks[i]} runs: ${before.belt[i]} -> ${b}`));
+    assert.ok(after.speed.every((v) => v > 0.05), JSON.stringify(after.speed));
+    assert.notEqual(after.speed[0], after.speed[1], 'turning: the belts differ');
+    assert.ok(before.g && after.g, 'grousers drawn');
+    const moved = Math.hypot(...after.g.map((x, k) => x - before.g[k]));
+    assert.ok(moved > 0.005, `the drawn grousers run with the belt: moved ${moved} m`);
+    const hud = await page.evaluate(() => document.getElementById('hud').textContent);
+    for (const n of tracks) assert.match(hud, new RegExp(`belt\\s+${n} -?[0-9.]+ m/s commanded, at -?[0-9.]+ m`), hud);
+    assert.match(hud, /WATCHING a learning environment/, hud);
+    // The speed and slip of an environment that records no samples come from its simulation.
+    const speed = Number(hud.match(/speed\s+(-?[0-9.]+) m\/s forward/)?.[1]);
+    assert.ok(speed > 0.05, `the robot's speed is shown: ${hud}`);
+    const slip = await page.evaluate(() => window.tracksim.state.slip);
+    assert.equal(slip.length, tracks.length, JSON.stringify(slip));
+    assert.doesNotMatch(hud, /set speeds|DRIVING|another page drives/, hud);
+    // Nothing on the page says a driver is missing, nor offers driving.
+    const text = await page.evaluate(() => document.body.innerText);
+    assert.doesNotMatch(text, /disconnected|End session|forward \/ back/i, text);
+    assert.equal(await shown('#driver-banner'), false);
+    await page.screenshot({ path: path.join(artifacts, 'human-watch.png') });
+    assert.deepEqual([...errors, ...await page.evaluate(() => window.tracksim.errors)], []);
+  } finally {
+    await ctx.close();
+    child.kill();
+  }
+});

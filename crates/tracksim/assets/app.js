@@ -20,6 +20,10 @@ const watchOnly = query.get('watch') === '1';
 // (a trainee's dropped video too) and has the instructor's panel.
 const instructorToken = /^[0-9a-f]{32}$/.test(query.get('instructor') ?? '') ? query.get('instructor') : null;
 const live = session.mode === 'drive';
+// A watch-only session (a learning environment's `render_mode="human"`, live/watch.rs): the
+// server says so in /session.json; nobody drives, so the page has no drive controls, no
+// driver's status, and shows what the learner commands (belts, flipper targets).
+const watchSession = live && session.watch_only === true;
 // The runs a replay shows: one, or every method of a `tracksim compare` folder (/runs.json).
 let runs = { compare: false, runs: [{ index: 0, name: 'run', base: '/run' }] };
 if (!live) {
@@ -48,7 +52,7 @@ if (attempts.length > 1) {
 }
 
 // Exposed for tests and curious users: the latest state and what is drawn.
-const api = { mode: session.mode, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [], hudOverride: null };
+const api = { mode: session.mode, watchOnly: watchSession, state: null, states: 0, frames: 0, role: null, replayTime: 0, errors: [], hudOverride: null };
 window.tracksim = api;
 // A session's attempts (replay), and the one shown.
 api.attempts = attempts.map((a) => a.attempt);
@@ -256,6 +260,15 @@ function placeGrousers(track, beltPos) {
   }
   for (const im of instanced) im.instanceMatrix.needsUpdate = true;
 }
+// Where track i's first grouser is drawn, in the track's frame (it moves only as the belt
+// runs), m; null for a track without grousers. For tests: the belts run in the 3-D view.
+const grouserAt = new THREE.Matrix4();
+api.grouser = (i) => {
+  const im = tracks[i]?.instanced[0];
+  if (!im || im.count === 0) return null;
+  im.getMatrixAt(0, grouserAt);
+  return new THREE.Vector3().setFromMatrixPosition(grouserAt).toArray();
+};
 // Cleats at their start (a replay moves them; the live state does not stream conveyors).
 conveyors.forEach((c) => placeGrousers(c, 0));
 
@@ -665,7 +678,10 @@ const moveKeys = {
   w: [1, 0], arrowup: [1, 0], s: [-1, 0], arrowdown: [-1, 0], a: [0, 1], arrowleft: [0, 1], d: [0, -1], arrowright: [0, -1],
   i: [1, 0], ',': [-1, 0], j: [0, 1], l: [0, -1], u: [1, 1], o: [1, -1], m: [-1, -1], '.': [-1, 1],
 };
-if (live) {
+if (watchSession) {
+  $('help-drive').classList.add('hidden');
+  $('help-watch').classList.remove('hidden');
+} else if (live) {
   $('help-flippers').innerHTML = pairs.length
     ? '<td>' + pairs.map((p, i) => (pairKeys[i] ? `<kbd>${pairKeys[i][0]}</kbd>/<kbd>${pairKeys[i][1]}</kbd>` : '')).join('<br>') + '</td><td>' +
       pairs.map((p) => `${p.members.map((i) => flipperNames[i]).join(' + ')}: +/- 5 deg`).join('<br>') + '</td>'
@@ -682,6 +698,7 @@ function stopAll() { held.clear(); pad.stopped = true; }
 const pad = { stopped: false, prev: [] };
 
 window.addEventListener('keydown', (e) => {
+  if (watchSession) return; // nothing to drive: only the view keys (above) act
   if (!live) {
     if (e.key === ' ') { togglePlay(); e.preventDefault(); }
     if (e.key === '[' || e.key === ']') jumpTo(jumpTarget(events, playTime, e.key === ']' ? 1 : -1));
@@ -723,7 +740,7 @@ function gamepadControl() {
 
 let lastSent = '';
 function driveTick() {
-  if (instructorToken) return; // the instructor's page never drives
+  if (instructorToken || watchSession) return; // the instructor's page and a watcher never drive
   let f = 0, w = 0;
   for (const k of held) { f += moveKeys[k][0]; w += moveKeys[k][1]; }
   f = Math.sign(f) * speedLin;
@@ -998,12 +1015,13 @@ function liveFrame() {
     flipper: s.flipper,
     tilt_limit_deg: isNum(s.tilt_limit_deg) ? s.tilt_limit_deg : sceneTiltLimit,
     ahead: s.ahead && Array.isArray(s.ahead.d_m) ? s.ahead : profileAhead(x, y, z, yaw),
-    outcome: s.outcome, course: s.course ?? null, driver: s.driver ?? null,
+    outcome: s.outcome, course: s.course ?? null, driver: watchSession ? null : s.driver ?? null,
     standings: s.team?.standings ?? null,
   };
   warn.update(vs);
   if (mapOn) minimap.draw(vs.pose, path, [...others.values()].filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(s.course?.next_gate) ? s.course.next_gate : null);
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
+  if (watchSession) { hud(watchHud(s, o, roll, pitch, yaw, x, y, z)); return; }
   hud([
     `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : api.role === 'instructor' ? 'INSTRUCTOR (sees everything)' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
     ...(s.team?.outcome ? [`team       ${s.team.rule}: ${s.team.outcome.name}: ${s.team.outcome.reason}`] : []),
@@ -1021,6 +1039,23 @@ function liveFrame() {
     `outcome    ${o}`,
     ...sensorHud(),
   ]);
+}
+
+// The HUD of a watch-only session: what the learner commands (each belt's speed, each
+// flipper's target: the state's `control.flipper_angle_deg`), no drive settings.
+function watchHud(s, o, roll, pitch, yaw, x, y, z) {
+  const target = s.control?.flipper_angle_deg ?? [];
+  return [
+    `${!api.connected ? 'RECONNECTING ...' : 'WATCHING a learning environment (watch-only: nobody drives)'}`,
+    `sim time   ${fmt(s.t, 2)} s${s.speed > 0 ? `   x${fmt(s.speed, 2)} paced` : '   unpaced'}`,
+    `speed      ${fmt(s.forward_mps, 3)} m/s forward`,
+    `roll/pitch ${fmt(deg(roll), 1)} / ${fmt(deg(pitch), 1)} deg   yaw ${fmt(deg(yaw), 1)} deg`,
+    `position   ${fmt(x, 3)} ${fmt(y, 3)} ${fmt(z, 3)} m`,
+    ...flipperNames.map((n, i) => `flipper    ${n} ${fmt(deg(s.flipper[i]), 1)} deg (target ${fmt(target[i], 0)})`),
+    ...trackNames.map((n, i) => `belt       ${n} ${fmt(s.belt_speed[i], 3)} m/s commanded, at ${fmt(s.belt_position[i], 2)} m`),
+    `outcome    ${o}`,
+    ...sensorHud(),
+  ];
 }
 
 // Slip per track when the state brings none: 1 - forward speed / belt command (belts

@@ -7,7 +7,7 @@
 
 use super::MAX_ENVS;
 use super::seeds::Seeds;
-use super::vector::on_threads;
+use super::vector::StepPool;
 use crate::error::{Error, Result};
 use crate::model::ScenarioTemplate;
 use crate::run::{Outcome, check_outcome};
@@ -382,7 +382,7 @@ pub struct TeamVecEnv {
     envs: Vec<TeamEnv>,
     seeds: Seeds,
     ended: Vec<bool>,
-    threads: usize,
+    pool: StepPool,
 }
 
 /// What one world's step gave.
@@ -426,7 +426,7 @@ impl TeamVecEnv {
             envs,
             ended: vec![false; n],
             seeds,
-            threads: threads.max(1),
+            pool: StepPool::new(threads),
         })
     }
 
@@ -452,12 +452,13 @@ impl TeamVecEnv {
 
     /// Threads used per step.
     pub fn threads(&self) -> usize {
-        self.threads
+        self.pool.threads()
     }
 
-    /// Sets the threads used per step (at least 1).
+    /// Sets the threads used per step (at least 1): the pool of the old count stops, one of the
+    /// new count starts at the next step.
     pub fn set_threads(&mut self, t: usize) {
-        self.threads = t.max(1);
+        self.pool.set_threads(t);
     }
 
     /// Resets every world, `i` with seed `seed + i` (or its current seed with `None`), on the
@@ -467,9 +468,8 @@ impl TeamVecEnv {
             self.seeds.rebase(s);
         }
         let seeds = self.seeds.as_slice();
-        on_threads(&mut self.envs, self.threads, |i, env| {
-            env.reset(Some(seeds[i]))
-        })?;
+        self.pool
+            .run(&mut self.envs, |i, env| env.reset(Some(seeds[i])))?;
         self.ended.iter_mut().for_each(|e| *e = false);
         Ok(())
     }
@@ -505,7 +505,7 @@ impl TeamVecEnv {
         }
         let ended = self.ended.clone();
         let seeds = self.seeds.after(&ended);
-        let out = on_threads(&mut self.envs, self.threads, |i, env| {
+        let out = self.pool.run(&mut self.envs, |i, env| {
             let (agents, reset) = if ended[i] {
                 env.reset(Some(seeds.as_slice()[i]))?;
                 (vec![AgentStep::default(); env.agent_count()], true)

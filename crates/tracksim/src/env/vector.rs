@@ -6,6 +6,7 @@ use super::seeds::Seeds;
 use super::{Env, EnvConfig, StepInfo};
 use crate::error::{Error, Result};
 use crate::model::ScenarioTemplate;
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// Most environments of one [`VecEnv`].
@@ -18,7 +19,7 @@ pub struct VecEnv {
     envs: Vec<Env>,
     seeds: Seeds,
     ended: Vec<bool>,
-    threads: usize,
+    pool: StepPool,
 }
 
 /// What one environment's step gave: its info and whether it was an autoreset.
@@ -61,7 +62,7 @@ impl VecEnv {
             envs,
             ended: vec![false; n],
             seeds,
-            threads: threads.max(1),
+            pool: StepPool::new(threads),
         })
     }
 
@@ -82,12 +83,13 @@ impl VecEnv {
 
     /// Threads used per step.
     pub fn threads(&self) -> usize {
-        self.threads
+        self.pool.threads()
     }
 
-    /// Sets the threads used per step (at least 1).
+    /// Sets the threads used per step (at least 1): the pool of the old count stops, one of the
+    /// new count starts at the next step.
     pub fn set_threads(&mut self, t: usize) {
-        self.threads = t.max(1);
+        self.pool.set_threads(t);
     }
 
     /// Resets every environment, `i` with seed `seed + i` (or its current seed with `None`).
@@ -157,7 +159,7 @@ impl VecEnv {
         }
         let ended = self.ended.clone();
         let seeds = self.seeds.after(&ended);
-        let out = on_threads(&mut self.envs, self.threads, |i, env| {
+        let out = self.pool.run(&mut self.envs, |i, env| {
             Ok(if ended[i] {
                 env.reset(seeds.as_slice()[i])?;
                 VecStep {
@@ -229,7 +231,7 @@ impl VecEnv {
             .iter_mut()
             .zip(out.chunks_mut(per.max(1)))
             .collect();
-        on_threads(&mut parts, self.threads, |_, (env, o)| {
+        self.pool.run(&mut parts, |_, (env, o)| {
             let f = env.render();
             if f.rgb.len() == o.len() {
                 o.copy_from_slice(&f.rgb);
@@ -253,45 +255,190 @@ impl VecEnv {
 
     /// Runs `f` on every environment on the threads.
     fn par(&mut self, f: impl Fn(&mut Env, usize) -> Result<()> + Sync) -> Result<()> {
-        on_threads(&mut self.envs, self.threads, |i, e| f(e, i)).map(|_| ())
+        self.pool.run(&mut self.envs, |i, e| f(e, i)).map(|_| ())
     }
 }
 
-/// `f(i, &mut items[i])` for every item, on up to `threads` scoped threads (the items split in
-/// contiguous chunks, the last chunk on the calling thread); the results in item order. Each
-/// item is visited by exactly one thread, so results that depend only on the item do not
-/// depend on `threads`. The first error (in chunk order) is returned. Shared by [`VecEnv`] and
-/// [`super::TeamVecEnv`].
-pub(crate) fn on_threads<T: Send, R: Send>(
-    items: &mut [T],
+/// The threads that step the environments of a [`VecEnv`] or [`super::TeamVecEnv`]: a rayon
+/// pool of `threads` worker threads started at the first step that needs it and kept for every
+/// step after (issue 44: threads used to be started and joined at every step), until the thread
+/// count changes or the environment is dropped. One thread steps on the calling thread, without
+/// a pool. A process forked from the one that started the pool (Python's multiprocessing
+/// "fork") has none of its threads: it starts a pool of its own.
+pub(crate) struct StepPool {
     threads: usize,
-    f: impl Fn(usize, &mut T) -> Result<R> + Sync,
-) -> Result<Vec<R>> {
-    if items.is_empty() {
-        return Ok(Vec::new());
+    /// The pool and the process id that started it.
+    pool: Option<(u32, rayon::ThreadPool)>,
+}
+
+impl StepPool {
+    /// A pool of `threads` threads (0 is taken as 1), started at its first use.
+    pub(crate) fn new(threads: usize) -> Self {
+        StepPool {
+            threads: threads.max(1),
+            pool: None,
+        }
     }
-    let chunk = items.len().div_ceil(threads.max(1));
-    let f = &f;
-    let run = move |k: usize, part: &mut [T]| -> Result<Vec<R>> {
-        part.iter_mut()
-            .enumerate()
-            .map(|(j, x)| f(k * chunk + j, x))
-            .collect()
-    };
-    let parts: Vec<Result<Vec<R>>> = std::thread::scope(|scope| {
-        let mut chunks = items.chunks_mut(chunk).enumerate();
-        let last = chunks.next_back();
-        let handles: Vec<_> = chunks
-            .map(|(k, part)| scope.spawn(move || run(k, part)))
-            .collect();
-        let mine = last.map(|(k, part)| run(k, part));
-        let mut out: Vec<_> = handles
+
+    /// Threads used per step.
+    pub(crate) fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Sets the threads used per step (at least 1); another count stops the pool's threads
+    /// (the next step starts the new count).
+    pub(crate) fn set_threads(&mut self, t: usize) {
+        let t = t.max(1);
+        if t != self.threads {
+            self.threads = t;
+            self.stop();
+        }
+    }
+
+    /// Stops the pool's threads. In a forked process the pool's threads stayed in the parent:
+    /// dropping the pool there would signal threads that are not there (under locks they may
+    /// have held at the fork), so it is left alone (its memory kept) instead.
+    fn stop(&mut self) {
+        if let Some((owner, pool)) = self.pool.take()
+            && owner != std::process::id()
+        {
+            std::mem::forget(pool);
+        }
+    }
+
+    /// `f(i, &mut items[i])` for every item, on the pool's threads; the results in item order.
+    /// Each item is visited by exactly one thread, and every item is visited even when some
+    /// fail, so results and states that depend only on the item do not depend on the thread
+    /// count or on the scheduling. The first error in item order is returned. A pool that
+    /// cannot be started (the system refused the threads) is an error naming the setting.
+    pub(crate) fn run<T: Send, R: Send>(
+        &mut self,
+        items: &mut [T],
+        f: impl Fn(usize, &mut T) -> Result<R> + Sync,
+    ) -> Result<Vec<R>> {
+        let results: Vec<Result<R>> = if self.threads == 1 || items.len() < 2 {
+            items.iter_mut().enumerate().map(|(i, x)| f(i, x)).collect()
+        } else {
+            let pid = std::process::id();
+            if self.pool.as_ref().is_some_and(|(owner, _)| *owner != pid) {
+                self.stop(); // forked: a pool of this process is started below
+            }
+            let (_, pool) = match &mut self.pool {
+                Some(p) => p,
+                slot => slot.insert((
+                    pid,
+                    rayon::ThreadPoolBuilder::new()
+                        .num_threads(self.threads)
+                        .thread_name(|i| format!("tracksim-env-{i}"))
+                        .build()
+                        .map_err(|e| {
+                            Error::setting(
+                                "vector environment",
+                                "threads",
+                                format!("could not start {} threads: {e}", self.threads),
+                            )
+                        })?,
+                )),
+            };
+            pool.install(|| {
+                items
+                    .par_iter_mut()
+                    .enumerate()
+                    .map(|(i, x)| f(i, x))
+                    .collect()
+            })
+        };
+        results.into_iter().collect()
+    }
+}
+
+impl Drop for StepPool {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    /// The names of the threads that ran each of `n` items.
+    fn names(pool: &mut StepPool, n: usize) -> Vec<String> {
+        let mut items = vec![0u8; n];
+        pool.run(&mut items, |_, _| {
+            // Long enough that every worker takes a share.
+            std::thread::sleep(std::time::Duration::from_millis(2));
+            Ok(std::thread::current().name().unwrap_or("").to_string())
+        })
+        .unwrap()
+    }
+
+    /// The pool's threads are started once and step every later call (the threads of a
+    /// second and third step are the first step's), until the thread count changes; one
+    /// thread steps on the caller.
+    #[test]
+    fn the_pool_is_started_once_and_reused() {
+        let caller = std::thread::current().name().map(str::to_string);
+        let mut pool = StepPool::new(3);
+        let first: BTreeSet<String> = names(&mut pool, 24).into_iter().collect();
+        assert!(first.len() > 1, "several threads stepped: {first:?}");
+        assert!(
+            first.iter().all(|n| n.starts_with("tracksim-env-")),
+            "{first:?}"
+        );
+        let ids = |pool: &mut StepPool| -> BTreeSet<String> {
+            let mut items = vec![0u8; 24];
+            let got = pool
+                .run(&mut items, |_, _| {
+                    std::thread::sleep(std::time::Duration::from_millis(2));
+                    Ok(format!("{:?}", std::thread::current().id()))
+                })
+                .unwrap();
+            got.into_iter().collect()
+        };
+        // Threads started per step would be new threads (new ids) at every step.
+        let all: BTreeSet<String> = (0..4).flat_map(|_| ids(&mut pool)).collect();
+        assert!(
+            (2..=3).contains(&all.len()),
+            "four steps on the pool's 3 threads: {all:?}"
+        );
+        pool.set_threads(1);
+        assert_eq!(pool.threads(), 1);
+        let one: BTreeSet<Option<String>> = names(&mut pool, 5)
             .into_iter()
-            .map(|h| h.join().expect("environment thread panicked"))
+            .map(|n| (!n.is_empty()).then_some(n))
             .collect();
-        out.extend(mine);
-        out
-    });
-    let parts = parts.into_iter().collect::<Result<Vec<Vec<R>>>>()?;
-    Ok(parts.into_iter().flatten().collect())
+        assert_eq!(one, BTreeSet::from([caller]), "one thread: the caller's");
+    }
+
+    /// Results come in item order whatever the threads; every item is visited even when some
+    /// fail, and the first error in item order is returned.
+    #[test]
+    fn results_in_order_every_item_visited_the_first_error_returned() {
+        for threads in [1, 2, 5] {
+            let mut pool = StepPool::new(threads);
+            let mut items: Vec<u32> = (0..40).collect();
+            let out = pool.run(&mut items, |i, x| Ok((i, *x * 2))).unwrap();
+            assert_eq!(out, (0..40).map(|i| (i, i as u32 * 2)).collect::<Vec<_>>());
+            let err = pool
+                .run(&mut items, |i, x| {
+                    *x += 100;
+                    if i == 7 || i == 31 {
+                        Err(Error::setting("test", "item", format!("item {i} failed")))
+                    } else {
+                        Ok(())
+                    }
+                })
+                .unwrap_err();
+            assert!(
+                err.to_string().contains("item 7 failed"),
+                "{threads}: {err}"
+            );
+            assert!(
+                items.iter().all(|x| *x >= 100),
+                "{threads}: every item visited"
+            );
+        }
+    }
 }

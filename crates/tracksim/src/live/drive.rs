@@ -222,7 +222,7 @@ pub(super) fn robot_state(
 
 /// The state of a one-robot session's `runner` ([`robot_state`]) with, in a drive session,
 /// the instructor's seat's fields ([`Desk::fields`]) and the attempt's number; its new rut
-/// cells handed to the hub first.
+/// cells handed to the hub first. A watch-only hub's state has `driver` null (nobody drives).
 pub(super) fn state_json(
     runner: &Runner,
     control: &DriveControl,
@@ -230,6 +230,17 @@ pub(super) fn state_json(
     ended: Option<&(Outcome, f64)>,
     feeds: &mut Feeds,
 ) -> String {
+    state_value(runner, control, (speed, hub, desk), ended, feeds).to_string()
+}
+
+/// [`state_json`] as a JSON value.
+pub(super) fn state_value(
+    runner: &Runner,
+    control: &DriveControl,
+    (speed, hub, desk): (f64, &Hub, Option<(&Desk, usize)>),
+    ended: Option<&(Outcome, f64)>,
+    feeds: &mut Feeds,
+) -> serde_json::Value {
     let driver = hub.driver_status();
     feeds.push_ruts(runner, hub);
     let clock = LiveClock {
@@ -238,11 +249,15 @@ pub(super) fn state_json(
         stepping_s: runner.stepping(),
     };
     let mut state = robot_state(&runner.view(), control, (clock, driver), ended, feeds);
+    if hub.is_watch_only() {
+        // Nobody drives a watch-only session: no driver to be connected or disconnected.
+        state["driver"] = serde_json::Value::Null;
+    }
     if let (serde_json::Value::Object(m), Some((desk, attempt))) = (&mut state, desk) {
         m.extend(desk.fields(0, runner.sim()));
         m.insert("attempt".into(), serde_json::json!(attempt));
     }
-    state.to_string()
+    state
 }
 
 /// Robot `k`'s new controls from its seat, if they changed from `current`: its driver's

@@ -326,6 +326,12 @@ impl Hub {
         })
     }
 
+    /// Whether every connection only watches ([`Hub::watch_only`]): the page is told so in
+    /// `/session.json` (`watch_only`) and shows no drive controls and no driver's status.
+    pub fn is_watch_only(&self) -> bool {
+        self.watch_only
+    }
+
     /// Replaces the scene pages load at `/scene.json` (a page loaded before keeps its own
     /// until reloaded).
     pub fn set_scene(&self, json: String) {

@@ -297,12 +297,15 @@ fn handle(mut stream: TcpStream, mode: &Mode, access: &Access) -> std::io::Resul
         let video = matches!(mode, Mode::View { video: Some(_), .. });
         // The session's token, for the page this server served (Host and Origin checked
         // above: another site's page cannot read it). A watch-only hub has nothing to drive.
-        let token = match mode {
-            Mode::Drive { hub, .. } => hub.session_token(),
-            Mode::View { .. } => None,
+        let (token, watch_only) = match mode {
+            Mode::Drive { hub, .. } => (hub.session_token(), hub.is_watch_only()),
+            Mode::View { .. } => (None, false),
         };
-        let body =
-            serde_json::json!({ "mode": mode.name(), "video": video, "token": token }).to_string();
+        // `watch_only`: a learning environment's page (live/watch.rs), where nobody drives.
+        let body = serde_json::json!({
+            "mode": mode.name(), "video": video, "token": token, "watch_only": watch_only
+        })
+        .to_string();
         return respond(&mut stream, "200 OK", "application/json", body.as_bytes());
     }
     match mode {

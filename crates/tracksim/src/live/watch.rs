@@ -1,14 +1,20 @@
 //! Watching a learning environment live ([`Watch`]: the Python environments'
 //! `render_mode="human"`): the drive page served on loopback by a [`Server`] over a watch-only
 //! [`Hub`] (every page watches, nobody drives), fed the environment's state after each step in
-//! the live session's format, optionally paced to the wall clock.
+//! the live session's format, optionally paced to the wall clock. The page is told it watches
+//! (`/session.json` has `watch_only: true`; the states' `driver` is null): it shows no drive
+//! controls and no driver's status, and its HUD shows what the learner commands (each belt's
+//! speed and position, each flipper's target), the belts running in the 3-D view. An
+//! environment that records nothing keeps no samples beyond the first: its states'
+//! `forward_mps` (then the instantaneous speed along the heading, m/s) and `slip` are read from
+//! the simulation, and `stall` is null (the page's own rule decides).
 //!
 //! Pacing: with a `speed` (simulated seconds per wall second, 1 = real time), [`Watch::show`]
 //! sleeps until the wall clock has caught up with the episode's simulated time, so the robot
 //! moves at that speed on the page and the training loop runs no faster; with `None` it
 //! never waits (the page shows the states as they come, as fast as the learner steps).
 
-use super::drive::{Feeds, state_json};
+use super::drive::{Feeds, state_value};
 use super::hub::{DriveControl, Hub};
 use super::server::{Mode, Server};
 use crate::env::Env;
@@ -108,14 +114,32 @@ impl Watch {
                 .map(|i| Some(sim.flipper_target(i).to_degrees()))
                 .collect(),
         };
-        let json = state_json(
+        let mut state = state_value(
             env.runner(),
             &control,
             (self.speed.unwrap_or(0.0), &self.hub, None),
             None,
             &mut self.feeds,
         );
-        self.hub.publish(json);
+        if env.runner().view().samples.len() < 2 {
+            // An environment that records nothing keeps no samples beyond the first, from
+            // which a session's speed, slip and stall come (and a recording one has only its
+            // first at the episode's start): the speed and the slip are the simulation's now (a
+            // read: the physics is untouched), the stall is left to the page's own rule.
+            let s = sim.sample();
+            let p = &s.pose;
+            let heading = [
+                p.yaw.cos() * p.pitch.cos(),
+                p.yaw.sin() * p.pitch.cos(),
+                -p.pitch.sin(),
+            ];
+            let forward: f64 = (0..3).map(|k| s.linvel[k] * heading[k]).sum();
+            state["forward_mps"] = serde_json::json!(forward);
+            state["slip"] = serde_json::json!(s.slip);
+            state["stall"] = serde_json::Value::Null;
+            state["stall_since_s"] = serde_json::Value::Null;
+        }
+        self.hub.publish(state.to_string());
     }
 
     /// Stops serving (pages keep their last state).
