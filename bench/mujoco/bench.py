@@ -302,7 +302,8 @@ class OkadaRollback:
     """The paper's rollback, after every step: a segment link that has moved one grouser pitch
     p along the belt from its rest pose (a run: p along x in its direction of motion; an arc:
     p / r about the axle) has its joint position set back by exactly one pitch, so that grouser
-    n - 1 takes grouser n's place and the track keeps its shape. Joint velocities are kept."""
+    n - 1 takes grouser n's place and the track keeps its shape. Joint velocities are kept.
+    Forward belt motion only (the bench drives at +0.3 m/s): a link's joint stays in [0, p)."""
 
     def __init__(self, m, d):
         loop = sum(seg[2] for seg in okada_segments())
@@ -530,7 +531,7 @@ def issue44_rows(summary, runs):
     the interleaved figure, steadier on a shared machine), with each target."""
     rows = []
     for num, den, goal in (("okada2020", "mj_okada40", 2.0), ("okada2020", "wheels4", 0.6)):
-        if num not in summary or den not in summary:
+        if not all(k in summary and k in runs for k in (num, den)):
             continue
         of_medians = summary[num]["rtf_median"] / summary[den]["rtf_median"]
         pairs = [a["rtf"] / b["rtf"] for a, b in zip(runs[num], runs[den])]
