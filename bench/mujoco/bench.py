@@ -11,13 +11,22 @@ actuators), with the tracks as
 - ``mj_wheels4`` / ``mj_wheels13``: 4 or 13 driven wheels per side reaching the grouser tips
   (radius 0.09 m), as tracksim's ``wheels4`` / ``wheels13``;
 - ``mj_plates40``: a closed chain of 40 hinged plates with a 5 x 8 mm grouser each, closed by a
-  ``connect`` equality, wrapped round a driven sprocket and a free idler with flanges.
+  ``connect`` equality, wrapped round a driven sprocket and a free idler with flanges;
+- ``mj_okada40`` (issue 44): the paper's method itself built in MuJoCo: per track 4 segment
+  links on the chassis (the two runs on slide joints along x, the two arcs on hinge joints about
+  the pulley axles), each with its belt shape and the grousers whose footprints lie on its
+  segment at rest (40 a track at the pitch L / 40, boxes 5 x 8 mm x track width), velocity
+  actuators at belt speed, and the paper's rollback after every step (a link that has moved one
+  pitch along the belt has its joint position set back by exactly one pitch, in Python between
+  ``mj_step`` calls, inside the timed window).
 
 Same dt (1 ms), drive (0.3 m/s), ground friction (0.6), masses (11 kg body, 1 kg per belt) and
 10 s simulated. Then ``tracksim bench --cases packbot`` (every method) runs once per repeat,
 interleaved with the MuJoCo models (mj..., tracksim, mj..., tracksim, ...) and, optionally,
-the ``contact_floor`` example. Only stepping is timed. Prints a markdown report (ratios first)
-and writes it with the raw figures (JSON) into ``--out``.
+the ``contact_floor`` example. Only stepping (with mj_okada40's rollback) is timed. Prints a
+markdown report (ratios first; issue 44's okada2020 / mj_okada40 and okada2020 / wheels4 as the
+ratio of the medians and the median of the per-repeat ratios) and writes it with the raw
+figures (JSON) into ``--out``.
 
 ``--steps`` also drives every model (MuJoCo and tracksim) at a 0.08 / 0.10 / 0.12 m step of
 friction 0.6, edge 0.5 m ahead, for 8 s: climbed when the body origin passes x = 1.2 m on top
@@ -213,20 +222,154 @@ def model_plates(n, h):
     return xml, r_eff
 
 
+#: Velocity gain of mj_okada40's link actuators, N per m/s of belt-speed error (the hinges'
+#: actuators act through a gear of the arc radius, so the gain is in belt units on every link).
+BELT_KV = 2000.0
+
+
+def okada_segments():
+    """The belt path of the paper's method (track frame x-z, at the belt's outer surface, where
+    the grousers' footprints lie), as (kind, start s, length, data) in the belt's direction of
+    motion from the rear top tangent point (tracksim's segment 0): top run forward, front arc
+    down, bottom run backward, rear arc up. A positive belt speed drives the vehicle forward."""
+    straight, arc = 2 * AXLE_X, math.pi * PULLEY_R
+    return [("top", 0.0, straight, (-AXLE_X, PULLEY_R, 1.0)),
+            ("front", straight, arc, AXLE_X),
+            ("bottom", straight + arc, straight, (AXLE_X, -PULLEY_R, -1.0)),
+            ("rear", 2 * straight + arc, arc, -AXLE_X)]
+
+
+def model_okada(n, h):
+    """The paper's method (Okada et al. 2020, Sec. III): per track 4 segment links on the
+    chassis (the 2 runs on slide joints along x, the 2 arcs on hinge joints about the pulley
+    axles), each carrying its belt shape and the grousers whose footprints lie on its segment
+    at rest (n a track at pitch L / n, boxes 5 x 8 mm x track width), driven by velocity
+    actuators at belt speed. The rollback (`OkadaRollback`, after every step) keeps the track's
+    shape."""
+    xml = header(f"okada{n}", step_terrain(h))
+    segs = okada_segments()
+    loop = sum(seg[2] for seg in segs)
+    pitch = loop / n
+    acts = ""
+    for s, y in (("l", TRACK_Y), ("r", -TRACK_Y)):
+        for kind, s0, ln, data in segs:
+            # grousers k at arc length k * pitch whose footprint lies on [s0, s0 + ln) at rest
+            ks = [k for k in range(n) if s0 - 1e-9 <= k * pitch < s0 + ln - 1e-9]
+            mass = BELT_MASS * ln / loop
+            g_mass = BELT_MASS * 0.2 / n
+            b_mass = mass - g_mass * len(ks)
+            name = f"{kind}{s}"
+            if kind in ("top", "bottom"):
+                x0, z, d = data  # start x, height of the outer surface, direction of motion
+                zb = z - math.copysign(BELT_T / 2, z)  # the belt inside the outer surface
+                zg = z + math.copysign(GROUSER_H / 2, z)  # the grousers outside it
+                xml += (f'      <body name="{name}" pos="0 {y} 0">\n'
+                        f'        <joint name="{name}" type="slide" axis="1 0 0"/>\n'
+                        f'        <geom type="box" pos="0 0 {zb}" size="{AXLE_X} {TRACK_W / 2} '
+                        f'{BELT_T / 2}" mass="{b_mass}" {ONGROUND}/>\n')
+                for k in ks:
+                    xg = x0 + d * (k * pitch - s0)
+                    xml += (f'        <geom type="box" pos="{xg} 0 {zg}" size="{GROUSER_L / 2} '
+                            f'{TRACK_W / 2} {GROUSER_H / 2}" mass="{g_mass}" {ONGROUND}/>\n')
+                # actuator velocity = gear * qdot = belt speed
+                acts += (f'    <velocity joint="{name}" gear="{d}" kv="{BELT_KV}" '
+                         f'ctrlrange="-10 10"/>\n')
+            else:
+                xc = data  # the pulley axle; the belt turns about +y at v / r on both arcs
+                a0 = math.pi / 2 if kind == "front" else -math.pi / 2  # start angle in x-z
+                xml += (f'      <body name="{name}" pos="{xc} {y} 0">\n'
+                        f'        <joint name="{name}" type="hinge" axis="0 1 0"/>\n'
+                        f'        <geom type="cylinder" euler="-90 0 0" size="{PULLEY_R} '
+                        f'{TRACK_W / 2}" mass="{b_mass}" {ONGROUND}/>\n')
+                rg = PULLEY_R + GROUSER_H / 2
+                for k in ks:
+                    # angle in the x-z plane (from +x towards +z); a turn about +y goes from
+                    # +z towards +x, so the angle decreases along the belt
+                    th = a0 - (k * pitch - s0) / PULLEY_R
+                    # box local x radial (a turn of -th about y maps x to (cos th, 0, sin th))
+                    xml += (f'        <geom type="box" pos="{rg * math.cos(th)} 0 '
+                            f'{rg * math.sin(th)}" euler="0 {-math.degrees(th)} 0" '
+                            f'size="{GROUSER_H / 2} {TRACK_W / 2} {GROUSER_L / 2}" '
+                            f'mass="{g_mass}" {ONGROUND}/>\n')
+                acts += (f'    <velocity joint="{name}" gear="{PULLEY_R}" kv="{BELT_KV}" '
+                         f'ctrlrange="-10 10"/>\n')
+            xml += "      </body>\n"
+    xml += f"    </body>\n  </worldbody>\n  <actuator>\n{acts}  </actuator>\n</mujoco>\n"
+    return xml, 1.0  # ctrl = belt speed (gears)
+
+
+class OkadaRollback:
+    """The paper's rollback, after every step: a segment link that has moved one grouser pitch
+    p along the belt from its rest pose (a run: p along x in its direction of motion; an arc:
+    p / r about the axle) has its joint position set back by exactly one pitch, so that grouser
+    n - 1 takes grouser n's place and the track keeps its shape. Joint velocities are kept.
+    Forward belt motion only (the bench drives at +0.3 m/s): a link's joint stays in [0, p)."""
+
+    def __init__(self, m, d):
+        loop = sum(seg[2] for seg in okada_segments())
+        pitch = loop / GROUSERS
+        adr, step = [], []
+        for j in range(m.njnt):
+            name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or ""
+            if name[:-1] in ("top", "bottom", "front", "rear"):
+                adr.append(m.jnt_qposadr[j])
+                # joint-coordinate change of one pitch in the belt's direction of motion
+                step.append({"top": pitch, "bottom": -pitch}.get(name[:-1], pitch / PULLEY_R))
+        self.lo, self.hi = min(adr), max(adr) + 1
+        assert self.hi - self.lo == len(adr), "the links' joints are consecutive in qpos"
+        order = sorted(range(len(adr)), key=lambda i: adr[i])
+        self.step = [step[i] for i in order]
+        self.qs = d.qpos[self.lo:self.hi]  # a view of d's joint positions, taken once
+        self.rollbacks = 0
+
+    def __call__(self, d):
+        # plain Python on the 8 joint positions (a view taken once): numpy's per-call
+        # overheads cost more than the check
+        qs = self.qs
+        for i, (q, p) in enumerate(zip(qs.tolist(), self.step)):
+            if q / p >= 1.0:  # one pitch (or more) along the belt since the rest pose
+                qs[i] = q - p
+                self.rollbacks += 1
+
+
 MODELS = {
     "mj_surfacevel": lambda h: model_surfacevel(h),
     "mj_wheels4": lambda h: model_wheels(4, h),
     "mj_wheels13": lambda h: model_wheels(13, h),
     "mj_plates40": lambda h: model_plates(GROUSERS, h),
+    "mj_okada40": lambda h: model_okada(GROUSERS, h),
 }
+
+#: Models with work between steps (the paper's rollback): name -> its maker, given the model
+#: and its data.
+AFTER_STEP = {"mj_okada40": OkadaRollback}
 
 
 def build(name, h=None):
+    """The model, its data and the radius its controls are divided by (bench/yardstick.py)."""
     xml, r = MODELS[name](h)
     m = mujoco.MjModel.from_xml_string(xml)
     d = mujoco.MjData(m)
     mujoco.mj_forward(m, d)
     return m, d, r
+
+
+def build_stepped(name, h=None):
+    """`build` and the model's work after every step (None: none; steps may then be taken
+    several at a time)."""
+    m, d, r = build(name, h)
+    after = AFTER_STEP[name](m, d) if name in AFTER_STEP else None
+    return m, d, r, after
+
+
+def advance(m, d, after, n):
+    """n steps, the work after every step included."""
+    if after is None:
+        mujoco.mj_step(m, d, nstep=n)
+        return
+    for _ in range(n):
+        mujoco.mj_step(m, d)
+        after(d)
 
 
 def drive(m, d, r, v):
@@ -243,7 +386,7 @@ def tilt_deg(d):
 
 
 def time_mujoco(name, duration):
-    m, d, r = build(name)
+    m, d, r, after = build_stepped(name)
     drive(m, d, r, SPEED)
     steps = int(round(duration / DT))
     chunk = 10
@@ -251,7 +394,7 @@ def time_mujoco(name, duration):
     x2 = None
     for i in range(steps // chunk):
         t0 = time.perf_counter()
-        mujoco.mj_step(m, d, nstep=chunk)
+        advance(m, d, after, chunk)
         stepping += time.perf_counter() - t0
         contacts += d.ncon
         samples += 1
@@ -260,17 +403,20 @@ def time_mujoco(name, duration):
         if not np.all(np.isfinite(d.qpos)):
             raise RuntimeError(f"{name}: state not finite at t = {d.time:.3f} s")
     speed = (d.qpos[0] - x2) / (d.time - t2) if x2 is not None else float("nan")
-    return dict(rtf=d.time / stepping, us_per_step=stepping * 1e6 / steps,
-                contacts=contacts / samples, speed=speed, height=float(d.qpos[2]),
-                lateral=float(d.qpos[1]), tilt=tilt_deg(d), nv=m.nv, nefc=int(d.nefc))
+    res = dict(rtf=d.time / stepping, us_per_step=stepping * 1e6 / steps,
+               contacts=contacts / samples, speed=speed, height=float(d.qpos[2]),
+               lateral=float(d.qpos[1]), tilt=tilt_deg(d), nv=m.nv, nefc=int(d.nefc))
+    if after is not None:
+        res["rollbacks"] = after.rollbacks
+    return res
 
 
 def climb_mujoco(name, h, duration=8.0):
-    m, d, r = build(name, h)
+    m, d, r, after = build_stepped(name, h)
     drive(m, d, r, SPEED)
     worst = 0.0
     while d.time < duration:
-        mujoco.mj_step(m, d, nstep=10)
+        advance(m, d, after, 10)
         worst = max(worst, tilt_deg(d))
         if not np.all(np.isfinite(d.qpos)) or worst > MAX_TILT_DEG:
             break
@@ -373,13 +519,28 @@ def summarise(runs):
         out[name] = dict(rtf_median=statistics.median(rtf), rtf_min=min(rtf), rtf_max=max(rtf),
                          us_per_step=statistics.median(r["us_per_step"] for r in rs),
                          contacts=statistics.median(r["contacts"] for r in rs), runs=rtf)
-        for key in ("speed", "height", "lateral", "tilt", "nv"):
+        for key in ("speed", "height", "lateral", "tilt", "nv", "rollbacks"):
             if key in rs[0]:
                 out[name][key] = statistics.median(r[key] for r in rs)
     return out
 
 
-def report(info, summary, loads, climbs):
+def issue44_rows(summary, runs):
+    """okada2020 / mj_okada40 and okada2020 / wheels4 (issue 44's targets): the ratio of the
+    medians and the median of the per-repeat ratios (each repeat times both close together:
+    the interleaved figure, steadier on a shared machine), with each target."""
+    rows = []
+    for num, den, goal in (("okada2020", "mj_okada40", 2.0), ("okada2020", "wheels4", 0.6)):
+        if not all(k in summary and k in runs for k in (num, den)):
+            continue
+        of_medians = summary[num]["rtf_median"] / summary[den]["rtf_median"]
+        pairs = [a["rtf"] / b["rtf"] for a, b in zip(runs[num], runs[den])]
+        rows.append(dict(ratio=f"{num} / {den}", target=goal, of_medians=of_medians,
+                         interleaved=statistics.median(pairs), per_repeat=pairs))
+    return rows
+
+
+def report(info, summary, loads, climbs, runs=None):
     mj = [k for k in summary if k.startswith("mj_")]
     ts = [k for k in summary if not k.startswith("mj_") and not k.startswith("floor")]
     lines = [f"Machine: {info['cpu']}, {info['nproc']} cores; MuJoCo {info['mujoco']}, "
@@ -391,6 +552,16 @@ def report(info, summary, loads, climbs):
     for t in ts:
         lines.append(f"| {t} | " + " | ".join(
             f"{summary[t]['rtf_median'] / summary[k]['rtf_median']:.2f}" for k in mj) + " |")
+    rows = issue44_rows(summary, runs or {})
+    if rows:
+        lines += ["", "### Targets of issue 44 (RTF ratio, same run)", "",
+                  "| ratio | target | ratio of medians | median of per-repeat ratios | per repeat |",
+                  "|---|---:|---:|---:|---|"]
+        for w in rows:
+            lines.append(
+                f"| {w['ratio']} | >= {w['target']:.2f} | {w['of_medians']:.2f} | "
+                f"{w['interleaved']:.2f} ({'met' if w['interleaved'] >= w['target'] else 'not met'})"
+                f" | {', '.join(f'{x:.2f}' for x in w['per_repeat'])} |")
     floors = [k for k in summary if k.startswith("floor ")]
     targets = [("mj_plates40", 25.0), ("mj_surfacevel", 0.25), ("wheels4", 0.6)] + \
         [(k, 1 / 1.3) for k in floors]
@@ -476,7 +647,7 @@ def main():
         ts = methods or [k for k in summary if not k.startswith(("mj_", "floor"))]
         for k, v in climb_tracksim(a.tracksim, a.scenario, h, ts).items():
             climbs.setdefault(k, {})[h] = v
-    text = report(info, summary, loads, climbs)
+    text = report(info, summary, loads, climbs, runs)
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "mujoco_bench.md"), "w") as f:
         f.write(text)
