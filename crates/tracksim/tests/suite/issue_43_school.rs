@@ -481,15 +481,7 @@ fn replays(file: &Path, dir: &Path) {
                 .unwrap();
         s["sim_time_s"].as_f64().unwrap()
     };
-    let replay = tracksim::load_scenario_with(
-        file,
-        &tracksim::Overrides {
-            commands: Some(dir.join("commands.toml")),
-            duration_s: Some(duration),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let replay = common::session_replay(file, &dir, duration);
     let r = tracksim::run_scenario(&replay, |_, _| {}).unwrap();
     let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     assert!(
@@ -895,15 +887,7 @@ fn latency_in_a_team_session_delays_only_that_robot() {
     let dir = std::env::temp_dir().join(format!("tracksim-43-team-lat-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     s.write(&sc, &file, &dir, false).unwrap();
-    let replay = tracksim::load_scenario_with(
-        &file,
-        &tracksim::Overrides {
-            commands: Some(dir.join("commands.toml")),
-            duration_s: Some(s.duration()),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let replay = common::session_replay(&file, &dir, s.duration());
     let r = tracksim::run::run_team(&replay, tracksim::RunOptions::default()).unwrap();
     for (name, run) in &r.robots {
         assert_eq!(

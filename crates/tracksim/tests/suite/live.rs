@@ -156,15 +156,7 @@ fn drive_protocol_and_the_session_replays_as_a_run() {
     let summary = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     assert!(summary.contains("\"outcome\": \"ended_by_operator\""));
     // Replayed as `tracksim run FILE --commands DIR/commands.toml --duration T` does.
-    let replay = tracksim::load_scenario_with(
-        &file,
-        &tracksim::Overrides {
-            commands: Some(dir.join("commands.toml")),
-            duration_s: Some(s.duration()),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let replay = crate::common::session_replay(&file, &dir, s.duration());
     assert_eq!(replay.overridden, ["simulation.duration_s", "commands"]);
     let r = tracksim::run_scenario(&replay, |_, _| {}).unwrap();
     let session_csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();

@@ -122,8 +122,13 @@ pub(super) struct Load {
     pub(super) normal: Vector,
 }
 
-/// The floating origin in whole cells of `soil`.
+/// The floating origin in whole cells of `soil`. On soil the origin is on whole metres
+/// (`world/build.rs` `start_origin`, then whole-metre shifts).
 pub(super) fn origin_cells(soil: &SoilModel, origin: DVec3) -> (i64, i64) {
+    debug_assert!(
+        origin.x.fract() == 0.0 && origin.y.fract() == 0.0,
+        "the floating origin on soil must be on whole metres: {origin}"
+    );
     let per_m = soil.cells_per_m();
     (
         origin.x.round() as i64 * per_m,

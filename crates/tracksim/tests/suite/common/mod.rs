@@ -41,6 +41,20 @@ pub fn load_with(file: &str, overrides: tracksim::Overrides) -> Scenario {
     tracksim::load_scenario_with(&root().join(file), &overrides).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// A session's replay, as `tracksim run FILE --commands DIR/commands.toml --duration T` loads
+/// it: `file` with the commands the session in `dir` recorded, for `duration_s` s.
+pub fn session_replay(file: &Path, dir: &Path, duration_s: f64) -> Scenario {
+    tracksim::load_scenario_with(
+        file,
+        &tracksim::Overrides {
+            commands: Some(dir.join("commands.toml")),
+            duration_s: Some(duration_s),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 /// The scenario file `file` (relative to the repository) with its `simulation.duration_s` set
 /// to `duration` s.
 pub fn load_for(file: &str, duration: f64) -> Scenario {
