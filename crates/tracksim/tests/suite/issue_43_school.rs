@@ -481,7 +481,7 @@ fn replays(file: &Path, dir: &Path) {
                 .unwrap();
         s["sim_time_s"].as_f64().unwrap()
     };
-    let replay = common::session_replay(file, &dir, duration);
+    let replay = common::session_replay(file, dir, duration);
     let r = tracksim::run_scenario(&replay, |_, _| {}).unwrap();
     let csv = std::fs::read_to_string(dir.join("trajectory.csv")).unwrap();
     assert!(
