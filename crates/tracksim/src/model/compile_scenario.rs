@@ -374,6 +374,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         floating_origin: s.floating_origin,
         order_salt: s.order_salt,
         terrain_contact_damping_ratio: s.terrain_contact_damping_ratio,
+        cull_speculative_contacts: s.cull_speculative_contacts,
     }
 }
 

@@ -38,6 +38,9 @@ pub struct SolverSettings {
     /// Damping ratio of the terrain's contacts (`simulation.terrain_contact_damping_ratio`;
     /// None: Rapier's 10, or what the track method sets).
     pub terrain_contact_damping_ratio: Option<f64>,
+    /// Speculative contact manifolds with the ground that cannot act in a step are not solved
+    /// (`simulation.cull_speculative_contacts`, issue 44).
+    pub cull_speculative_contacts: bool,
 }
 
 impl Default for SolverSettings {
@@ -55,6 +58,7 @@ impl Default for SolverSettings {
             floating_origin: true,
             order_salt: 0,
             terrain_contact_damping_ratio: None,
+            cull_speculative_contacts: true,
         }
     }
 }

@@ -284,6 +284,15 @@ pub struct SimulationSpec {
     /// measured with Rapier's.
     #[serde(default)]
     pub terrain_contact_damping_ratio: Option<f64>,
+    /// A speculative contact manifold between the vehicle and the fixed ground that cannot act
+    /// in a step (every point more than 1 mm plus twice its closing in a step apart, and no
+    /// impulse carried from earlier steps) is not solved (default true; issue 44,
+    /// `world/speculative_cull.rs`). Only contacts that already go through the contact hook
+    /// (a contact slop, compliance, soil, a friction patch) are culled. Its impulse would be
+    /// zero: off changes trajectories at f32 rounding only, and costs the bundled stairs
+    /// ~20 % more CPU time.
+    #[serde(default = "default_true")]
+    pub cull_speculative_contacts: bool,
     /// Track method: "okada2020" (the paper's segment links with grousers).
     #[serde(default = "default_method")]
     pub method: String,
@@ -325,6 +334,7 @@ impl Default for SimulationSpec {
             floating_origin: true,
             order_salt: 0,
             terrain_contact_damping_ratio: None,
+            cull_speculative_contacts: true,
             method: default_method(),
             seed: 0,
         }

@@ -8,10 +8,14 @@
 //! 2. the track's own contacts (`Track::modify_contacts`: constraint-to-ground's belt speed);
 //! 3. compliance of grousers and belts (`[tracks.compliance]`, `world/compliance.rs`);
 //! 4. the contact slop (`simulation.contact_slop_m`, ODE's `min_depth`) on every track
-//!    contact, whatever the method.
+//!    contact, whatever the method;
+//! 5. a manifold with the ground that cannot act in this step is dropped
+//!    (`world/speculative_cull.rs`, `simulation.cull_speculative_contacts`), on the contacts
+//!    as the stages before left them.
 
 use super::compliance::{SolverSpring, apply_compliance};
 use super::friction_patch::apply_patch;
+use super::speculative_cull::{CullMode, cull_speculative};
 use super::soil::modify_soil_contacts;
 use crate::model::FrictionPatch;
 use crate::terrain::tagged_soil;
@@ -35,6 +39,8 @@ pub(crate) struct ContactHooks<'a> {
     pub origin: glam::DVec3,
     /// The low-friction patch on the ground (`fault.patch`), if one is in force.
     pub patch: Option<&'a FrictionPatch>,
+    /// What becomes of a manifold with the ground that cannot act in this step.
+    pub cull: CullMode<'a>,
 }
 
 /// Applies the slop to every solver contact of the pair.
@@ -127,7 +133,8 @@ impl ContactHooks<'_> {
 
 impl PhysicsHooks for ContactHooks<'_> {
     /// Every pair goes through the stages in order: soil, the track's own contacts,
-    /// compliance, slop (each acts only on the pairs its tags name).
+    /// compliance, slop (each acts only on the pairs its tags name), the cull of contacts that
+    /// cannot act.
     fn modify_solver_contacts(&self, ctx: &mut ContactModificationContext) {
         let (u1, u2) = (
             ctx.colliders[ctx.collider1].user_data,
@@ -137,5 +144,6 @@ impl PhysicsHooks for ContactHooks<'_> {
         self.track_stage(ctx, u1, u2);
         self.compliance_stage(ctx, u1, u2);
         self.slop_stage(ctx, u1, u2);
+        cull_speculative(ctx, &self.cull, self.dt);
     }
 }

@@ -57,6 +57,7 @@ mod sampling;
 mod simulation;
 mod soil;
 mod step;
+mod speculative_cull;
 mod track_loads;
 
 pub use appearance::Appearance;
@@ -71,6 +72,7 @@ pub use sample::{
     DriveSample, ICR_MIN_RATE_RAD_S, PoseRpy, SLIP_MIN_SPEED_MPS, Sample, slip_ratio,
 };
 pub use soil::{RutCell, SHEAR_RESET_S, TrackSoil};
+pub use speculative_cull::{CULL_MARGIN_M, CullMark};
 pub use track_loads::{MAX_LOAD_WINDOW_STEPS, TrackLoad, TrackOwners};
 
 use crate::model::Method;
@@ -137,4 +139,12 @@ pub struct Simulation {
     friction_patch: Option<crate::model::FrictionPatch>,
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
+    /// `simulation.cull_speculative_contacts`: manifolds with the ground that cannot act in a
+    /// step are not solved (`speculative_cull.rs`).
+    cull: bool,
+    /// Manifolds culled since the start.
+    culled: std::sync::atomic::AtomicU64,
+    /// The check mode of the cull ([`Simulation::set_cull_check`]): what it would have culled
+    /// in the last step.
+    cull_check: Option<std::sync::Mutex<Vec<CullMark>>>,
 }

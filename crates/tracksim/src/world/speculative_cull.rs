@@ -1,0 +1,161 @@
+//! The contact hook's last stage (issue 44): a speculative contact manifold that cannot act in
+//! this step is not sent to the solver.
+//!
+//! Rapier gives the solver every contact point within the prediction distance (2 cm) of the
+//! other shape. A point `dist` apart is a one-sided constraint "close the gap by at most
+//! `dist` in this step": it pushes only if the bodies would close more than `dist` within
+//! the step, i.e. if their closing speed exceeds `dist / dt` (1 m/s per mm at dt = 1 ms). A
+//! grouser hovering 5 mm above a stair's tread at belt speed costs the solver as much as one
+//! carrying the robot, and gives nothing. On the bundled stairs about a third of the
+//! vehicle's manifolds are such; the solver is ~75 % of a step.
+//!
+//! A manifold between a vehicle part and the fixed ground is dropped when, for every one of
+//! its solver contacts,
+//! - the gap exceeds [`CULL_MARGIN_M`] plus twice what the contact closes in a step at the
+//!   closing speed the bodies have when the hook runs: the margin covers what the step's other
+//!   impulses can add to that speed (1 mm: 1 m/s at dt = 1 ms);
+//! - and the contact carries no impulse from earlier steps (its normal, friction and twist
+//!   impulses stored for the warm start are all zero), so dropping it leaves no stale warm
+//!   start behind: a contact that pushed in the last step is solved once more (to zero, as it
+//!   opens) before it may be dropped.
+//!
+//! Such a constraint's impulse is zero: so are its friction's (bounded by the friction
+//! coefficient times the normal impulse). Dropping it changes the solver's order of visits,
+//! so trajectories differ at f32 rounding and not in what happens; the check mode
+//! ([`Simulation::set_cull_check`](super::Simulation::set_cull_check)) keeps every manifold and
+//! records the ones the cull would drop, to prove after the step that the solver gave them
+//! nothing (`tests/suite/issue_44_cull.rs`).
+//!
+//! Only pairs that ask for the contact hook pass through it: vehicles with a contact slop
+//! (the bundled stairs), compliance, soil, a friction patch, and the belt colliders of the
+//! segment links above grousers (`tracks/okada2020.rs`), which hover a grouser's height over
+//! flat ground. Asking for the hook costs a pair Rapier's contact recycling: for the belts the
+//! cull more than pays for it (the PackBot's step on flat ground 4 % cheaper); for every
+//! vehicle collider on flat ground it did not (3 % lost, 3 % won), so the grousers are not
+//! hooked for the cull alone.
+
+use rapier3d::geometry::NEW_CONTACT_BIT;
+use rapier3d::prelude::*;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Gap beyond which a contact that is not closing cannot act within a step, m: what one step
+/// of 1 ms closes at 1 m/s, the most the step's other impulses are taken to add to a contact
+/// point's closing speed.
+pub const CULL_MARGIN_M: f32 = 0.001;
+
+/// A manifold the cull would have dropped (check mode): its pair and the sub-shapes of a
+/// composite shape (0 for a single shape).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CullMark {
+    /// The pair's first collider.
+    pub collider1: ColliderHandle,
+    /// The pair's second collider.
+    pub collider2: ColliderHandle,
+    /// The sub-shape of the first collider.
+    pub subshape1: u32,
+    /// The sub-shape of the second collider.
+    pub subshape2: u32,
+}
+
+/// What the stage does with a manifold that cannot act.
+pub(crate) enum CullMode<'a> {
+    /// Keep it (`simulation.cull_speculative_contacts = false`).
+    Off,
+    /// Drop it, counting the drops.
+    On(&'a AtomicU64),
+    /// Keep it and record it (the check mode).
+    Check(&'a Mutex<Vec<CullMark>>),
+}
+
+/// Whether the body `b` of a pair (`None`: a collider without a body) is fixed.
+fn fixed(bodies: &RigidBodySet, b: Option<RigidBodyHandle>) -> bool {
+    b.is_none_or(|b| bodies[b].is_fixed())
+}
+
+/// Whether the manifold of `ctx` (a pair of a moving body and the fixed ground) cannot act in
+/// this step of `dt` s, see the module's documentation.
+fn cannot_act(ctx: &mut ContactModificationContext, dt: f32) -> bool {
+    let bodies: &RigidBodySet = ctx.bodies;
+    let (b1, b2) = (ctx.rigid_body1, ctx.rigid_body2);
+    if fixed(bodies, b1) == fixed(bodies, b2) {
+        return false;
+    }
+    let Some(m) = ctx.rigid_mut() else {
+        return false;
+    };
+    if m.solver_contacts.is_empty() {
+        return false;
+    }
+    let n = *m.normal;
+    let velocity = |b: Option<RigidBodyHandle>, p: Vector| {
+        b.filter(|b| !bodies[*b].is_fixed())
+            .map_or(Vector::ZERO, |b| bodies[b].velocity_at_point(p))
+    };
+    m.solver_contacts.iter().all(|c| {
+        let id = (c.contact_id[0] & !NEW_CONTACT_BIT) as usize;
+        let rested = m.manifold.points.get(id).is_some_and(|p| {
+            p.data.impulse == 0.0
+                && p.data.warmstart_impulse == 0.0
+                && p.data.warmstart_twist_impulse == 0.0
+                && p.data.warmstart_tangent_world == Vector::ZERO
+        });
+        let closing = (velocity(b1, c.anchor1) - velocity(b2, c.anchor2)).dot(n);
+        rested && c.dist > CULL_MARGIN_M + 2.0 * dt * closing.max(0.0)
+    })
+}
+
+/// The stage: drops (or, checking, records) the manifold of `ctx` if it cannot act.
+pub(crate) fn cull_speculative(ctx: &mut ContactModificationContext, mode: &CullMode, dt: f32) {
+    if matches!(mode, CullMode::Off) || !cannot_act(ctx, dt) {
+        return;
+    }
+    let (collider1, collider2) = (ctx.collider1, ctx.collider2);
+    let Some(m) = ctx.rigid_mut() else {
+        return;
+    };
+    match mode {
+        CullMode::Off => {}
+        CullMode::On(count) => {
+            m.solver_contacts.clear();
+            count.fetch_add(1, Ordering::Relaxed);
+        }
+        CullMode::Check(marks) => {
+            let mark = CullMark {
+                collider1,
+                collider2,
+                subshape1: m.manifold.subshape1,
+                subshape2: m.manifold.subshape2,
+            };
+            if let Ok(mut marks) = marks.lock() {
+                marks.push(mark);
+            }
+        }
+    }
+}
+
+impl super::Simulation {
+    /// Turns the cull's check mode on or off: while on, no manifold is culled, and every step
+    /// records those the cull would have dropped ([`Simulation::take_cull_marks`]), so that a
+    /// test can read the impulses the solver gave them. For checking the cull, not for runs.
+    ///
+    /// [`Simulation::take_cull_marks`]: super::Simulation::take_cull_marks
+    pub fn set_cull_check(&mut self, on: bool) {
+        self.cull_check = on.then(Default::default);
+    }
+
+    /// The manifolds the cull would have dropped since the last call (check mode; empty
+    /// otherwise).
+    pub fn take_cull_marks(&mut self) -> Vec<CullMark> {
+        self.cull_check
+            .as_mut()
+            .and_then(|m| m.get_mut().ok())
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
+    /// Manifolds culled since the start (`simulation.cull_speculative_contacts`).
+    pub fn culled_manifolds(&self) -> u64 {
+        self.culled.load(Ordering::Relaxed)
+    }
+}
