@@ -58,7 +58,7 @@ impl Default for SolverSettings {
             floating_origin: true,
             order_salt: 0,
             terrain_contact_damping_ratio: None,
-            cull_speculative_contacts: true,
+            cull_speculative_contacts: false,
         }
     }
 }

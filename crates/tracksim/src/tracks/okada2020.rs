@@ -377,17 +377,9 @@ impl SegmentLinks {
         let touching = t.touching[si];
         // A spatial loop has no belt surface: it carries its grousers (objects) only.
         if path.is_planar() && touching {
-            let bc = world
+            world
                 .colliders
                 .insert_with_parent(base(belt), h, &mut world.bodies);
-            // Above grousers the belt hovers a grouser's height over the ground, inside the
-            // prediction distance: its contacts go through the hook, whose cull drops them
-            // while they cannot act (`world/speculative_cull.rs`; 4 % of the PackBot's step on
-            // flat ground, the recycling the hook costs these pairs included).
-            if t.grousers.is_some() {
-                let c = &mut world.colliders[bc];
-                c.set_active_hooks(c.active_hooks() | ActiveHooks::MODIFY_SOLVER_CONTACTS);
-            }
         }
         // Grousers whose footprint lies on this segment at rest.
         let mut grousers = Vec::new();

@@ -144,6 +144,9 @@ impl PhysicsHooks for ContactHooks<'_> {
         self.track_stage(ctx, u1, u2);
         self.compliance_stage(ctx, u1, u2);
         self.slop_stage(ctx, u1, u2);
-        cull_speculative(ctx, &self.cull, self.dt);
+        // Not on soil: its after-step update reads the manifolds it allowed to sink.
+        if tagged_soil(u1).or(tagged_soil(u2)).is_none() {
+            cull_speculative(ctx, &self.cull, self.dt);
+        }
     }
 }

@@ -140,7 +140,7 @@ pub struct Simulation {
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
     /// `simulation.cull_speculative_contacts`: manifolds with the ground that cannot act in a
-    /// step are not solved (`speculative_cull.rs`).
+    /// step are not solved (`speculative_cull.rs`; off by default).
     cull: bool,
     /// Manifolds culled since the start.
     culled: std::sync::atomic::AtomicU64,
