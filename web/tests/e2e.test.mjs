@@ -165,6 +165,58 @@ test('view: the replay page plays the recorded run', async () => {
   }
 });
 
+/** Pauses a replay page (if playing) and scrubs it to `t` s; resolves once it is there. */
+async function scrubTo(page, t) {
+  if (await page.evaluate(() => document.getElementById('play').textContent === 'pause')) await page.click('#play');
+  const end = await page.evaluate(() => window.tracksim.replayEnd);
+  // The bar's steps are 0.001 of the run: the time is the step's nearest to t (1.2 ms here).
+  const f = await page.$eval('#scrub', (e, x) => { e.value = String(x); e.dispatchEvent(new Event('input')); return Number(e.value); }, t / end);
+  await page.waitForFunction((x) => Math.abs(window.tracksim.replayTime - x * window.tracksim.replayEnd) < 1e-6, f, { timeout: 10000 });
+  // Two frames more: the frame that took the time has drawn the scene at it.
+  const frames = await page.evaluate(() => window.tracksim.frames);
+  await page.waitForFunction((n) => window.tracksim.frames > n + 1, frames, { timeout: 10000 });
+}
+
+test('view: the replay draws a low-friction patch only while the run had it (issue 43)', async () => {
+  // A `run --commands` folder: the patch put at 0.4 s, removed at 0.8 s.
+  const cmds = path.join(tmp, 'patch-commands.toml');
+  fs.writeFileSync(cmds, [
+    '[[commands]]', 't_s = 0.0', 'belt_speed_mps = { left = 0.3, right = 0.3 }', '',
+    '[[commands]]', 't_s = 0.4', 'fault.patch = { centre_m = [0.5, 0.0], size_m = [1.0, 1.5], friction = 0.1 }', '',
+    '[[commands]]', 't_s = 0.8', 'fault.patch = "ok"', '',
+  ].join('\n'));
+  const dir = path.join(tmp, 'patch-run');
+  execFileSync(bin, ['run', 'scenarios/packbot_flat.toml', '--commands', cmds, '--duration', '1.2', '--out', dir, '--no-plot'], { cwd: root, stdio: 'ignore' });
+  const scene = JSON.parse(fs.readFileSync(path.join(dir, 'scene.json'), 'utf8'));
+  assert.deepEqual(scene.patches, [
+    { t_s: 0.4, patch: { centre_m: [0.5, 0], size_m: [1, 1.5], friction: 0.1 } },
+    { t_s: 0.8, patch: null },
+  ]);
+  const view = start(['view', dir, '--port', '0']);
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, await view.url);
+    const drawn = () => page.evaluate(() => ({ patch: window.tracksim.patch, tris: window.tracksim.patchDrawn }));
+    await scrubTo(page, 0.2);
+    assert.deepEqual(await drawn(), { patch: null, tris: 0 }, 'a patch drawn before it was put');
+    await scrubTo(page, 0.6);
+    const during = await drawn();
+    assert.equal(during.patch?.friction, 0.1);
+    assert.deepEqual(during.patch?.size_m, [1, 1.5]);
+    // 10 x 15 cells of at most 0.1 m, two triangles each.
+    assert.equal(during.tris, 300);
+    await page.screenshot({ path: path.join(artifacts, 'view-patch.png') });
+    await scrubTo(page, 1.0);
+    assert.deepEqual(await drawn(), { patch: null, tris: 0 }, 'the patch still drawn after it was removed');
+    // Scrubbing back shows it again.
+    await scrubTo(page, 0.5);
+    assert.equal((await drawn()).tris, 300);
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});
+
 test('view: conveyors, loose boxes and a spatial loop are drawn and move (issue 17)', async () => {
   const run = path.join(tmp, 'conveyor');
   execFileSync(bin, ['run', 'scenarios/conveyor_box_step.toml', '--out', run, '--quiet', '--no-plot'], { cwd: root });
@@ -1169,6 +1221,15 @@ test('the instructor (issue 43): pause stops simulated time, a track stop, a vid
     assert.equal(await page.evaluate(() => window.tracksim.attempt), 1);
     assert.deepEqual(await page.evaluate(() => window.tracksim.attempts), [1, 2]);
     assert.equal(await page.evaluate(() => document.querySelectorAll('#attempt option').length), 2);
+    // The patch put in attempt 1 is drawn in its replay from the time it was put, not before.
+    const put = JSON.parse(fs.readFileSync(path.join(first, 'scene.json'), 'utf8')).patches;
+    assert.equal(put.length, 1);
+    assert.equal(put[0].patch.friction, 0.15);
+    await scrubTo(page, put[0].t_s / 2);
+    assert.equal(await page.evaluate(() => window.tracksim.patchDrawn), 0);
+    await scrubTo(page, put[0].t_s + 0.5 * (await page.evaluate(() => window.tracksim.replayEnd) - put[0].t_s));
+    assert.equal(await page.evaluate(() => window.tracksim.patch?.friction), 0.15);
+    assert.ok((await page.evaluate(() => window.tracksim.patchDrawn)) > 0);
   } finally {
     await vctx.close();
     view.child.kill();

@@ -205,3 +205,18 @@ export function courseAt(course, t, end = Infinity) {
     events: (course.events ?? []).filter((e) => num(e.t_s) && e.t_s <= t + 1e-9),
   };
 }
+
+/**
+ * The low-friction patch on the ground at replay time `t` s (issue 43), from scene.json's
+ * `patches` (output/replay.rs `ScenePatch`: every change of the run's patch in order, each
+ * `{t_s, patch}` with `patch` `{centre_m, size_m, friction}` or null once removed): the patch
+ * of the last change at or before `t`, null before the first or without any.
+ */
+export function patchAt(patches, t) {
+  let now = null;
+  for (const c of Array.isArray(patches) ? patches : []) {
+    if (!num(c?.t_s) || c.t_s > t + 1e-9) break;
+    now = c.patch ?? null;
+  }
+  return now;
+}

@@ -330,6 +330,7 @@ impl TeamRunner {
                     outcome,
                     sensors,
                     ruts: Vec::new(),
+                    patches: self.sim.patch_changes().to_vec(),
                 },
             ));
         }

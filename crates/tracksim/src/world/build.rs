@@ -84,6 +84,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         held_friction_in_bias_pass: sc.solver.held_friction_in_bias_pass,
         held_at_rest: false,
         friction_patch: None,
+        patch_log: Vec::new(),
         ground_hooked: false,
         rest_positions: Vec::new(),
         springs,

@@ -62,6 +62,7 @@ mod track_loads;
 pub use appearance::Appearance;
 pub use at_rest::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
 pub(crate) use flipper::Flipper;
+pub use friction_patch::PatchChange;
 pub use mass::{MIN_PARENT_MASS_FRACTION, MassReport, PartMass};
 pub use odometry::Odometry;
 pub use origin::ORIGIN_SHIFT_M;
@@ -135,6 +136,8 @@ pub struct Simulation {
     appearance: Appearance,
     /// The low-friction patch on the ground (`fault.patch`, issue 43), if one is in force.
     friction_patch: Option<crate::model::FrictionPatch>,
+    /// Every change of the patch so far, in order (`Simulation::patch_changes`).
+    patch_log: Vec<PatchChange>,
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
 }
