@@ -26,7 +26,8 @@
 //!   terrain's force on each track), `floating_origin` (the shift of the f32 world near the
 //!   robots), `mass_stage` (floored link masses taken back from their parents; the report),
 //!   `drawbar_pull`, `conveyor_queries`, `faults` (a track stopped or unpowered, a flipper
-//!   jammed, a low-friction patch on the ground: issue 43).
+//!   jammed, a low-friction patch on the ground: issue 43), `robot_reset` (one robot put back
+//!   at its start while the world goes on: issue 43).
 
 #![warn(clippy::too_many_lines)]
 
@@ -50,6 +51,7 @@ mod mass_stage;
 mod odometry;
 mod origin;
 mod robot;
+mod robot_reset;
 mod robots;
 mod rut_grid;
 mod sample;
@@ -140,4 +142,7 @@ pub struct Simulation {
     patch_log: Vec<PatchChange>,
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
+    /// A robot was put back at its start since the last step (`Simulation::reset_robot`): the
+    /// next step makes every contact afresh.
+    robot_reset: bool,
 }

@@ -62,8 +62,15 @@ impl Simulation {
         }
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
-        self.world.integration_parameters.contact_recycling =
-            recycling && !shifted && !held_on_motors && !coming_to_rest && self.soil.is_none();
+        self.world.integration_parameters.contact_recycling = recycling
+            && !shifted
+            && !self.robot_reset
+            && !held_on_motors
+            && !coming_to_rest
+            && self.soil.is_none();
+        // A robot put back at its start (`reset_robot`): its recycled contacts would hold its
+        // old place, as after a shift.
+        self.robot_reset = false;
         self.world.step_with_events(&hooks, &());
         self.world.integration_parameters.contact_recycling = recycling;
         self.steps += 1;
