@@ -988,6 +988,78 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
   }
 });
 
+test('two trainees (issue 43): the instructor resets one robot, the other drives on; the session replays byte for byte, attempts included', async () => {
+  const dir = path.join(tmp, 'team-reset');
+  const file = 'scenarios/team/race_step.toml';
+  const child = spawn(bin, ['drive', file, '--port', '0', '--out', dir, '--no-plot', '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let printed = '';
+  const urls = new Promise((resolve, reject) => {
+    child.stdout.on('data', (d) => {
+      printed += d;
+      const m = printed.match(/open (http:\/\/127\.0\.0\.1:\d+\/) in a browser/);
+      const i = printed.match(/instructor open (http:\/\/127\.0\.0\.1:\d+\/\?instructor=[0-9a-f]{32})/);
+      if (m && i) resolve([m[1], i[1]]);
+    });
+    child.on('exit', (code) => reject(new Error(`tracksim drive exited ${code}: ${printed}`)));
+  });
+  const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+  const [url, instructorUrl] = await urls;
+  const ctx = await browser();
+  try {
+    const red = await openDrive(ctx, `${url}?robot=red`);
+    const blue = await openDrive(ctx, `${url}?robot=blue`);
+    const teacher = await openDrive(ctx, `${instructorUrl}&robot=blue`);
+    await teacher.page.waitForFunction(() => window.tracksim.role === 'instructor' && window.tracksim.robot === 'blue' && document.getElementById('i-reset'), null, { timeout: 30000 });
+    await red.page.bringToFront();
+    await red.page.keyboard.down('ArrowUp');
+    await blue.page.bringToFront();
+    await blue.page.keyboard.down('ArrowUp');
+    await blue.page.waitForFunction(() => window.tracksim.state.pose[0] > 0.2, null, { timeout: 60000 });
+    await red.page.waitForFunction(() => window.tracksim.state.pose[0] > 0.2, null, { timeout: 60000 });
+    await blue.page.keyboard.up('ArrowUp');
+    // The instructor resets blue (the robot their page follows): blue is back at its start
+    // (x 0, y -0.7 m), red drives on.
+    const redBefore = await red.page.evaluate(() => window.tracksim.state.pose[0]);
+    await teacher.page.click('#i-reset');
+    await blue.page.waitForFunction(() => Math.abs(window.tracksim.state.pose[0]) < 0.02 && Math.abs(window.tracksim.state.pose[1] + 0.7) < 0.02, null, { timeout: 20000 });
+    const blueT = await blue.page.evaluate(() => window.tracksim.state.t);
+    await red.page.waitForFunction((t) => window.tracksim.state.t > t + 0.3, blueT, { timeout: 20000 });
+    const redAfter = await red.page.evaluate(() => window.tracksim.state.pose[0]);
+    assert.ok(redAfter > redBefore + 0.05, `red drives on: x ${redBefore} -> ${redAfter}`);
+    await red.page.keyboard.up('ArrowUp');
+    await teacher.page.click('#i-end');
+    assert.equal(await exited, 0, printed);
+    assert.deepEqual([...red.errors, ...blue.errors, ...teacher.errors], []);
+  } finally {
+    await ctx.close();
+    child.kill();
+  }
+  const toml = fs.readFileSync(path.join(dir, 'commands.toml'), 'utf8');
+  assert.equal((toml.match(/reset = true/g) ?? []).length, 1, toml);
+  for (const f of ['trajectory.csv', 'summary.json', 'scene.json', 'controls.csv']) {
+    assert.ok(fs.existsSync(path.join(dir, 'blue/attempts/1', f)), `blue/attempts/1/${f}`);
+  }
+  assert.ok(!fs.existsSync(path.join(dir, 'red/attempts')), 'red was not reset');
+  const summary = JSON.parse(fs.readFileSync(path.join(dir, 'blue/summary.json'), 'utf8'));
+  assert.deepEqual(summary.attempts.map((a) => a.folder), ['attempts/1', '.']);
+  const duration = toml.match(/--duration ([0-9.e-]+)/)[1];
+  const again = path.join(tmp, 'team-reset-again');
+  execFileSync(bin, ['run', file, '--commands', path.join(dir, 'commands.toml'), '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
+  for (const r of ['red', 'blue', 'blue/attempts/1']) {
+    assert.equal(fs.readFileSync(path.join(again, r, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(dir, r, 'trajectory.csv'), 'utf8'), `${r} replays`);
+  }
+  // The review of blue steps through its two attempts.
+  const view = start(['view', path.join(dir, 'blue'), '--port', '0']);
+  const vctx = await browser();
+  try {
+    const page = await openReplay(vctx, `${await view.url}?attempt=1`);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.attempts), [1, 2]);
+  } finally {
+    await vctx.close();
+    view.child.kill();
+  }
+});
+
 test('view: the replay page offers the run as an MP4 that the browser plays (issue 41)', async () => {
   const dir = path.join(tmp, 'video-run');
   execFileSync(bin, ['run', 'packbot_step', '--out', dir, '--duration', '1'], { cwd: root });
