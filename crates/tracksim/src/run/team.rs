@@ -159,7 +159,7 @@ impl TeamRunner {
             r.samples = super::SampleLog::from(vec![self.sim.sample()]);
             r.decided = None;
             if let Some(c) = &mut r.course {
-                c.reset();
+                c.reset_at(t);
             }
         }
         self.sim.select(0);

@@ -289,6 +289,27 @@ fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
         .collect();
     assert!(kinds.contains(&"reset"), "{kinds:?}");
     assert_eq!(summary["attempts"].as_array().unwrap().len(), 2);
+    // Blue's course starts again at the reset (the world's clock goes on): its time counts
+    // from the reset's, the reset a fault of the new attempt (as a one-robot session's).
+    let t_reset = s.logs[1]
+        .commands()
+        .iter()
+        .find(|c| c.reset == Some(true))
+        .unwrap()
+        .t_s;
+    let course = &s.result.robots[1].1.summary.course.as_ref().unwrap();
+    println!(
+        "blue reset at {t_reset} s; its course: elapsed {} s of the session's {} s, {} reset",
+        course.elapsed_s,
+        s.duration(),
+        course.faults.reset
+    );
+    assert_eq!(course.faults.reset, 1);
+    assert!((course.elapsed_s - (s.duration() - t_reset)).abs() < 1e-9);
+    assert_eq!(course.events[0].t_s, t_reset);
+    let red_course = &s.result.robots[0].1.summary.course.as_ref().unwrap();
+    assert_eq!(red_course.faults.reset, 0);
+    assert!((red_course.elapsed_s - s.duration()).abs() < 1e-9);
     let replay = common::session_replay(&file, &dir, s.duration());
     let r = tracksim::run::run_team(&replay, tracksim::RunOptions::default()).unwrap();
     for (name, run) in &r.robots {
