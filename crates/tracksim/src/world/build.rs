@@ -86,7 +86,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         friction_patch: None,
         patch_log: Vec::new(),
         ground_hooked: false,
-        robot_reset: false,
+        fresh_pairs: Vec::new(),
         rest_positions: Vec::new(),
         springs,
         ground_tile,

@@ -142,7 +142,11 @@ pub struct Simulation {
     patch_log: Vec<PatchChange>,
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
-    /// A robot was put back at its start since the last step (`Simulation::reset_robot`): the
-    /// next step makes every contact afresh.
-    robot_reset: bool,
+    /// The colliders of a robot put back at its start since the last step
+    /// (`Simulation::reset_robot`) with their own contact hooks: asked for the hook for the next
+    /// step (so that Rapier recycles none of their pairs), given back theirs after it.
+    fresh_pairs: Vec<(
+        rapier3d::prelude::ColliderHandle,
+        rapier3d::prelude::ActiveHooks,
+    )>,
 }

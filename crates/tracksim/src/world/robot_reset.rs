@@ -10,9 +10,14 @@
 //! its start data (motor targets, limits) and no impulse; and the robot's running parts (its
 //! tracks' states: belt phase and speed integrators, odometry, flippers' targets, drawbar,
 //! load window, faults) are the fresh world's. The other robots, the terrain, conveyors and
-//! loose boxes and the low-friction patch go on as they were. The next step makes every
-//! contact afresh (no recycled contact may keep the robot's old place), as after an origin
-//! shift.
+//! loose boxes and the low-friction patch go on as they were.
+//!
+//! Contacts: Rapier recycles a pair whose relative pose barely moved, its contacts frozen in
+//! world space; the pairs of the robot's own parts (relative poses unchanged by the move) would
+//! keep their contacts at its old place. A pair with a contact hook is never recycled, so the
+//! robot's colliders ask for the hook for the next step only (the hook changes nothing on an
+//! untagged pair: `contacts.rs`) and get their own back after it: the robot's contacts are made
+//! afresh, the other robots' pairs recycle as without the reset.
 
 use super::Simulation;
 use crate::error::{Error, Result};
@@ -66,7 +71,14 @@ impl Simulation {
             }
         }
         std::mem::swap(&mut self.robots[k], &mut fresh.robots[k]);
-        self.robot_reset = true;
+        for &h in &bodies {
+            for &c in self.world.bodies[h].colliders() {
+                let col = &mut self.world.colliders[c];
+                let own = col.active_hooks();
+                self.fresh_pairs.push((c, own));
+                col.set_active_hooks(own | ActiveHooks::MODIFY_SOLVER_CONTACTS);
+            }
+        }
         Ok(())
     }
 }

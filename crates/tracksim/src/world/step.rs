@@ -62,17 +62,17 @@ impl Simulation {
         }
         // Soil contacts change every step (the allowance follows the load and the ruts): a
         // recycled contact would skip the hook.
-        self.world.integration_parameters.contact_recycling = recycling
-            && !shifted
-            && !self.robot_reset
-            && !held_on_motors
-            && !coming_to_rest
-            && self.soil.is_none();
-        // A robot put back at its start (`reset_robot`): its recycled contacts would hold its
-        // old place, as after a shift.
-        self.robot_reset = false;
+        self.world.integration_parameters.contact_recycling =
+            recycling && !shifted && !held_on_motors && !coming_to_rest && self.soil.is_none();
         self.world.step_with_events(&hooks, &());
         self.world.integration_parameters.contact_recycling = recycling;
+        // A robot put back at its start (`reset_robot`): its colliders asked for the hook for
+        // this step only, so that none of its pairs kept contacts frozen at its old place.
+        for (c, h) in self.fresh_pairs.drain(..) {
+            if let Some(c) = self.world.colliders.get_mut(c) {
+                c.set_active_hooks(h);
+            }
+        }
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
         for k in 0..self.robots.len() {
