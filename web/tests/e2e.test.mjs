@@ -165,6 +165,58 @@ test('view: the replay page plays the recorded run', async () => {
   }
 });
 
+/** Pauses a replay page (if playing) and scrubs it to `t` s; resolves once it is there. */
+async function scrubTo(page, t) {
+  if (await page.evaluate(() => document.getElementById('play').textContent === 'pause')) await page.click('#play');
+  const end = await page.evaluate(() => window.tracksim.replayEnd);
+  // The bar's steps are 0.001 of the run: the time is the step's nearest to t (1.2 ms here).
+  const f = await page.$eval('#scrub', (e, x) => { e.value = String(x); e.dispatchEvent(new Event('input')); return Number(e.value); }, t / end);
+  await page.waitForFunction((x) => Math.abs(window.tracksim.replayTime - x * window.tracksim.replayEnd) < 1e-6, f, { timeout: 10000 });
+  // Two frames more: the frame that took the time has drawn the scene at it.
+  const frames = await page.evaluate(() => window.tracksim.frames);
+  await page.waitForFunction((n) => window.tracksim.frames > n + 1, frames, { timeout: 10000 });
+}
+
+test('view: the replay draws a low-friction patch only while the run had it (issue 43)', async () => {
+  // A `run --commands` folder: the patch put at 0.4 s, removed at 0.8 s.
+  const cmds = path.join(tmp, 'patch-commands.toml');
+  fs.writeFileSync(cmds, [
+    '[[commands]]', 't_s = 0.0', 'belt_speed_mps = { left = 0.3, right = 0.3 }', '',
+    '[[commands]]', 't_s = 0.4', 'fault.patch = { centre_m = [0.5, 0.0], size_m = [1.0, 1.5], friction = 0.1 }', '',
+    '[[commands]]', 't_s = 0.8', 'fault.patch = "ok"', '',
+  ].join('\n'));
+  const dir = path.join(tmp, 'patch-run');
+  execFileSync(bin, ['run', 'scenarios/packbot_flat.toml', '--commands', cmds, '--duration', '1.2', '--out', dir, '--no-plot'], { cwd: root, stdio: 'ignore' });
+  const scene = JSON.parse(fs.readFileSync(path.join(dir, 'scene.json'), 'utf8'));
+  assert.deepEqual(scene.patches, [
+    { t_s: 0.4, patch: { centre_m: [0.5, 0], size_m: [1, 1.5], friction: 0.1 } },
+    { t_s: 0.8, patch: null },
+  ]);
+  const view = start(['view', dir, '--port', '0']);
+  const ctx = await browser();
+  try {
+    const page = await openReplay(ctx, await view.url);
+    const drawn = () => page.evaluate(() => ({ patch: window.tracksim.patch, tris: window.tracksim.patchDrawn }));
+    await scrubTo(page, 0.2);
+    assert.deepEqual(await drawn(), { patch: null, tris: 0 }, 'a patch drawn before it was put');
+    await scrubTo(page, 0.6);
+    const during = await drawn();
+    assert.equal(during.patch?.friction, 0.1);
+    assert.deepEqual(during.patch?.size_m, [1, 1.5]);
+    // 10 x 15 cells of at most 0.1 m, two triangles each.
+    assert.equal(during.tris, 300);
+    await page.screenshot({ path: path.join(artifacts, 'view-patch.png') });
+    await scrubTo(page, 1.0);
+    assert.deepEqual(await drawn(), { patch: null, tris: 0 }, 'the patch still drawn after it was removed');
+    // Scrubbing back shows it again.
+    await scrubTo(page, 0.5);
+    assert.equal((await drawn()).tris, 300);
+  } finally {
+    await ctx.close();
+    view.child.kill();
+  }
+});
+
 test('view: conveyors, loose boxes and a spatial loop are drawn and move (issue 17)', async () => {
   const run = path.join(tmp, 'conveyor');
   execFileSync(bin, ['run', 'scenarios/conveyor_box_step.toml', '--out', run, '--quiet', '--no-plot'], { cwd: root });
@@ -936,6 +988,78 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
   }
 });
 
+test('two trainees (issue 43): the instructor resets one robot, the other drives on; the session replays byte for byte, attempts included', async () => {
+  const dir = path.join(tmp, 'team-reset');
+  const file = 'scenarios/team/race_step.toml';
+  const child = spawn(bin, ['drive', file, '--port', '0', '--out', dir, '--no-plot', '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  let printed = '';
+  const urls = new Promise((resolve, reject) => {
+    child.stdout.on('data', (d) => {
+      printed += d;
+      const m = printed.match(/open (http:\/\/127\.0\.0\.1:\d+\/) in a browser/);
+      const i = printed.match(/instructor open (http:\/\/127\.0\.0\.1:\d+\/\?instructor=[0-9a-f]{32})/);
+      if (m && i) resolve([m[1], i[1]]);
+    });
+    child.on('exit', (code) => reject(new Error(`tracksim drive exited ${code}: ${printed}`)));
+  });
+  const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
+  const [url, instructorUrl] = await urls;
+  const ctx = await browser();
+  try {
+    const red = await openDrive(ctx, `${url}?robot=red`);
+    const blue = await openDrive(ctx, `${url}?robot=blue`);
+    const teacher = await openDrive(ctx, `${instructorUrl}&robot=blue`);
+    await teacher.page.waitForFunction(() => window.tracksim.role === 'instructor' && window.tracksim.robot === 'blue' && document.getElementById('i-reset'), null, { timeout: 30000 });
+    await red.page.bringToFront();
+    await red.page.keyboard.down('ArrowUp');
+    await blue.page.bringToFront();
+    await blue.page.keyboard.down('ArrowUp');
+    await blue.page.waitForFunction(() => window.tracksim.state.pose[0] > 0.2, null, { timeout: 60000 });
+    await red.page.waitForFunction(() => window.tracksim.state.pose[0] > 0.2, null, { timeout: 60000 });
+    await blue.page.keyboard.up('ArrowUp');
+    // The instructor resets blue (the robot their page follows): blue is back at its start
+    // (x 0, y -0.7 m), red drives on.
+    const redBefore = await red.page.evaluate(() => window.tracksim.state.pose[0]);
+    await teacher.page.click('#i-reset');
+    await blue.page.waitForFunction(() => Math.abs(window.tracksim.state.pose[0]) < 0.02 && Math.abs(window.tracksim.state.pose[1] + 0.7) < 0.02, null, { timeout: 20000 });
+    const blueT = await blue.page.evaluate(() => window.tracksim.state.t);
+    await red.page.waitForFunction((t) => window.tracksim.state.t > t + 0.3, blueT, { timeout: 20000 });
+    const redAfter = await red.page.evaluate(() => window.tracksim.state.pose[0]);
+    assert.ok(redAfter > redBefore + 0.05, `red drives on: x ${redBefore} -> ${redAfter}`);
+    await red.page.keyboard.up('ArrowUp');
+    await teacher.page.click('#i-end');
+    assert.equal(await exited, 0, printed);
+    assert.deepEqual([...red.errors, ...blue.errors, ...teacher.errors], []);
+  } finally {
+    await ctx.close();
+    child.kill();
+  }
+  const toml = fs.readFileSync(path.join(dir, 'commands.toml'), 'utf8');
+  assert.equal((toml.match(/reset = true/g) ?? []).length, 1, toml);
+  for (const f of ['trajectory.csv', 'summary.json', 'scene.json', 'controls.csv']) {
+    assert.ok(fs.existsSync(path.join(dir, 'blue/attempts/1', f)), `blue/attempts/1/${f}`);
+  }
+  assert.ok(!fs.existsSync(path.join(dir, 'red/attempts')), 'red was not reset');
+  const summary = JSON.parse(fs.readFileSync(path.join(dir, 'blue/summary.json'), 'utf8'));
+  assert.deepEqual(summary.attempts.map((a) => a.folder), ['attempts/1', '.']);
+  const duration = toml.match(/--duration ([0-9.e-]+)/)[1];
+  const again = path.join(tmp, 'team-reset-again');
+  execFileSync(bin, ['run', file, '--commands', path.join(dir, 'commands.toml'), '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
+  for (const r of ['red', 'blue', 'blue/attempts/1']) {
+    assert.equal(fs.readFileSync(path.join(again, r, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(dir, r, 'trajectory.csv'), 'utf8'), `${r} replays`);
+  }
+  // The review of blue steps through its two attempts.
+  const view = start(['view', path.join(dir, 'blue'), '--port', '0']);
+  const vctx = await browser();
+  try {
+    const page = await openReplay(vctx, `${await view.url}?attempt=1`);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.attempts), [1, 2]);
+  } finally {
+    await vctx.close();
+    view.child.kill();
+  }
+});
+
 test('view: the replay page offers the run as an MP4 that the browser plays (issue 41)', async () => {
   const dir = path.join(tmp, 'video-run');
   execFileSync(bin, ['run', 'packbot_step', '--out', dir, '--duration', '1'], { cwd: root });
@@ -1169,6 +1293,15 @@ test('the instructor (issue 43): pause stops simulated time, a track stop, a vid
     assert.equal(await page.evaluate(() => window.tracksim.attempt), 1);
     assert.deepEqual(await page.evaluate(() => window.tracksim.attempts), [1, 2]);
     assert.equal(await page.evaluate(() => document.querySelectorAll('#attempt option').length), 2);
+    // The patch put in attempt 1 is drawn in its replay from the time it was put, not before.
+    const put = JSON.parse(fs.readFileSync(path.join(first, 'scene.json'), 'utf8')).patches;
+    assert.equal(put.length, 1);
+    assert.equal(put[0].patch.friction, 0.15);
+    await scrubTo(page, put[0].t_s / 2);
+    assert.equal(await page.evaluate(() => window.tracksim.patchDrawn), 0);
+    await scrubTo(page, put[0].t_s + 0.5 * (await page.evaluate(() => window.tracksim.replayEnd) - put[0].t_s));
+    assert.equal(await page.evaluate(() => window.tracksim.patch?.friction), 0.15);
+    assert.ok((await page.evaluate(() => window.tracksim.patchDrawn)) > 0);
   } finally {
     await vctx.close();
     view.child.kill();

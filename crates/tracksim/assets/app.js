@@ -4,7 +4,7 @@ import * as THREE from 'three';
 import { OrbitControls } from '/vendor/OrbitControls.js';
 import { createHud, tiltDeg } from '/hud.js';
 import { createMinimap, gateEnds, itemYaw } from '/minimap.js';
-import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs, courseAt } from '/review.js';
+import { computeEvents, eventColour, jumpTarget, inputSeries, drawInputs, courseAt, patchAt } from '/review.js';
 import { createRuts, parseRuts } from '/ruts.js';
 
 const $ = (id) => document.getElementById(id);
@@ -1283,6 +1283,8 @@ function replayFrame() {
   const br = lerpRow(replay.belts.rows, playTime);
   const [x, y, z, roll, pitch, yaw] = replay.pose.map((i) => r[i]);
   pose(x, y, z, roll, pitch, yaw, replay.flip.map((i) => r[i]), replay.beltPos.map((i) => br[i]));
+  // The low-friction patch as it was at the replay time (scene.json `patches`, the run's own).
+  showPatch(patchAt(scene.patches, playTime), z);
   conveyors.forEach((c, i) => placeGrousers(c, br[replay.conveyorPos[i]] ?? 0));
   looseBoxes.forEach((m, i) => {
     const [bx, by, bz, br_, bp, byaw] = replay.boxPose[i].map((k) => br[k]);

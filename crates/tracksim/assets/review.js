@@ -156,14 +156,18 @@ function faultKind(e) {
  * The course's score at replay time `t` s, from summary.json's `course` (run/course.rs
  * `CourseScore`) and its timed events: gates passed, repetitions and their times, faults by
  * kind, penalty and score so far, as the live page showed it then. At or after the run's
- * last sample it is the final score itself. null without a course.
+ * last sample it is the final score itself. null without a course. An attempt that began
+ * with a reset (its first event) counts its time from that event's time: 0 s, or the reset's
+ * world time for one robot reset in a world that went on (run/course.rs `reset_at`).
  */
 export function courseAt(course, t, end = Infinity) {
   if (!course || typeof course !== 'object') return null;
   if (num(end) && t >= end - 1e-9) return course;
   const total = num(course.gates_total) ? course.gates_total : null;
   const required = course.repetitions_required;
-  let next = 0, passed = 0, lastEnd = 0, status = 'running', penalty = 0, penaltyKnown = true;
+  const first = (course.events ?? [])[0];
+  const start = first && first.kind === 'fault' && faultKind(first) === 'reset' && num(first.t_s) ? first.t_s : 0;
+  let next = 0, passed = 0, lastEnd = start, status = 'running', penalty = 0, penaltyKnown = true;
   const reps = [];
   const faults = { reset: 0, tip_over: 0, touch: 0 };
   for (const e of course.events ?? []) {
@@ -182,8 +186,8 @@ export function courseAt(course, t, end = Infinity) {
       status = num(required) && reps.length >= required ? 'completed' : 'time_limit';
     }
   }
-  const elapsed = Math.min(t, num(course.elapsed_s) ? course.elapsed_s : t);
-  const time = status === 'completed' ? lastEnd : elapsed;
+  const elapsed = Math.min(t - start, num(course.elapsed_s) ? course.elapsed_s : t - start);
+  const time = status === 'completed' ? lastEnd - start : elapsed;
   const pen = penaltyKnown ? penalty : null;
   const nFaults = faults.reset + faults.tip_over + faults.touch;
   return {
@@ -204,4 +208,19 @@ export function courseAt(course, t, end = Infinity) {
     score: { repetitions: reps.length, time_s: time, faults: nFaults, penalty_s: pen, score_s: pen === null ? null : time + pen },
     events: (course.events ?? []).filter((e) => num(e.t_s) && e.t_s <= t + 1e-9),
   };
+}
+
+/**
+ * The low-friction patch on the ground at replay time `t` s (issue 43), from scene.json's
+ * `patches` (output/replay.rs `ScenePatch`: every change of the run's patch in order, each
+ * `{t_s, patch}` with `patch` `{centre_m, size_m, friction}` or null once removed): the patch
+ * of the last change at or before `t`, null before the first or without any.
+ */
+export function patchAt(patches, t) {
+  let now = null;
+  for (const c of Array.isArray(patches) ? patches : []) {
+    if (!num(c?.t_s) || c.t_s > t + 1e-9) break;
+    now = c.patch ?? null;
+  }
+  return now;
 }

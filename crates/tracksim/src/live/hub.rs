@@ -34,7 +34,7 @@
 //! - `{"type":"control","forward_mps":F,"yaw_rate_rad_s":W,"flipper_angle_deg":[A|null,...]}`
 //!   (m/s, rad/s, degrees by flipper index; `null` keeps a flipper's target);
 //! - `{"type":"reset"}`: the session starts again from the scenario's start (refused in a
-//!   session of several robots: it would restart every robot);
+//!   session of several robots, where the instructor resets one robot);
 //! - `{"type":"stop"}`: the session ends and its outputs are written; in a session of several
 //!   robots the driver's seat closes (the robot stops) and the session ends once every seat
 //!   that was taken has closed.
@@ -268,13 +268,14 @@ impl Hub {
             InstructorMessage::Resume => InstructorAction::Resume,
             InstructorMessage::End => InstructorAction::End,
             InstructorMessage::Reset { robot: r } => {
-                if self.team {
-                    return Some(
-                        "a reset of one robot is not in a session of several robots yet (one \
-                         world holds them all: a reset would restart every robot); end the \
-                         session and start a new one"
-                            .into(),
-                    );
+                // In a session of several robots the reset puts one robot back at its start
+                // while the others go on: which one must be said.
+                if self.team && r.is_none() {
+                    return Some(format!(
+                        "name the robot to reset: {{\"type\":\"reset\",\"robot\":NAME}} (this \
+                         session's robots: {})",
+                        self.robots.join(", ")
+                    ));
                 }
                 match robot(&r) {
                     Ok(k) => InstructorAction::Reset(k),
@@ -545,7 +546,9 @@ impl Hub {
                 None
             }
             Ok(ClientMessage::Reset) if self.team => Some(
-                "a reset would start every robot again: not in a session of several robots".into(),
+                "a driver's reset is not in a session of several robots: the instructor resets \
+                 one robot (their page's Reset robot)"
+                    .into(),
             ),
             Ok(ClientMessage::Reset) => {
                 self.reset.store(true, Ordering::Relaxed);
@@ -810,7 +813,7 @@ mod tests {
         assert!(
             hub.receive(1, r#"{"type":"reset"}"#)
                 .unwrap()
-                .contains("every robot")
+                .contains("the instructor resets")
         );
         // b stops: its seat closes (nobody takes it again), a drives on.
         assert_eq!(hub.receive(1, r#"{"type":"stop"}"#), None);

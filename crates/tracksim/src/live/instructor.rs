@@ -12,7 +12,8 @@
 //!
 //! The session takes the queued actions at each sample boundary (`Desk::take`): a pause
 //! holds the loop (simulated time stands still; the pacing clock is moved on by the pause),
-//! a reset ends the attempt, an end ends the session, a fault goes into the robot's next
+//! a reset ends the attempt (in a session of several robots, the named robot's alone: its
+//! `reset = true` entry, `Desk::take_reset_of`; `robot` is required there), an end ends the session, a fault goes into the robot's next
 //! `[[commands]]` entry (applied and recorded like any control, so `commands.toml` replays
 //! it). Every action is an event of the attempt it happened in (`summary.json` `events`).
 
@@ -42,7 +43,8 @@ pub enum InstructorAction {
 #[derive(Debug, Default)]
 pub(super) struct Desk {
     paused: bool,
-    reset: bool,
+    /// Each robot's reset asked since it was last taken.
+    resets: Vec<bool>,
     ended: bool,
     /// Each robot's faults to apply at its next control (merged when several came).
     pending: Vec<Option<FaultSpec>>,
@@ -58,6 +60,7 @@ impl Desk {
     /// A desk for `robots` robots, nothing in force.
     pub(super) fn new(robots: usize) -> Desk {
         Desk {
+            resets: vec![false; robots],
             pending: vec![None; robots],
             latency_s: vec![0.0; robots],
             video_dropped: vec![false; robots],
@@ -84,7 +87,9 @@ impl Desk {
                     ("end", "the instructor ended the session".to_string())
                 }
                 InstructorAction::Reset(k) => {
-                    self.reset = true;
+                    if let Some(r) = self.resets.get_mut(k) {
+                        *r = true;
+                    }
                     let who = names.get(k).map_or("the robot", String::as_str);
                     (
                         "reset",
@@ -136,9 +141,24 @@ impl Desk {
         self.ended
     }
 
-    /// Whether the instructor asked for a reset since the last call.
+    /// Whether the instructor asked for a reset (of any robot) since the last call.
     pub(super) fn take_reset(&mut self) -> bool {
-        std::mem::take(&mut self.reset)
+        let any = self.resets.iter().any(|r| *r);
+        self.resets.iter_mut().for_each(|r| *r = false);
+        any
+    }
+
+    /// Whether the instructor asked for a reset of robot `k` since the last call; if so, the
+    /// robot's faults, latency and video state are cleared (it starts again as built; a
+    /// session of several robots, where the others go on).
+    pub(super) fn take_reset_of(&mut self, k: usize) -> bool {
+        if !self.resets.get_mut(k).is_some_and(std::mem::take) {
+            return false;
+        }
+        self.latency_s[k] = 0.0;
+        self.video_dropped[k] = false;
+        self.pending[k] = None;
+        true
     }
 
     /// Robot `k`'s faults to apply now, if any; its latency and video state take them on.

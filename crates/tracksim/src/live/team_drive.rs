@@ -36,8 +36,10 @@ pub struct TeamSession {
     pub result: TeamResult,
     /// Each robot's control changes (by robot index), as `[[commands]]` entries.
     pub logs: Vec<CommandLog>,
-    /// Each robot's controls in force at each of its samples.
+    /// Each robot's controls in force at each of its samples (of its last attempt).
     pub controls: Vec<crate::run::SpillLog<DriveControl>>,
+    /// Each robot's controls of each attempt an instructor's reset of it ended, in order.
+    pub kept_controls: Vec<Vec<crate::run::SpillLog<DriveControl>>>,
 }
 
 /// One seat's side of the session: the driver's latest control, those on their way (an
@@ -49,7 +51,11 @@ struct SeatState {
     delayed: Delayed,
     /// The controls in force (applied, after any latency).
     current: DriveControl,
+    /// No control: belts at 0, flippers held (what a reset leaves in force).
+    idle: DriveControl,
     controls: crate::run::SpillLog<DriveControl>,
+    /// The controls of each attempt a reset of this robot ended.
+    kept: Vec<crate::run::SpillLog<DriveControl>>,
     feeds: Feeds,
 }
 
@@ -59,8 +65,7 @@ struct Seats<'a> {
     speed: f64,
     seats: Vec<SeatState>,
     last_publish: Option<Instant>,
-    /// The instructor's seat: pause, end, faults and each robot's latency (a reset restarts
-    /// every robot: refused).
+    /// The instructor's seat: pause, end, faults, each robot's latency and reset.
     desk: Desk,
     names: Vec<String>,
 }
@@ -94,13 +99,24 @@ impl WorldSource<TeamRunner> for Seats<'_> {
     fn controls(&mut self, world: &TeamRunner, k: usize) -> Option<CommandSpec> {
         let t = world.sim().time();
         let seat = &mut self.seats[k];
+        // The instructor's reset of this robot (the others go on): a `reset = true` entry,
+        // its controls zeroed, its faults, latency and queued controls gone; its attempt so
+        // far is kept (`TeamRunner::reset_robot`), with the controls it had.
+        let reset = self.desk.take_reset_of(k);
+        if reset {
+            let fresh = crate::run::SpillLog::from(vec![seat.idle.clone()]);
+            seat.kept.push(std::mem::replace(&mut seat.controls, fresh));
+            seat.wanted = seat.idle.clone();
+            seat.current = seat.idle.clone();
+            seat.delayed = Delayed::default();
+        }
         if let Some(c) = next_control(self.hub, k, &seat.wanted) {
             seat.wanted = c.clone();
             seat.delayed.push(t + self.desk.latency_s(k), c);
         }
         let applied = seat.delayed.due(t).filter(|c| *c != seat.current);
         let fault = self.desk.take_fault(k);
-        if applied.is_none() && fault.is_none() {
+        if applied.is_none() && fault.is_none() && !reset {
             return None;
         }
         if let Some(c) = applied {
@@ -108,6 +124,7 @@ impl WorldSource<TeamRunner> for Seats<'_> {
         }
         let mut cmd = to_command(world.robot_scenario(k), t, &seat.current);
         cmd.fault = fault;
+        cmd.reset = reset.then_some(true);
         Some(cmd)
     }
 
@@ -205,7 +222,9 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
                 controls: crate::run::SpillLog::from(vec![idle.clone()]),
                 wanted: idle.clone(),
                 delayed: Delayed::default(),
-                current: idle,
+                current: idle.clone(),
+                idle,
+                kept: Vec::new(),
                 feeds: Feeds::default(),
             }
         })
@@ -233,16 +252,37 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
     let mut world = run.world;
     source.publish(&mut world, Some(&run.end));
     let mut result = world.finish(run.end);
-    // The instructor's actions: events of every robot's run.
+    // The instructor's actions: events of every robot's run; a robot reset has them by
+    // attempt (an attempt from `start` to `end` s has those after its start up to its end:
+    // the reset that ended it is its last).
     let events = source.desk.take_events();
-    for (_, r) in &mut result.robots {
-        r.summary.events.extend(events.iter().cloned());
-        r.summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+    let span = |r: &crate::run::RunResult| {
+        let t = |s: Option<&crate::world::Sample>| s.map_or(0.0, |s| s.t);
+        (t(r.samples.first()), t(r.samples.last()))
+    };
+    for ((_, last), kept) in result.robots.iter_mut().zip(&mut result.attempts) {
+        let mut runs: Vec<&mut crate::run::RunResult> = kept.iter_mut().collect();
+        runs.push(last);
+        let n = runs.len();
+        for (i, r) in runs.into_iter().enumerate() {
+            let (start, end) = span(r);
+            let mine = events
+                .iter()
+                .filter(|e| (i == 0 || e.t_s > start) && (i + 1 == n || e.t_s <= end));
+            r.summary.events.extend(mine.cloned());
+            r.summary.events.sort_by(|a, b| a.t_s.total_cmp(&b.t_s));
+        }
     }
+    let (controls, kept_controls) = source
+        .seats
+        .into_iter()
+        .map(|s| (s.controls, s.kept))
+        .unzip();
     Ok(TeamSession {
         result,
         logs: run.logs,
-        controls: source.seats.into_iter().map(|s| s.controls).collect(),
+        controls,
+        kept_controls,
     })
 }
 
@@ -309,6 +349,20 @@ impl TeamSession {
             let p = dir.join(name).join("controls.csv");
             crate::files::write_atomic(&p, text.as_bytes())?;
             written.push(p);
+            // Each attempt an instructor's reset of this robot ended: its controls.
+            for (i, (a, c)) in self.result.attempts[k]
+                .iter()
+                .zip(&self.kept_controls[k])
+                .enumerate()
+            {
+                let text = controls_csv(&a.samples, c, &a.flipper_names, &initial);
+                let p = dir
+                    .join(name)
+                    .join(crate::run::attempt_folder(i + 1))
+                    .join("controls.csv");
+                crate::files::write_atomic(&p, text.as_bytes())?;
+                written.push(p);
+            }
         }
         Ok(written)
     }

@@ -445,6 +445,7 @@ fn command(
             flipper_angle: flip,
             motor,
             faults,
+            reset: cmd.reset == Some(true),
         },
     }
 }

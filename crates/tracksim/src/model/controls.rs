@@ -57,6 +57,10 @@ pub struct Controls {
     pub motor: Vec<Option<MotorCommand>>,
     /// Faults set or cleared (a command's `fault` table; issue 43), applied before the rest.
     pub faults: super::Faults,
+    /// Put the robot back at its start first (a command's `reset = true`; issue 43). The run
+    /// layer does it (`Simulation::reset_robot`, which can fail); [`Controls`] applied to a
+    /// `Simulation` directly do not.
+    pub reset: bool,
 }
 
 impl Controls {
@@ -67,6 +71,7 @@ impl Controls {
             flipper_angle: vec![None; v.flippers.len()],
             motor: vec![None; v.tracks.len()],
             faults: super::Faults::default(),
+            reset: false,
         }
     }
 

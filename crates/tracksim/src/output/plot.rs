@@ -734,6 +734,7 @@ mod tests {
             outcome: Outcome::Completed,
             sensors: Vec::new(),
             ruts: Vec::new(),
+            patches: Vec::new(),
         }
     }
 

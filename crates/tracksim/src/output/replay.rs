@@ -396,6 +396,41 @@ impl SceneCourse {
     }
 }
 
+/// A low-friction patch as the page draws it (`fault.patch`, issue 43): world x, y.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ScenePatchArea {
+    /// The rectangle's centre, world x and y, m.
+    pub centre_m: [f64; 2],
+    /// Its side lengths along world x and y, m.
+    pub size_m: [f64; 2],
+    /// The friction coefficient inside it, dimensionless.
+    pub friction: f64,
+}
+
+/// A change of the low-friction patch in a recorded run: from simulated time `t_s` on, the
+/// patch `patch` is on the ground (`null`: none).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ScenePatch {
+    /// Simulated time of the change, s.
+    pub t_s: f64,
+    /// The patch from then on (`null`: removed).
+    pub patch: Option<ScenePatchArea>,
+}
+
+impl ScenePatch {
+    /// The scene form of a run's patch change.
+    pub fn new(c: &crate::world::PatchChange) -> Self {
+        ScenePatch {
+            t_s: c.t,
+            patch: c.patch.map(|p| ScenePatchArea {
+                centre_m: p.centre,
+                size_m: p.size,
+                friction: p.friction,
+            }),
+        }
+    }
+}
+
 /// `scene.json`: what a replay or a live view draws, with the sampling of the recorded data.
 #[derive(Clone, Debug, Serialize)]
 pub struct Scene {
@@ -429,6 +464,10 @@ pub struct Scene {
     pub soil: bool,
     /// The file of the ruts at the end of a run (`ruts.csv`), `null` without.
     pub ruts_csv: Option<String>,
+    /// A recorded run's low-friction patch timeline (`fault.patch`): every change in order,
+    /// the patch in force at time t being that of the last change at or before t (empty: no
+    /// patch in the run, and always empty in a live view, whose states carry the patch).
+    pub patches: Vec<ScenePatch>,
 }
 
 fn arr(v: DVec3) -> [f64; 3] {
@@ -671,6 +710,7 @@ impl Scene {
             max_tilt_deg: sc.outcome.max_tilt.to_degrees(),
             soil: !sc.terrain.soils.is_empty(),
             ruts_csv: None,
+            patches: Vec::new(),
         }
     }
 
@@ -747,6 +787,7 @@ pub fn write_replay(sc: &Scenario, result: &RunResult, dir: &Path) -> Result<Vec
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let scene = dir.join("scene.json");
     let mut s = Scene::new(sc);
+    s.patches = result.patches.iter().map(ScenePatch::new).collect();
     let mut written = Vec::new();
     if !result.ruts.is_empty() {
         let ruts = dir.join("ruts.csv");

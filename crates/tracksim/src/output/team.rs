@@ -88,7 +88,8 @@ impl TeamSummary {
     }
 }
 
-/// Writes a team run of `sc` into `dir`: each robot's outputs (`which`) in `dir/<name>/`,
+/// Writes a team run of `sc` into `dir`: each robot's outputs (`which`) in `dir/<name>/` (a
+/// robot reset during the run: each attempt a reset ended in `dir/<name>/attempts/N/`),
 /// `team.json`, (with `which.plots`) the robots in one figure, and (with `which.mcap` or the
 /// file's `[output] mcap`) the world's `run.mcap` with every robot's topics and frames in its
 /// namespace ([`super::mcap::team_mcap_bytes`]) besides each robot's own. Returns the paths
@@ -103,6 +104,13 @@ pub fn write_team(
     let views: Vec<Scenario> = (0..r.robots.len()).map(|k| sc.robot_view(k)).collect();
     for ((name, run), view) in r.robots.iter().zip(&views) {
         written.extend(write_outputs(view, run, &dir.join(name), which)?);
+    }
+    // A robot reset during the run: each attempt a reset ended in `<name>/attempts/N/`.
+    for (((name, _), view), kept) in r.robots.iter().zip(&views).zip(&r.attempts) {
+        for (i, a) in kept.iter().enumerate() {
+            let sub = dir.join(name).join(crate::run::attempt_folder(i + 1));
+            written.extend(write_outputs(view, a, &sub, which)?);
+        }
     }
     let json = serde_json::to_string_pretty(&TeamSummary::of(sc, r)).expect("team serialises");
     let path = dir.join("team.json");

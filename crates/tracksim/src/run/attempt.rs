@@ -41,7 +41,9 @@ impl AttemptRecord {
         AttemptRecord {
             attempt,
             folder,
-            duration_s: r.samples.last().map_or(0.0, |s| s.t),
+            // From its first sample: 0 s, or a reset of one robot of several (world time).
+            duration_s: r.samples.last().map_or(0.0, |s| s.t)
+                - r.samples.first().map_or(0.0, |s| s.t),
             ended_by: ended_by.to_string(),
             outcome: r.summary.outcome.clone(),
             outcome_reason: r.summary.outcome_reason.clone(),

@@ -144,7 +144,11 @@ pub struct CourseTracker {
     tipped: bool,
     touching: Vec<bool>,
     faults: FaultCounts,
+    /// Simulated time since the attempt's start, s.
     elapsed: f64,
+    /// The simulated time the attempt started at, s (0; a reset of one robot in a world that
+    /// goes on: the reset's time, [`CourseTracker::reset_at`]).
+    start: f64,
     status: &'static str,
     events: Vec<CourseEvent>,
 }
@@ -165,6 +169,7 @@ impl CourseTracker {
             touching: vec![false; model.obstacles.len()],
             faults: FaultCounts::default(),
             elapsed: 0.0,
+            start: 0.0,
             status: "running",
             events: Vec::new(),
         }
@@ -218,7 +223,7 @@ impl CourseTracker {
         if self.finished() {
             return;
         }
-        self.elapsed = t;
+        self.elapsed = t - self.start;
         let p = sim.body_pose();
         let at = DVec2::new(p.x, p.y);
         self.gates(at, t);
@@ -246,7 +251,12 @@ impl CourseTracker {
             }
             self.touching[i] = now;
         }
-        if self.status == "running" && self.model.time_limit.is_some_and(|l| t > l + 1e-9) {
+        if self.status == "running"
+            && self
+                .model
+                .time_limit
+                .is_some_and(|l| self.elapsed > l + 1e-9)
+        {
             self.status = "time_limit";
             let detail = format!(
                 "time limit of {} s passed: {} of {} repetitions",
@@ -286,7 +296,7 @@ impl CourseTracker {
                 self.event(t, "repetition", format!("repetition {n} in {rep:.2} s"));
                 if n as u32 >= self.model.repetitions {
                     self.status = "completed";
-                    let detail = format!("completed {n} repetitions in {t:.2} s");
+                    let detail = format!("completed {n} repetitions in {:.2} s", t - self.start);
                     self.event(t, "finished", detail);
                 }
             }
@@ -320,12 +330,21 @@ impl CourseTracker {
     /// repetitions, time and the other faults start again with the simulation; the resets so
     /// far carry over (with their penalty).
     pub fn reset(&mut self) {
+        self.reset_at(0.0);
+    }
+
+    /// [`CourseTracker::reset`] of an attempt that starts at simulated time `t0` s (one robot
+    /// reset in a world whose clock goes on: `TeamRunner::reset_robot`): its time, time limit
+    /// and repetitions count from `t0`; its events keep the world's times.
+    pub fn reset_at(&mut self, t0: f64) {
         let resets = self.faults.reset + 1;
         let before = self.elapsed;
         *self = CourseTracker::new(&self.model, self.max_tilt);
         self.faults.reset = resets;
+        self.start = t0;
+        self.last_rep_end = t0;
         self.fault_event(
-            0.0,
+            t0,
             "reset",
             format!(
                 "reset {resets} (at t = {before:.2} s of the previous attempt): the course restarts"
@@ -380,7 +399,7 @@ impl CourseTracker {
             + f64::from(f.touch) * p.touch;
         let done = self.rep_times.len() as u32;
         let time = if self.status == "completed" {
-            self.last_rep_end
+            self.last_rep_end - self.start
         } else {
             self.elapsed
         };

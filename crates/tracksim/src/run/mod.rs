@@ -93,6 +93,10 @@ pub struct RunResult {
     pub sensors: Vec<crate::sensors::SensorStream>,
     /// The soil's ruts at the end (empty without soil; `ruts.csv`).
     pub ruts: Vec<crate::world::RutCell>,
+    /// Every change of the world's low-friction patch during the run, in order (`fault.patch`,
+    /// issue 43; empty without one): the replay draws the patch from these (`scene.json`
+    /// `patches`).
+    pub patches: Vec<crate::world::PatchChange>,
 }
 
 /// Options of a run.

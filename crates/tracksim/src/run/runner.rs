@@ -426,6 +426,7 @@ impl Runner {
             outcome,
             sensors,
             ruts: self.sim.ruts(),
+            patches: self.sim.patch_changes().to_vec(),
         }
     }
 }

@@ -48,6 +48,9 @@ impl Scripted {
     /// Applies the commands that have fallen due, then advances one step.
     pub fn step(&mut self) -> Result<()> {
         for c in self.timeline.due(self.sim.time()) {
+            if c.reset {
+                self.sim.reset_robot()?;
+            }
             self.sim.apply(&c);
         }
         self.sim.step()

@@ -171,14 +171,15 @@ impl SessionWorld for TeamRunner {
     fn apply_command(&mut self, k: usize, c: &CommandSpec) -> Result<()> {
         let compiled = compile(c, &self.robot_scenario(k).vehicle)?;
         for cmd in compiled {
-            self.apply(k, &cmd.controls);
+            self.apply_controls(k, &cmd.controls)?;
         }
         Ok(())
     }
     fn paused_for(&mut self, wall: Duration) {
         TeamRunner::paused_for(self, wall)
     }
-    /// A team's attempts are not kept yet: a reset restarts every robot.
+    /// A reset of the whole world is not kept (a reset of one robot is its `reset` command:
+    /// [`TeamRunner::reset_robot`] keeps that robot's attempts).
     type Attempt = ();
 }
 
@@ -347,6 +348,9 @@ pub fn run_world_session<W: SessionWorld>(
 /// Applies command entry `c` to `runner` as a file's `[[commands]]` entry is applied.
 pub fn apply(runner: &mut Runner, c: &CommandSpec) -> Result<()> {
     for cmd in compile(c, &runner.scenario().vehicle)? {
+        if cmd.controls.reset {
+            runner.sim_mut().reset_robot()?;
+        }
         runner.apply(&cmd.controls);
     }
     Ok(())

@@ -26,6 +26,8 @@ struct RobotRun {
     samples: super::SampleLog,
     decided: Option<(Outcome, f64)>,
     course: Option<CourseTracker>,
+    /// The attempts a reset of this robot ended (`reset = true`), in order.
+    attempts: Vec<RunResult>,
 }
 
 /// A run of a world with several robots.
@@ -62,6 +64,11 @@ pub struct TeamResult {
     pub rule: TeamRule,
     /// The robots' race or team score on the scenario's course (`None` without `[course]`).
     pub standings: Option<super::Standings>,
+    /// Each robot's attempts that a reset of it ended (a `reset = true` entry, issue 43), in
+    /// order, by robot index (empty: never reset); `robots` holds each robot's last attempt,
+    /// whose summary lists them all (`attempts`). Times are the world's: an attempt after a
+    /// reset at t s starts at t.
+    pub attempts: Vec<Vec<RunResult>>,
 }
 
 impl TeamRunner {
@@ -116,11 +123,56 @@ impl TeamRunner {
         self
     }
 
-    /// Applies the caller's controls to robot `k` before the next step.
+    /// Applies the caller's controls to robot `k` before the next step (a `reset` in them is
+    /// not applied: [`TeamRunner::apply_controls`]).
     pub fn apply(&mut self, k: usize, c: &crate::model::Controls) {
         self.sim.select(k);
         self.sim.apply(c);
         self.sim.select(0);
+    }
+
+    /// Applies controls `c` to robot `k` as a `[[vehicles.commands]]` entry is applied: its
+    /// reset first ([`TeamRunner::reset_robot`]), then the rest.
+    pub fn apply_controls(&mut self, k: usize, c: &crate::model::Controls) -> Result<()> {
+        if c.reset {
+            self.reset_robot(k)?;
+        }
+        self.apply(k, c);
+        Ok(())
+    }
+
+    /// Puts robot `k` back at its start while the world and the other robots go on
+    /// ([`Simulation::reset_robot`]): its attempt so far ends (kept, with the outcome
+    /// `ended_by_operator`, "reset at t = ..."), and a new one begins at this time: its samples
+    /// from the start pose, its sensors, outcome and course afresh (a course counts the reset
+    /// as a fault, as a one-robot session's does). Its remaining commands go on.
+    pub fn reset_robot(&mut self, k: usize) -> Result<()> {
+        let t = self.sim.time();
+        let times = self.wall_times();
+        self.sim.select(k);
+        let ended = take_robot_result(&mut self.sim, &mut self.robots[k], &End::Reset, t, times);
+        let reset = self.sim.reset_robot();
+        if reset.is_ok() {
+            let r = &mut self.robots[k];
+            r.attempts.push(ended);
+            r.sensors = SensorSet::new(&self.sim, true);
+            r.samples = super::SampleLog::from(vec![self.sim.sample()]);
+            r.decided = None;
+            if let Some(c) = &mut r.course {
+                c.reset_at(t);
+            }
+        }
+        self.sim.select(0);
+        reset
+    }
+
+    fn wall_times(&self) -> WallTimes {
+        WallTimes {
+            stepping: self.stepping,
+            elapsed: self.wall.elapsed().as_secs_f64(),
+            paced: self.pace.is_some(),
+            started: Some(self.started),
+        }
     }
 
     /// Robot `k`'s scenario (the world with it as its one robot).
@@ -237,9 +289,9 @@ impl TeamRunner {
         // In the world's build order, not the file's (`Simulation::build_order`).
         for i in 0..self.robots.len() {
             let k = self.sim.build_order()[i];
-            self.sim.select(k);
-            for c in self.robots[k].timeline.due(t) {
-                self.sim.apply(&c);
+            let due = self.robots[k].timeline.due(t);
+            for c in due {
+                self.apply_controls(k, &c)?;
             }
         }
         self.sim.select(0);
@@ -296,42 +348,19 @@ impl TeamRunner {
     pub fn finish(mut self, end: End) -> TeamResult {
         let reached = matches!(end, End::Reached);
         let t = self.sim.time();
-        let times = WallTimes {
-            stepping: self.stepping,
-            elapsed: self.wall.elapsed().as_secs_f64(),
-            paced: self.pace.is_some(),
-            started: Some(self.started),
-        };
+        let times = self.wall_times();
         let names = self.names();
         let mut finals = Vec::new();
         let mut robots = Vec::new();
+        let mut attempts = Vec::new();
         for (k, mut r) in std::mem::take(&mut self.robots).into_iter().enumerate() {
             self.sim.select(k);
-            let (outcome, when) = robot_outcome(&r, &end, t);
-            if let Some(c) = &mut r.course {
-                c.close();
-            }
-            let mut samples = r.samples;
-            if samples.last().is_some_and(|s| s.t < t) {
-                samples.push(self.sim.sample());
-            }
-            finals.push(Some((outcome.clone(), when)));
-            let mut summary = Summary::new(&r.view, &self.sim, &samples, (&outcome, when), times);
-            let sensors = r.sensors.into_streams();
-            summary.sensors = sensors.iter().map(SensorSummary::of).collect();
-            summary.course = r.course.as_ref().map(CourseTracker::score);
-            robots.push((
-                names[k].clone(),
-                RunResult {
-                    samples,
-                    track_names: self.sim.track_names().to_vec(),
-                    flipper_names: self.sim.flipper_names().to_vec(),
-                    summary,
-                    outcome,
-                    sensors,
-                    ruts: Vec::new(),
-                },
-            ));
+            let mut last = take_robot_result(&mut self.sim, &mut r, &end, t, times);
+            finals.push(Some((last.outcome.clone(), last.summary.outcome_time_s)));
+            let mut kept = std::mem::take(&mut r.attempts);
+            list_attempts(&mut last, &mut kept);
+            robots.push((names[k].clone(), last));
+            attempts.push(kept);
         }
         self.sim.select(0);
         let (outcome, outcome_time) = match (self.decided.take(), reached) {
@@ -351,12 +380,71 @@ impl TeamRunner {
             .collect();
         TeamResult {
             standings: super::Standings::of(self.rule, &scores),
+            attempts,
             robots,
             outcome,
             outcome_time,
             rule: self.rule,
         }
     }
+}
+
+/// Robot `r`'s run so far as it ends with `end` at `t` s (the selected robot of `sim`): its
+/// samples (the state now added if it was not the last sample), summary, outcome and sensor
+/// streams move into the result; its course is closed.
+fn take_robot_result(
+    sim: &mut Simulation,
+    r: &mut RobotRun,
+    end: &End,
+    t: f64,
+    times: WallTimes,
+) -> RunResult {
+    let (outcome, when) = robot_outcome(r, end, t);
+    if let Some(c) = &mut r.course {
+        c.close();
+    }
+    let mut samples = std::mem::take(&mut r.samples);
+    if samples.last().is_some_and(|s| s.t < t) {
+        samples.push(sim.sample());
+    }
+    let mut summary = Summary::new(&r.view, sim, &samples, (&outcome, when), times);
+    let sensors = std::mem::replace(&mut r.sensors, SensorSet::none()).into_streams();
+    summary.sensors = sensors.iter().map(SensorSummary::of).collect();
+    summary.course = r.course.as_ref().map(CourseTracker::score);
+    RunResult {
+        samples,
+        track_names: sim.track_names().to_vec(),
+        flipper_names: sim.flipper_names().to_vec(),
+        summary,
+        outcome,
+        sensors,
+        ruts: Vec::new(),
+        patches: sim.patch_changes().to_vec(),
+    }
+}
+
+/// A robot reset during the run: every summary (its last attempt's, `last`, and each of the
+/// `kept` ones a reset ended) lists all its attempts ([`super::AttemptRecord`]; kept in
+/// `attempts/N`, the last in the robot's folder). Nothing for a robot never reset.
+fn list_attempts(last: &mut RunResult, kept: &mut [RunResult]) {
+    if kept.is_empty() {
+        return;
+    }
+    let mut list: Vec<_> = kept
+        .iter()
+        .enumerate()
+        .map(|(i, r)| super::AttemptRecord::of(i + 1, super::attempt_folder(i + 1), "reset", r))
+        .collect();
+    list.push(super::AttemptRecord::of(
+        kept.len() + 1,
+        ".".into(),
+        "the run's end",
+        last,
+    ));
+    for r in kept.iter_mut() {
+        r.summary.attempts.clone_from(&list);
+    }
+    last.summary.attempts = list;
 }
 
 /// Robot `r`'s outcome when the run ends with `end` at `t` s: its decided one (a live
@@ -385,6 +473,7 @@ fn robot_runs(sim: &mut Simulation, commands: bool) -> Vec<RobotRun> {
             sensors: SensorSet::new(sim, true),
             samples: super::SampleLog::from(vec![sim.sample()]),
             decided: None,
+            attempts: Vec::new(),
             course: view
                 .course
                 .as_ref()

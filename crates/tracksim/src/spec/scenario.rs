@@ -414,4 +414,10 @@ pub struct CommandSpec {
     /// tracks stopped or unpowered, flippers jammed, latency, the video dropped.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<super::FaultSpec>,
+    /// `true`: the robot is put back at its start at this time, before the entry's controls
+    /// (issue 43: the instructor's reset of one robot of several; its bodies, joints, belts,
+    /// odometry and faults as at the start, its controls zeroed), while the clock and the other
+    /// robots go on.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reset: Option<bool>,
 }

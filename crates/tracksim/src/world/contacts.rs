@@ -15,8 +15,8 @@
 
 use super::compliance::{SolverSpring, apply_compliance};
 use super::friction_patch::apply_patch;
-use super::speculative_cull::{CullMode, cull_speculative};
 use super::soil::modify_soil_contacts;
+use super::speculative_cull::{CullMode, cull_speculative};
 use crate::model::FrictionPatch;
 use crate::terrain::tagged_soil;
 use crate::tracks::{SLOP_TAG, Track, TrackContact, tagged_compliance, tagged_track};

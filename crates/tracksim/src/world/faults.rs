@@ -36,6 +36,16 @@ impl Simulation {
             self.ground_hooked = true;
         }
         self.friction_patch = patch;
+        self.patch_log.push(super::PatchChange {
+            t: self.time,
+            patch,
+        });
+    }
+
+    /// Every change of the low-friction patch since the world was built (or reset), in
+    /// order: the run's patch timeline (`scene.json` `patches`).
+    pub fn patch_changes(&self) -> &[super::PatchChange] {
+        &self.patch_log
     }
 
     /// The low-friction patch on the ground, if one is in force.

@@ -15,6 +15,17 @@ use crate::model::FrictionPatch;
 use glam::DVec3;
 use rapier3d::prelude::*;
 
+/// A change of the world's low-friction patch: put (or replaced) or removed (`patch` `None`)
+/// by a command applied at simulated time `t` s (the change acts from the step that starts
+/// then). A run's changes in order are its patch timeline, which the replay draws.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PatchChange {
+    /// Simulated time of the command, s.
+    pub t: f64,
+    /// The patch in force from then on (`None`: removed).
+    pub patch: Option<FrictionPatch>,
+}
+
 /// Whether the body `b` of a pair (`None`: a collider without a body) is the fixed ground.
 fn is_ground(ctx: &ContactModificationContext, b: Option<RigidBodyHandle>) -> bool {
     b.is_none_or(|b| ctx.bodies[b].is_fixed())

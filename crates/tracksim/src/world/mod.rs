@@ -26,7 +26,8 @@
 //!   terrain's force on each track), `floating_origin` (the shift of the f32 world near the
 //!   robots), `mass_stage` (floored link masses taken back from their parents; the report),
 //!   `drawbar_pull`, `conveyor_queries`, `faults` (a track stopped or unpowered, a flipper
-//!   jammed, a low-friction patch on the ground: issue 43).
+//!   jammed, a low-friction patch on the ground: issue 43), `robot_reset` (one robot put back
+//!   at its start while the world goes on: issue 43).
 
 #![warn(clippy::too_many_lines)]
 
@@ -50,19 +51,21 @@ mod mass_stage;
 mod odometry;
 mod origin;
 mod robot;
+mod robot_reset;
 mod robots;
 mod rut_grid;
 mod sample;
 mod sampling;
 mod simulation;
 mod soil;
-mod step;
 mod speculative_cull;
+mod step;
 mod track_loads;
 
 pub use appearance::Appearance;
 pub use at_rest::{STICK_RATE_RAD_S, STICK_SPEED_MPS};
 pub(crate) use flipper::Flipper;
+pub use friction_patch::PatchChange;
 pub use mass::{MIN_PARENT_MASS_FRACTION, MassReport, PartMass};
 pub use odometry::Odometry;
 pub use origin::ORIGIN_SHIFT_M;
@@ -137,6 +140,8 @@ pub struct Simulation {
     appearance: Appearance,
     /// The low-friction patch on the ground (`fault.patch`, issue 43), if one is in force.
     friction_patch: Option<crate::model::FrictionPatch>,
+    /// Every change of the patch so far, in order (`Simulation::patch_changes`).
+    patch_log: Vec<PatchChange>,
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
     /// `simulation.cull_speculative_contacts`: manifolds with the ground that cannot act in a
@@ -147,4 +152,11 @@ pub struct Simulation {
     /// The check mode of the cull ([`Simulation::set_cull_check`]): what it would have culled
     /// in the last step.
     cull_check: Option<std::sync::Mutex<Vec<CullMark>>>,
+    /// The colliders of a robot put back at its start since the last step
+    /// (`Simulation::reset_robot`) with their own contact hooks: asked for the hook for the next
+    /// step (so that Rapier recycles none of their pairs), given back theirs after it.
+    fresh_pairs: Vec<(
+        rapier3d::prelude::ColliderHandle,
+        rapier3d::prelude::ActiveHooks,
+    )>,
 }

@@ -72,6 +72,13 @@ impl Simulation {
             recycling && !shifted && !held_on_motors && !coming_to_rest && self.soil.is_none();
         self.world.step_with_events(&hooks, &());
         self.world.integration_parameters.contact_recycling = recycling;
+        // A robot put back at its start (`reset_robot`): its colliders asked for the hook for
+        // this step only, so that none of its pairs kept contacts frozen at its old place.
+        for (c, h) in self.fresh_pairs.drain(..) {
+            if let Some(c) = self.world.colliders.get_mut(c) {
+                c.set_active_hooks(h);
+            }
+        }
         self.steps += 1;
         self.time = self.steps as f64 * self.dt;
         for k in 0..self.robots.len() {

@@ -61,6 +61,7 @@ mod issue_42_tracks_on_flippers;
 mod issue_42_urdf_as_found;
 mod issue_43_school;
 mod issue_43_slip;
+mod issue_43_team_reset;
 mod issue_44_cull;
 mod issue_45_inputs;
 mod issue_45_servers;
