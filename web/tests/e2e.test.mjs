@@ -988,10 +988,10 @@ test('several robots (issue 40): a seat per trainee, each page its own robot, a 
   }
 });
 
-test('two trainees (issue 43): the instructor resets one robot, the other drives on; the session replays byte for byte, attempts included', async () => {
-  const dir = path.join(tmp, 'team-reset');
-  const file = 'scenarios/team/race_step.toml';
-  const child = spawn(bin, ['drive', file, '--port', '0', '--out', dir, '--no-plot', '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+/** Starts `tracksim drive ARGS --port 0 --out DIR --speed 2` and waits for its two printed
+ * URLs: the trainees' page and the instructor's (with its token). */
+async function driveWithInstructor(args, dir) {
+  const child = spawn(bin, ['drive', ...args, '--port', '0', '--out', dir, '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
   let printed = '';
   const urls = new Promise((resolve, reject) => {
     child.stdout.on('data', (d) => {
@@ -1004,6 +1004,13 @@ test('two trainees (issue 43): the instructor resets one robot, the other drives
   });
   const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
   const [url, instructorUrl] = await urls;
+  return { child, exited, url, instructorUrl, output: () => printed };
+}
+
+test('two trainees (issue 43): the instructor resets one robot, the other drives on; the session replays byte for byte, attempts included', async () => {
+  const dir = path.join(tmp, 'team-reset');
+  const file = 'scenarios/team/race_step.toml';
+  const { child, exited, url, instructorUrl, output } = await driveWithInstructor([file, '--no-plot'], dir);
   const ctx = await browser();
   try {
     const red = await openDrive(ctx, `${url}?robot=red`);
@@ -1028,7 +1035,7 @@ test('two trainees (issue 43): the instructor resets one robot, the other drives
     assert.ok(redAfter > redBefore + 0.05, `red drives on: x ${redBefore} -> ${redAfter}`);
     await red.page.keyboard.up('ArrowUp');
     await teacher.page.click('#i-end');
-    assert.equal(await exited, 0, printed);
+    assert.equal(await exited, 0, output());
     assert.deepEqual([...red.errors, ...blue.errors, ...teacher.errors], []);
   } finally {
     await ctx.close();
@@ -1194,19 +1201,7 @@ test('review of a course run (issue 43): the course panel at the replay time, th
 
 test('the instructor (issue 43): pause stops simulated time, a track stop, a video drop and a low-friction patch, a reset keeps the attempt', async () => {
   const dir = path.join(tmp, 'instructor');
-  const child = spawn(bin, ['drive', 'scenarios/packbot_flat.toml', '--port', '0', '--out', dir, '--speed', '2'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
-  let printed = '';
-  const urls = new Promise((resolve, reject) => {
-    child.stdout.on('data', (d) => {
-      printed += d;
-      const m = printed.match(/open (http:\/\/127\.0\.0\.1:\d+\/) in a browser/);
-      const i = printed.match(/instructor open (http:\/\/127\.0\.0\.1:\d+\/\?instructor=[0-9a-f]{32})/);
-      if (m && i) resolve([m[1], i[1]]);
-    });
-    child.on('exit', (code) => reject(new Error(`tracksim drive exited ${code}: ${printed}`)));
-  });
-  const exited = new Promise((resolve) => child.on('exit', (code) => resolve(code)));
-  const [url, instructorUrl] = await urls;
+  const { child, exited, url, instructorUrl, output } = await driveWithInstructor(['scenarios/packbot_flat.toml'], dir);
   // The trainee's page does not get the instructor's token.
   const served = await (await fetch(`${url}session.json`)).text();
   assert.ok(!served.includes(instructorUrl.split('=')[1]), served);
@@ -1262,7 +1257,7 @@ test('the instructor (issue 43): pause stops simulated time, a track stop, a vid
     await trainee.waitForFunction(() => window.tracksim.state.attempt === 2 && window.tracksim.noSignal === false, null, { timeout: 20000 });
     await trainee.waitForFunction(() => window.tracksim.state.t > 0.5, null, { timeout: 20000 });
     await teacher.click('#i-end');
-    assert.equal(await exited, 0, printed);
+    assert.equal(await exited, 0, output());
     assert.deepEqual(errors, []);
   } finally {
     await ctx.close();

@@ -86,9 +86,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         friction_patch: None,
         patch_log: Vec::new(),
         ground_hooked: false,
-        cull: sc.solver.cull_speculative_contacts,
-        culled: Default::default(),
-        cull_check: None,
+        cull: super::speculative_cull::CullState::new(sc.solver.cull_speculative_contacts),
         fresh_pairs: Vec::new(),
         rest_positions: Vec::new(),
         springs,
@@ -105,15 +103,7 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         soil: None,
         appearance,
     };
-    for k in 0..sim.robots.len() {
-        sim.focus = k;
-        sim.robots[k].load_window = super::track_loads::LoadWindow::new(
-            sim.track_owners(),
-            sc.output_interval,
-            sc.solver.dt,
-        );
-    }
-    sim.focus = 0;
+    start_load_windows(&mut sim, &sc);
     sim.soil = super::soil::build_soil(
         &sim.world,
         &sc.terrain.soils,
@@ -140,6 +130,19 @@ pub(crate) fn build(sc: Arc<Scenario>) -> Result<Simulation> {
         check_overlaps(&mut sim)?;
     }
     Ok(sim)
+}
+
+/// Every robot's window of per-track loads, averaged over the output interval.
+fn start_load_windows(sim: &mut Simulation, sc: &Scenario) {
+    for k in 0..sim.robots.len() {
+        sim.focus = k;
+        sim.robots[k].load_window = super::track_loads::LoadWindow::new(
+            sim.track_owners(),
+            sc.output_interval,
+            sc.solver.dt,
+        );
+    }
+    sim.focus = 0;
 }
 
 /// The order the robots are built in: by start pose (x, y, yaw, pitch), whatever

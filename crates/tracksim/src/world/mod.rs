@@ -38,6 +38,7 @@ mod compliance;
 mod contacts;
 mod conveyor;
 mod conveyor_queries;
+mod cull_check;
 mod drawbar;
 mod drawbar_pull;
 mod fault_state;
@@ -145,13 +146,8 @@ pub struct Simulation {
     /// Whether the ground's colliders ask for the contact hook (since the first patch).
     ground_hooked: bool,
     /// `simulation.cull_speculative_contacts`: manifolds with the ground that cannot act in a
-    /// step are not solved (`speculative_cull.rs`; off by default).
-    cull: bool,
-    /// Manifolds culled since the start.
-    culled: std::sync::atomic::AtomicU64,
-    /// The check mode of the cull ([`Simulation::set_cull_check`]): what it would have culled
-    /// in the last step.
-    cull_check: Option<std::sync::Mutex<Vec<CullMark>>>,
+    /// step are not solved (`speculative_cull.rs`; off by default), and its check mode.
+    cull: speculative_cull::CullState,
     /// The colliders of a robot put back at its start since the last step
     /// (`Simulation::reset_robot`) with their own contact hooks: asked for the hook for the next
     /// step (so that Rapier recycles none of their pairs), given back theirs after it.

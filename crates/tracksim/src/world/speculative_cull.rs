@@ -21,7 +21,7 @@
 //!
 //! Such a constraint's impulse is zero: so are its friction's (bounded by the friction
 //! coefficient times the normal impulse). The check mode
-//! ([`Simulation::set_cull_check`](super::Simulation::set_cull_check)) keeps every manifold and
+//! (`Simulation::set_cull_check`, `world/cull_check.rs`) keeps every manifold and
 //! records the ones the cull would drop, to prove after the step that the solver gave them
 //! nothing (`tests/suite/issue_44_cull.rs`: none of 1.4 million over whole runs up and down
 //! the stairs, the stairs course and a ramp course). Dropping them still changes the solver's
@@ -62,6 +62,37 @@ pub struct CullMark {
     pub subshape1: u32,
     /// The sub-shape of the second collider.
     pub subshape2: u32,
+}
+
+/// The cull's state in a world: whether it is on, what it dropped, its check mode.
+pub(crate) struct CullState {
+    /// `simulation.cull_speculative_contacts`.
+    on: bool,
+    /// Manifolds culled since the start.
+    pub(super) culled: AtomicU64,
+    /// The check mode (`Simulation::set_cull_check`, `world/cull_check.rs`):
+    /// what the cull would have dropped since the marks were last taken.
+    pub(super) check: Option<Mutex<Vec<CullMark>>>,
+}
+
+impl CullState {
+    /// The state of a world whose file turns the cull on (`on`) or not.
+    pub(crate) fn new(on: bool) -> Self {
+        CullState {
+            on,
+            culled: AtomicU64::new(0),
+            check: None,
+        }
+    }
+
+    /// What the hook's stage does in the coming step.
+    pub(crate) fn mode(&self) -> CullMode<'_> {
+        match (&self.check, self.on) {
+            (Some(marks), _) => CullMode::Check(marks),
+            (None, true) => CullMode::On(&self.culled),
+            (None, false) => CullMode::Off,
+        }
+    }
 }
 
 /// What the stage does with a manifold that cannot act.
@@ -137,31 +168,5 @@ pub(crate) fn cull_speculative(ctx: &mut ContactModificationContext, mode: &Cull
                 marks.push(mark);
             }
         }
-    }
-}
-
-impl super::Simulation {
-    /// Turns the cull's check mode on or off: while on, no manifold is culled, and every step
-    /// records those the cull would have dropped ([`Simulation::take_cull_marks`]), so that a
-    /// test can read the impulses the solver gave them. For checking the cull, not for runs.
-    ///
-    /// [`Simulation::take_cull_marks`]: super::Simulation::take_cull_marks
-    pub fn set_cull_check(&mut self, on: bool) {
-        self.cull_check = on.then(Default::default);
-    }
-
-    /// The manifolds the cull would have dropped since the last call (check mode; empty
-    /// otherwise).
-    pub fn take_cull_marks(&mut self) -> Vec<CullMark> {
-        self.cull_check
-            .as_mut()
-            .and_then(|m| m.get_mut().ok())
-            .map(std::mem::take)
-            .unwrap_or_default()
-    }
-
-    /// Manifolds culled since the start (`simulation.cull_speculative_contacts`).
-    pub fn culled_manifolds(&self) -> u64 {
-        self.culled.load(Ordering::Relaxed)
     }
 }

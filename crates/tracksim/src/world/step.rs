@@ -3,7 +3,6 @@
 
 use super::at_rest::{REST_REANCHOR_M, STICK_RATE_RAD_S, STICK_SPEED_MPS};
 use super::contacts::ContactHooks;
-use super::speculative_cull::CullMode;
 use super::{MAX_SPEED_MPS, Simulation};
 use crate::error::{Error, Result};
 
@@ -35,11 +34,7 @@ impl Simulation {
             soil: self.soil.as_ref(),
             origin: self.origin,
             patch: self.friction_patch.as_ref(),
-            cull: match (&self.cull_check, self.cull) {
-                (Some(marks), _) => CullMode::Check(marks),
-                (None, true) => CullMode::On(&self.culled),
-                (None, false) => CullMode::Off,
-            },
+            cull: self.cull.mode(),
         };
         // After an origin shift no pair may keep contacts frozen at the old place. Held at
         // rest on motors neither: their held belt position moves by the solver's residual, the

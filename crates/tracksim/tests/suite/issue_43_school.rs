@@ -810,13 +810,21 @@ fn forward_at(log: &tracksim::run::CommandLog, forward: f64) -> f64 {
         .t_s
 }
 
-/// Added latency in a session of several robots: the instructor gives robot `red` 0.4 s of
-/// latency; both trainees send a control while the session is paused, so the session takes
-/// both at the resume's time exactly; red's is applied and recorded 0.4 s later (within one
-/// output interval), blue's at once. The session replays byte for byte for both robots. The
-/// instructor's reset there must name its robot (`issue_43_team_reset.rs` resets one).
-#[test]
-fn latency_in_a_team_session_delays_only_that_robot() {
+/// A live session of `scenarios/team/race_step.toml` at twice real time on loopback, with its
+/// two trainees (`red`, `blue`) and the instructor connected and greeted.
+pub(crate) struct TeamSeats {
+    pub file: std::path::PathBuf,
+    pub sc: tracksim::Scenario,
+    pub red: Ws,
+    pub blue: Ws,
+    pub ins: Ws,
+    pub session: std::thread::JoinHandle<tracksim::Result<tracksim::live::TeamSession>>,
+    /// Kept for the session's life.
+    pub _server: Server,
+}
+
+/// Starts [`TeamSeats`]' session.
+pub(crate) fn race_step_session() -> TeamSeats {
     let file = root().join("scenarios/team/race_step.toml");
     let sc = tracksim::load_scenario(&file).unwrap();
     let hub = Hub::team(sc.robot_names(), 5.0);
@@ -840,6 +848,33 @@ fn latency_in_a_team_session_delays_only_that_robot() {
     let itoken = hub.instructor_token().unwrap().to_string();
     let (mut ins, _) = tungstenite::connect(format!("ws://{addr}/ws?instructor={itoken}")).unwrap();
     assert_eq!(hello_of(&mut ins)["role"], "instructor");
+    TeamSeats {
+        file,
+        sc,
+        red,
+        blue,
+        ins,
+        session,
+        _server: server,
+    }
+}
+
+/// Added latency in a session of several robots: the instructor gives robot `red` 0.4 s of
+/// latency; both trainees send a control while the session is paused, so the session takes
+/// both at the resume's time exactly; red's is applied and recorded 0.4 s later (within one
+/// output interval), blue's at once. The session replays byte for byte for both robots. The
+/// instructor's reset there must name its robot (`issue_43_team_reset.rs` resets one).
+#[test]
+fn latency_in_a_team_session_delays_only_that_robot() {
+    let TeamSeats {
+        file,
+        sc,
+        mut red,
+        mut blue,
+        mut ins,
+        session,
+        ..
+    } = race_step_session();
     // A reset in a session of several robots names its robot: refused without, saying so.
     send(&mut ins, serde_json::json!({"type":"reset"}));
     let e = error_of(&mut ins, 500);

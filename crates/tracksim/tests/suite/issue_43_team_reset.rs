@@ -7,9 +7,8 @@
 //! attempts included.
 
 use crate::common::{self, root};
-use crate::issue_43_school::{hello_of, send};
+use crate::issue_43_school::{TeamSeats, race_step_session, send};
 use crate::live::until as state_where;
-use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tracksim::model::Scenario;
 use tracksim::run::{RunResult, TeamResult};
 
@@ -211,29 +210,15 @@ fn a_reset_robot_runs_again_as_from_its_start_and_the_other_runs_on() {
 /// with `run --commands`, blue's kept attempt included.
 #[test]
 fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
-    let file = root().join("scenarios/team/race_step.toml");
-    let sc = tracksim::load_scenario(&file).unwrap();
-    let hub = Hub::team(sc.robot_names(), 5.0);
-    let mode = Mode::Drive {
-        hub: hub.clone(),
-        scene_json: vec!["{}".into(), "{}".into()],
-    };
-    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap();
-    let (sc2, hub2) = (sc.clone(), hub.clone());
-    let opts = DriveOptions {
-        speed: 2.0,
-        ..DriveOptions::default()
-    };
-    let session = std::thread::spawn(move || tracksim::live::run_team_session(&sc2, &hub2, opts));
-    let addr = server.addr();
-    let url = format!("ws://{addr}/ws?session={}", hub.session_token().unwrap());
-    let (mut red, _) = tungstenite::connect(format!("{url}&robot=red")).unwrap();
-    assert_eq!(hello_of(&mut red)["robot"], "red");
-    let (mut blue, _) = tungstenite::connect(format!("{url}&robot=blue")).unwrap();
-    assert_eq!(hello_of(&mut blue)["robot"], "blue");
-    let itoken = hub.instructor_token().unwrap().to_string();
-    let (mut ins, _) = tungstenite::connect(format!("ws://{addr}/ws?instructor={itoken}")).unwrap();
-    assert_eq!(hello_of(&mut ins)["role"], "instructor");
+    let TeamSeats {
+        file,
+        sc,
+        mut red,
+        mut blue,
+        mut ins,
+        session,
+        ..
+    } = race_step_session();
     for ws in [&mut red, &mut blue] {
         send(
             ws,
