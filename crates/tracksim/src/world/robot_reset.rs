@@ -16,7 +16,8 @@
 //! world space; the pairs of the robot's own parts (relative poses unchanged by the move) would
 //! keep their contacts at its old place. A pair with a contact hook is never recycled, so the
 //! robot's colliders ask for the hook for the next step only (the hook changes nothing on an
-//! untagged pair: `contacts.rs`) and get their own back after it: the robot's contacts are made
+//! untagged pair, `contacts.rs`, but for the cull of speculative contacts where the file turns
+//! it on, which is exact per step: `speculative_cull.rs`) and get their own back after it: the robot's contacts are made
 //! afresh, the other robots' pairs recycle as without the reset.
 
 use super::Simulation;
