@@ -33,8 +33,9 @@
 //! answered with an error and ignored):
 //! - `{"type":"control","forward_mps":F,"yaw_rate_rad_s":W,"flipper_angle_deg":[A|null,...]}`
 //!   (m/s, rad/s, degrees by flipper index; `null` keeps a flipper's target);
-//! - `{"type":"reset"}`: the session starts again from the scenario's start (refused in a
-//!   session of several robots, where the instructor resets one robot);
+//! - `{"type":"reset"}`: the session starts again from the scenario's start; in a session of
+//!   several robots only the driver's own robot starts again (a new attempt of it) while the
+//!   others go on;
 //! - `{"type":"stop"}`: the session ends and its outputs are written; in a session of several
 //!   robots the driver's seat closes (the robot stops) and the session ends once every seat
 //!   that was taken has closed.
@@ -141,7 +142,8 @@ pub struct Hub {
     states: Mutex<Vec<(u64, Arc<String>)>>,
     /// Each robot's newest control from its driver.
     controls: Mutex<Vec<Option<DriveControl>>>,
-    reset: AtomicBool,
+    /// Each robot's driver asked for a reset since the session last took it.
+    resets: Mutex<Vec<bool>>,
     stop: AtomicBool,
     /// Each robot's seat.
     seats: Mutex<Vec<Seat>>,
@@ -197,7 +199,7 @@ impl Hub {
         Hub {
             states: Mutex::new(vec![(0, Arc::default()); n]),
             controls: Mutex::new(vec![None; n]),
-            reset: AtomicBool::default(),
+            resets: Mutex::new(vec![false; n]),
             stop: AtomicBool::default(),
             seats: Mutex::new((0..n).map(|_| Seat::new(grace_s)).collect()),
             robots,
@@ -457,9 +459,18 @@ impl Hub {
         self.controls.lock().expect("hub lock")[k].take()
     }
 
-    /// Whether the driver asked for a reset since the last call.
+    /// Whether the (first) robot's driver asked for a reset since the last call.
     pub fn take_reset(&self) -> bool {
-        self.reset.swap(false, Ordering::Relaxed)
+        self.take_reset_of(0)
+    }
+
+    /// Whether robot `k`'s driver asked for a reset since the last call.
+    pub fn take_reset_of(&self, k: usize) -> bool {
+        self.resets
+            .lock()
+            .expect("hub lock")
+            .get_mut(k)
+            .is_some_and(std::mem::take)
     }
 
     /// Asks the session to end (stop button, closed page, Ctrl-C).
@@ -545,13 +556,8 @@ impl Hub {
                 });
                 None
             }
-            Ok(ClientMessage::Reset) if self.team => Some(
-                "a driver's reset is not in a session of several robots: the instructor resets \
-                 one robot (their page's Reset robot)"
-                    .into(),
-            ),
             Ok(ClientMessage::Reset) => {
-                self.reset.store(true, Ordering::Relaxed);
+                self.resets.lock().expect("hub lock")[k] = true;
                 None
             }
             Ok(ClientMessage::Stop) if self.team => {
@@ -810,10 +816,13 @@ mod tests {
         assert!(hub.take_control_of(0).is_none());
         assert_eq!(hub.take_control_of(1).map(|c| c.forward_mps), Some(0.2));
         assert!(hub.receive(3, ctl).unwrap().contains("only watches"));
+        // b's reset is b's robot's only.
+        assert_eq!(hub.receive(1, r#"{"type":"reset"}"#), None);
+        assert!(!hub.take_reset_of(0) && hub.take_reset_of(1) && !hub.take_reset_of(1));
         assert!(
-            hub.receive(1, r#"{"type":"reset"}"#)
+            hub.receive(3, r#"{"type":"reset"}"#)
                 .unwrap()
-                .contains("the instructor resets")
+                .contains("only watches")
         );
         // b stops: its seat closes (nobody takes it again), a drives on.
         assert_eq!(hub.receive(1, r#"{"type":"stop"}"#), None);

@@ -121,6 +121,20 @@ impl Desk {
         }
     }
 
+    /// Robot `k`'s own driver reset it at simulated time `t` s (a session of several robots,
+    /// the robots named `names`): as the instructor's reset of it, recorded as the driver's.
+    pub(super) fn driver_reset(&mut self, k: usize, t: f64, names: &[String]) {
+        if let Some(r) = self.resets.get_mut(k) {
+            *r = true;
+        }
+        let who = names.get(k).map_or("the robot", String::as_str);
+        self.event(
+            t,
+            "reset",
+            format!("{who}'s driver reset: a new attempt begins"),
+        );
+    }
+
     /// Records an event of the attempt under way.
     pub(super) fn event(&mut self, t: f64, kind: &'static str, detail: String) {
         self.events.push(RunEvent {

@@ -38,7 +38,8 @@ pub struct TeamSession {
     pub logs: Vec<CommandLog>,
     /// Each robot's controls in force at each of its samples (of its last attempt).
     pub controls: Vec<crate::run::SpillLog<DriveControl>>,
-    /// Each robot's controls of each attempt an instructor's reset of it ended, in order.
+    /// Each robot's controls of each attempt a reset of it (the instructor's or its driver's)
+    /// ended, in order.
     pub kept_controls: Vec<Vec<crate::run::SpillLog<DriveControl>>>,
 }
 
@@ -82,8 +83,14 @@ impl WorldSource<TeamRunner> for Seats<'_> {
     }
 
     fn paused(&mut self, world: &mut TeamRunner) -> bool {
-        self.desk
-            .take(self.hub.take_actions(), world.sim().time(), &self.names);
+        let t = world.sim().time();
+        self.desk.take(self.hub.take_actions(), t, &self.names);
+        // A driver's reset of their own robot (the others go on), as the instructor's.
+        for k in 0..self.names.len() {
+            if self.hub.take_reset_of(k) {
+                self.desk.driver_reset(k, t, &self.names);
+            }
+        }
         let paused = self.desk.paused();
         if paused
             && self
@@ -99,9 +106,10 @@ impl WorldSource<TeamRunner> for Seats<'_> {
     fn controls(&mut self, world: &TeamRunner, k: usize) -> Option<CommandSpec> {
         let t = world.sim().time();
         let seat = &mut self.seats[k];
-        // The instructor's reset of this robot (the others go on): a `reset = true` entry,
-        // its controls zeroed, its faults, latency and queued controls gone; its attempt so
-        // far is kept (`TeamRunner::reset_robot`), with the controls it had.
+        // A reset of this robot by the instructor or its driver (the others go on): a
+        // `reset = true` entry, its controls zeroed, its faults, latency and queued controls
+        // gone; its attempt so far is kept (`TeamRunner::reset_robot`), with the controls it
+        // had.
         let reset = self.desk.take_reset_of(k);
         if reset {
             let fresh = crate::run::SpillLog::from(vec![seat.idle.clone()]);

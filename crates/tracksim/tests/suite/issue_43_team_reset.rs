@@ -210,6 +210,36 @@ fn a_reset_robot_runs_again_as_from_its_start_and_the_other_runs_on() {
 /// with `run --commands`, blue's kept attempt included.
 #[test]
 fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
+    live_reset_of_blue(false);
+}
+
+/// The same when blue's own driver resets (Backspace on blue's page): only blue starts again,
+/// the event is its driver's, and the session replays byte for byte.
+#[test]
+fn a_drivers_own_reset_in_a_team_session_replays_byte_for_byte() {
+    live_reset_of_blue(true);
+}
+
+/// Blue's kept attempt's `summary` has the reset's event, by blue's driver (`by_driver`) or
+/// the instructor.
+fn reset_event_says(summary: &serde_json::Value, by_driver: bool) {
+    let by = if by_driver {
+        "blue's driver reset"
+    } else {
+        "the instructor reset blue"
+    };
+    let events = summary["events"].as_array().unwrap();
+    assert!(
+        events
+            .iter()
+            .any(|e| e["detail"].as_str().unwrap().starts_with(by)),
+        "{by}: {events:?}"
+    );
+}
+
+/// Blue reset in a live session of two trainees, by its driver (`by_driver`) or the
+/// instructor; what the two tests above check.
+fn live_reset_of_blue(by_driver: bool) {
     let TeamSeats {
         file,
         sc,
@@ -229,7 +259,11 @@ fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
         m["pose"][0].as_f64().unwrap() > 0.15
     });
     let x_before = moved["pose"][0].as_f64().unwrap();
-    send(&mut ins, serde_json::json!({"type":"reset","robot":"blue"}));
+    if by_driver {
+        send(&mut blue, serde_json::json!({"type":"reset"}));
+    } else {
+        send(&mut ins, serde_json::json!({"type":"reset","robot":"blue"}));
+    }
     // Blue is back at its start (x = 0 within what it drives in one 0.01 s sample); red drives on.
     let back = state_where(&mut blue, 5000, "blue back at its start", |m| {
         m["pose"][0].as_f64().unwrap() < 0.01
@@ -254,7 +288,10 @@ fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
     let s = session.join().unwrap().unwrap();
     assert_eq!(s.result.attempts[0].len(), 0, "red was not reset");
     assert_eq!(s.result.attempts[1].len(), 1, "blue's first attempt");
-    let dir = std::env::temp_dir().join(format!("tracksim-43-team-reset-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "tracksim-43-team-reset-{by_driver}-{}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     s.write(&sc, &file, &dir, false).unwrap();
     let commands = std::fs::read_to_string(dir.join("commands.toml")).unwrap();
@@ -278,6 +315,7 @@ fn the_instructors_reset_of_one_robot_replays_byte_for_byte() {
         .map(|e| e["kind"].as_str().unwrap())
         .collect();
     assert!(kinds.contains(&"reset"), "{kinds:?}");
+    reset_event_says(&summary, by_driver);
     assert_eq!(summary["attempts"].as_array().unwrap().len(), 2);
     // Blue's course starts again at the reset (the world's clock goes on): its time counts
     // from the reset's, the reset a fault of the new attempt (as a one-robot session's).
