@@ -1007,7 +1007,7 @@ async function driveWithInstructor(args, dir) {
   return { child, exited, url, instructorUrl, output: () => printed };
 }
 
-test('two trainees (issue 43): the instructor resets one robot, the other drives on; the session replays byte for byte, attempts included', async () => {
+test('two trainees (issue 43): the instructor resets one robot, a trainee resets their own with Backspace, the other drives on each time; the session replays byte for byte, attempts included', async () => {
   const dir = path.join(tmp, 'team-reset');
   const file = 'scenarios/team/race_step.toml';
   const { child, exited, url, instructorUrl, output } = await driveWithInstructor([file, '--no-plot'], dir);
@@ -1033,7 +1033,21 @@ test('two trainees (issue 43): the instructor resets one robot, the other drives
     await red.page.waitForFunction((t) => window.tracksim.state.t > t + 0.3, blueT, { timeout: 20000 });
     const redAfter = await red.page.evaluate(() => window.tracksim.state.pose[0]);
     assert.ok(redAfter > redBefore + 0.05, `red drives on: x ${redBefore} -> ${redAfter}`);
+    // Blue drives again; red's trainee presses Backspace: red alone is back at its start
+    // (x 0, y +0.7 m), blue drives on.
+    await blue.page.bringToFront();
+    await blue.page.keyboard.down('ArrowUp');
+    await blue.page.waitForFunction(() => window.tracksim.state.pose[0] > 0.1, null, { timeout: 60000 });
+    await red.page.bringToFront();
     await red.page.keyboard.up('ArrowUp');
+    const blueBefore = await blue.page.evaluate(() => window.tracksim.state.pose[0]);
+    await red.page.keyboard.press('Backspace');
+    await red.page.waitForFunction(() => Math.abs(window.tracksim.state.pose[0]) < 0.02 && Math.abs(window.tracksim.state.pose[1] - 0.7) < 0.02, null, { timeout: 20000 });
+    const redT = await red.page.evaluate(() => window.tracksim.state.t);
+    await blue.page.waitForFunction((t) => window.tracksim.state.t > t + 0.3, redT, { timeout: 20000 });
+    const blueAfter = await blue.page.evaluate(() => window.tracksim.state.pose[0]);
+    assert.ok(blueAfter > blueBefore + 0.05, `blue drives on: x ${blueBefore} -> ${blueAfter}`);
+    await blue.page.keyboard.up('ArrowUp');
     await teacher.page.click('#i-end');
     assert.equal(await exited, 0, output());
     assert.deepEqual([...red.errors, ...blue.errors, ...teacher.errors], []);
@@ -1042,17 +1056,20 @@ test('two trainees (issue 43): the instructor resets one robot, the other drives
     child.kill();
   }
   const toml = fs.readFileSync(path.join(dir, 'commands.toml'), 'utf8');
-  assert.equal((toml.match(/reset = true/g) ?? []).length, 1, toml);
+  assert.equal((toml.match(/reset = true/g) ?? []).length, 2, toml);
   for (const f of ['trajectory.csv', 'summary.json', 'scene.json', 'controls.csv']) {
     assert.ok(fs.existsSync(path.join(dir, 'blue/attempts/1', f)), `blue/attempts/1/${f}`);
+    assert.ok(fs.existsSync(path.join(dir, 'red/attempts/1', f)), `red/attempts/1/${f}`);
   }
-  assert.ok(!fs.existsSync(path.join(dir, 'red/attempts')), 'red was not reset');
+  assert.ok(!fs.existsSync(path.join(dir, 'red/attempts/2')), 'red was reset once');
+  const redEvents = JSON.parse(fs.readFileSync(path.join(dir, 'red/attempts/1/summary.json'), 'utf8')).events;
+  assert.ok(redEvents.some((e) => e.detail.startsWith("red's driver reset")), JSON.stringify(redEvents));
   const summary = JSON.parse(fs.readFileSync(path.join(dir, 'blue/summary.json'), 'utf8'));
   assert.deepEqual(summary.attempts.map((a) => a.folder), ['attempts/1', '.']);
   const duration = toml.match(/--duration ([0-9.e-]+)/)[1];
   const again = path.join(tmp, 'team-reset-again');
   execFileSync(bin, ['run', file, '--commands', path.join(dir, 'commands.toml'), '--duration', duration, '--out', again, '--quiet', '--no-plot'], { cwd: root });
-  for (const r of ['red', 'blue', 'blue/attempts/1']) {
+  for (const r of ['red', 'blue', 'blue/attempts/1', 'red/attempts/1']) {
     assert.equal(fs.readFileSync(path.join(again, r, 'trajectory.csv'), 'utf8'), fs.readFileSync(path.join(dir, r, 'trajectory.csv'), 'utf8'), `${r} replays`);
   }
   // The review of blue steps through its two attempts.
