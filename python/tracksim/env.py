@@ -143,6 +143,12 @@ class TracksimEnv(gym.Env):
     scenario's outcome is decided (success, failure, tip-over past ``max_tilt_deg``, off the
     terrain) and is truncated at the scenario's ``duration_s``. ``reset(seed=s)`` draws the
     scenario's ``[randomize]`` values from ``s`` (reported in ``info["randomized"]``).
+    ``info`` after a step: ``progress_delta_m``, ``progress_m``, ``effort``, ``outcome``,
+    ``reason``, ``t_s``, ``seed``, ``randomized``, and on a course (a scenario with
+    ``[course]``) ``course``: the score so far (``gates_passed``, ``gates_total``,
+    ``next_gate``, ``repetition``, ``repetitions_done``, ``repetitions_required``,
+    ``elapsed_s``, ``time_limit_s``, ``penalty_s``, ``score_s``, ``faults`` by kind,
+    ``status``, ``finished``), as the run's ``summary.json`` has it.
 
     ``config`` keys: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s,
     max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m,

@@ -27,7 +27,10 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     sequence. ``reset(seed=s)`` seeds environment ``i`` with ``s + i``; ``reset(seed=[s0, s1,
     ...])`` gives each its own. ``infos`` holds arrays
     ``progress_m``, ``progress_delta_m``, ``effort``, ``seed``, ``autoreset`` and lists
-    ``outcome``, ``reason`` ("" while running).
+    ``outcome``, ``reason`` ("" while running); on a course (a scenario with ``[course]``) also
+    the arrays ``course_gates_passed``, ``course_repetitions_done``, ``course_faults``,
+    ``course_penalty_s``, ``course_score_s`` (s) and the list ``course_status``, each
+    environment's score so far (of the episode that ended, at its terminating step).
 
     With ``config={"observation": "dict"}`` the observations are a dict of stacked arrays:
     ``"state"`` (num_envs, obs_dim) and one entry per sensor (num_envs, *shape), laid out as
@@ -111,6 +114,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
         rewards = np.where(d["autoreset"], 0.0, rewards)
         infos = {k: d[k] for k in ("progress_m", "progress_delta_m", "effort", "seed",
                                    "autoreset", "outcome", "reason")}
+        # A course (``[course]``): every environment's score so far.
+        infos.update({k: v for k, v in d.items() if k.startswith("course_")})
         return obs, rewards, d["terminated"].copy(), d["truncated"].copy(), infos
 
     def render(self):

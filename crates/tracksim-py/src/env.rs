@@ -58,6 +58,37 @@ pub(crate) fn info_dict<'py>(
     d.set_item("t_s", env.simulation().time())?;
     d.set_item("seed", env.simulation().seed())?;
     d.set_item("randomized", env.randomized().clone())?;
+    if let Some(c) = env.runner().course() {
+        d.set_item("course", course_dict(py, &c)?)?;
+    }
+    Ok(d)
+}
+
+/// A course's score so far (`[course]`) as the step's `info["course"]`: the gates, the
+/// repetitions, the faults by kind, the times (s) and the status, as `summary.json` has them.
+fn course_dict<'py>(
+    py: Python<'py>,
+    c: &tracksim::run::CourseScore,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &c.name)?;
+    d.set_item("status", c.status)?;
+    d.set_item("finished", c.finished)?;
+    d.set_item("next_gate", c.next_gate)?;
+    d.set_item("gates_passed", c.gates_passed)?;
+    d.set_item("gates_total", c.gates_total)?;
+    d.set_item("repetition", c.repetition)?;
+    d.set_item("repetitions_done", c.repetitions_done)?;
+    d.set_item("repetitions_required", c.repetitions_required)?;
+    d.set_item("elapsed_s", c.elapsed_s)?;
+    d.set_item("time_limit_s", c.time_limit_s)?;
+    d.set_item("penalty_s", c.penalty_s)?;
+    d.set_item("score_s", c.score.score_s)?;
+    let f = PyDict::new(py);
+    f.set_item("reset", c.faults.reset)?;
+    f.set_item("tip_over", c.faults.tip_over)?;
+    f.set_item("touch", c.faults.touch)?;
+    d.set_item("faults", f)?;
     Ok(d)
 }
 

@@ -133,6 +133,46 @@ impl PyVecEnvCore {
                 .map(|s| s.info.outcome.reason())
                 .collect::<Vec<_>>(),
         )?;
+        // A course (`[course]`): each environment's score so far (of the episode that ended
+        // at a terminating step; the next step's autoreset starts a new one).
+        let v = self.v.get();
+        let envs = v.envs();
+        if envs.first().is_some_and(|e| e.runner().course().is_some()) {
+            let scores: Vec<_> = envs.iter().map(|e| e.runner().course()).collect();
+            let num = |f: &dyn Fn(&tracksim::run::CourseScore) -> f64| {
+                scores
+                    .iter()
+                    .map(|c| c.as_ref().map_or(f64::NAN, f))
+                    .collect::<Vec<f64>>()
+            };
+            d.set_item(
+                "course_gates_passed",
+                PyArray1::from_vec(py, num(&|c| f64::from(c.gates_passed))),
+            )?;
+            d.set_item(
+                "course_repetitions_done",
+                PyArray1::from_vec(py, num(&|c| f64::from(c.repetitions_done))),
+            )?;
+            d.set_item(
+                "course_faults",
+                PyArray1::from_vec(py, num(&|c| f64::from(c.faults.total()))),
+            )?;
+            d.set_item(
+                "course_penalty_s",
+                PyArray1::from_vec(py, num(&|c| c.penalty_s)),
+            )?;
+            d.set_item(
+                "course_score_s",
+                PyArray1::from_vec(py, num(&|c| c.score.score_s)),
+            )?;
+            d.set_item(
+                "course_status",
+                scores
+                    .iter()
+                    .map(|c| c.as_ref().map_or("", |c| c.status))
+                    .collect::<Vec<_>>(),
+            )?;
+        }
         Ok((PyArray1::from_vec(py, o).reshape([n, self.obs_dim])?, d))
     }
 
