@@ -562,11 +562,19 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
     }
     let mut files = Vec::new();
     let mut listed = Vec::new();
+    // A team run's folder (`team.json`: several robots of one world), a folder of sessions
+    // (runs with a trainee) or a compare folder.
+    let team = dir.join("team.json").is_file();
     for (name, path) in &runs {
         let i = listed.len();
         let prefix = format!("/run/{i}");
         let Ok(mut these) = run_files(path, &prefix, i == 0) else {
             continue;
+        };
+        let attempts = if team {
+            stitch_attempts(path, &prefix, &mut these)
+        } else {
+            0
         };
         if i == 0
             && let Some(scene) = these.iter().find(|f| f.0 == format!("{prefix}/scene.json"))
@@ -576,16 +584,17 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
         }
         let trainee = trainee_of(&these, &format!("{prefix}/summary.json"));
         files.extend(these);
-        listed.push(serde_json::json!({
+        let mut entry = serde_json::json!({
             "index": i, "name": name, "base": prefix, "trainee": trainee,
-        }));
+        });
+        if attempts > 0 {
+            entry["attempts"] = serde_json::json!(attempts);
+        }
+        listed.push(entry);
     }
     if listed.is_empty() {
         return run_files(dir, "/run", true);
     }
-    // A team run's folder (`team.json`: several robots of one world), a folder of sessions
-    // (runs with a trainee) or a compare folder.
-    let team = dir.join("team.json").is_file();
     label_runs(&mut listed, team);
     let sessions = !team && listed.iter().any(|r| r["trainee"].is_string());
     let list = serde_json::json!({
@@ -597,6 +606,71 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
         list.to_string().into_bytes(),
     ));
     Ok(files)
+}
+
+/// The time series a reset robot of a team run is replayed from over the whole session.
+const STITCHED: [&str; 3] = ["trajectory.csv", "belts.csv", "controls.csv"];
+
+/// A robot of a team run that was reset (its earlier attempts in `dir/attempts/N/`, issue 43)
+/// replayed over the whole session: its served [`STITCHED`] files (under `prefix`, in `files`)
+/// become its attempts' rows in order, then its last attempt's, under the one header. Their
+/// times are the world's, so the replay puts the robot back at its start at each reset, as the
+/// session did (a file not written for the earlier attempts is served as the last one's).
+/// Returns the robot's attempts (its earlier ones and the last; 0: none, or a part with
+/// another header, when the last attempt's files are served as written).
+fn stitch_attempts(dir: &std::path::Path, prefix: &str, files: &mut [ViewFile]) -> usize {
+    let mut stitched = Vec::new();
+    for name in STITCHED {
+        let url = format!("{prefix}/{name}");
+        let Some(last) = files.iter().position(|f| f.0 == url) else {
+            continue;
+        };
+        let mut parts = Vec::new();
+        for n in 1..=MAX_ATTEMPTS {
+            match std::fs::read(dir.join(crate::run::attempt_folder(n)).join(name)) {
+                Ok(bytes) => parts.push(bytes),
+                Err(_) => break,
+            }
+        }
+        if parts.is_empty() {
+            // Not written for the earlier attempts (a replay has no `controls.csv`): the last
+            // attempt's alone.
+            continue;
+        }
+        parts.push(files[last].2.clone());
+        let header = |b: &[u8]| b.split(|&c| c == b'\n').next().map(<[u8]>::to_vec);
+        let first = header(&parts[0]);
+        if parts.iter().any(|p| header(p) != first) {
+            return 0;
+        }
+        let mut out = parts[0].clone();
+        for p in &parts[1..] {
+            let body = p
+                .iter()
+                .position(|&c| c == b'\n')
+                .map_or(&p[..0], |i| &p[i + 1..]);
+            if !out.ends_with(b"\n") {
+                out.push(b'\n');
+            }
+            out.extend_from_slice(body);
+        }
+        stitched.push((name, last, out, parts.len()));
+    }
+    // The trajectory decides; every stitched file has as many attempts.
+    let Some(attempts) = stitched
+        .iter()
+        .find(|s| s.0 == "trajectory.csv")
+        .map(|s| s.3)
+    else {
+        return 0;
+    };
+    if stitched.iter().any(|s| s.3 != attempts) {
+        return 0;
+    }
+    for (_, i, bytes, _) in stitched {
+        files[i].2 = bytes;
+    }
+    attempts
 }
 
 /// Most earlier attempts of a session that `tracksim view` serves.

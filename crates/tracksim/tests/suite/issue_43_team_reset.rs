@@ -220,6 +220,65 @@ fn a_drivers_own_reset_in_a_team_session_replays_byte_for_byte() {
     live_reset_of_blue(true);
 }
 
+/// `tracksim view DIR` of the team folder: blue is listed with its 2 attempts and replayed
+/// over the whole session, its kept attempt's rows then its last's under the one header (back
+/// at its start at the reset, `t_reset` s); red is served as written.
+fn team_view_replays_blue_over_the_session(dir: &std::path::Path, t_reset: f64) {
+    let files = tracksim::live::view_files(dir).unwrap();
+    let served = |url: &str| {
+        let f = files
+            .iter()
+            .find(|f| f.0 == url)
+            .unwrap_or_else(|| panic!("{url}"));
+        String::from_utf8(f.2.clone()).unwrap()
+    };
+    let runs: serde_json::Value = serde_json::from_str(&served("/runs.json")).unwrap();
+    let listed = runs["runs"].as_array().unwrap();
+    let blue_i = listed.iter().position(|r| r["name"] == "blue").unwrap();
+    let red_i = listed.iter().position(|r| r["name"] == "red").unwrap();
+    assert_eq!(listed[blue_i]["attempts"], 2, "{runs}");
+    assert!(listed[red_i].get("attempts").is_none(), "{runs}");
+    let disk = |p: &str| std::fs::read_to_string(dir.join(p)).unwrap();
+    for name in ["trajectory.csv", "belts.csv", "controls.csv"] {
+        let (first, last) = (
+            disk(&format!("blue/attempts/1/{name}")),
+            disk(&format!("blue/{name}")),
+        );
+        let mut whole: Vec<&str> = first.lines().collect();
+        whole.extend(last.lines().skip(1));
+        let stitched = served(&format!("/run/{blue_i}/{name}"));
+        assert_eq!(stitched.lines().collect::<Vec<_>>(), whole, "blue's {name}");
+        assert_eq!(
+            served(&format!("/run/{red_i}/{name}")),
+            disk(&format!("red/{name}")),
+            "red's {name}"
+        );
+    }
+    // Times never go back; at the reset the robot is at its start again (x 0, y -0.7 m).
+    let traj = served(&format!("/run/{blue_i}/trajectory.csv"));
+    let rows: Vec<Vec<f64>> = traj
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').take(3).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.windows(2).all(|w| w[1][0] >= w[0][0]));
+    let at_reset: Vec<&Vec<f64>> = rows
+        .iter()
+        .filter(|r| (r[0] - t_reset).abs() < 1e-6)
+        .collect();
+    assert_eq!(
+        at_reset.len(),
+        2,
+        "the attempt's last row and the next one's first"
+    );
+    assert!(at_reset[0][1] > 0.1, "{:?}", at_reset[0]);
+    assert!(
+        at_reset[1][1].abs() < 1e-9 && (at_reset[1][2] + 0.7).abs() < 1e-9,
+        "{:?}",
+        at_reset[1]
+    );
+}
+
 /// Blue's kept attempt's `summary` has the reset's event, by blue's driver (`by_driver`) or
 /// the instructor.
 fn reset_event_says(summary: &serde_json::Value, by_driver: bool) {
@@ -338,6 +397,7 @@ fn live_reset_of_blue(by_driver: bool) {
     let red_course = &s.result.robots[0].1.summary.course.as_ref().unwrap();
     assert_eq!(red_course.faults.reset, 0);
     assert!((red_course.elapsed_s - s.duration()).abs() < 1e-9);
+    team_view_replays_blue_over_the_session(&dir, t_reset);
     let replay = common::session_replay(&file, &dir, s.duration());
     let r = tracksim::run::run_team(&replay, tracksim::RunOptions::default()).unwrap();
     for (name, run) in &r.robots {
