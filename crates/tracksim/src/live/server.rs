@@ -627,7 +627,15 @@ fn stitch_attempts(dir: &std::path::Path, prefix: &str, files: &mut [ViewFile]) 
         };
         let mut parts = Vec::new();
         for n in 1..=MAX_ATTEMPTS {
-            match std::fs::read(dir.join(crate::run::attempt_folder(n)).join(name)) {
+            let sub = dir.join(crate::run::attempt_folder(n));
+            if !sub.is_dir() {
+                break;
+            }
+            // An attempt whose writing did not finish is not replayed as if it had.
+            if crate::output::incomplete::check_complete(&sub).is_err() {
+                return 0;
+            }
+            match std::fs::read(sub.join(name)) {
                 Ok(bytes) => parts.push(bytes),
                 Err(_) => break,
             }
