@@ -1,10 +1,12 @@
 """A course's score in the environments' info: the step's ``info["course"]`` (one env) and the
 ``course_*`` arrays (the vector env), as the run's ``summary.json`` scores it."""
 
+import json
+
 import numpy as np
 
 import tracksim
-from conftest import SCENARIOS
+from conftest import SCENARIOS, run_cli
 
 COURSE = SCENARIOS / "course_stairs.toml"
 # The course's first gate (its start line) is crossed forwards at x = 0.2 m; the robot starts
@@ -77,3 +79,55 @@ def test_no_course_no_course_info():
     vec.reset(seed=0)
     infos = vec.step(np.stack([forward(env)] * 2))[-1]
     assert not [k for k in infos if k.startswith("course")]
+
+
+def test_a_whole_episode_ends_with_the_score_the_cli_gives_its_recorded_controls(tmp_path):
+    """Run to its end (the robot stalls at the first riser, its flippers level, until the
+    scenario's 30 s run out, the course's time limit too: the run ends first, so the course is
+    ``not_completed``, as a ``tracksim run`` that ends there says): the last step's
+    ``info["course"]`` is the score ``tracksim run`` gives the episode's recorded controls, an
+    independent front end of the same course, not the tracker's live ``running``."""
+    rec = tmp_path / "episodes"
+    env = tracksim.TracksimEnv(COURSE, config={"record_dir": rec})
+    env.reset(seed=0)
+    steps = 0
+    while True:
+        _, _, term, trunc, info = env.step(forward(env))
+        steps += 1
+        if term or trunc:
+            break
+    t = env._core.time
+    env.close()
+    c = info["course"]
+    assert not c["finished"] and c["status"] == "not_completed", c
+    assert c["gates_passed"] == 1 and abs(c["elapsed_s"] - 30.0) < 0.06, c
+    (ep,) = [p for p in rec.iterdir() if p.is_dir()]
+    out = tmp_path / "cli"
+    r = run_cli("run", COURSE, "--commands", ep / "commands.toml", "--duration", repr(t),
+                "--out", out, "--no-plot", "--quiet")
+    assert r.returncode == 0, r.stderr
+    cli = json.loads((out / "summary.json").read_text())["course"]
+    for k in ("status", "finished", "gates_passed", "repetitions_done", "elapsed_s",
+              "penalty_s"):
+        assert cli[k] == c[k], (k, cli[k], c[k])
+    assert cli["score"]["score_s"] == c["score_s"]
+    assert cli["faults"] == c["faults"]
+
+
+def test_the_vector_envs_terminating_step_reports_the_ended_episodes_score():
+    """Gymnasium's next-step autoreset: the step that ends an episode carries that episode's
+    score, closed as its recording has it (``not_completed``, not the live ``running``); the
+    next step (the autoreset) a fresh course."""
+    vec = tracksim.TracksimVectorEnv(COURSE, 1)
+    vec.reset(seed=0)
+    a = np.zeros((1,) + vec.single_action_space.shape, dtype=np.float32)
+    a[0, 0] = 0.5
+    while True:
+        _, _, term, trunc, infos = vec.step(a)
+        if term[0] or trunc[0]:
+            break
+    assert infos["course_status"][0] == "not_completed", infos
+    assert infos["course_gates_passed"][0] == 1
+    _, _, _, _, infos = vec.step(a)
+    assert infos["autoreset"][0]
+    assert infos["course_status"][0] == "running" and infos["course_gates_passed"][0] == 0

@@ -148,7 +148,8 @@ class TracksimEnv(gym.Env):
     ``[course]``) ``course``: the score so far (``gates_passed``, ``gates_total``,
     ``next_gate``, ``repetition``, ``repetitions_done``, ``repetitions_required``,
     ``elapsed_s``, ``time_limit_s``, ``penalty_s``, ``score_s``, ``faults`` by kind,
-    ``status``, ``finished``), as the run's ``summary.json`` has it.
+    ``status``, ``finished``), as the run's ``summary.json`` has it (at the step that ends the
+    episode, closed as there: a course still running is then ``not_completed``).
 
     ``config`` keys: control_period_s, action, max_forward_mps, max_yaw_rate_rad_s,
     max_belt_speed_mps, flipper_range_rad, grid_shape, grid_spacing_m, grid_ahead_m,

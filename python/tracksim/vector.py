@@ -30,7 +30,8 @@ class TracksimVectorEnv(gym.vector.VectorEnv):
     ``outcome``, ``reason`` ("" while running); on a course (a scenario with ``[course]``) also
     the arrays ``course_gates_passed``, ``course_repetitions_done``, ``course_faults``,
     ``course_penalty_s``, ``course_score_s`` (s) and the list ``course_status``, each
-    environment's score so far (of the episode that ended, at its terminating step).
+    environment's score so far (at its terminating step the ended episode's, closed as its
+    ``summary.json`` has it).
 
     With ``config={"observation": "dict"}`` the observations are a dict of stacked arrays:
     ``"state"`` (num_envs, obs_dim) and one entry per sensor (num_envs, *shape), laid out as

@@ -58,7 +58,7 @@ pub(crate) fn info_dict<'py>(
     d.set_item("t_s", env.simulation().time())?;
     d.set_item("seed", env.simulation().seed())?;
     d.set_item("randomized", env.randomized().clone())?;
-    if let Some(c) = env.runner().course() {
+    if let Some(c) = env.course() {
         d.set_item("course", course_dict(py, &c)?)?;
     }
     Ok(d)

@@ -137,8 +137,8 @@ impl PyVecEnvCore {
         // at a terminating step; the next step's autoreset starts a new one).
         let v = self.v.get();
         let envs = v.envs();
-        if envs.first().is_some_and(|e| e.runner().course().is_some()) {
-            let scores: Vec<_> = envs.iter().map(|e| e.runner().course()).collect();
+        if envs.first().is_some_and(|e| e.course().is_some()) {
+            let scores: Vec<_> = envs.iter().map(|e| e.course()).collect();
             let num = |f: &dyn Fn(&tracksim::run::CourseScore) -> f64| {
                 scores
                     .iter()

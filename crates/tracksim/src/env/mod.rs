@@ -236,6 +236,17 @@ impl Env {
         &self.cfg
     }
 
+    /// The episode's course score (`[course]`; `None` without one): so far while it runs, and
+    /// once it has ended (terminated or truncated) as the episode's recording's `summary.json`
+    /// has it ([`Runner::course_as_ended`]).
+    pub fn course(&self) -> Option<crate::run::CourseScore> {
+        if self.done {
+            self.runner.course_as_ended()
+        } else {
+            self.runner.course()
+        }
+    }
+
     /// The running simulation.
     pub fn simulation(&self) -> &Simulation {
         self.runner.sim()

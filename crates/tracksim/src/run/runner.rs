@@ -353,6 +353,14 @@ impl Runner {
         self.course.as_ref().map(CourseTracker::score)
     }
 
+    /// The course's score were the run to end now, as its `summary.json` would have it (a
+    /// course still running is `not_completed`: [`CourseTracker::close`]).
+    pub fn course_as_ended(&self) -> Option<CourseScore> {
+        let mut c = self.course.clone()?;
+        c.close();
+        Some(c.score())
+    }
+
     /// Starts again from the compiled scenario ([`Simulation::reset`]): the clock, the
     /// commands, the samples and the outcome. A course restarts too, with one reset fault
     /// more (the resets carry over: [`CourseTracker::reset`]).
