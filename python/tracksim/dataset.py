@@ -5,7 +5,11 @@ A sweep folder holds ``runs/run-NNNNNN/`` (``summary.json``, ``trajectory.csv``,
 and ``manifest.jsonl`` (or ``manifest-shard-I-of-N.jsonl`` for a shard): one JSON object per
 run with ``index``, ``seed``, ``params`` (the ``[randomize]`` values), ``outcome``, ``reason``,
 ``outcome_time_s``, ``sim_time_s``, ``progress_m``, ``distance_m``, ``final_pose``,
-``max_tilt_rad``.
+``max_tilt_rad``. A scenario of several robots (``[[vehicles]]``) writes each robot's folder
+``runs/run-NNNNNN/NAME/`` and ``team.json``; its line's outcome is the world's, its
+``progress_m``, ``distance_m``, ``final_pose`` and ``max_tilt_rad`` are ``None``, and ``robots``
+lists each robot's ``name``, ``outcome``, ``reason``, ``outcome_time_s``, ``progress_m``,
+``distance_m``, ``final_pose``, ``max_tilt_rad``.
 """
 
 from __future__ import annotations
@@ -77,9 +81,14 @@ def load_manifest(path: PathLike) -> List[dict]:
     return [json.loads(line) for line in p.read_text().splitlines() if line.strip()]
 
 
+_POSE = ("x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad")
+
+
 def to_parquet(sweep_dir: PathLike) -> List[pathlib.Path]:
     """Writes ``trajectory.parquet`` beside every run's ``trajectory.csv`` (same columns, plus
-    ``run`` and ``seed``), and ``manifest.parquet`` (params flattened to ``param.NAME``)."""
+    ``run`` and ``seed``; a run of several robots: beside each robot's ``NAME/trajectory.csv``,
+    plus ``robot``), and ``manifest.parquet`` (params flattened to ``param.NAME``, final pose to
+    ``final_x_m`` ..., a robot's figures to ``NAME.outcome``, ``NAME.final_x_m`` ...)."""
     import pyarrow as pa
     import pyarrow.csv as pacsv
     import pyarrow.parquet as pq
@@ -88,22 +97,31 @@ def to_parquet(sweep_dir: PathLike) -> List[pathlib.Path]:
     lines = load_manifest(root)
     written = []
     for line in lines:
-        csv = root / line["dir"] / "trajectory.csv"
-        if not csv.exists():
-            continue
-        t = pacsv.read_csv(csv)
-        t = t.append_column("run", pa.array([line["index"]] * t.num_rows, pa.int64()))
-        t = t.append_column("seed", pa.array([line["seed"]] * t.num_rows, pa.uint64()))
-        dst = csv.with_suffix(".parquet")
-        pq.write_table(t, dst)
-        written.append(dst)
+        robots = [r["name"] for r in line.get("robots", [])]
+        for name in robots or [None]:
+            csv = root / line["dir"] / (name or "") / "trajectory.csv"
+            if not csv.exists():
+                continue
+            t = pacsv.read_csv(csv)
+            t = t.append_column("run", pa.array([line["index"]] * t.num_rows, pa.int64()))
+            t = t.append_column("seed", pa.array([line["seed"]] * t.num_rows, pa.uint64()))
+            if name is not None:
+                t = t.append_column("robot", pa.array([name] * t.num_rows, pa.string()))
+            dst = csv.with_suffix(".parquet")
+            pq.write_table(t, dst)
+            written.append(dst)
     rows = []
     for line in lines:
-        row = {k: v for k, v in line.items() if k not in ("params", "final_pose")}
+        row = {k: v for k, v in line.items() if k not in ("params", "final_pose", "robots")}
         row.update({f"param.{k}": v for k, v in line["params"].items()})
-        for k, v in zip(("x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"),
-                        line["final_pose"]):
+        for k, v in zip(_POSE, line["final_pose"]):
             row[f"final_{k}"] = v
+        for r in line.get("robots", []):
+            name = r["name"]
+            row.update({f"{name}.{k}": v for k, v in r.items()
+                        if k not in ("name", "final_pose")})
+            for k, v in zip(_POSE, r["final_pose"]):
+                row[f"{name}.final_{k}"] = v
         rows.append(row)
     pq.write_table(pa.Table.from_pylist(rows), root / "manifest.parquet")
     written.append(root / "manifest.parquet")

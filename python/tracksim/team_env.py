@@ -4,7 +4,9 @@ A scenario with ``[[vehicles]]`` is one world; each robot is an agent named afte
 control period each agent's action, a twist ``[forward, yaw_rate]`` in ``[-1, 1]`` scaled by
 ``max_speed_mps`` and ``max_yaw_rate_rad_s``, is given to its robot; the world steps; each agent
 observes itself and its nearest neighbour, and is rewarded its progress along its start heading.
-An agent is terminated when its robot's own outcome is decided (``[vehicles.outcome]``: a
+A file with ``[randomize]`` draws
+its values from each episode's seed (``reset(seed=s)``; ``tracksim run FILE --seed s`` runs the
+same world), reported in the reset's ``infos[agent]["randomized"]``. An agent is terminated when its robot's own outcome is decided (``[vehicles.outcome]``: a
 success, or a failure such as tipping over) and braked from then on; every agent is truncated at
 the scenario's duration. Observations, rewards, terminations, truncations and infos are dicts
 keyed by robot name, as PettingZoo's parallel API asks (``pettingzoo.test.parallel_api_test``
@@ -76,7 +78,10 @@ class TeamParallelEnv(ParallelEnv):
         obs = self._core.reset(None if seed is None else int(seed))[0]
         self.agents = list(self.possible_agents)
         observations = {a: obs[k] for k, a in enumerate(self.possible_agents)}
-        return observations, {a: {} for a in self.agents}
+        # The episode's seed and the scenario's [randomize] values drawn from it (every agent
+        # shares the world's).
+        info = {"seed": self._core.seed, "randomized": self._core.randomized}
+        return observations, {a: dict(info) for a in self.agents}
 
     def step(self, actions):
         a = np.zeros((1, len(self.possible_agents), 2), dtype=np.float32)

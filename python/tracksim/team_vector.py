@@ -92,6 +92,10 @@ class TeamVectorEnv:
         self._np_random = None
         self.closed = False
 
+    def randomized(self, i: int) -> dict:
+        """The ``[randomize]`` values of world ``i``'s current episode (drawn from its seed)."""
+        return self._core.randomized(i)
+
     @property
     def threads(self) -> int:
         """Rust threads used per step."""

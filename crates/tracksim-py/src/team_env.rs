@@ -10,8 +10,10 @@ use numpy::PyArray1;
 use numpy::PyArrayMethods;
 use numpy::PyReadonlyArray3;
 use numpy::PyUntypedArrayMethods;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::collections::BTreeMap;
 use tracksim::env::{
     AgentStep, TEAM_ACTION_SIZE, TEAM_OBS_SIZE, TeamEnv, TeamSettings, TeamVecEnv, TeamVecStep,
 };
@@ -165,6 +167,12 @@ impl PyTeamEnvCore {
         self.env.get().simulation().seed()
     }
 
+    /// The `[randomize]` values of the episode, by parameter name (empty for a fixed file).
+    #[getter]
+    fn randomized(&self) -> BTreeMap<String, f64> {
+        self.env.get().simulation().scenario().randomized.clone()
+    }
+
     /// The control period actually used (a whole number of physics steps), s.
     #[getter]
     fn control_period_s(&self) -> f64 {
@@ -283,6 +291,16 @@ impl PyTeamVecEnvCore {
     #[getter]
     fn num_envs(&self) -> usize {
         self.v.get().len()
+    }
+
+    /// The `[randomize]` values of world `i`'s current episode.
+    fn randomized(&self, i: usize) -> PyResult<BTreeMap<String, f64>> {
+        self.v
+            .get()
+            .envs()
+            .get(i)
+            .map(|e| e.simulation().scenario().randomized.clone())
+            .ok_or_else(|| PyValueError::new_err("no such world"))
     }
 
     /// Threads used per step.

@@ -146,12 +146,6 @@ fn world_issues(spec: &ScenarioSpec) -> Vec<SpecIssue> {
             "a file with [[vehicles]] gives a robot its drawbar as [vehicles.drawbar]",
         );
     }
-    if !spec.randomize.is_empty() {
-        c.push(
-            "randomize",
-            "[randomize] is not supported with [[vehicles]] yet: give fixed values, or one robot",
-        );
-    }
     if format!("{:?}", team_expect(&spec.expect)) != format!("{:?}", spec.expect) {
         c.push(
             "expect",

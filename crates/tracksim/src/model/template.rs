@@ -1,6 +1,7 @@
 //! A scenario file kept to be compiled again for any seed ([`ScenarioTemplate`]): a fixed file
 //! is compiled once; a file with `[randomize]` is sampled and compiled per seed, reading no
-//! file again except the terrain's own data files.
+//! file again except the terrain's own data files (and, in a file of several robots, each
+//! robot's vehicle file, whose keys may be drawn).
 
 use super::compile_file::{compile_file, scenario_vehicle};
 use super::overrides::OverrideCommands;
@@ -73,8 +74,9 @@ impl ScenarioTemplate {
             commands,
             file_seed: spec.simulation.seed,
         };
-        if !spec.vehicles.is_empty() {
-            // Several robots (issue 40): compiled robot by robot, without [randomize].
+        let team = !spec.vehicles.is_empty();
+        if team && spec.randomize.is_empty() {
+            // Several robots (issue 40): compiled robot by robot.
             let sc = super::compile_team::compile_team(path, &spec, overrides, commands.as_ref())?;
             return Ok(fixed(sc, doc, None, commands));
         }
@@ -88,7 +90,10 @@ impl ScenarioTemplate {
         }
         doc.remove("randomize");
         let randomizer = Randomizer::compile(&spec.randomize, &doc).map_err(invalid)?;
+        // A file of several robots compiles each robot's own vehicle at every seed (its
+        // `[vehicles.vehicle]` keys may be drawn).
         let vehicle = match (given, &spec.vehicle.inline) {
+            (_, _) if team => None,
             (Some(v), _) => Some(v),
             (None, None) => Some(scenario_vehicle(path, &spec)?),
             (None, Some(_)) => None,
@@ -259,17 +264,27 @@ impl ScenarioTemplate {
                 message: format!("{with}: {e}"),
             }
         })?;
-        let vehicle = match &self.vehicle {
-            Some(v) => v.clone(),
-            None => scenario_vehicle(&self.path, &spec)?,
+        let overrides = self.overrides.merged(extra);
+        let mut sc = if spec.vehicles.is_empty() {
+            let vehicle = match &self.vehicle {
+                Some(v) => v.clone(),
+                None => scenario_vehicle(&self.path, &spec)?,
+            };
+            compile_file(
+                &self.path,
+                &spec,
+                vehicle,
+                &overrides,
+                self.commands.as_ref(),
+            )?
+        } else {
+            super::compile_team::compile_team(
+                &self.path,
+                &spec,
+                &overrides,
+                self.commands.as_ref(),
+            )?
         };
-        let mut sc = compile_file(
-            &self.path,
-            &spec,
-            vehicle,
-            &self.overrides.merged(extra),
-            self.commands.as_ref(),
-        )?;
         sc.0.seed = seed;
         sc.0.randomized = sampled;
         Ok(sc)

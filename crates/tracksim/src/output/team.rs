@@ -23,6 +23,12 @@ pub struct TeamSummary {
     pub outcome_reason: String,
     /// When it was decided, s.
     pub outcome_time_s: f64,
+    /// The run's seed (`simulation.seed`, or `tracksim run --seed`).
+    pub seed: u64,
+    /// The `[randomize]` values drawn from the seed, by parameter name, in their keys' units
+    /// (absent for a file without `[randomize]`).
+    #[serde(skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub randomized: std::collections::BTreeMap<String, f64>,
     /// Each robot, in file order.
     pub robots: Vec<RobotLine>,
     /// The race or team score on the course, best first (absent without `[course]`).
@@ -64,6 +70,8 @@ impl TeamSummary {
             outcome: r.outcome.name().into(),
             outcome_reason: r.outcome.reason(),
             outcome_time_s: r.outcome_time,
+            seed: sc.seed,
+            randomized: sc.randomized.clone(),
             robots: r
                 .robots
                 .iter()

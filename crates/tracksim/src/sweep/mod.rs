@@ -13,6 +13,6 @@ mod manifest;
 mod plan;
 mod run;
 
-pub use manifest::{ManifestLine, merge, read_runs};
+pub use manifest::{ManifestLine, RobotRun, merge, read_runs};
 pub use plan::{MAX_JOBS, MAX_RUNS, RunSpec, Shard, SweepPlan, manifest_name, run_dir_name};
 pub use run::{SweepOptions, SweepReport, run_sweep};

@@ -174,19 +174,31 @@ fn run_one(template: &ScenarioTemplate, r: &RunSpec, runs_dir: &Path) -> Result<
         std::fs::remove_dir_all(&tmp).map_err(io(&tmp))?;
     }
     std::fs::create_dir_all(&tmp).map_err(io(&tmp))?;
-    let line = match crate::run::run_scenario(&sc, |_, _| {}) {
-        Ok(result) => {
-            let which = crate::output::Outputs {
-                replay: false,
-                plots: false,
-                mcap: false,
-                raw_images: false,
-            };
-            crate::output::write_outputs(&sc, &result, &tmp, which)?;
-            ManifestLine::of_run(r, &sc, &result)
+    let which = crate::output::Outputs {
+        replay: false,
+        plots: false,
+        mcap: false,
+        raw_images: false,
+    };
+    let line = if sc.team.is_some() {
+        // Several robots: each robot's folder under the run's, and the world's `team.json`.
+        match crate::run::run_team(&sc, Default::default()) {
+            Ok(result) => {
+                crate::output::write_team(&sc, &result, &tmp, which)?;
+                ManifestLine::of_team(r, &sc, &result)
+            }
+            Err(e @ Error::Unstable { .. }) => ManifestLine::unstable(r, &sc, &e),
+            Err(e) => return Err(e),
         }
-        Err(e @ Error::Unstable { .. }) => ManifestLine::unstable(r, &sc, &e),
-        Err(e) => return Err(e),
+    } else {
+        match crate::run::run_scenario(&sc, |_, _| {}) {
+            Ok(result) => {
+                crate::output::write_outputs(&sc, &result, &tmp, which)?;
+                ManifestLine::of_run(r, &sc, &result)
+            }
+            Err(e @ Error::Unstable { .. }) => ManifestLine::unstable(r, &sc, &e),
+            Err(e) => return Err(e),
+        }
     };
     manifest::write_run_json(&tmp.join("run.json"), &line)?;
     if final_dir.exists() {

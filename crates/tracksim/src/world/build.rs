@@ -607,8 +607,10 @@ fn check_overlaps(sim: &mut Simulation) -> crate::error::Result<()> {
                     format!("vehicles[{k}].vehicle.x_m"),
                     format!(
                         "`{}` overlaps `{}` (vehicles[{j}]) where they start: move one of them \
-                         (x_m, y_m, yaw_deg)",
-                        sim.robots[k].name, sim.robots[j].name
+                         (x_m, y_m, yaw_deg){}",
+                        sim.robots[k].name,
+                        sim.robots[j].name,
+                        drawn_from(&sim.scenario)
                     ),
                 ));
             }
@@ -622,6 +624,25 @@ fn check_overlaps(sim: &mut Simulation) -> crate::error::Result<()> {
             issues,
         })
     }
+}
+
+/// For a start drawn by `[randomize]`: the values and the seed that placed the robots so, and
+/// the fix (empty for a fixed file).
+fn drawn_from(sc: &Scenario) -> String {
+    if sc.randomized.is_empty() {
+        return String::new();
+    }
+    let values = sc
+        .randomized
+        .iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    format!(
+        ", with the [randomize] values of seed {}: {values}; narrow the ranges so that no \
+         draw places them overlapping",
+        sc.seed
+    )
 }
 
 /// The colour of every collider: the terrain's, each robot's parts by its own vehicle's

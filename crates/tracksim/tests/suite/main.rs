@@ -76,5 +76,6 @@ mod scenario_immutable;
 mod slope;
 mod step_climb;
 mod stepping_api;
+mod team_randomize;
 mod terrain;
 mod validation;
