@@ -49,7 +49,7 @@ def test_the_team_vector_env_reports_each_worlds_values():
     obs, infos = v.reset(seed=10)
     for i in range(3):
         drawn = v.randomized(i)
-        assert drawn == scenario.sample(10 + i)
+        assert drawn == scenario.sample(10 + i) == infos["blue"]["randomized"][i]
         assert obs["red"][i, 13] == pytest.approx(-drawn["lane_gap_m"], abs=1e-4)
     v.close()
 

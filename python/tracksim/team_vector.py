@@ -33,7 +33,9 @@ class TeamVectorEnv:
 
     - ``reset(seed=s)`` seeds world ``i`` with ``s + i``; ``reset(seed=[s0, s1, ...])`` gives
       each its own; ``reset()`` draws a base seed from the generator seeded by the last integer
-      seed. ``infos[agent]["seed"]`` holds the worlds' seeds.
+      seed. ``infos[agent]["seed"]`` holds the worlds' seeds, ``infos[agent]["randomized"]``
+      each world's ``[randomize]`` values drawn from its seed (``randomized(i)`` after an
+      autoreset).
     - ``step(actions)`` takes ``{agent: array (num_envs, 2)}`` (a twist ``[forward, yaw_rate]``
       in [-1, 1] per world; every agent's row is needed, an ended agent's is ignored) or one
       array ``(num_envs, len(possible_agents), 2)``; it returns ``obs`` ``{agent: float32
@@ -136,7 +138,8 @@ class TeamVectorEnv:
             base = int(seed) if seed is not None else int(self._np_random.integers(0, 2**62))
             obs = self._core.reset(base)
             seeds = np.arange(self.num_envs, dtype=np.uint64) + np.uint64(base)
-        infos = {a: {"seed": seeds.copy()} for a in self.possible_agents}
+        drawn = [self._core.randomized(i) for i in range(self.num_envs)]
+        infos = {a: {"seed": seeds.copy(), "randomized": drawn} for a in self.possible_agents}
         return self._split(obs), infos
 
     def _actions(self, actions) -> np.ndarray:

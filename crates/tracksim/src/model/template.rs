@@ -169,7 +169,37 @@ impl ScenarioTemplate {
             sc.0.seed = seed;
             return Ok(sc);
         }
-        self.with_values(&self.randomizer.sample(seed), seed)
+        self.drawn(&self.randomizer.sample(seed), seed)
+    }
+
+    /// The scenario of the drawn `values` with `seed`; a problem is reported with the seed and
+    /// the values that gave it (the load checked only the ends of the ranges).
+    fn drawn(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
+        self.with_values(values, seed).map_err(|e| match e {
+            Error::Invalid { path, issues } => {
+                let at = self
+                    .randomizer
+                    .apply(&self.doc, values)
+                    .1
+                    .iter()
+                    .map(|(k, v)| format!("{k} = {v}"))
+                    .collect::<Vec<_>>()
+                    .join(", ");
+                let issues = issues
+                    .into_iter()
+                    .map(|i| {
+                        let message = format!(
+                            "{} (with the [randomize] values of seed {seed}: {at}; narrow the \
+                             ranges so that no draw gives this)",
+                            i.message
+                        );
+                        SpecIssue::new(i.key, message)
+                    })
+                    .collect();
+                Error::Invalid { path, issues }
+            }
+            other => other,
+        })
     }
 
     /// [`ScenarioTemplate::instantiate`] with some parameters fixed instead of drawn (a grid
@@ -217,7 +247,7 @@ impl ScenarioTemplate {
                 };
             }
         }
-        self.with_values(&values, seed)
+        self.drawn(&values, seed)
     }
 
     /// [`ScenarioTemplate::instantiate`] with `extra` overrides written into the file's keys

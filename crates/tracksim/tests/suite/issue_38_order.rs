@@ -1,7 +1,7 @@
 //! Issue 38.1-2: the order of a file's entries never matters. Permuted copies of every bundled
-//! scenario (its terrain lists reversed or shuffled, every track's pulley list reversed or
-//! rotated in its vehicle file) run to their end with a trajectory byte-identical to the
-//! original's.
+//! scenario (its terrain lists and its robots reversed or shuffled, `[randomize]` keys following
+//! their entries, every track's pulley list reversed or rotated in its vehicle file) run to
+//! their end with a trajectory byte-identical to the original's.
 
 use crate::common::{self, root};
 use rand_core::Rng;
@@ -49,11 +49,12 @@ fn order(n: usize, p: Permutation) -> Vec<usize> {
     o
 }
 
-/// Rewrites `terrain.LIST[i]` in a `[randomize]` key path to the entry's index in the copy.
+/// Rewrites `terrain.LIST[i]` (or `vehicles[i]`, a robot) in a `[randomize]` key path to the
+/// entry's index in the copy. `lists` holds each permuted list's key prefix (`terrain.boxes[`,
+/// `vehicles[`) and its order.
 fn remap_key(key: &str, lists: &[(String, Vec<usize>)]) -> String {
-    for (name, o) in lists {
-        let prefix = format!("terrain.{name}[");
-        if let Some(rest) = key.strip_prefix(&prefix)
+    for (prefix, o) in lists {
+        if let Some(rest) = key.strip_prefix(prefix.as_str())
             && let Some((i, tail)) = rest.split_once(']')
             && let Ok(i) = i.parse::<usize>()
         {
@@ -72,7 +73,7 @@ fn remap_randomize(v: &mut Value, lists: &[(String, Vec<usize>)]) {
             let entries: Vec<(String, Value)> = std::mem::take(t).into_iter().collect();
             for (k, mut val) in entries {
                 remap_randomize(&mut val, lists);
-                let k = if k.starts_with("terrain.") {
+                let k = if is_list_key(&k) {
                     remap_key(&k, lists)
                 } else {
                     k
@@ -80,13 +81,19 @@ fn remap_randomize(v: &mut Value, lists: &[(String, Vec<usize>)]) {
                 t.insert(k, val);
             }
         }
-        Value::String(s) if s.starts_with("terrain.") => *s = remap_key(s, lists),
+        Value::String(s) if is_list_key(s) => *s = remap_key(s, lists),
         Value::Array(a) => a.iter_mut().for_each(|x| remap_randomize(x, lists)),
         _ => {}
     }
 }
 
-/// The scenario document with its terrain lists permuted (key paths in `[randomize]` follow).
+/// Whether a `[randomize]` key path starts in a list a copy permutes.
+fn is_list_key(key: &str) -> bool {
+    key.starts_with("terrain.") || key.starts_with("vehicles[")
+}
+
+/// The scenario document with its terrain lists and its robots permuted (key paths in
+/// `[randomize]` follow).
 fn permute_scenario(doc: &mut Table, p: Permutation) {
     let mut lists = Vec::new();
     if let Some(Value::Table(terrain)) = doc.get_mut("terrain") {
@@ -97,12 +104,9 @@ fn permute_scenario(doc: &mut Table, p: Permutation) {
                 let o = order(a.len(), p);
                 let old = std::mem::take(a);
                 *a = o.iter().map(|&i| old[i].clone()).collect();
-                lists.push((name.clone(), o));
+                lists.push((format!("terrain.{name}["), o));
             }
         }
-    }
-    if let Some(r) = doc.get_mut("randomize") {
-        remap_randomize(r, &lists);
     }
     // The robots of a world with several (issue 40).
     if let Some(Value::Array(a)) = doc.get_mut("vehicles")
@@ -111,6 +115,10 @@ fn permute_scenario(doc: &mut Table, p: Permutation) {
         let o = order(a.len(), p);
         let old = std::mem::take(a);
         *a = o.iter().map(|&i| old[i].clone()).collect();
+        lists.push(("vehicles[".to_string(), o));
+    }
+    if let Some(r) = doc.get_mut("randomize") {
+        remap_randomize(r, &lists);
     }
 }
 

@@ -196,6 +196,47 @@ fn a_draw_that_places_robots_overlapping_is_refused_with_its_seed_and_values() {
 }
 
 #[test]
+fn a_draw_beyond_what_one_world_holds_is_refused_with_its_seed_and_values() {
+    // Each robot's x is its own parameter: both ends of the ranges put them side by side, a
+    // draw in between can put them more than the 10 m one world holds apart.
+    let path = write(
+        "spread",
+        &pair(
+            0.2,
+            "[randomize.red_x]\nuniform = [0.0, 14.0]\nkey = \"vehicles[0].vehicle.x_m\"\n\
+             [randomize.blue_x]\nuniform = [0.0, 14.0]\nkey = \"vehicles[1].vehicle.x_m\"\n",
+        ),
+    );
+    let t = tracksim::load_template(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let (mut refused, mut compiled) = (0, 0);
+    for seed in 0..24 {
+        match t.instantiate(seed) {
+            Ok(sc) => {
+                compiled += 1;
+                let (a, b) = (sc.randomized["red_x"], sc.randomized["blue_x"]);
+                assert!((a - b).abs() < 10.5, "seed {seed}: {a} and {b} compiled");
+            }
+            Err(e) => {
+                refused += 1;
+                let e = e.to_string();
+                for want in [
+                    "vehicles[1].vehicle.x_m: `blue` starts",
+                    &format!("with the [randomize] values of seed {seed}: blue_x = "),
+                    "narrow the ranges",
+                ] {
+                    assert!(e.contains(want), "missing {want:?} in {e}");
+                }
+            }
+        }
+    }
+    assert!(
+        refused > 0 && compiled > 0,
+        "refused {refused}, compiled {compiled}"
+    );
+}
+
+#[test]
 fn a_team_sweep_writes_each_robot_resumes_and_merges_its_shards() {
     let path = write(
         "sweep",
