@@ -125,11 +125,7 @@ impl EpisodeRecord {
             vec![
                 format!(
                     "The episode's [randomize] values (seed {seed}): {}.",
-                    sc.randomized
-                        .iter()
-                        .map(|(k, v)| format!("{k} = {v}"))
-                        .collect::<Vec<_>>()
-                        .join(", ")
+                    crate::model::sampled_text(&sc.randomized)
                 ),
                 format!(
                     "They are drawn again with --seed {seed} added to the command above \

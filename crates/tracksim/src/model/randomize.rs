@@ -59,6 +59,15 @@ pub struct Randomizer {
 /// Sampled values by parameter name (name order), in the units of their keys.
 pub type Sampled = BTreeMap<String, f64>;
 
+/// Sampled values as a message names them: `friction = 0.5, gap = 0.7`.
+pub fn sampled_text(values: &Sampled) -> String {
+    values
+        .iter()
+        .map(|(k, v)| format!("{k} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// 64-bit FNV-1a of a name: the stream of its parameter.
 fn fnv1a(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {

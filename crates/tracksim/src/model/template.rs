@@ -112,12 +112,7 @@ impl ScenarioTemplate {
         let mut issues = Vec::new();
         for (end, values) in ["low", "high"].iter().zip(t.randomizer.extremes()) {
             if let Err(e) = t.with_values(&values, 0) {
-                let values = t.randomizer.apply(&t.doc, &values).1;
-                let at = values
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {v}"))
-                    .collect::<Vec<_>>()
-                    .join(", ");
+                let at = super::sampled_text(&t.randomizer.apply(&t.doc, &values).1);
                 let list = match e {
                     Error::Invalid { issues, .. } => issues,
                     other => vec![SpecIssue::new("", other.to_string())],
@@ -177,14 +172,7 @@ impl ScenarioTemplate {
     fn drawn(&self, values: &[toml::Value], seed: u64) -> Result<Scenario> {
         self.with_values(values, seed).map_err(|e| match e {
             Error::Invalid { path, issues } => {
-                let at = self
-                    .randomizer
-                    .apply(&self.doc, values)
-                    .1
-                    .iter()
-                    .map(|(k, v)| format!("{k} = {v}"))
-                    .collect::<Vec<_>>()
-                    .join(", ");
+                let at = super::sampled_text(&self.randomizer.apply(&self.doc, values).1);
                 let issues = issues
                     .into_iter()
                     .map(|i| {

@@ -632,16 +632,11 @@ fn drawn_from(sc: &Scenario) -> String {
     if sc.randomized.is_empty() {
         return String::new();
     }
-    let values = sc
-        .randomized
-        .iter()
-        .map(|(k, v)| format!("{k} = {v}"))
-        .collect::<Vec<_>>()
-        .join(", ");
     format!(
-        ", with the [randomize] values of seed {}: {values}; narrow the ranges so that no \
-         draw places them overlapping",
-        sc.seed
+        ", with the [randomize] values of seed {}: {}; narrow the ranges so that no draw \
+         places them overlapping",
+        sc.seed,
+        crate::model::sampled_text(&sc.randomized)
     )
 }
 

@@ -174,14 +174,16 @@ fn a_draw_that_places_robots_overlapping_is_refused_with_its_seed_and_values() {
         match tracksim::Simulation::new(&sc) {
             Ok(_) => {
                 built += 1;
-                // The PackBot is 0.40 m wide over its tracks: robots whose centres are
-                // farther apart than that do not touch.
-                assert!(gap > 0.39, "seed {seed}: built at a gap of {gap} m");
+                // The PackBot is 0.40 m wide over its tracks (mid-planes at +-0.1625 m, belts
+                // 75 mm wide): robots side by side whose centres are that far apart only touch
+                // (a fixed file with the gap at 0.395 m is refused, at 0.400 m built). 1 mm
+                // either way.
+                assert!(gap > 0.399, "seed {seed}: built at a gap of {gap} m");
             }
             Err(e) => {
                 refused += 1;
                 let e = e.to_string();
-                assert!(gap < 0.41, "seed {seed}: refused at a gap of {gap} m: {e}");
+                assert!(gap < 0.401, "seed {seed}: refused at a gap of {gap} m: {e}");
                 for want in [
                     "`blue` overlaps `red`",
                     &format!("with the [randomize] values of seed {seed}: gap = {gap}"),
@@ -330,7 +332,8 @@ fn a_team_sweep_writes_each_robot_resumes_and_merges_its_shards() {
 fn the_bundled_race_keeps_its_verdict_at_both_ends_of_its_ranges() {
     // Red drives at 0.35 m/s, blue at 0.30 m/s over the same course: with equal slip their
     // finishing times are in the ratio of their speeds, 7/6, whatever the step, the friction
-    // and the lanes.
+    // and the lanes. A sweep of 16 seeds gave 1.162-1.172 (within 0.45 % of 7/6): the start
+    // and the climb do not scale exactly with speed. 1 % holds twice that.
     let t = tracksim::load_template(&race()).unwrap();
     for (end, values) in ["low", "high"].iter().zip([
         [
@@ -353,7 +356,7 @@ fn the_bundled_race_keeps_its_verdict_at_both_ends_of_its_ranges() {
         let time = |k: usize| r.robots[k].1.summary.outcome_time_s;
         let ratio = time(1) / time(0);
         assert!(
-            (ratio / (0.35 / 0.30) - 1.0).abs() < 0.015,
+            (ratio / (0.35 / 0.30) - 1.0).abs() < 0.01,
             "{end} end: blue {:.3} s / red {:.3} s = {ratio:.4}",
             time(1),
             time(0)
