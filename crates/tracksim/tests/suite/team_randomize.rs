@@ -332,7 +332,7 @@ fn a_team_sweep_writes_each_robot_resumes_and_merges_its_shards() {
 fn the_bundled_race_keeps_its_verdict_at_both_ends_of_its_ranges() {
     // Red drives at 0.35 m/s, blue at 0.30 m/s over the same course: with equal slip their
     // finishing times are in the ratio of their speeds, 7/6, whatever the step, the friction
-    // and the lanes. A sweep of 16 seeds gave 1.162-1.172 (within 0.45 % of 7/6): the start
+    // and the lanes. A sweep of 16 seeds gave 1.163-1.171 (within 0.36 % of 7/6): the start
     // and the climb do not scale exactly with speed. 1 % holds twice that.
     let t = tracksim::load_template(&race()).unwrap();
     for (end, values) in ["low", "high"].iter().zip([
