@@ -236,6 +236,40 @@ class Image(IdlStruct, typename="sensor_msgs::msg::dds_::Image_"):
 
 @final
 @dataclass
+class CourseStatus(IdlStruct, typename="tracksim_msgs::msg::dds_::CourseStatus_"):
+    header: Header
+    name: str
+    status: str
+    finished: bool
+    next_gate: uint32
+    gates_passed: uint32
+    gates_total: uint32
+    repetition: uint32
+    repetitions_done: uint32
+    repetitions_required: uint32
+    repetition_times: sequence[float64]
+    elapsed: float64
+    time_limit: float64
+    resets: uint32
+    tip_overs: uint32
+    touches: uint32
+    penalty: float64
+    trial_time: float64
+    score: float64
+
+
+@final
+@dataclass
+class CourseEvent(IdlStruct, typename="tracksim_msgs::msg::dds_::CourseEvent_"):
+    header: Header
+    kind: str
+    detail: str
+    fault: str
+    penalty: float64
+
+
+@final
+@dataclass
 class Log(IdlStruct, typename="rcl_interfaces::msg::dds_::Log_"):
     stamp: Time
     level: uint8
@@ -693,6 +727,74 @@ def camera(binary, out, links):
     print(json.dumps(result))
 
 
+def course(binary, out, links):
+    """scenarios/course_stairs.toml driven by its own [[commands]] (`--play-commands`) as fast
+    as it runs: /course at every sample and /course/events (transient local: a reader that
+    joins late still gets every event); stopped by SIGTERM once a status says completed."""
+    dp = DomainParticipant(0)
+    events_qos = Qos(
+        Policy.Reliability.Reliable(max_blocking_time=duration(milliseconds=100)),
+        Policy.Durability.TransientLocal,
+        Policy.History.KeepLast(100),
+        Policy.DataRepresentation(use_cdrv0_representation=True),
+    )
+    status_r = DataReader(dp, Topic(dp, "rt/course", CourseStatus), qos=QOS)
+    events_r = DataReader(dp, Topic(dp, "rt/course/events", CourseEvent), qos=events_qos)
+    child = subprocess.Popen(
+        [binary, "ros", "course_stairs", "--play-commands", "--fast", "--out", out,
+         "--no-plot", "--duration", "120"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    result = {"links": links}
+    statuses, events = [], []
+
+    def drain():
+        take(status_r, CourseStatus, statuses)
+        take(events_r, CourseEvent, events, n=100)
+
+    stamp = lambda m: m.header.stamp.sec + 1e-9 * m.header.stamp.nanosec
+    try:
+        deadline = time.monotonic() + 60.0
+        while not any(m.status == "completed" for m in statuses):
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"no completed /course within 60 s ({len(statuses)} statuses)")
+            if child.poll() is not None:
+                raise RuntimeError("tracksim ended early")
+            drain()
+            time.sleep(0.02)
+        time.sleep(0.2)
+        drain()
+        done = next(m for m in statuses if m.status == "completed")
+        result.update(
+            statuses=len(statuses),
+            stamps_increase=all(stamp(a) < stamp(b) for a, b in zip(statuses, statuses[1:])),
+            gates_never_fall=all(
+                a.gates_passed <= b.gates_passed for a, b in zip(statuses, statuses[1:])
+            ),
+            running_before=[m.status for m in statuses if stamp(m) < stamp(done)].count("running"),
+            completed=dict(
+                t=stamp(done), name=done.name, finished=done.finished,
+                gates_passed=done.gates_passed, gates_total=done.gates_total,
+                repetitions_done=done.repetitions_done,
+                repetition_times=list(done.repetition_times), elapsed=done.elapsed,
+                time_limit=done.time_limit, penalty=done.penalty,
+                trial_time=done.trial_time, score=done.score, frame_id=done.header.frame_id,
+            ),
+            last=dict(status=statuses[-1].status, score=statuses[-1].score),
+            events=[
+                dict(t=stamp(e), kind=e.kind, detail=e.detail, fault=e.fault, penalty=e.penalty)
+                for e in events
+            ],
+        )
+    except Exception as e:  # reported to the test, which fails on it
+        result["error"] = repr(e)
+    finally:
+        finish(child, result)
+    print(json.dumps(result))
+
+
 def main():
     binary, out = sys.argv[1], sys.argv[2]
     mode = sys.argv[3] if len(sys.argv) > 3 else "drive"
@@ -704,6 +806,7 @@ def main():
         "team": team,
         "namespace": namespaced,
         "camera": camera,
+        "course": course,
     }[mode](binary, out, links)
 
 

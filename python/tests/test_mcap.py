@@ -264,3 +264,49 @@ def test_a_colour_camera_is_png_compressed_images_with_camera_info(tmp_path):
         assert np.allclose(info.k, k) and np.allclose(info2.k, k)
         assert np.allclose(info.p, [k[0], 0, 80, 0, 0, k[4], 60, 0, 0, 0, 1, 0])
         assert np.allclose(info2.p, info.p) and np.allclose(info.r, np.eye(3).ravel())
+
+
+def test_a_course_run_records_its_events_and_final_score(tmp_path):
+    """A scored course (scenarios/course_stairs.toml, run to its end: it ends at the finish) in
+    run.mcap: /course/events has each of summary.json's course events at its time and
+    /course the final score, both decoded by both decoders from the file's own schemas."""
+    import json
+
+    out = tmp_path / "course"
+    r = run_cli("run", SCENARIOS / "course_stairs.toml", "--out", out, "--mcap", "--no-plot",
+                "--quiet", timeout=300)
+    assert r.returncode == 0, r.stderr
+    course = json.loads((out / "summary.json").read_text())["course"]
+    assert course["status"] == "completed"
+    store = get_typestore(Stores.EMPTY) if get_typestore else None
+    msgs = collections.defaultdict(list)
+    with open(out / "run.mcap", "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        for schema in summary.schemas.values() if store else ():
+            if schema.encoding == "ros2msg":
+                store.register(get_types_from_msg(schema.data.decode(), schema.name))
+        for schema, channel, message, decoded in reader.iter_decoded_messages(
+                topics=["/course", "/course/events"], log_time_order=True):
+            other = store.deserialize_cdr(message.data, schema.name) if store else decoded
+            msgs[channel.topic].append((schema.name, message.log_time, decoded, other))
+    events = msgs["/course/events"]
+    assert len(events) == len(course["events"]) >= 3
+    for (ty, t, e, e2), want in zip(events, course["events"]):
+        assert ty == "tracksim_msgs/msg/CourseEvent"
+        assert t == round(want["t_s"] * 1e9)
+        assert e.header.frame_id == e2.header.frame_id == "map"
+        assert (e.kind, e.detail) == (e2.kind, e2.detail) == (want["kind"], want["detail"])
+        assert e.fault == e2.fault == want.get("fault", "")
+        assert e.penalty == e2.penalty == want.get("penalty_s", 0.0)
+    [(ty, t, s, s2)] = msgs["/course"]
+    assert ty == "tracksim_msgs/msg/CourseStatus"
+    assert t == round(course["score"]["time_s"] * 1e9), "the run ends at the finish"
+    for m in (s, s2):
+        assert (m.name, m.status, m.finished) == (course["name"], "completed", True)
+        assert (m.gates_passed, m.gates_total) == (course["gates_passed"], course["gates_total"])
+        assert m.repetitions_done == course["repetitions_done"]
+        assert list(m.repetition_times) == course["rep_times_s"]
+        assert m.time_limit == course.get("time_limit_s", 0.0)
+        assert (m.trial_time, m.penalty, m.score) == (
+            course["score"]["time_s"], course["penalty_s"], course["score"]["score_s"])

@@ -275,3 +275,47 @@ def test_colour_camera_publishes_png_and_camera_info(camera):
     assert camera["k"] == pytest.approx([f, 0, 80, 0, f, 60, 0, 0, 1])
     assert camera["p"] == pytest.approx([f, 0, 80, 0, 0, f, 60, 0, 0, 0, 1, 0])
     assert camera["distortion_model"] == "plumb_bob" and camera["d"] == [0.0] * 5
+
+
+@pytest.fixture(scope="module")
+def course(tmp_path_factory):
+    """course_stairs driven by its own commands (ros_peer.py `course`)."""
+    return _peer(tmp_path_factory, "course")
+
+
+def test_course_score_on_ros_topics(course):
+    """/course and /course/events from the node equal the score the session writes: every
+    event once (a late reader gets them: transient local), and the first completed status
+    received is the summary's score."""
+    assert course["links"] == ["lo"]
+    summary = json.loads((course["out"] / "summary.json").read_text())
+    c = summary["course"]
+    assert c["status"] == "completed", c
+    got = course["events"]
+    assert [(e["kind"], e["detail"]) for e in got] == [
+        (e["kind"], e["detail"]) for e in c["events"]
+    ]
+    for e, want in zip(got, c["events"]):
+        assert abs(e["t"] - want["t_s"]) < 1e-9
+        assert e["fault"] == want.get("fault", "")
+        assert e["penalty"] == want.get("penalty_s", 0.0)
+    assert course["stamps_increase"] and course["gates_never_fall"]
+    assert course["running_before"] > 0, "statuses before the finish say running"
+    done = course["completed"]
+    assert done["frame_id"] == "map"
+    assert done["name"] == c["name"] and done["finished"]
+    # The node runs --fast: a reader keeping 10 may miss a few statuses, never the score.
+    assert done["t"] >= c["score"]["time_s"] - 1e-9, "completed from the finishing sample on"
+    assert done["elapsed"] == c["elapsed_s"] == c["score"]["time_s"], "the clock stops at the finish"
+    assert (done["gates_passed"], done["gates_total"]) == (c["gates_passed"], c["gates_total"])
+    assert done["repetitions_done"] == c["repetitions_done"]
+    assert done["repetition_times"] == c["rep_times_s"]
+    assert done["time_limit"] == c.get("time_limit_s", 0.0)
+    assert (done["trial_time"], done["penalty"], done["score"]) == (
+        c["score"]["time_s"],
+        c["penalty_s"],
+        c["score"]["score_s"],
+    )
+    assert done["score"] == done["trial_time"] + done["penalty"]
+    # The score holds after the finish (the session goes on until stopped).
+    assert course["last"] == {"status": "completed", "score": c["score"]["score_s"]}

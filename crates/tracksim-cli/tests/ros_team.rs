@@ -27,7 +27,7 @@ fn each_robots_topics_and_frames_are_under_its_name_and_unique_in_the_world() {
     for (k, name) in names.iter().enumerate() {
         let view = sc.robot_view(k);
         let ns = Namespace::robot(name);
-        let t = topics::robot_topics(&view.vehicle, &ns);
+        let t = topics::robot_topics(&view.vehicle, view.course.is_some(), &ns);
         assert!(t.contains(&format!("/{name}/cmd_vel")), "{t:?}");
         assert!(t.contains(&format!("/{name}/odom")));
         for x in &t {
@@ -63,9 +63,35 @@ fn each_robots_topics_and_frames_are_under_its_name_and_unique_in_the_world() {
         assert!(!all_topics.iter().any(|t| t == shared));
         assert_eq!(Namespace::robot("a").topic(shared), shared, "one {shared}");
     }
+    // A course's topics are each robot's, when the scenario has a course.
+    assert!(!all_topics.iter().any(|t| t.contains("/course")));
+    let race = tracksim::load_scenario(&root().join("scenarios/team/race_step.toml")).unwrap();
+    for (k, name) in race.robot_names().iter().enumerate() {
+        let view = race.robot_view(k);
+        assert!(view.course.is_some());
+        let t = topics::robot_topics(&view.vehicle, true, &Namespace::robot(name));
+        assert!(t.contains(&format!("/{name}/course")), "{t:?}");
+        assert!(t.contains(&format!("/{name}/course/events")), "{t:?}");
+    }
+    // No sensor may take a topic of the node's own (a sensor publishes on /<name>).
+    let mut own: Vec<String> = topics::robot_topics(
+        &tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml"))
+            .unwrap()
+            .vehicle,
+        true,
+        &Namespace::none(),
+    );
+    own.extend([topics::CLOCK, topics::TF, topics::TF_STATIC].map(String::from));
+    for t in own.iter().filter(|t| t.matches('/').count() == 1) {
+        let name = t.trim_start_matches('/');
+        assert!(
+            tracksim::model::RESERVED_SENSOR_NAMES.contains(&name),
+            "{t} is not reserved"
+        );
+    }
     // One robot keeps today's names unless namespaced.
     let one = tracksim::load_scenario(&root().join("scenarios/packbot_flat.toml")).unwrap();
-    let t = topics::robot_topics(&one.vehicle, &Namespace::none());
+    let t = topics::robot_topics(&one.vehicle, false, &Namespace::none());
     assert!(t.contains(&"/cmd_vel".to_string()) && t.contains(&"/odom".to_string()));
 }
 

@@ -113,6 +113,25 @@ fn keys_given(s: &SensorSpec) -> Vec<&'static str> {
     given.iter().filter(|(_, g)| *g).map(|(k, _)| *k).collect()
 }
 
+/// The node's and the recording's own topics of one segment (`/odom`, `/course`, ... in
+/// `crate::ros::topics` and `run.mcap`): a sensor's readings go on `/<name>`, so a sensor may
+/// not be named after one of them.
+pub const RESERVED_SENSOR_NAMES: &[&str] = &[
+    "cmd_vel",
+    "clock",
+    "odom",
+    "tf",
+    "tf_static",
+    "joint_states",
+    "tracks",
+    "robot_description",
+    "course",
+    "scene",
+    "soil",
+    "rosout",
+    "parameter_events",
+];
+
 /// Compiles every `[[sensors]]` entry; problems go to `c` with their key paths.
 pub(crate) fn compile_sensors(
     c: &mut Checker,
@@ -129,6 +148,17 @@ pub(crate) fn compile_sensors(
                 format!(
                     "duplicate sensor name \"{}\": each names its output file",
                     s.name
+                ),
+            );
+        }
+        if RESERVED_SENSOR_NAMES.contains(&s.name.replace('-', "_").as_str()) {
+            c.push(
+                format!("{k}.name"),
+                format!(
+                    "sensor name \"{}\" is a topic of the robot's own (its readings go on \
+                     /<name> under `tracksim ros` and in run.mcap): rename the sensor, e.g. \
+                     \"{}_sensor\"",
+                    s.name, s.name
                 ),
             );
         }

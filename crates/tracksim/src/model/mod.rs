@@ -73,7 +73,9 @@ mod wheel;
 pub use crate::urdf::{UrdfReport, UrdfRobot};
 pub use compile_file::{compile_scenario_text, load_vehicle};
 pub use compile_scenario::*;
-pub use compile_sensor::{MAX_RATE_HZ, MAX_RAYS, MAX_SENSOR_RANGE_M, SENSOR_KINDS};
+pub use compile_sensor::{
+    MAX_RATE_HZ, MAX_RAYS, MAX_SENSOR_RANGE_M, RESERVED_SENSOR_NAMES, SENSOR_KINDS,
+};
 pub use compile_team::robot_name_problem;
 pub use compile_track::MAX_GROUSERS;
 pub use compile_vehicle::*;

@@ -50,8 +50,13 @@
 //!   (`rgb8`) on `/<sensor>`; an elevation map as `sensor_msgs/PointCloud2`
 //!   of its cells' surface points in `map` (organised: `x` rows of `y` columns, NaN where a
 //!   cell is unknown); encoders as `sensor_msgs/JointState` with the names of `/joint_states`
-//!   (their quantised readings; the flippers' velocity NaN: not measured).
+//!   (their quantised readings; the flippers' velocity NaN: not measured);
+//! - with a `[course]`: `/course/events` (`tracksim_msgs/CourseEvent`, each event of the score
+//!   at its time: gates, repetitions, faults, the finish) and `/course`
+//!   (`tracksim_msgs/CourseStatus`) once, the final score at the run's end (the live node sends
+//!   it at every sample; a recording has the events that changed it).
 
+use super::ros_course::{course_event, course_status};
 pub use super::ros_messages::{
     BASE_FRAME, ODOM_FRAME, belt_joint, encoder_model, encoder_odometry, flipper_frame,
     joint_state, optical_rotation, pose_rotation, tf_of_sample, tf_static, track_states, transform,
@@ -65,8 +70,8 @@ use super::ros_sensors::{
 use crate::error::{Error, Result};
 use crate::model::{Scenario, SensorModel};
 use crate::rosmsg::{
-    self, CameraInfo, Clock, CompressedImage, Image, Imu, JointState, LaserScan, Odometry,
-    PointCloud2, RosMessage, TFMessage, TrackStates,
+    self, CameraInfo, Clock, CompressedImage, CourseEvent, CourseStatus, Image, Imu, JointState,
+    LaserScan, Odometry, PointCloud2, RosMessage, TFMessage, TrackStates,
 };
 use crate::run::{RunResult, TeamResult};
 use crate::sensors::{SensorStream, Values};
@@ -170,6 +175,7 @@ fn world_bytes(
     record_static(&mut rec, robots)?;
     record_descriptions(&mut rec, robots)?;
     record_scene(&mut rec, robots)?;
+    record_course(&mut rec, robots)?;
     for (sc, result, ns) in robots {
         for stream in &result.sensors {
             let Some(m) = sc.vehicle.sensors.iter().find(|m| m.name == stream.name) else {
@@ -402,6 +408,28 @@ fn record_static(
     }
     let ch = rec.channel::<TFMessage>("/tf_static", true)?;
     rec.push(ch, 0.0, &TFMessage { transforms })
+}
+
+/// Each robot's `/course/events` (`tracksim_msgs/CourseEvent`, [`course_event`]) at their
+/// times, and its `/course` (`tracksim_msgs/CourseStatus`, [`course_status`]) once, the final
+/// score at the run's end, when the scenario has a `[course]`.
+fn record_course(
+    rec: &mut Recorder,
+    robots: &[(&Scenario, &RunResult, Namespace)],
+) -> std::result::Result<(), String> {
+    for (_, run, ns) in robots {
+        let Some(c) = &run.summary.course else {
+            continue;
+        };
+        let status = rec.channel::<CourseStatus>(&ns.topic("/course"), false)?;
+        let events = rec.channel::<CourseEvent>(&ns.topic("/course/events"), false)?;
+        for e in &c.events {
+            rec.push(events, e.t_s, &course_event(e))?;
+        }
+        let end = run.samples.last().map_or(0.0, |s| s.t);
+        rec.push(status, end, &course_status(end, c))?;
+    }
+    Ok(())
 }
 
 /// `/scene` (`foxglove.SceneUpdate`, JSON) once at t = 0: the terrain in `map` and each

@@ -12,6 +12,8 @@
 //!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
+//! - [`ros_course`]: a scored course's score and events as ROS 2 messages (`/course`,
+//!   `/course/events`);
 //! - [`odom_covariance`]: the covariances of `/odom` from a skid-steer encoder model;
 //! - [`foxglove_scene`]: `run.mcap`'s `/scene` (`foxglove.SceneUpdate`: terrain and robot)
 //!   and `/soil`;
@@ -32,6 +34,7 @@ pub mod plot;
 pub mod plot_files;
 pub mod replay;
 pub mod report;
+pub mod ros_course;
 pub mod ros_messages;
 pub mod ros_names;
 pub mod ros_sensors;

@@ -15,7 +15,8 @@ use super::network::NetworkRange;
 use super::topics;
 use crate::output::ros_names::Namespace;
 use crate::rosmsg::{
-    Clock, Float64, JointState, Odometry, RosString, TFMessage, TrackStates, Twist,
+    Clock, CourseEvent, CourseStatus, Float64, JointState, Odometry, RosString, TFMessage,
+    TrackStates, Twist,
 };
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::log::LogLevel;
@@ -232,12 +233,25 @@ pub struct Publishers {
     /// `/robot_description` (transient local, keep last 1, reliable: as
     /// `robot_state_publisher` offers it).
     pub description: Pub<RosString>,
+    /// `/course` and `/course/events` when the scenario has a `[course]`. The events are
+    /// transient local, keep last 100: each is sent once, and a scoreboard that joins late
+    /// still gets the last 100.
+    pub course: Option<(Pub<CourseStatus>, Pub<CourseEvent>)>,
 }
 
 impl Publishers {
-    /// Creates them on `node` in namespace `ns`.
-    pub fn new(node: &mut DdsNode, ns: &Namespace) -> Result<Self, DdsError> {
+    /// Creates them on `node` in namespace `ns`, the course's when `course`.
+    pub fn new(node: &mut DdsNode, ns: &Namespace, course: bool) -> Result<Self, DdsError> {
+        let course = if course {
+            Some((
+                node.publisher(&ns.topic(topics::COURSE), 10, false)?,
+                node.publisher(&ns.topic(topics::COURSE_EVENTS), 100, true)?,
+            ))
+        } else {
+            None
+        };
         Ok(Publishers {
+            course,
             odom: node.publisher(&ns.topic(topics::ODOM), 10, false)?,
             truth: node.publisher(&ns.topic(topics::GROUND_TRUTH), 10, false)?,
             joints: node.publisher(&ns.topic(topics::JOINT_STATES), 10, false)?,

@@ -21,14 +21,15 @@ use super::services::{ServiceCall, Services};
 use super::topics;
 use crate::error::{Error, Result};
 use crate::model::{Scenario, VehicleModel};
+use crate::output::ros_course::{EventCursor, course_event, course_status};
 use crate::output::ros_messages::{
     self as messages, encoder_model, encoder_odometry, track_states, true_odometry,
 };
 use crate::output::ros_names::Namespace;
 use crate::rosmsg::{TFMessage, TransformStamped};
 use crate::run::{
-    CommandLog, ControlSource, LogHeader, RunResult, Runner, SessionLimits, TeamResult, TeamRunner,
-    WorldSource, run_world_session,
+    CommandLog, ControlSource, CourseScore, LogHeader, RunResult, Runner, SessionLimits,
+    TeamResult, TeamRunner, WorldSource, run_world_session,
 };
 use crate::sensors::SensorSet;
 use crate::spec::{CommandSpec, PerTrack};
@@ -384,6 +385,8 @@ struct RobotTopics {
     encoders: messages::EncoderOdom,
     joint_names: Vec<String>,
     track_names: Vec<String>,
+    /// The course's events published so far.
+    course_events: EventCursor,
 }
 
 impl RobotTopics {
@@ -402,13 +405,14 @@ impl RobotTopics {
         let (subs, skipped) =
             Subscriptions::new(node, &ns, &track_names, &flipper_names).map_err(dds_error)?;
         let topics = RobotTopics {
-            pubs: Publishers::new(node, &ns).map_err(dds_error)?,
+            pubs: Publishers::new(node, &ns, sc.course.is_some()).map_err(dds_error)?,
             sensors: SensorPublishers::new(node, sc, &ns, raw_images).map_err(dds_error)?,
             control: RobotControl::new(ns.name(), &sc.vehicle)
                 .with_file_commands(FileCommands::new(&sc.vehicle, &sc.commands, play_commands)),
             encoders: encoder_model(sc),
             joint_names: messages::joint_names(sc),
             track_names,
+            course_events: EventCursor::default(),
             subs,
             ns,
         };
@@ -454,6 +458,18 @@ impl RobotTopics {
         self.pubs
             .tracks
             .publish(ns.track_states(track_states(s, &self.track_names)));
+    }
+
+    /// Publishes the course's score `c` at sample time `t` s on `/course`, and its events new
+    /// since the last sample on `/course/events` (nothing without a course).
+    fn publish_course(&mut self, t: f64, c: Option<&CourseScore>) {
+        let (Some((status, events)), Some(c)) = (&self.pubs.course, c) else {
+            return;
+        };
+        for e in self.course_events.new_events(c) {
+            events.publish(course_event(e));
+        }
+        status.publish(course_status(t, c));
     }
 
     /// Publishes every new sensor reading of `set` at `t` s.
@@ -585,6 +601,7 @@ impl ControlSource for TopicSource<'_, '_> {
         if let Some(s) = last_two(runner.samples()) {
             let mut tf = Vec::new();
             self.robot.publish(self.sc, s, self.world.map_tf, &mut tf);
+            self.robot.publish_course(s.0.t, runner.course().as_ref());
             self.world.publish(s.0.t, tf);
         }
     }
@@ -617,6 +634,7 @@ impl WorldSource<TeamRunner> for TeamTopicSource<'_> {
             let view = runner.view(k);
             if let Some(s) = last_two(view.samples) {
                 r.publish(view.scenario, s, self.world.map_tf, &mut tf);
+                r.publish_course(s.0.t, view.course.as_ref());
             }
         }
         self.world.publish(t, tf);

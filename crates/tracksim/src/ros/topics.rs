@@ -20,6 +20,10 @@ pub const TF_STATIC: &str = "/tf_static";
 pub const JOINT_STATES: &str = "/joint_states";
 /// Per-track figures (`tracksim_msgs/TrackStates`).
 pub const TRACKS: &str = "/tracks";
+/// A scored course's score at every sample (`tracksim_msgs/CourseStatus`).
+pub const COURSE: &str = "/course";
+/// A scored course's events, each once (`tracksim_msgs/CourseEvent`).
+pub const COURSE_EVENTS: &str = "/course/events";
 /// The robot's URDF (`std_msgs/String`, transient local: late joiners get it).
 pub const ROBOT_DESCRIPTION: &str = "/robot_description";
 /// Every flipper's target by name in one message (`sensor_msgs/JointState`, rad).
@@ -47,10 +51,13 @@ pub fn sensor(name: &str) -> String {
 
 /// Every topic of one robot of vehicle `v` in namespace `ns`, as the node creates them: its
 /// command topics (`/cmd_vel`, `/flippers/cmd_positions`, each track's speed and each
-/// flipper's target), its state (`/odom`, `/ground_truth/odom`, `/joint_states`, `/tracks`)
-/// and its sensors (a colour camera's `compressed` and `camera_info` topics). The world's `/clock`, `/tf`, `/tf_static` and `/rosout` are not a robot's.
+/// flipper's target), its state (`/odom`, `/ground_truth/odom`, `/joint_states`, `/tracks`),
+/// its course's (`/course`, `/course/events`, when `course`) and its sensors (a colour camera's
+/// `compressed` and `camera_info` topics). The world's `/clock`, `/tf`, `/tf_static` and
+/// `/rosout` are not a robot's.
 pub fn robot_topics(
     v: &crate::model::VehicleModel,
+    course: bool,
     ns: &crate::output::ros_names::Namespace,
 ) -> Vec<String> {
     let mut t: Vec<String> = [
@@ -65,6 +72,9 @@ pub fn robot_topics(
     .iter()
     .map(|s| s.to_string())
     .collect();
+    if course {
+        t.extend([COURSE, COURSE_EVENTS].map(String::from));
+    }
     t.extend(v.tracks.iter().map(|x| track_speed(&x.name)));
     t.extend(v.flippers.iter().map(|x| flipper_position(&x.name)));
     for x in &v.sensors {

@@ -16,13 +16,16 @@
 //! - `sensor.rs`: `sensor_msgs` (`JointState`, `Imu`, `LaserScan`, `PointField`,
 //!   `PointCloud2`, `Image`, `CompressedImage`, `RegionOfInterest`, `CameraInfo`);
 //! - `track.rs`: `tracksim_msgs/TrackStates`, tracksim's own message of per-track figures
-//!   (slip, traction, normal load, belt speed and position, motor figures).
+//!   (slip, traction, normal load, belt speed and position, motor figures);
+//! - `course.rs`: `tracksim_msgs/CourseStatus` and `tracksim_msgs/CourseEvent`, a scored
+//!   course's live score and its events.
 //!
 //! Field names, types and order are those of the ROS 2 (Humble and later) `.msg` files, so the
 //! bytes are what a ROS 2 node sends; units are the messages' (SI, REP 103).
 
 mod builtin;
 mod cdr;
+mod course;
 mod geometry;
 mod nav;
 mod schema;
@@ -32,6 +35,7 @@ mod track;
 
 pub use builtin::{Clock, Header, Time};
 pub use cdr::{CdrError, decode, encode};
+pub use course::{CourseEvent, CourseStatus};
 pub use geometry::{
     Point, Pose, PoseWithCovariance, Quaternion, TFMessage, Transform, TransformStamped, Twist,
     TwistWithCovariance, Vector3,

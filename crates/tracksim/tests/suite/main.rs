@@ -6,6 +6,7 @@
 #![warn(clippy::too_many_lines)]
 
 mod common;
+mod course_topics;
 
 mod api_list;
 mod bundled_scenarios;
