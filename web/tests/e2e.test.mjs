@@ -1082,6 +1082,31 @@ test('two trainees (issue 43): the instructor resets one robot, a trainee resets
     await vctx.close();
     view.child.kill();
   }
+  // The review of the whole team: the solid robot (blue, first by name) replays both its
+  // attempts, and its events, course score and outcome are those of the attempt under way.
+  const teamView = start(['view', dir, '--port', '0']);
+  const tctx = await browser();
+  try {
+    const page = await openReplay(tctx, await teamView.url);
+    assert.deepEqual(await page.evaluate(() => window.tracksim.runs), ['blue', 'red']);
+    const parts = await page.evaluate(() => window.tracksim.parts);
+    assert.deepEqual(parts.map((p) => p.attempt), [1, 2]);
+    assert.equal(parts[0].from_s, 0);
+    const reset = parts[1].from_s;
+    const first = JSON.parse(fs.readFileSync(path.join(dir, 'blue/attempts/1/summary.json'), 'utf8'));
+    assert.ok(Math.abs(reset - first.sim_time_s) < 0.011, `attempt 2 starts where attempt 1 ended: ${reset} ${first.sim_time_s}`);
+    const events = await page.evaluate(() => window.tracksim.events);
+    assert.ok(events.some((e) => e.detail.startsWith('the instructor reset blue') && e.t_s <= reset + 1e-9), JSON.stringify(events));
+    assert.ok(events.some((e) => e.t_s > reset), JSON.stringify(events));
+    const [before, after] = await page.evaluate((t) => [window.tracksim.courseAt(t - 0.1), window.tracksim.courseAt(t + 0.1)], reset);
+    assert.equal(before.faults.reset, 0, JSON.stringify(before));
+    assert.ok(Math.abs(before.elapsed_s - (reset - 0.1)) < 1e-6, JSON.stringify(before));
+    assert.equal(after.faults.reset, 1, JSON.stringify(after));
+    assert.ok(Math.abs(after.elapsed_s - 0.1) < 1e-6, JSON.stringify(after));
+  } finally {
+    await tctx.close();
+    teamView.child.kill();
+  }
 });
 
 test('view: the replay page offers the run as an MP4 that the browser plays (issue 41)', async () => {

@@ -1134,7 +1134,22 @@ if (!live) {
     boxPose: looseBoxes.map((_, i) => ['x_m', 'y_m', 'z_m', 'roll_rad', 'pitch_rad', 'yaw_rad'].map((c) => belts.col(`box_${i}_${c}`))),
     end: traj.rows[traj.rows.length - 1][0],
   };
-  events = computeEvents(traj, summary, trackNames);
+  // A reset robot of a team run (its attempts' samples joined by the server, issue 43): each
+  // attempt's summary, so that the review's events, the course score and the outcome at a
+  // replay time are those of the attempt under way then (`parts`: attempt, from_s, summary).
+  replay.parts = [];
+  for (const p of Array.isArray(runs.runs[0].parts) ? runs.runs[0].parts : []) {
+    const pr = typeof p.summary === 'string' ? await fetch(p.summary) : null;
+    replay.parts.push({ attempt: p.attempt, from_s: p.from_s, summary: pr && pr.ok ? await pr.json() : null });
+  }
+  replay.parts.forEach((p, i) => { p.end_s = replay.parts[i + 1]?.from_s ?? Infinity; });
+  if (replay.parts.length && replay.parts.every((p) => p.summary && isNum(p.from_s))) {
+    events = replay.parts.flatMap((p) => computeEvents(traj, p.summary, trackNames));
+  } else {
+    replay.parts = [];
+    events = computeEvents(traj, summary, trackNames);
+  }
+  api.parts = replay.parts.map((p) => ({ attempt: p.attempt, from_s: p.from_s }));
   // The other methods of a compare folder: ghosts of their own colours, driven by the time bar.
   for (const run of runs.runs.slice(1)) {
     try {
@@ -1256,13 +1271,22 @@ function lerpRow(rows, t) {
   const a = rows[lo], b = rows[hi], w = (t - a[0]) / (b[0] - a[0] || 1);
   return a.map((x, i) => x + (b[i] - x) * w);
 }
+// The attempt under way at replay time `t` s (a reset robot of a team run; else the run as
+// one attempt): its summary and the time it ended.
+function partAt(t) {
+  let p = null;
+  for (const q of replay.parts ?? []) if (!p || q.from_s <= t + 1e-9) p = q;
+  return p ?? { summary: replay.summary, end_s: replay.end };
+}
 // The course panel of a replay: the score at the replay time (review.js courseAt), not the
 // final one; window.tracksim.courseAt(t) gives it for any time.
-function replayCourse(sm, t) {
-  const c = courseAt(sm?.course ?? null, t, replay.end);
+function replayCourse(t) {
+  const p = partAt(t);
+  const c = courseAt(p.summary?.course ?? null, t, Math.min(p.end_s, replay.end));
   api.replayCourse = c;
   return c;
 }
+api.courseAt = (t) => (replay ? courseAt(partAt(t).summary?.course ?? null, t, Math.min(partAt(t).end_s, replay.end)) : null);
 function lerpAngle(a, b, w) { let d = b - a; while (d > Math.PI) d -= 2 * Math.PI; while (d < -Math.PI) d += 2 * Math.PI; return a + d * w; }
 function replayFrame() {
   const now = performance.now();
@@ -1303,7 +1327,7 @@ function replayFrame() {
     gh.flip.forEach((i, k) => gh.pivots[k]?.pivot.quaternion.setFromAxisAngle(gh.pivots[k].axis, gr[i] ?? 0));
     gh.now = [gx, gy, gz, groll, gpitch, gyaw];
   }
-  const sm = replay.summary;
+  const sm = partAt(playTime).summary;
   const vs = api.hudOverride ?? {
     t: playTime, pose: [x, y, z, roll, pitch, yaw],
     forward_mps: r[replay.vel[0]] * Math.cos(yaw) + r[replay.vel[1]] * Math.sin(yaw),
@@ -1314,14 +1338,14 @@ function replayFrame() {
     tilt_limit_deg: [sceneTiltLimit, sm?.max_tilt_deg].find(isNum) ?? null,
     ahead: profileAhead(x, y, z, yaw),
     outcome: sm && isNum(sm.outcome_time_s) && playTime >= sm.outcome_time_s ? { name: sm.outcome, reason: sm.outcome_reason, t: sm.outcome_time_s } : null,
-    course: replayCourse(sm, playTime), driver: null,
+    course: replayCourse(playTime), driver: null,
   };
   warn.update(vs);
   if (mapOn) minimap.draw(vs.pose, path, ghosts.filter((g) => g.now).map((g) => ({ pose: g.now, colour: hex(g.colour) })), isNum(vs.course?.next_gate) ? vs.course.next_gate : null);
   drawInputsStrip(playTime);
   $('scrub').value = String(playTime / (replay.end || 1));
   $('clock').textContent = `${fmt(playTime, 2)} / ${fmt(replay.end, 2)} s`;
-  const s = replay.summary;
+  const s = sm;
   const decided = s && playTime >= s.outcome_time_s ? `${s.outcome}: ${s.outcome_reason}` : 'undecided';
   hud([
     `REPLAY     ${playing ? 'playing' : 'paused'} at ${$('rate').value} x`,

@@ -10,6 +10,7 @@ use super::access::Access;
 use super::assets::asset;
 use super::hub::Hub;
 use crate::error::{Error, Result};
+use crate::output::kept_attempts::{first_time, kept_attempts};
 use std::io::{Read, Write};
 use std::net::{IpAddr, SocketAddr, TcpListener, TcpStream};
 use std::sync::Arc;
@@ -589,6 +590,10 @@ pub fn view_files(dir: &std::path::Path) -> Result<Vec<ViewFile>> {
         });
         if attempts > 0 {
             entry["attempts"] = serde_json::json!(attempts);
+            let parts = attempt_parts(path, &prefix, attempts, &mut files);
+            if !parts.is_empty() {
+                entry["parts"] = serde_json::json!(parts);
+            }
         }
         listed.push(entry);
     }
@@ -625,16 +630,12 @@ fn stitch_attempts(dir: &std::path::Path, prefix: &str, files: &mut [ViewFile]) 
         let Some(last) = files.iter().position(|f| f.0 == url) else {
             continue;
         };
+        // An attempt whose writing did not finish is not replayed as if it had.
+        let Some(kept) = kept_attempts(dir) else {
+            return 0;
+        };
         let mut parts = Vec::new();
-        for n in 1..=MAX_ATTEMPTS {
-            let sub = dir.join(crate::run::attempt_folder(n));
-            if !sub.is_dir() {
-                break;
-            }
-            // An attempt whose writing did not finish is not replayed as if it had.
-            if crate::output::incomplete::check_complete(&sub).is_err() {
-                return 0;
-            }
+        for sub in kept {
             match std::fs::read(sub.join(name)) {
                 Ok(bytes) => parts.push(bytes),
                 Err(_) => break,
@@ -682,7 +683,53 @@ fn stitch_attempts(dir: &std::path::Path, prefix: &str, files: &mut [ViewFile]) 
 }
 
 /// Most earlier attempts of a session that `tracksim view` serves.
-pub const MAX_ATTEMPTS: usize = 100;
+pub const MAX_ATTEMPTS: usize = crate::output::kept_attempts::MAX_ATTEMPTS;
+
+/// The attempts of a reset robot of a team run whose time series [`stitch_attempts`] joined
+/// (`attempts` of them), as its review replays them: each earlier attempt's `summary.json`
+/// served under `prefix/attempt/N/`, and the list the page reads (`attempt`, `from_s`: the
+/// world time its first sample has, `summary`: its URL), the last attempt (the robot's folder
+/// itself) last. The page takes the review panel's events, the course score and the outcome
+/// at a replay time from the attempt under way then. Empty when the folders do not hold
+/// `attempts` attempts with their samples.
+fn attempt_parts(
+    dir: &std::path::Path,
+    prefix: &str,
+    attempts: usize,
+    files: &mut Vec<ViewFile>,
+) -> Vec<serde_json::Value> {
+    let Some(mut kept) = kept_attempts(dir) else {
+        return Vec::new();
+    };
+    kept.push(dir.to_path_buf());
+    if kept.len() != attempts {
+        return Vec::new();
+    }
+    let mut parts = Vec::new();
+    let mut served = Vec::new();
+    for (k, sub) in kept.iter().enumerate() {
+        let n = k + 1;
+        let Some(from) = std::fs::read(sub.join("trajectory.csv"))
+            .ok()
+            .and_then(|b| first_time(&b))
+        else {
+            return Vec::new();
+        };
+        let url = if n == attempts {
+            let url = format!("{prefix}/summary.json");
+            files.iter().any(|f| f.0 == url).then_some(url)
+        } else {
+            std::fs::read(sub.join("summary.json")).ok().map(|bytes| {
+                let url = format!("{prefix}/attempt/{n}/summary.json");
+                served.push((url.clone(), "application/json", bytes));
+                url
+            })
+        };
+        parts.push(serde_json::json!({ "attempt": n, "from_s": from, "summary": url }));
+    }
+    files.extend(served);
+    parts
+}
 
 /// The earlier attempts of a drive session in `dir` (`attempts/N/`, issue 43), each a run
 /// served under `/attempt/N/` (its `scene.json` there too; no sensor streams), appended to

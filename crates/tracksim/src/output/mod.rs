@@ -12,6 +12,7 @@
 //!   the robots in one plot, the run in words;
 //! - [`ros_messages`]: the ROS 2 messages of a sample, which `run.mcap` records and the ROS 2
 //!   node publishes;
+//! - [`kept_attempts`]: a run folder's earlier attempts (`attempts/N/`), read back;
 //! - [`ros_course`]: a scored course's score and events as ROS 2 messages (`/course`,
 //!   `/course/events`);
 //! - [`odom_covariance`]: the covariances of `/odom` from a skid-steer encoder model;
@@ -28,6 +29,7 @@ pub mod debrief_map;
 pub mod debrief_plots;
 pub mod foxglove_scene;
 pub mod incomplete;
+pub mod kept_attempts;
 pub mod mcap;
 pub mod odom_covariance;
 pub mod plot;

@@ -184,7 +184,7 @@ impl Replay {
         let runs = if dir.join("team.json").is_file() && !dir.join("scene.json").is_file() {
             team_dirs(dir)?
                 .iter()
-                .map(|d| Recording::read(d))
+                .map(|d| Recording::read_session(d))
                 .collect::<Result<Vec<_>>>()?
         } else {
             if !dir.is_dir() {
@@ -326,7 +326,7 @@ impl Replay {
         if self.runs.len() > 1 {
             lines.insert(0, format!("robot {}", r.name));
         }
-        let s = &r.summary;
+        let s = r.summary_at(t);
         if let Some((gates, reps)) = s.course_gates {
             let seen = |k: &str| {
                 s.course_events

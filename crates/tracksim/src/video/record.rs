@@ -391,6 +391,13 @@ pub struct Recording {
     pub scene: SceneIn,
     /// `summary.json` (empty if absent).
     pub summary: SummaryIn,
+    /// A robot reset during a team run, read over the whole session
+    /// ([`Recording::read_session`]): each earlier attempt's first sample time, s, and its
+    /// `summary.json`, in order (empty otherwise; [`Recording::summary`] is the last
+    /// attempt's).
+    pub earlier: Vec<(f64, SummaryIn)>,
+    /// The last attempt's first sample time, s.
+    pub last_from_s: f64,
     traj: Table,
     belts: Table,
     cols: Cols,
@@ -509,11 +516,61 @@ impl Recording {
             dir: dir.to_path_buf(),
             name,
             summary: SummaryIn::read(&dir.join("summary.json")),
+            earlier: Vec::new(),
+            last_from_s: traj.rows[0][0],
             scene,
             traj,
             belts,
             cols,
         })
+    }
+
+    /// Reads the folder `dir` of a robot of a team run; a robot reset during the session (its
+    /// earlier attempts kept in `dir/attempts/N/`, issue 43) over the whole session: the
+    /// attempts' samples in order, at the world's times, so that it goes back to its start at
+    /// each reset as it did, and each attempt's summary for the times it was under way. The
+    /// last attempt alone when an earlier one is not there whole (not written to its end, or
+    /// its files of other columns), as `tracksim view` serves it.
+    pub fn read_session(dir: &Path) -> Result<Recording> {
+        let mut last = Recording::read(dir)?;
+        let kept = crate::output::kept_attempts::kept_attempts(dir).unwrap_or_default();
+        let mut traj = Vec::new();
+        let mut belts = Vec::new();
+        let mut earlier = Vec::new();
+        for sub in &kept {
+            let (Ok(t), Ok(b)) = (
+                Table::read(&sub.join("trajectory.csv")),
+                Table::read(&sub.join("belts.csv")),
+            ) else {
+                return Ok(last);
+            };
+            if t.header != last.traj.header || b.header != last.belts.header || t.rows.is_empty() {
+                return Ok(last);
+            }
+            earlier.push((t.rows[0][0], SummaryIn::read(&sub.join("summary.json"))));
+            traj.extend(t.rows);
+            belts.extend(b.rows);
+        }
+        traj.append(&mut last.traj.rows);
+        belts.append(&mut last.belts.rows);
+        last.traj.rows = traj;
+        last.belts.rows = belts;
+        last.earlier = earlier;
+        Ok(last)
+    }
+
+    /// The summary of the attempt under way at time `t` s (the last attempt's at and after its
+    /// first sample, and without earlier attempts).
+    pub fn summary_at(&self, t: f64) -> &SummaryIn {
+        if self.earlier.is_empty() || t + 1e-9 >= self.last_from_s {
+            return &self.summary;
+        }
+        self.earlier
+            .iter()
+            .rev()
+            .find(|(from, _)| *from <= t + 1e-9)
+            .or(self.earlier.first())
+            .map_or(&self.summary, |(_, s)| s)
     }
 
     /// Time of the first sample, s.

@@ -77,6 +77,7 @@ mod scenario_immutable;
 mod slope;
 mod step_climb;
 mod stepping_api;
+mod team_attempts_review;
 mod team_randomize;
 mod terrain;
 mod validation;
