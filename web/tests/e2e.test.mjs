@@ -1103,6 +1103,15 @@ test('two trainees (issue 43): the instructor resets one robot, a trainee resets
     assert.ok(Math.abs(before.elapsed_s - (reset - 0.1)) < 1e-6, JSON.stringify(before));
     assert.equal(after.faults.reset, 1, JSON.stringify(after));
     assert.ok(Math.abs(after.elapsed_s - 0.1) < 1e-6, JSON.stringify(after));
+    // `?robot=red` makes red the solid robot, with its own attempts (red's driver's reset).
+    const redPage = await openReplay(tctx, `${await teamView.url}?robot=red`);
+    assert.deepEqual(await redPage.evaluate(() => window.tracksim.runs), ['red', 'blue']);
+    const redParts = await redPage.evaluate(() => window.tracksim.parts);
+    assert.deepEqual(redParts.map((p) => p.attempt), [1, 2]);
+    const redReset = redParts[1].from_s;
+    const redEvents = await redPage.evaluate(() => window.tracksim.events);
+    assert.ok(redEvents.some((e) => e.detail.startsWith("red's driver reset") && e.t_s <= redReset + 1e-9), JSON.stringify(redEvents));
+    assert.equal((await redPage.evaluate((t) => window.tracksim.courseAt(t + 0.1), redReset)).faults.reset, 1);
   } finally {
     await tctx.close();
     teamView.child.kill();

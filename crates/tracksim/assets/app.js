@@ -30,11 +30,19 @@ if (!live) {
   const r = await fetch('/runs.json');
   if (r.ok) runs = await r.json();
 }
+// A team run's review: `?robot=NAME` makes that robot the solid one (the review panel is its),
+// the others ghosts; by default the first by name.
+if (!live && runs.team && askedRobot) {
+  const k = runs.runs.findIndex((r) => r.name === askedRobot);
+  if (k > 0) runs.runs.unshift(...runs.runs.splice(k, 1));
+}
 // A session's attempts (issue 43): `?attempt=N` replays attempt N (each reset kept one).
 const attempts = Array.isArray(runs.attempts) ? runs.attempts : [];
 const attempt = attempts.find((a) => String(a.attempt) === query.get('attempt')) ?? attempts[attempts.length - 1] ?? null;
 if (attempt && attempt.base !== '/run') runs.runs[0].base = attempt.base;
-const sceneUrl = attempt && attempt.base !== '/run' ? `${attempt.base}/scene.json` : `/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`;
+const sceneUrl = attempt && attempt.base !== '/run' ? `${attempt.base}/scene.json`
+  : !live && runs.team ? `${runs.runs[0].base}/scene.json`
+  : `/scene.json${askedRobot ? `?robot=${askedRobot}` : ''}`;
 const scene = await (await fetch(sceneUrl)).json();
 if (attempts.length > 1) {
   const sel = document.createElement('select');
