@@ -76,7 +76,10 @@ fn a_reset_robots_review_and_video_follow_the_attempt_under_way() {
     assert_eq!(parts[0]["attempt"], 1);
     assert_eq!(parts[0]["from_s"], 0.0);
     let base = format!("/run/{red_i}");
-    assert_eq!(parts[0]["summary"], format!("{base}/attempt/1/summary.json"));
+    assert_eq!(
+        parts[0]["summary"],
+        format!("{base}/attempt/1/summary.json")
+    );
     assert_eq!(parts[1]["summary"], format!("{base}/summary.json"));
     let reset_at = parts[1]["from_s"].as_f64().unwrap();
     assert!(
