@@ -37,3 +37,24 @@ def test_bad_ensemble_sizes_are_refused_naming_the_setting():
         dataset.ensemble(STEP, members=2, start_mm=500.0)
     with pytest.raises(ValueError, match="--ensemble"):
         dataset.ensemble(STEP, members=1)
+
+
+def test_an_ensemble_of_several_robots_from_python(tmp_path):
+    """A file of several robots (the bundled race): the winner's and each robot's verdicts,
+    each robot's own start offsets, and the same members as the CLI's byte for byte."""
+    race = SCENARIOS / "team" / "race_step.toml"
+    r = dataset.ensemble(race, members=2, out=tmp_path / "py", seed=3, jobs=2)
+    assert r["verdict"] == "S 2/2"
+    assert r["winner_verdict"] == "red 2/2" and r["winners"] == [["red", 2]]
+    assert [v["name"] for v in r["robot_verdicts"]] == ["red", "blue"]
+    m1 = r["members"][1]
+    red, blue = m1["member"]["robots"]
+    assert red["dx_m"] == m1["member"]["dx_m"] and blue["dx_m"] != red["dx_m"]
+    assert [x["name"] for x in m1["robots"]] == ["red", "blue"] and m1["winner"] == "red"
+    assert any(k == "vehicles[1].vehicle.x_m" for k, _ in m1["keys"])
+    p = run_cli("run", str(race), "--ensemble", "2", "--ensemble-seed", "3", "--out",
+                str(tmp_path / "cli"), "--quiet")
+    assert p.returncode == 0, p.stderr
+    for robot in ("red", "blue"):
+        name = f"member-001/{robot}/trajectory.csv"
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()

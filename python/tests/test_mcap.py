@@ -217,6 +217,25 @@ def test_sensor_messages_decode_to_their_data(recording):
     assert list(encoders.name) == JOINTS and encoders.position[2] > 0.1
 
 
+def _decoded_both_ways(path):
+    """Every CDR message of the MCAP file `path` decoded from the file's own schemas by both
+    decoders: topic -> [(schema name, log time ns, mcap-ros2 message, rosbags message)]."""
+    store = get_typestore(Stores.EMPTY) if get_typestore else None
+    msgs = collections.defaultdict(list)
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        for schema in summary.schemas.values() if store else ():
+            if schema.encoding == "ros2msg":
+                store.register(get_types_from_msg(schema.data.decode(), schema.name))
+        cdr = [c.topic for c in summary.channels.values() if c.message_encoding == "cdr"]
+        for schema, channel, message, decoded in reader.iter_decoded_messages(
+                topics=cdr, log_time_order=True):
+            other = store.deserialize_cdr(message.data, schema.name) if store else decoded
+            msgs[channel.topic].append((schema.name, message.log_time, decoded, other))
+    return msgs
+
+
 def test_a_colour_camera_is_png_compressed_images_with_camera_info(tmp_path):
     """Issue 41: a 160 x 120 colour camera at 10 Hz (scenarios/packbot_camera.toml) in run.mcap:
     CompressedImage PNG on /front_rgb/compressed, CameraInfo on /front_rgb/camera_info, each
@@ -229,19 +248,7 @@ def test_a_colour_camera_is_png_compressed_images_with_camera_info(tmp_path):
     r = run_cli("run", SCENARIOS / "packbot_camera.toml", "--out", out, "--mcap", "--duration",
                 0.5, "--no-plot", "--quiet", timeout=300)
     assert r.returncode == 0, r.stderr
-    store = get_typestore(Stores.EMPTY) if get_typestore else None
-    msgs = collections.defaultdict(list)
-    with open(out / "run.mcap", "rb") as f:
-        reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        summary = reader.get_summary()
-        for schema in summary.schemas.values() if store else ():
-            if schema.encoding == "ros2msg":
-                store.register(get_types_from_msg(schema.data.decode(), schema.name))
-        cdr = [c.topic for c in summary.channels.values() if c.message_encoding == "cdr"]
-        for schema, channel, message, decoded in reader.iter_decoded_messages(
-                topics=cdr, log_time_order=True):
-            other = store.deserialize_cdr(message.data, schema.name) if store else decoded
-            msgs[channel.topic].append((schema.name, message.log_time, decoded, other))
+    msgs = _decoded_both_ways(out / "run.mcap")
     assert "/front_rgb" not in msgs
     images, infos = msgs["/front_rgb/compressed"], msgs["/front_rgb/camera_info"]
     with open(out / "sensors" / "front_rgb.csv") as f:
@@ -278,18 +285,7 @@ def test_a_course_run_records_its_events_and_final_score(tmp_path):
     assert r.returncode == 0, r.stderr
     course = json.loads((out / "summary.json").read_text())["course"]
     assert course["status"] == "completed"
-    store = get_typestore(Stores.EMPTY) if get_typestore else None
-    msgs = collections.defaultdict(list)
-    with open(out / "run.mcap", "rb") as f:
-        reader = make_reader(f, decoder_factories=[DecoderFactory()])
-        summary = reader.get_summary()
-        for schema in summary.schemas.values() if store else ():
-            if schema.encoding == "ros2msg":
-                store.register(get_types_from_msg(schema.data.decode(), schema.name))
-        for schema, channel, message, decoded in reader.iter_decoded_messages(
-                topics=["/course", "/course/events"], log_time_order=True):
-            other = store.deserialize_cdr(message.data, schema.name) if store else decoded
-            msgs[channel.topic].append((schema.name, message.log_time, decoded, other))
+    msgs = _decoded_both_ways(out / "run.mcap")
     events = msgs["/course/events"]
     assert len(events) == len(course["events"]) >= 3
     for (ty, t, e, e2), want in zip(events, course["events"]):

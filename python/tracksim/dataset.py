@@ -46,7 +46,9 @@ def ensemble(scenario, members: int = 16, out: Optional[PathLike] = None, seed: 
     start moved up to ``start_mm`` in x and y, turned up to ``yaw_deg`` and the solver's order
     changed. Returns the report: ``verdict`` ("S 16/16", "marginal 9/16"),
     ``success_fraction``, ``success_time_s`` (min, median, max) and ``members`` (each with its
-    perturbation, outcome, final pose and the file keys that reproduce it).
+    perturbation, outcome, final pose and the file keys that reproduce it). A file of several
+    robots moves each robot's start on its own; the report adds ``winner_verdict``,
+    ``winners``, ``robot_verdicts`` and per member ``winner`` and ``robots``.
 
     ``shard=(i, n)`` runs only the members ``k`` with ``k % n == i`` (one task of a distributed
     ensemble, see ``tracksim.ray_ensemble``); its report holds those members, and

@@ -63,15 +63,16 @@ pub struct RunArgs {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Run an ensemble of N members instead of one run: member 0 as written, the others with
-    /// seeded perturbations of the start (x, y, yaw) and of the solver's order, on every core
-    /// (docs/ENSEMBLE.md). Writes --out/member-NNN/ and ensemble.json / ensemble.csv, prints
+    /// seeded perturbations of the start (x, y, yaw; each robot's of a file of several) and of
+    /// the solver's order, on every core (docs/ENSEMBLE.md). Writes --out/member-NNN/ and ensemble.json / ensemble.csv, prints
     /// the verdict ("S 16/16", "marginal 9/16") and checks the file's [expect] ensemble bounds.
     #[arg(long, value_name = "N")]
     pub ensemble: Option<usize>,
     /// Seed of the ensemble's perturbations.
     #[arg(long, default_value_t = 0, requires = "ensemble")]
     pub ensemble_seed: u64,
-    /// Half-width of the ensemble's start offset in x and in y, mm.
+    /// Half-width of the ensemble's start offset in x and in y, mm (in a file of several
+    /// robots, each robot's own).
     #[arg(long, default_value_t = 1.0, requires = "ensemble")]
     pub ensemble_start_mm: f64,
     /// Half-width of the ensemble's start yaw offset, degrees.

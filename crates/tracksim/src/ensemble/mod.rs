@@ -1,6 +1,6 @@
 //! Ensemble verdicts (issue 38): a scenario run as N members, each with a small seeded
 //! perturbation of what should not matter ([`Perturbations`]: start position and yaw, the
-//! solver's order), on all cores; the outcome fraction, the spread of the outcome time and of
+//! solver's order; in a world of several robots each robot's start on its own), on all cores; the outcome fraction, the spread of the outcome time and of
 //! the final pose ([`EnsembleReport`]), each member's run folder, and the `[expect]` ensemble
 //! bounds checked ([`check_ensemble`]).
 //!
@@ -10,8 +10,8 @@
 mod perturb;
 mod report;
 
-pub use perturb::{MAX_MEMBERS, Member, Perturbations};
-pub use report::{EnsembleReport, MemberResult, check_ensemble};
+pub use perturb::{MAX_MEMBERS, Member, Perturbations, RobotOffset};
+pub use report::{EnsembleReport, MemberResult, RobotResult, check_ensemble};
 
 use crate::error::{Error, Result};
 use crate::model::{Scenario, ScenarioTemplate};
@@ -87,9 +87,16 @@ pub fn run_ensemble(
         ));
     }
     let n = opts.members;
+    let robots = sc.robot_count();
     let members: Vec<Member> = (0..n)
         .filter(|k| opts.shard.is_none_or(|(i, c)| k % c == i))
-        .map(|k| opts.perturbations.member(opts.seed, k))
+        .map(|k| {
+            if robots > 1 {
+                opts.perturbations.team_member(opts.seed, k, robots)
+            } else {
+                opts.perturbations.member(opts.seed, k)
+            }
+        })
         .collect();
     if members.is_empty() {
         return Err(Error::setting(
@@ -181,22 +188,43 @@ fn run_member(
     if let Some(dir) = &dir {
         crate::output::incomplete::mark_incomplete(dir)?;
     }
+    let which = crate::output::Outputs {
+        replay,
+        plots: false,
+        mcap: false,
+        raw_images: false,
+    };
+    let done = |dir: &Option<PathBuf>| match dir {
+        Some(dir) => crate::output::incomplete::mark_complete(dir),
+        None => Ok(()),
+    };
+    if msc.robot_count() > 1 {
+        // A world of several robots: its outcome by its rule, each robot's in the member.
+        return match crate::run::run_team(&msc, opts) {
+            Ok(r) if matches!(r.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
+            Ok(r) => {
+                if let Some(dir) = &dir {
+                    crate::output::write_team(&msc, &r, dir, which)?;
+                }
+                done(&dir)?;
+                Ok(Some(MemberResult::of_team(m.clone(), sc, &r, dir)))
+            }
+            Err(e @ Error::Unstable { .. }) => {
+                Ok(Some(MemberResult::unstable(m.clone(), sc, &e, dir)))
+            }
+            Err(e) => Err(e),
+        };
+    }
     match crate::run::run_scenario_with(&msc, opts, |_, _| {}) {
         Ok(result) if matches!(result.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
         Ok(result) => {
             if let Some(dir) = &dir {
-                let which = crate::output::Outputs {
-                    replay,
-                    plots: false,
-                    mcap: false,
-                    raw_images: false,
-                };
                 crate::output::write_outputs(&msc, &result, dir, which)?;
-                crate::output::incomplete::mark_complete(dir)?;
             }
-            Ok(Some(MemberResult::of_run(*m, sc, &result, dir)))
+            done(&dir)?;
+            Ok(Some(MemberResult::of_run(m.clone(), sc, &result, dir)))
         }
-        Err(e @ Error::Unstable { .. }) => Ok(Some(MemberResult::unstable(*m, sc, &e, dir))),
+        Err(e @ Error::Unstable { .. }) => Ok(Some(MemberResult::unstable(m.clone(), sc, &e, dir))),
         Err(e) => Err(e),
     }
 }

@@ -33,8 +33,19 @@ impl Default for Perturbations {
     }
 }
 
-/// One member's perturbation. Member 0 is the scenario as written (all zero).
+/// One robot's start offset in a member of an ensemble of several robots.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RobotOffset {
+    /// Start offset in x, m.
+    pub dx_m: f64,
+    /// Start offset in y, m.
+    pub dy_m: f64,
+    /// Start yaw offset, degrees.
+    pub dyaw_deg: f64,
+}
+
+/// One member's perturbation. Member 0 is the scenario as written (all zero).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Member {
     /// Index in the ensemble, from 0.
     pub index: usize,
@@ -46,6 +57,11 @@ pub struct Member {
     pub dyaw_deg: f64,
     /// `simulation.order_salt` of the member.
     pub order_salt: usize,
+    /// In a world of several robots, each robot's start offset by its index in the file
+    /// (robot 0's is `dx_m`, `dy_m`, `dyaw_deg`; the others draw their own); empty for one
+    /// robot.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub robots: Vec<RobotOffset>,
 }
 
 impl Perturbations {
@@ -98,6 +114,7 @@ impl Perturbations {
                 dy_m: 0.0,
                 dyaw_deg: 0.0,
                 order_salt: 0,
+                robots: Vec::new(),
             };
         }
         let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(
@@ -123,7 +140,45 @@ impl Perturbations {
             } else {
                 0
             },
+            robots: Vec::new(),
         }
+    }
+
+    /// Member `k` of the ensemble seeded `seed` of a world of `robots` robots: each robot's
+    /// start moved and turned on its own (robot 0 by [`Perturbations::member`]'s draws, robot
+    /// r >= 1 from a PCG stream of its own (`seed`, k, r)), so that what the robots do to each
+    /// other is perturbed too; a shift of the whole world would change nothing (translation).
+    /// Member 0 is unperturbed.
+    pub fn team_member(&self, seed: u64, k: usize, robots: usize) -> Member {
+        let mut m = self.member(seed, k);
+        m.robots = (0..robots)
+            .map(|r| {
+                if r == 0 || k == 0 {
+                    return RobotOffset {
+                        dx_m: m.dx_m,
+                        dy_m: m.dy_m,
+                        dyaw_deg: m.dyaw_deg,
+                    };
+                }
+                let mut rng = rand_pcg::Pcg64Mcg::seed_from_u64(
+                    seed ^ (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+                        ^ (r as u64).wrapping_mul(0xD1B5_4A32_D192_ED03),
+                );
+                let mut draw = |half: f64| {
+                    if half > 0.0 {
+                        Uniform::new_inclusive(-half, half).map_or(0.0, |u| u.sample(&mut rng))
+                    } else {
+                        0.0
+                    }
+                };
+                RobotOffset {
+                    dx_m: draw(self.start_m),
+                    dy_m: draw(self.start_m),
+                    dyaw_deg: draw(self.yaw_deg),
+                }
+            })
+            .collect();
+        m
     }
 }
 
@@ -133,12 +188,29 @@ impl Member {
     /// where it changes nothing (member 0 has none).
     pub fn overrides(&self, base: &Scenario) -> Overrides {
         let moved = self.dx_m != 0.0 || self.dy_m != 0.0 || self.dyaw_deg != 0.0;
+        let team = !self.robots.is_empty();
+        let robots_moved = self
+            .robots
+            .iter()
+            .any(|o| o.dx_m != 0.0 || o.dy_m != 0.0 || o.dyaw_deg != 0.0);
         Overrides {
-            start_offset: moved.then_some(StartOffset {
+            start_offset: (moved && !team).then_some(StartOffset {
                 x_m: self.dx_m,
                 y_m: self.dy_m,
                 yaw_deg: self.dyaw_deg,
             }),
+            robot_offsets: if robots_moved {
+                self.robots
+                    .iter()
+                    .map(|o| StartOffset {
+                        x_m: o.dx_m,
+                        y_m: o.dy_m,
+                        yaw_deg: o.dyaw_deg,
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
             order_salt: (self.order_salt != base.solver.order_salt).then_some(self.order_salt),
             ..Overrides::default()
         }
@@ -157,6 +229,20 @@ impl Member {
     /// The file keys that reproduce this member with `tracksim run` (added to the scenario's
     /// own values): `vehicle.x_m`, `vehicle.y_m`, `vehicle.yaw_deg`, `simulation.order_salt`.
     pub fn keys(&self, sc: &Scenario) -> Vec<(String, f64)> {
+        if !self.robots.is_empty() {
+            let mut keys = Vec::new();
+            for (r, o) in self.robots.iter().enumerate() {
+                let v = sc.robot_view(r);
+                keys.push((format!("vehicles[{r}].vehicle.x_m"), v.start_xy.0 + o.dx_m));
+                keys.push((format!("vehicles[{r}].vehicle.y_m"), v.start_xy.1 + o.dy_m));
+                keys.push((
+                    format!("vehicles[{r}].vehicle.yaw_deg"),
+                    v.start_yaw.to_degrees() + o.dyaw_deg,
+                ));
+            }
+            keys.push(("simulation.order_salt".into(), self.order_salt as f64));
+            return keys;
+        }
         vec![
             ("vehicle.x_m".into(), sc.start_xy.0 + self.dx_m),
             ("vehicle.y_m".into(), sc.start_xy.1 + self.dy_m),

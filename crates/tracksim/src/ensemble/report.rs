@@ -32,6 +32,32 @@ pub struct MemberResult {
     pub progress_m: f64,
     /// Its run folder, if written.
     pub dir: Option<PathBuf>,
+    /// In a world of several robots: the robot ranked first on the course (a race's winner;
+    /// none without a course, or when no robot finished).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub winner: Option<String>,
+    /// In a world of several robots, each robot's own result, in the file's order (the
+    /// member's `outcome` is the world's by its rule; its `final_pose` and `progress_m` are
+    /// robot 0's). Empty for one robot.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub robots: Vec<RobotResult>,
+}
+
+/// One robot's result in a member of an ensemble of several robots.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct RobotResult {
+    /// Its name.
+    pub name: String,
+    /// "success", "failure", "completed" or "interrupted".
+    pub outcome: String,
+    /// When it was decided (the end of the run if never), s.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub outcome_time_s: f64,
+    /// Its final pose, m and rad.
+    pub final_pose: PoseRpy,
+    /// Progress along its start heading, m.
+    #[serde(deserialize_with = "nan_if_null")]
+    pub progress_m: f64,
 }
 
 impl MemberResult {
@@ -39,14 +65,50 @@ impl MemberResult {
     pub(super) fn of_run(m: Member, sc: &Scenario, r: &RunResult, dir: Option<PathBuf>) -> Self {
         let s = &r.summary;
         MemberResult {
-            member: m,
             keys: m.keys(sc),
+            member: m,
             outcome: s.outcome.clone(),
             reason: s.outcome_reason.clone(),
             outcome_time_s: s.outcome_time_s,
             final_pose: s.final_pose,
             progress_m: s.progress_m,
             dir,
+            winner: None,
+            robots: Vec::new(),
+        }
+    }
+
+    /// The result of a member of several robots that ran to its end: the world's outcome,
+    /// its winner on the course, and each robot's.
+    pub(super) fn of_team(
+        m: Member,
+        sc: &Scenario,
+        r: &crate::run::TeamResult,
+        dir: Option<PathBuf>,
+    ) -> Self {
+        let robots: Vec<RobotResult> = r
+            .robots
+            .iter()
+            .map(|(name, run)| RobotResult {
+                name: name.clone(),
+                outcome: run.summary.outcome.clone(),
+                outcome_time_s: run.summary.outcome_time_s,
+                final_pose: run.summary.final_pose,
+                progress_m: run.summary.progress_m,
+            })
+            .collect();
+        let first = robots.first();
+        MemberResult {
+            keys: m.keys(sc),
+            member: m,
+            outcome: r.outcome.name().to_string(),
+            reason: r.outcome.reason().to_string(),
+            outcome_time_s: r.outcome_time,
+            final_pose: first.map(|x| x.final_pose).unwrap_or_default(),
+            progress_m: first.map_or(f64::NAN, |x| x.progress_m),
+            dir,
+            winner: r.standings.as_ref().and_then(|s| s.winner.clone()),
+            robots,
         }
     }
 
@@ -57,14 +119,16 @@ impl MemberResult {
             _ => f64::NAN,
         };
         MemberResult {
-            member: m,
             keys: m.keys(sc),
+            member: m,
             outcome: "unstable".into(),
             reason: e.to_string(),
             outcome_time_s: t,
             final_pose: PoseRpy::default(),
             progress_m: f64::NAN,
             dir,
+            winner: None,
+            robots: Vec::new(),
         }
     }
 }
@@ -163,6 +227,78 @@ impl EnsembleReport {
         format!("marginal {}/{n}", self.count("success"))
     }
 
+    /// In a world of several robots on a course: how many members each robot won (ranked
+    /// first), most first, then by name; `none` counts the members no robot won. Empty for
+    /// one robot or without a course.
+    pub fn winners(&self) -> Vec<(String, usize)> {
+        if !self.members.iter().any(|m| m.winner.is_some()) {
+            return Vec::new();
+        }
+        let mut counts: Vec<(String, usize)> = Vec::new();
+        for m in &self.members {
+            let w = m.winner.clone().unwrap_or_else(|| "none".into());
+            match counts.iter_mut().find(|(n, _)| *n == w) {
+                Some(c) => c.1 += 1,
+                None => counts.push((w, 1)),
+            }
+        }
+        counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        counts
+    }
+
+    /// The winner's verdict: `red 16/16` when one robot won every member, else `marginal: red
+    /// 9/16, blue 7/16`; None without winners ([`EnsembleReport::winners`]).
+    pub fn winner_verdict(&self) -> Option<String> {
+        let w = self.winners();
+        let n = self.members.len();
+        match w.as_slice() {
+            [] => None,
+            [(name, k)] => Some(format!("{name} {k}/{n}")),
+            _ => Some(format!(
+                "marginal: {}",
+                w.iter()
+                    .map(|(name, k)| format!("{name} {k}/{n}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
+    }
+
+    /// In a world of several robots: each robot's verdict over the members (as
+    /// [`EnsembleReport::verdict`], of its own outcome) and the spread of its success times.
+    pub fn robot_verdicts(&self) -> Vec<(String, String, Option<Spread>)> {
+        let Some(first) = self.members.iter().find(|m| !m.robots.is_empty()) else {
+            return Vec::new();
+        };
+        let n = self.members.len();
+        first
+            .robots
+            .iter()
+            .enumerate()
+            .map(|(r, robot)| {
+                let mine: Vec<&RobotResult> = self
+                    .members
+                    .iter()
+                    .filter_map(|m| m.robots.get(r))
+                    .collect();
+                let count = |o: &str| mine.iter().filter(|x| x.outcome == o).count();
+                let verdict = [("success", "S"), ("failure", "F"), ("completed", "C")]
+                    .iter()
+                    .find(|(o, _)| count(o) == n)
+                    .map_or_else(
+                        || format!("marginal {}/{n}", count("success")),
+                        |(_, l)| format!("{l} {n}/{n}"),
+                    );
+                let times: Vec<f64> = mine
+                    .iter()
+                    .filter(|x| x.outcome == "success")
+                    .map(|x| x.outcome_time_s)
+                    .collect();
+                (robot.name.clone(), verdict, Spread::of(&times))
+            })
+            .collect()
+    }
+
     /// Outcome times of the members that succeeded, s.
     pub fn success_times(&self) -> Option<Spread> {
         let t: Vec<f64> = self
@@ -229,8 +365,25 @@ impl EnsembleReport {
         if !parts.is_empty() {
             s += &format!("  final pose: {}\n", parts.join(", "));
         }
+        if let Some(w) = self.winner_verdict() {
+            s += &format!("  winner: {w}\n");
+        }
+        for (name, verdict, times) in self.robot_verdicts() {
+            let t = times.map_or(String::new(), |t| {
+                format!(
+                    ", success time median {:.2} s, {:.2}-{:.2} s",
+                    t.median, t.min, t.max
+                )
+            });
+            s += &format!("  robot {name}: {verdict}{t}\n");
+        }
+        let each = if self.members.iter().any(|m| !m.robots.is_empty()) {
+            "each robot's start "
+        } else {
+            "start "
+        };
         s += &format!(
-            "  perturbations (seed {}): start +-{} mm in x and y, yaw +-{} deg, solver order {}; member 0 as written\n",
+            "  perturbations (seed {}): {each}+-{} mm in x and y, yaw +-{} deg, solver order {}; member 0 as written\n",
             self.seed,
             p.start_m * 1e3,
             p.yaw_deg,
@@ -255,13 +408,36 @@ impl EnsembleReport {
             verdict: String,
             success_fraction: f64,
             success_time_s: Option<Spread>,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            winner_verdict: Option<String>,
+            #[serde(skip_serializing_if = "Vec::is_empty")]
+            winners: Vec<(String, usize)>,
+            #[serde(skip_serializing_if = "Vec::is_empty")]
+            robot_verdicts: Vec<RobotVerdict>,
             #[serde(flatten)]
             report: &'a EnsembleReport,
+        }
+        #[derive(serde::Serialize)]
+        struct RobotVerdict {
+            name: String,
+            verdict: String,
+            success_time_s: Option<Spread>,
         }
         serde_json::to_string_pretty(&Json {
             verdict: self.verdict(),
             success_fraction: self.success_fraction(),
             success_time_s: self.success_times(),
+            winner_verdict: self.winner_verdict(),
+            winners: self.winners(),
+            robot_verdicts: self
+                .robot_verdicts()
+                .into_iter()
+                .map(|(name, verdict, success_time_s)| RobotVerdict {
+                    name,
+                    verdict,
+                    success_time_s,
+                })
+                .collect(),
             report: self,
         })
         .map_err(|e| Error::Build(format!("ensemble.json: {e}")))
@@ -337,7 +513,14 @@ impl EnsembleReport {
         crate::files::write_atomic(&path, json.as_bytes())?;
         let mut w = csv::Writer::from_writer(Vec::new());
         let csv_err = |e: csv::Error| Error::Build(format!("ensemble.csv: {e}"));
-        w.write_record([
+        // A world of several robots: the winner and each robot's figures after the world's.
+        let names: Vec<String> = self
+            .members
+            .iter()
+            .find(|m| !m.robots.is_empty())
+            .map(|m| m.robots.iter().map(|r| r.name.clone()).collect())
+            .unwrap_or_default();
+        let mut header: Vec<String> = [
             "member",
             "dx_m",
             "dy_m",
@@ -351,11 +534,27 @@ impl EnsembleReport {
             "final_yaw_rad",
             "progress_m",
             "reason",
-        ])
-        .map_err(csv_err)?;
+        ]
+        .map(String::from)
+        .to_vec();
+        if !names.is_empty() {
+            header.push("winner".into());
+            for n in &names {
+                for col in [
+                    "outcome",
+                    "outcome_time_s",
+                    "final_x_m",
+                    "final_y_m",
+                    "progress_m",
+                ] {
+                    header.push(format!("{n}.{col}"));
+                }
+            }
+        }
+        w.write_record(&header).map_err(csv_err)?;
         for m in &self.members {
             let p = &m.final_pose;
-            w.write_record([
+            let mut row = vec![
                 m.member.index.to_string(),
                 m.member.dx_m.to_string(),
                 m.member.dy_m.to_string(),
@@ -369,8 +568,24 @@ impl EnsembleReport {
                 p.yaw.to_string(),
                 m.progress_m.to_string(),
                 m.reason.clone(),
-            ])
-            .map_err(csv_err)?;
+            ];
+            if !names.is_empty() {
+                row.push(m.winner.clone().unwrap_or_default());
+                for k in 0..names.len() {
+                    match m.robots.get(k) {
+                        Some(r) => row.extend([
+                            r.outcome.clone(),
+                            r.outcome_time_s.to_string(),
+                            r.final_pose.x.to_string(),
+                            r.final_pose.y.to_string(),
+                            r.progress_m.to_string(),
+                        ]),
+                        // An unstable member has no robot results.
+                        None => row.extend(std::iter::repeat_n(String::new(), 5)),
+                    }
+                }
+            }
+            w.write_record(&row).map_err(csv_err)?;
         }
         let bytes = w
             .into_inner()

@@ -30,6 +30,10 @@ pub struct Overrides {
     /// The start moved and turned from the file's (`vehicle.x_m`, `vehicle.y_m`,
     /// `vehicle.yaw_deg`): an ensemble member's perturbation.
     pub start_offset: Option<StartOffset>,
+    /// Each robot's start moved and turned from the file's, by its index in the file's
+    /// `[[vehicles]]` (`vehicles[i].vehicle.x_m`, `y_m`, `yaw_deg`): a member's perturbation of
+    /// an ensemble of several robots (empty: none).
+    pub robot_offsets: Vec<StartOffset>,
 }
 
 /// A start moved and turned from the file's: added to its `vehicle.x_m`, `vehicle.y_m` and
@@ -153,10 +157,19 @@ impl Overrides {
 
     /// The keys of the file these overrides replace.
     pub fn keys(&self) -> Vec<String> {
-        self.keys_and_flags()
+        let mut keys: Vec<String> = self
+            .keys_and_flags()
             .into_iter()
             .map(|(k, _)| k.to_string())
-            .collect()
+            .collect();
+        for (i, o) in self.robot_offsets.iter().enumerate() {
+            keys.push(format!("vehicles[{i}].vehicle.x_m"));
+            keys.push(format!("vehicles[{i}].vehicle.y_m"));
+            if o.yaw_deg != 0.0 {
+                keys.push(format!("vehicles[{i}].vehicle.yaw_deg"));
+            }
+        }
+        keys
     }
 
     /// Each overridden key with the command-line flag that sets it.
@@ -217,6 +230,11 @@ impl Overrides {
             stop_at_outcome: extra.stop_at_outcome.or(self.stop_at_outcome),
             order_salt: extra.order_salt.or(self.order_salt),
             start_offset: extra.start_offset.or(self.start_offset),
+            robot_offsets: if extra.robot_offsets.is_empty() {
+                self.robot_offsets.clone()
+            } else {
+                extra.robot_offsets.clone()
+            },
         }
     }
 
@@ -237,6 +255,18 @@ impl Overrides {
             add_to(v, "y_m", o.y_m);
             if o.yaw_deg != 0.0 {
                 add_to(v, "yaw_deg", o.yaw_deg);
+            }
+        }
+        if let Some(toml::Value::Array(robots)) = doc.get_mut("vehicles") {
+            for (o, r) in self.robot_offsets.iter().zip(robots.iter_mut()) {
+                let Some(v) = r.as_table_mut().and_then(|r| table(r, "vehicle")) else {
+                    continue;
+                };
+                add_to(v, "x_m", o.x_m);
+                add_to(v, "y_m", o.y_m);
+                if o.yaw_deg != 0.0 {
+                    add_to(v, "yaw_deg", o.yaw_deg);
+                }
             }
         }
         if let Some(sim) = table(doc, "simulation") {

@@ -4,7 +4,7 @@
 //! node's messages (`output::ros_course`); the node itself on DDS is exercised by
 //! `python/tests/test_ros_dds.py` (`test_course_score_on_ros_topics`).
 
-use crate::common;
+use crate::common::{self, decoded, mcap_messages as by_topic};
 
 use std::collections::BTreeMap;
 use tracksim::model::{Scenario, load_vehicle};
@@ -12,24 +12,6 @@ use tracksim::output::ros_course::{EventCursor, course_event, course_status};
 use tracksim::output::ros_names::Namespace;
 use tracksim::rosmsg::{self, CourseEvent, CourseStatus, RosMessage, Time};
 use tracksim::run::{CourseScore, End, Runner};
-
-/// Every message of `bytes` (an MCAP file) by topic: (log time ns, CDR bytes), in log order.
-fn by_topic(bytes: &[u8]) -> BTreeMap<String, Vec<(u64, Vec<u8>)>> {
-    let mut out: BTreeMap<String, Vec<(u64, Vec<u8>)>> = BTreeMap::new();
-    for m in mcap::MessageStream::new(bytes).expect("mcap") {
-        let m = m.expect("message");
-        out.entry(m.channel.topic.clone())
-            .or_default()
-            .push((m.log_time, m.data.to_vec()));
-    }
-    out
-}
-
-fn decoded<T: RosMessage>(msgs: &[(u64, Vec<u8>)]) -> Vec<T> {
-    msgs.iter()
-        .map(|(_, d)| rosmsg::decode::<T>(d).expect("decodes"))
-        .collect()
-}
 
 /// The recorded `/course/events` and `/course` of one robot (namespace `ns`) against the
 /// score `c` of its summary, and the run's last sample time `end` s.

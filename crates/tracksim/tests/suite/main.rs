@@ -78,6 +78,7 @@ mod slope;
 mod step_climb;
 mod stepping_api;
 mod team_attempts_review;
+mod team_ensemble;
 mod team_randomize;
 mod terrain;
 mod validation;

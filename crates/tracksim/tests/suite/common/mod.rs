@@ -241,3 +241,22 @@ pub fn box_triangles(lo: glam::DVec3, hi: glam::DVec3) -> Vec<[glam::DVec3; 3]> 
     .map(|f| f.map(c))
     .collect()
 }
+
+/// Every message of the MCAP file `bytes` by topic: (log time ns, its bytes), in log order.
+pub fn mcap_messages(bytes: &[u8]) -> std::collections::BTreeMap<String, Vec<(u64, Vec<u8>)>> {
+    let mut out: std::collections::BTreeMap<String, Vec<(u64, Vec<u8>)>> = Default::default();
+    for m in mcap::MessageStream::new(bytes).expect("mcap") {
+        let m = m.expect("message");
+        out.entry(m.channel.topic.clone())
+            .or_default()
+            .push((m.log_time, m.data.to_vec()));
+    }
+    out
+}
+
+/// The CDR messages `msgs` (as [`mcap_messages`] gives them) decoded as `T`.
+pub fn decoded<T: tracksim::rosmsg::RosMessage>(msgs: &[(u64, Vec<u8>)]) -> Vec<T> {
+    msgs.iter()
+        .map(|(_, d)| tracksim::rosmsg::decode::<T>(d).expect("decodes"))
+        .collect()
+}
