@@ -205,3 +205,50 @@ fn replays_from_its_keys(
         );
     }
 }
+
+/// The bundled head-on push (a neutral equilibrium: which way the pair drifts is the solver's
+/// coin toss) as an ensemble of 8: every member keeps the gap between the robots (they push,
+/// neither passes through) and meets every robot's `[expect]` bounds, which the file derives
+/// from the belt speed rather than from one member's drift.
+#[test]
+fn the_head_on_push_meets_its_bounds_in_every_member() {
+    let path = root().join("scenarios/team/corridor_head_on.toml");
+    let t = ScenarioTemplate::load(&path).unwrap();
+    let sc = t.file_scenario().unwrap();
+    let mut opts = EnsembleOptions::new(8);
+    opts.jobs = 2;
+    let r = run_ensemble(&t, &opts, |_, _| {}).unwrap();
+    assert_eq!(r.verdict(), "C 8/8", "{}", r.text());
+    let west: Vec<f64> = r.members.iter().map(|m| m.robots[0].final_pose.x).collect();
+    for m in &r.members {
+        let (w, e) = (&m.robots[0], &m.robots[1]);
+        let gap = e.final_pose.x - w.final_pose.x;
+        assert!(
+            (0.68..0.70).contains(&gap),
+            "member {}: gap {gap}",
+            m.member.index
+        );
+        for (k, robot) in m.robots.iter().enumerate() {
+            let expect = sc.robot_view(k).expect.clone();
+            let p = robot.final_pose;
+            for (what, v, range) in [
+                ("x", p.x, expect.final_x),
+                ("y", p.y, expect.final_y),
+                ("z", p.z, expect.final_z),
+            ] {
+                let [lo, hi] = range.expect("bounded");
+                assert!(
+                    (lo..=hi).contains(&v),
+                    "member {}: {} final {what} {v} outside [{lo}, {hi}]",
+                    m.member.index,
+                    robot.name
+                );
+            }
+        }
+    }
+    // The drift does go both ways: a bound set from member 0's drift would not hold.
+    let (lo, hi) = west
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &x| (a.min(x), b.max(x)));
+    assert!(hi - lo > 0.5, "west's final x {lo}..{hi}");
+}
