@@ -188,12 +188,7 @@ fn run_member(
     if let Some(dir) = &dir {
         crate::output::incomplete::mark_incomplete(dir)?;
     }
-    let which = crate::output::Outputs {
-        replay,
-        plots: false,
-        mcap: false,
-        raw_images: false,
-    };
+    let which = crate::output::Outputs::data(replay);
     let done = |dir: &Option<PathBuf>| match dir {
         Some(dir) => crate::output::incomplete::mark_complete(dir),
         None => Ok(()),

@@ -359,6 +359,17 @@ impl Outputs {
         mcap: false,
         raw_images: false,
     };
+
+    /// The data only, no plots and no `run.mcap`: `summary.json`, `trajectory.csv` and, with
+    /// `replay`, the replay data (what an ensemble's member writes).
+    pub const fn data(replay: bool) -> Outputs {
+        Outputs {
+            replay,
+            plots: false,
+            mcap: false,
+            raw_images: false,
+        }
+    }
 }
 
 /// Writes a session's run folder: what [`write_outputs`] writes (`which`) and the session's

@@ -47,12 +47,7 @@ fn a_reset_robots_review_and_video_follow_the_attempt_under_way() {
     let r = tracksim::run::run_team(&sc, Default::default()).unwrap();
     let dir = std::env::temp_dir().join(format!("tracksim_team_review_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let which = tracksim::output::Outputs {
-        replay: true,
-        plots: false,
-        mcap: false,
-        raw_images: false,
-    };
+    let which = tracksim::output::Outputs::data(true);
     tracksim::output::write_team(&sc, &r, &dir, which).unwrap();
     assert!(dir.join("red/attempts/1/summary.json").is_file());
     assert!(!dir.join("blue/attempts").exists());

@@ -183,12 +183,7 @@ fn replays_from_its_keys(
     std::fs::write(&file, toml::to_string(&doc).unwrap()).unwrap();
     let msc = tracksim::load_scenario(&file).unwrap();
     let rerun = tracksim::run::run_team(&msc, Default::default()).unwrap();
-    let which = tracksim::output::Outputs {
-        replay: false,
-        plots: false,
-        mcap: false,
-        raw_images: false,
-    };
+    let which = tracksim::output::Outputs::data(false);
     tracksim::output::write_team(&msc, &rerun, &again, which).unwrap();
     for name in ["red", "blue"] {
         let a = std::fs::read(again.join(name).join("trajectory.csv")).unwrap();
