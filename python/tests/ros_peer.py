@@ -773,7 +773,7 @@ def course(binary, out, links):
             gates_never_fall=all(
                 a.gates_passed <= b.gates_passed for a, b in zip(statuses, statuses[1:])
             ),
-            running_before=[m.status for m in statuses if stamp(m) < stamp(done)].count("running"),
+            before_finish=sorted({m.status for m in statuses if stamp(m) < stamp(done)}),
             completed=dict(
                 t=stamp(done), name=done.name, finished=done.finished,
                 gates_passed=done.gates_passed, gates_total=done.gates_total,

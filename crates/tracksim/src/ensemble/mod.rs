@@ -189,37 +189,34 @@ fn run_member(
         crate::output::incomplete::mark_incomplete(dir)?;
     }
     let which = crate::output::Outputs::data(replay);
-    let done = |dir: &Option<PathBuf>| match dir {
-        Some(dir) => crate::output::incomplete::mark_complete(dir),
-        None => Ok(()),
-    };
-    if msc.robot_count() > 1 {
+    let interrupted = |o: &crate::run::Outcome| matches!(o, crate::run::Outcome::Interrupted(_));
+    let ran = if msc.robot_count() > 1 {
         // A world of several robots: its outcome by its rule, each robot's in the member.
-        return match crate::run::run_team(&msc, opts) {
-            Ok(r) if matches!(r.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
-            Ok(r) => {
-                if let Some(dir) = &dir {
-                    crate::output::write_team(&msc, &r, dir, which)?;
-                }
-                done(&dir)?;
-                Ok(Some(MemberResult::of_team(m.clone(), sc, &r, dir)))
+        crate::run::run_team(&msc, opts).and_then(|r| {
+            if interrupted(&r.outcome) {
+                return Ok(None);
             }
-            Err(e @ Error::Unstable { .. }) => {
-                Ok(Some(MemberResult::unstable(m.clone(), sc, &e, dir)))
-            }
-            Err(e) => Err(e),
-        };
-    }
-    match crate::run::run_scenario_with(&msc, opts, |_, _| {}) {
-        Ok(result) if matches!(result.outcome, crate::run::Outcome::Interrupted(_)) => Ok(None),
-        Ok(result) => {
             if let Some(dir) = &dir {
-                crate::output::write_outputs(&msc, &result, dir, which)?;
+                crate::output::write_team(&msc, &r, dir, which)?;
+                crate::output::incomplete::mark_complete(dir)?;
             }
-            done(&dir)?;
-            Ok(Some(MemberResult::of_run(m.clone(), sc, &result, dir)))
-        }
+            Ok(Some(MemberResult::of_team(m.clone(), sc, &r, dir.clone())))
+        })
+    } else {
+        crate::run::run_scenario_with(&msc, opts, |_, _| {}).and_then(|r| {
+            if interrupted(&r.outcome) {
+                return Ok(None);
+            }
+            if let Some(dir) = &dir {
+                crate::output::write_outputs(&msc, &r, dir, which)?;
+                crate::output::incomplete::mark_complete(dir)?;
+            }
+            Ok(Some(MemberResult::of_run(m.clone(), sc, &r, dir.clone())))
+        })
+    };
+    // Stopped from outside mid-run: not a member (None); blown up: an unstable member.
+    match ran {
         Err(e @ Error::Unstable { .. }) => Ok(Some(MemberResult::unstable(m.clone(), sc, &e, dir))),
-        Err(e) => Err(e),
+        other => other,
     }
 }

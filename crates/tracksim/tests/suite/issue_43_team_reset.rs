@@ -6,25 +6,11 @@
 //! without the reset, and a live session with the instructor's reset replays byte for byte,
 //! attempts included.
 
-use crate::common::{self, root};
+use crate::common::{self, team_robot as robot};
 use crate::issue_43_school::{TeamSeats, race_step_session, send};
 use crate::live::until as state_where;
 use tracksim::model::Scenario;
 use tracksim::run::{RunResult, TeamResult};
-
-/// A PackBot 510 named `name` at (0, `y`) m heading +x, with the `[[vehicles.commands]]`
-/// entries `commands` (each a TOML body).
-fn robot(name: &str, y: f64, commands: &[&str]) -> String {
-    let mut text = format!(
-        "[[vehicles]]\nname = \"{name}\"\n[vehicles.vehicle]\nfile = \"{}\"\nx_m = 0.0\n\
-         y_m = {y}\n",
-        root().join("vehicles/packbot510.toml").display()
-    );
-    for c in commands {
-        text.push_str(&format!("[[vehicles.commands]]\n{c}\n"));
-    }
-    text
-}
 
 /// What both robots do: forward at 0.3 m/s turning left at 0.1 rad/s.
 const DRIVE: &str = "forward_mps = 0.3\nyaw_rate_rad_s = 0.1";

@@ -260,3 +260,17 @@ pub fn decoded<T: tracksim::rosmsg::RosMessage>(msgs: &[(u64, Vec<u8>)]) -> Vec<
         .map(|(_, d)| tracksim::rosmsg::decode::<T>(d).expect("decodes"))
         .collect()
 }
+
+/// A `[[vehicles]]` entry of a team file: a PackBot 510 named `name` at (0, `y`) m heading +x,
+/// with the `[[vehicles.commands]]` entries `commands` (each a TOML body).
+pub fn team_robot(name: &str, y: f64, commands: &[&str]) -> String {
+    let mut text = format!(
+        "[[vehicles]]\nname = \"{name}\"\n[vehicles.vehicle]\nfile = \"{}\"\nx_m = 0.0\n\
+         y_m = {y}\n",
+        root().join("vehicles/packbot510.toml").display()
+    );
+    for c in commands {
+        text.push_str(&format!("[[vehicles.commands]]\n{c}\n"));
+    }
+    text
+}
