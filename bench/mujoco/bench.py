@@ -31,6 +31,16 @@ figures (JSON) into ``--out``.
 ``--steps`` also drives every model (MuJoCo and tracksim) at a 0.08 / 0.10 / 0.12 m step of
 friction 0.6, edge 0.5 m ahead, for 8 s: climbed when the body origin passes x = 1.2 m on top
 without tilting past 60 deg (``scenarios/packbot_step.toml``'s outcome).
+
+``--frontier`` (issue 58; MuJoCo only, no tracksim binary) instead sweeps ``mj_okada40`` over
+the time step (``--frontier-dt``), the solver and its iteration cap (``--frontier-solvers``)
+and the contact time constant (``--frontier-solref``, each raised to 2 dt), the model otherwise
+as above, and for each setting measures the CPU time per simulated second
+(``time.process_time`` of the stepping and the rollback on the flat drive), the flat speed and
+drift, the step-climb verdicts at ``--frontier-steps`` and the skid-steer turn rate (belts at
++-0.3 m/s); it prints a markdown table, names the fastest setting with the verdicts of the
+default setting at 1 ms, and writes ``frontier.md`` and ``frontier.json`` into ``--out``:
+    bench/mujoco/.venv/bin/python bench/mujoco/bench.py --frontier --out /tmp/mj_frontier
 """
 
 import argparse
@@ -597,11 +607,315 @@ def report(info, summary, loads, climbs, runs=None):
     return "\n".join(lines) + "\n"
 
 
+# --- The frontier of mj_okada40 over dt and solver settings (issue 58) -----------------------
+
+#: MuJoCo's solvers by the names --frontier-solvers takes.
+SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL_CG,
+           "pgs": mujoco.mjtSolver.mjSOL_PGS}
+#: MuJoCo's default contact time constant (solref "0.02 1"), the models' contact softness.
+DEFAULT_TIMECONST = 0.02  # s
+FRONTIER_MODEL = "mj_okada40"
+#: Sampling of the frontier's runs (tilt, climb, divergence, yaw), s of simulated time: a
+#: whole number of steps at every dt of the default grid.
+FRONTIER_CHECK = 0.004
+FRONTIER_CLIMB_S = 8.0  # s, as --steps
+FRONTIER_TURN_S, FRONTIER_TURN_FROM = 5.0, 1.0  # s: turn for 5 s, yaw rate mean over 1-5 s
+BAD_STATE = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL,
+             mujoco.mjtWarning.mjWARN_BADQACC)
+
+
+class OkadaRollbackBothWays(OkadaRollback):
+    """`OkadaRollback` for belts running either way (the skid-steer turn drives one track
+    backward): a link that has moved back past its rest pose is set forward by one pitch, so
+    that its joint stays in [0, p) as under forward motion (the same track shapes)."""
+
+    def __call__(self, d):
+        qs = self.qs
+        for i, (q, p) in enumerate(zip(qs.tolist(), self.step)):
+            f = q / p
+            if f >= 1.0:
+                qs[i] = q - p
+                self.rollbacks += 1
+            elif f < 0.0:
+                qs[i] = q + p
+                self.rollbacks += 1
+
+
+def frontier_label(s):
+    tc = "default" if s["timeconst"] is None else f"{s['timeconst'] * 1e3:g} ms"
+    return f"dt {s['dt'] * 1e3:g} ms, {s['solver']} {s['iterations']}, solref {tc}"
+
+
+def frontier_settings(dts_ms, solvers, timeconsts):
+    """The grid: every dt x solver entry x time constant. A solver entry is NAME:ITERATIONS,
+    optionally @DT+DT (ms: only at those dts) and/or /d (only MuJoCo's default contact
+    softness). A time constant is raised to 2 dt (MuJoCo's own floor, `refsafe`); one that
+    then equals another at that dt is dropped, as is one at or above the default's 0.02 s."""
+    out = []
+    for dt_ms in dts_ms:
+        dt = dt_ms * 1e-3
+        for entry in solvers:
+            only_default = entry.endswith("/d")
+            entry = entry.removesuffix("/d")
+            spec, _, at = entry.partition("@")
+            name, _, iters = spec.partition(":")
+            if name not in SOLVERS:
+                sys.exit(f"bench.py: unknown solver {name!r} in --frontier-solvers; "
+                         f"known: {', '.join(SOLVERS)}")
+            if at and not any(abs(float(x) - dt_ms) < 1e-9 for x in at.split("+")):
+                continue
+            seen = set()
+            for tc in timeconsts:
+                if tc is not None:
+                    if only_default:
+                        continue
+                    tc = max(tc, 2 * dt)
+                    if tc >= DEFAULT_TIMECONST - 1e-12:
+                        continue
+                key = None if tc is None else round(tc, 9)
+                if key in seen:
+                    continue
+                seen.add(key)
+                out.append(dict(dt=dt, solver=name, iterations=int(iters or 100), timeconst=tc))
+    return out
+
+
+def frontier_build(s, h=None, rollback=OkadaRollback):
+    """mj_okada40 as built for the other modes, then the setting's options: the time step, the
+    solver and its iteration cap, and every geom's contact time constant (damping ratio 1 kept;
+    None: MuJoCo's default, untouched). MuJoCo's reset of a state gone bad is off, so that it
+    is seen (its time kept) and the run stopped."""
+    m, d, r = build(FRONTIER_MODEL, h)
+    m.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_AUTORESET
+    m.opt.timestep = s["dt"]
+    m.opt.solver = SOLVERS[s["solver"]]
+    m.opt.iterations = s["iterations"]
+    if s["timeconst"] is not None:
+        m.geom_solref[:, 0] = s["timeconst"]
+    mujoco.mj_forward(m, d)
+    return m, d, r, rollback(m, d)
+
+
+def bad_state(d):
+    return (not np.all(np.isfinite(d.qpos))) or any(d.warning[w].number for w in BAD_STATE)
+
+
+def frontier_flat(s, duration, repeats):
+    """The flat drive (0.3 m/s, `duration` s): CPU time of the stepping and the rollback
+    (time.process_time, chunks of 20 ms simulated), the speed over the last half, the lateral
+    drift (y at the end), solver iterations (sampled at the chunks' ends). Deterministic, so the
+    repeats only re-time it."""
+    cpus = []
+    for _ in range(repeats):
+        m, d, r, after = frontier_build(s)
+        drive(m, d, r, SPEED)
+        per = int(round(0.02 / s["dt"]))
+        chunks = int(round(duration / 0.02))
+        cpu, niter, xh, th, diverged = 0.0, [], None, None, None
+        for i in range(chunks):
+            t0 = time.process_time()
+            advance(m, d, after, per)
+            cpu += time.process_time() - t0
+            niter.append(int(d.solver_niter[:max(1, d.nisland)].max()))
+            if 2 * (i + 1) == chunks:
+                xh, th = float(d.qpos[0]), d.time
+            if bad_state(d):
+                diverged = d.time
+                break
+        cpus.append(cpu / d.time)
+    res = dict(cpu_per_sim_s=statistics.median(cpus), cpu_runs=cpus,
+               speed=(float(d.qpos[0]) - xh) / (d.time - th) if xh is not None and diverged is None
+               else float("nan"),
+               drift=float(d.qpos[1]), height=float(d.qpos[2]), tilt=tilt_deg(d),
+               niter_mean=statistics.fmean(niter), niter_max=max(niter), nefc=int(d.nefc),
+               ncon=int(d.ncon), rollbacks=after.rollbacks, diverged=diverged)
+    res["rtf"] = 1.0 / res["cpu_per_sim_s"]
+    return res
+
+
+def frontier_climb(s, h):
+    """`climb_mujoco` at this setting, checked every FRONTIER_CHECK s (tilt, divergence, the
+    first time the body origin is past SUCCESS_X on top)."""
+    m, d, r, after = frontier_build(s, h)
+    drive(m, d, r, SPEED)
+    per = max(1, int(round(FRONTIER_CHECK / s["dt"])))
+    worst, t_climb, diverged = 0.0, None, None
+    while d.time < FRONTIER_CLIMB_S - 1e-9:
+        advance(m, d, after, per)
+        if bad_state(d):
+            diverged = d.time
+            break
+        worst = max(worst, tilt_deg(d))
+        if worst > MAX_TILT_DEG:
+            break
+        if t_climb is None and d.qpos[0] > SUCCESS_X and d.qpos[2] > h:
+            t_climb = d.time
+    ok = diverged is None and d.qpos[0] > SUCCESS_X and d.qpos[2] > h and worst <= MAX_TILT_DEG
+    return dict(climbed=bool(ok), t_climb=t_climb if ok else None, x=float(d.qpos[0]),
+                z=float(d.qpos[2]), max_tilt=worst, diverged=diverged)
+
+
+def yaw(d):
+    w, x, y, z = d.qpos[3:7]
+    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+
+def frontier_turn(s):
+    """Skid-steer in place: left belt +0.3 m/s, right -0.3 m/s, FRONTIER_TURN_S s on flat
+    ground; the mean yaw rate (rad/s, positive to the left) from FRONTIER_TURN_FROM s on."""
+    m, d, r, after = frontier_build(s, rollback=OkadaRollbackBothWays)
+    for a in range(m.nu):
+        jname = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, m.actuator_trnid[a, 0])
+        d.ctrl[a] = (SPEED if jname.endswith("l") else -SPEED) / r
+    per = max(1, int(round(FRONTIER_CHECK / s["dt"])))
+    unwrapped, last, y0, t0, diverged = 0.0, yaw(d), None, None, None
+    while d.time < FRONTIER_TURN_S - 1e-9:
+        advance(m, d, after, per)
+        if bad_state(d):
+            diverged = d.time
+            break
+        a = yaw(d)
+        unwrapped += math.remainder(a - last, 2 * math.pi)
+        last = a
+        if y0 is None and d.time >= FRONTIER_TURN_FROM - 1e-9:
+            y0, t0 = unwrapped, d.time
+    rate = (unwrapped - y0) / (d.time - t0) if y0 is not None and diverged is None else float("nan")
+    return dict(rate=rate, x=float(d.qpos[0]), y=float(d.qpos[1]), diverged=diverged,
+                rollbacks=after.rollbacks)
+
+
+def flat_fault(w):
+    """Why a row's flat drive or turn is not a vehicle driving on the ground (None: it is): the
+    state went bad, or the flat drive ended tipped past MAX_TILT_DEG or off the ground (body
+    origin outside 0.05-0.2 m; 0.09 m at rest)."""
+    f, t = w["flat"], w["turn"]
+    if f["diverged"] is not None:
+        return f"flat drive went bad at {f['diverged']:.3f} s"
+    if f["tilt"] > MAX_TILT_DEG:
+        return f"flat drive ended tilted {f['tilt']:.0f} deg"
+    if not 0.05 <= f["height"] <= 0.2:
+        return f"flat drive ended at z = {f['height']:.2f} m"
+    if t["diverged"] is not None:
+        return f"turn went bad at {t['diverged']:.3f} s"
+    return None
+
+
+def same_as(w, ref):
+    return w["verdicts"] == ref["verdicts"] and flat_fault(w) is None
+
+
+def verdicts(climbs, heights):
+    return "".join("D" if climbs[h]["diverged"] is not None else
+                   ("S" if climbs[h]["climbed"] else "F") for h in heights)
+
+
+def frontier_report(info, rows, heights, ref, loads, duration, repeats):
+    lines = [f"Machine: {info['cpu']}, {info['nproc']} cores; MuJoCo {info['mujoco']}, "
+             f"Python {info['python']}; {info['date']}; load average (1 min) during the sweep "
+             f"{min(loads):.2f}-{max(loads):.2f}.", "",
+             f"`{FRONTIER_MODEL}` only. CPU s per sim s: `time.process_time` of the stepping "
+             f"and the rollback on the flat {duration:g} s drive at {SPEED} m/s (median of "
+             f"{repeats}); RTF = its inverse. Speed: mean over the last {duration / 2:g} s; "
+             f"drift: y at the end. Steps (friction {FRICTION}, edge {STEP_EDGE_X} m ahead, "
+             f"{FRONTIER_CLIMB_S:g} s): S (climbed, the first time the body origin was past "
+             f"x = {SUCCESS_X} m on top) or F (D: the state went bad). Turn: belts at "
+             f"+-{SPEED} m/s, mean yaw rate {FRONTIER_TURN_FROM:g}-{FRONTIER_TURN_S:g} s. "
+             f"Iters: solver iterations a step (mean / max, sampled every 20 ms of the flat "
+             f"drive). Same verdicts: the same S/F series as the reference, with the flat drive "
+             f"and the turn on the ground (not gone bad, not tipped past {MAX_TILT_DEG:g} deg, "
+             f"the flat drive's body origin at 0.05-0.2 m at the end). Reference: "
+             f"{frontier_label(ref['setting'])}.", "",
+             "| dt ms | solver | solref timeconst | CPU s per sim s | RTF | speed m/s | "
+             "drift m | iters | steps " + "/".join(f"{h:g}" for h in heights) +
+             " m | turn rad/s (x ref) | same verdicts as the 1 ms default |",
+             "|---:|---|---|---:|---:|---:|---:|---:|---|---:|---|"]
+    for w in rows:
+        s, f = w["setting"], w["flat"]
+        tc = "default (20 ms)" if s["timeconst"] is None else f"{s['timeconst'] * 1e3:g} ms"
+        steps = " ".join(f"D {w['climbs'][h]['diverged']:.2f}s"
+                         if w["climbs"][h]["diverged"] is not None else
+                         (f"S {w['climbs'][h]['t_climb']:.2f}s" if w["climbs"][h]["climbed"]
+                          else "F") for h in heights)
+        rate = w["turn"]["rate"]
+        rel = rate / ref["turn"]["rate"] if ref["turn"]["rate"] else float("nan")
+        fault = flat_fault(w)
+        same = ("yes" if same_as(w, ref) else "no") + (f" ({fault})" if fault else "")
+        mark = "**" if w is ref else ""
+        lines.append(
+            f"| {mark}{s['dt'] * 1e3:g}{mark} | {s['solver']} {s['iterations']} | {tc} | "
+            f"{f['cpu_per_sim_s']:.4f} | {f['rtf']:.1f} | {f['speed']:.4f} | {f['drift']:+.4f} | "
+            f"{f['niter_mean']:.1f} / {f['niter_max']} | {steps} | {rate:.3f} ({rel:.2f}) | "
+            f"{same} |")
+    same = [w for w in rows if same_as(w, ref)]
+    best = min(same, key=lambda w: w["flat"]["cpu_per_sim_s"])
+    lines += ["", f"Reference verdicts ({frontier_label(ref['setting'])}): "
+              f"{ref['verdicts']} at " + ", ".join(f"{h:g}" for h in heights) + " m.",
+              f"**Fastest setting with the reference's verdicts: "
+              f"{frontier_label(best['setting'])}: {best['flat']['cpu_per_sim_s']:.4f} CPU s "
+              f"per sim s (RTF {best['flat']['rtf']:.1f}), "
+              f"{ref['flat']['cpu_per_sim_s'] / best['flat']['cpu_per_sim_s']:.2f}x the "
+              f"reference's {ref['flat']['cpu_per_sim_s']:.4f}.**"]
+    close = [w for w in same
+             if abs(w["flat"]["speed"] / ref["flat"]["speed"] - 1) <= 0.05
+             and abs(w["turn"]["rate"] / ref["turn"]["rate"] - 1) <= 0.10]
+    if close:
+        b2 = min(close, key=lambda w: w["flat"]["cpu_per_sim_s"])
+        lines.append(f"Fastest with the same verdicts, the flat speed within 5 % and the turn "
+                     f"rate within 10 % of the reference's: {frontier_label(b2['setting'])}: "
+                     f"{b2['flat']['cpu_per_sim_s']:.4f} CPU s per sim s "
+                     f"(RTF {b2['flat']['rtf']:.1f}).")
+    return "\n".join(lines) + "\n", best
+
+
+def run_frontier(a):
+    heights = [float(h) for h in a.frontier_steps.split(",") if h]
+    dts = [float(x) for x in a.frontier_dt.split(",") if x]
+    tcs = [None if x == "default" else float(x) for x in a.frontier_solref.split(",") if x]
+    settings = frontier_settings(dts, [x for x in a.frontier_solvers.split(",") if x], tcs)
+    ref_s = dict(dt=DT, solver="newton", iterations=100, timeconst=None)
+    # the reference first (every row is compared with it), whether or not the grid holds it
+    settings = [ref_s] + [s for s in settings if s != ref_s]
+    info = machine()
+    os.makedirs(a.out, exist_ok=True)
+    rows, loads, ref = [], [], None
+    cpu0 = time.process_time()
+    for n, s in enumerate(settings):
+        loads.append(os.getloadavg()[0])
+        print(f"[{n + 1}/{len(settings)}] {frontier_label(s)}", file=sys.stderr, flush=True)
+        w = dict(setting=s, flat=frontier_flat(s, a.duration, a.repeat),
+                 climbs={h: frontier_climb(s, h) for h in heights}, turn=frontier_turn(s))
+        w["verdicts"] = verdicts(w["climbs"], heights)
+        if ref is None:
+            ref = w
+        rows.append(w)
+        print(f"    {w['flat']['cpu_per_sim_s']:.4f} CPU s/sim s, speed "
+              f"{w['flat']['speed']:.4f}, drift {w['flat']['drift']:+.4f}, steps {w['verdicts']}, "
+              f"turn {w['turn']['rate']:.3f} rad/s; sweep CPU so far "
+              f"{time.process_time() - cpu0:.0f} s", file=sys.stderr, flush=True)
+        with open(os.path.join(a.out, "frontier.json"), "w") as f:
+            json.dump(dict(machine=info, loads=loads, heights=heights, rows=[
+                dict(w, climbs={str(h): c for h, c in w["climbs"].items()}) for w in rows]),
+                f, indent=1)
+    rows.sort(key=lambda w: (w["setting"]["dt"], list(SOLVERS).index(w["setting"]["solver"]),
+                             -w["setting"]["iterations"],
+                             -(w["setting"]["timeconst"] or DEFAULT_TIMECONST)))
+    text, best = frontier_report(info, rows, heights, ref, loads, a.duration, a.repeat)
+    text += f"\nSweep CPU time (this process): {time.process_time() - cpu0:.0f} s.\n"
+    with open(os.path.join(a.out, "frontier.json"), "w") as f:
+        json.dump(dict(machine=info, loads=loads, heights=heights, reference=ref["setting"],
+                       fastest_same_verdicts=best["setting"], sweep_cpu_s=time.process_time() - cpu0,
+                       rows=[dict(w, climbs={str(h): c for h, c in w["climbs"].items()})
+                             for w in rows]), f, indent=1)
+    with open(os.path.join(a.out, "frontier.md"), "w") as f:
+        f.write(text)
+    print(text)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--tracksim", required=True, help="path to the release tracksim binary")
+    ap.add_argument("--tracksim", help="path to the release tracksim binary (not with --frontier)")
     ap.add_argument("--contact-floor", help="path to the contact_floor example binary")
-    ap.add_argument("--scenario", required=True, help="scenarios/packbot_flat.toml")
+    ap.add_argument("--scenario", help="scenarios/packbot_flat.toml (not with --frontier)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--duration", type=float, default=10.0, help="simulated s per run")
     ap.add_argument("--models", default=",".join(MODELS), help="MuJoCo models, comma-separated")
@@ -611,9 +925,27 @@ def main():
                          "comma-separated")
     ap.add_argument("--steps", default="", help="step heights to climb, m, e.g. 0.08,0.10,0.12")
     ap.add_argument("--out", default="bench_out/mujoco")
+    ap.add_argument("--frontier", action="store_true",
+                    help=f"instead: sweep {FRONTIER_MODEL} over dt and solver settings (MuJoCo "
+                         "only; --repeat times the flat drive, --duration its length); writes "
+                         "frontier.md and frontier.json into --out")
+    ap.add_argument("--frontier-dt", default="0.5,1,2,4", help="time steps, ms")
+    ap.add_argument("--frontier-solvers", default="newton:100,newton:4,newton:3,newton:2,cg:100,cg:10,"
+                    "pgs:20@1+4/d,pgs:8@1+4/d",
+                    help="NAME:ITERATIONS[@DT+DT][/d], comma-separated (newton, cg, pgs; @: only "
+                         "at those dts, ms; /d: only at the default contact softness)")
+    ap.add_argument("--frontier-solref", default="default,0.008,0.004,0.002",
+                    help="contact time constants, s ('default': MuJoCo's 0.02), each raised to "
+                         "2 dt")
+    ap.add_argument("--frontier-steps", default="0.08,0.10,0.11,0.12", help="step heights, m")
     a = ap.parse_args()
     if a.repeat < 1 or a.duration <= 0:
         sys.exit("bench.py: --repeat must be >= 1 and --duration > 0")
+    if a.frontier:
+        run_frontier(a)
+        return
+    if not a.tracksim or not a.scenario:
+        sys.exit("bench.py: --tracksim and --scenario are required (except with --frontier)")
     models = [m for m in a.models.split(",") if m]
     for m in models:
         if m not in MODELS:
