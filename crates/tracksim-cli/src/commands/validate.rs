@@ -21,9 +21,26 @@ pub struct ValidateArgs {
     /// rigid terrain, no slop", MPa (track rubber, Shore 60-80A: about 3.5-9 MPa).
     #[arg(long, default_value_t = tracksim::validate::TRACK_RUBBER_YOUNGS_MODULUS_PA / 1e6)]
     pub rubber_modulus_mpa: f64,
-    /// Run only one group of cases: table_iv, slope, turning, figures or soil.
+    /// Run only one group of cases: table_iv, slope, turning, figures, soil or accuracy.
     #[arg(long)]
     pub only: Option<String>,
+    /// The accuracy suite (issue 58): Table IV (with grousers), the slope limit, skid steering
+    /// and the accuracy rows (tether and Coulomb at friction 0.3-1.0, slope limits against
+    /// atan(mu), the step-climb limit against a converged run, ten minutes straight and
+    /// parked, mirror and translation). One table; exits 1 if a row fails. With `--dt`,
+    /// `--iterations`, `--stabilization-iterations`: how accurate that setting is.
+    #[arg(long)]
+    pub accuracy: bool,
+    /// Time step of every case, s (default: each case's file's, 0.001 for most).
+    #[arg(long, value_name = "S")]
+    pub dt: Option<f64>,
+    /// Solver iterations of every case (default: each case's file's; Quince's Table IV 8,
+    /// the others 4).
+    #[arg(long, value_name = "N")]
+    pub iterations: Option<usize>,
+    /// Position-correction passes of every case (default: each case's file's, 2).
+    #[arg(long, value_name = "N")]
+    pub stabilization_iterations: Option<usize>,
     /// Also run each Table IV row (with grousers) as an ensemble of N members (member 0 the
     /// asserted run, the others perturbed as `run --ensemble`; docs/ENSEMBLE.md): each row
     /// reports "S 8/8" or "marginal 5/8".
@@ -55,8 +72,35 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
             )
         })?),
     };
+    if let Some(dt) = a.dt
+        && !(dt.is_finite() && dt > 0.0 && dt <= 0.01)
+    {
+        return Err(bad_arg(
+            "--dt",
+            format!("must be a time step in seconds, above 0 and at most 0.01, got {dt}"),
+        ));
+    }
+    for (flag, n) in [
+        ("--iterations", a.iterations),
+        ("--stabilization-iterations", a.stabilization_iterations),
+    ] {
+        if n.is_some_and(|n| n == 0 || n > 100) {
+            return Err(bad_arg(flag, "must be between 1 and 100".to_string()));
+        }
+    }
+    let accuracy_only = a.accuracy && only.is_none();
     let opts = tracksim::validate::ValidationOptions {
         rubber_youngs_modulus_pa: mpa * 1e6,
+        accuracy: a.accuracy,
+        setting: tracksim::validate::SolverSetting {
+            dt_s: a.dt,
+            iterations: a.iterations,
+            stabilization: a.stabilization_iterations,
+        },
+        // The suite asserts the Table IV column with grousers; the others are reports.
+        without_grousers: !accuracy_only,
+        rigid_contact: !accuracy_only,
+        compliant_grousers: !accuracy_only,
         only,
         ensemble: a.ensemble.unwrap_or(0) as usize,
         stop: Some(&super::STOP),

@@ -19,6 +19,11 @@ pub struct Overrides {
     pub duration_s: Option<f64>,
     /// Solver iterations (`simulation.solver_iterations`).
     pub solver_iterations: Option<usize>,
+    /// Time step, s (`simulation.dt_s`).
+    pub dt_s: Option<f64>,
+    /// Position-correction passes per solver iteration
+    /// (`simulation.stabilization_iterations`).
+    pub stabilization_iterations: Option<usize>,
     /// A file of `[[commands]]` replacing the scenario's (e.g. the `commands.toml` of a
     /// `tracksim drive` session).
     pub commands: Option<PathBuf>,
@@ -186,6 +191,12 @@ impl Overrides {
                 "simulation.solver_iterations",
                 "--solver-iterations",
             ),
+            (self.dt_s.is_some(), "simulation.dt_s", "--dt"),
+            (
+                self.stabilization_iterations.is_some(),
+                "simulation.stabilization_iterations",
+                "--stabilization-iterations",
+            ),
             (self.commands.is_some(), "commands", "--commands"),
             (
                 self.stop_at_outcome.is_some(),
@@ -226,6 +237,10 @@ impl Overrides {
             method: extra.method.or(self.method),
             duration_s: extra.duration_s.or(self.duration_s),
             solver_iterations: extra.solver_iterations.or(self.solver_iterations),
+            dt_s: extra.dt_s.or(self.dt_s),
+            stabilization_iterations: extra
+                .stabilization_iterations
+                .or(self.stabilization_iterations),
             commands: extra.commands.clone().or_else(|| self.commands.clone()),
             stop_at_outcome: extra.stop_at_outcome.or(self.stop_at_outcome),
             order_salt: extra.order_salt.or(self.order_salt),
@@ -283,6 +298,13 @@ impl Overrides {
             if let Some(n) = self.solver_iterations {
                 let n = i64::try_from(n).unwrap_or(i64::MAX);
                 sim.insert("solver_iterations".into(), toml::Value::Integer(n));
+            }
+            if let Some(dt) = self.dt_s {
+                sim.insert("dt_s".into(), toml::Value::Float(dt));
+            }
+            if let Some(n) = self.stabilization_iterations {
+                let n = i64::try_from(n).unwrap_or(i64::MAX);
+                sim.insert("stabilization_iterations".into(), toml::Value::Integer(n));
             }
         }
         if self.commands.is_some() {

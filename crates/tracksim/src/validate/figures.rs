@@ -49,10 +49,15 @@ fn present(root: &Path, name: &str) -> bool {
 }
 
 /// Adds the Fig. 2 and Fig. 3 runs whose files are present.
-pub(super) fn add_jobs(jobs: &mut Jobs, method: TrackMethod, root: &Path) -> Result<()> {
+pub(super) fn add_jobs(
+    jobs: &mut Jobs,
+    method: TrackMethod,
+    root: &Path,
+    setting: super::options::SolverSetting,
+) -> Result<()> {
     let with = |m: TrackMethod| Overrides {
         method: Some(m),
-        ..Overrides::default()
+        ..setting.overrides()
     };
     if present(root, BUMP) {
         let sc = crate::cases::template(root, BUMP, &with(method))?.file_scenario()?;

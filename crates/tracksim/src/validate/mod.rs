@@ -25,6 +25,7 @@
 //! terrain under a side view). This file only runs them: the files import downward, never
 //! `mod.rs`.
 
+mod accuracy;
 mod compile;
 mod drawing;
 mod figures;
@@ -38,13 +39,17 @@ mod soil;
 mod table_iv;
 mod turning;
 
+pub use accuracy::{
+    REFERENCE_DT_S, REFERENCE_ITERATIONS, SLOPE_MU, STEP_HEIGHTS_M, STEP_HEIGHTS_NO_GROUSERS_M,
+    TETHER_MU,
+};
 pub use limits::{
     PACKBOT_SPEED_MPS, QUINCE_MIN_LINK_MASS_KG, QUINCE_SOLVER_ITERATIONS, SLOPE_ANGLES_DEG,
     SLOPE_LIMIT_DEG, SLOPE_TOLERANCE_DEG, STEP_DEPTH_M, STEP_DURATION_S, STEP_EDGE_X_M,
     STEP_ON_TOP_Z_M, STEP_SPEED_MPS, STEP_SUCCESS_MARGIN_M, STRAIGHT_SLIP_LIMIT,
     TABLE_IV_CONTACT_SLOP_M, TURN_RATIO_BAND,
 };
-pub use options::{Group, ValidationOptions};
+pub use options::{Group, SolverSetting, ValidationOptions};
 
 pub use report::{Case, RubberNote, SlopeRun, StepCase, StepRun, ValidationReport};
 pub use rubber::{
@@ -84,22 +89,34 @@ pub fn run_validation_with(
     let quince = load_vehicle(&root.join("vehicles/quince.toml"))?;
     let packbot = load_vehicle(&root.join("vehicles/packbot510.toml"))?;
 
-    let on = |g: Group| opts.only.is_none_or(|o| o == g);
+    // `--only` picks one group; `--accuracy` the suite of issue 58 (Table IV, slope, turning
+    // and the accuracy rows); by default every group but the accuracy rows.
+    let on = |g: Group| match (opts.only, opts.accuracy) {
+        (Some(o), _) => o == g,
+        (None, true) => matches!(
+            g,
+            Group::TableIv | Group::Slope | Group::Turning | Group::Accuracy
+        ),
+        (None, false) => g != Group::Accuracy,
+    };
     let mut jobs = Jobs::default();
     if on(Group::TableIv) {
         table_iv::add_jobs(&mut jobs, &quince, method, opts, root)?;
     }
     if on(Group::Slope) {
-        slope::add_jobs(&mut jobs, &packbot, method, root)?;
+        slope::add_jobs(&mut jobs, &packbot, method, root, opts.setting)?;
     }
     if on(Group::Turning) {
-        turning::add_jobs(&mut jobs, &packbot, method, root)?;
+        turning::add_jobs(&mut jobs, &packbot, method, root, opts.setting)?;
     }
     if on(Group::Figures) {
-        figures::add_jobs(&mut jobs, method, root)?;
+        figures::add_jobs(&mut jobs, method, root, opts.setting)?;
     }
     if on(Group::Soil) {
-        soil::add_jobs(&mut jobs, &packbot, root)?;
+        soil::add_jobs(&mut jobs, &packbot, root, opts.setting)?;
+    }
+    if on(Group::Accuracy) {
+        accuracy::add_jobs(&mut jobs, &packbot, method, root, opts.setting)?;
     }
 
     let mut runs = jobs.run(opts.stop, &mut progress);
@@ -123,6 +140,10 @@ pub fn run_validation_with(
     if on(Group::Soil) {
         soil::assemble(&mut report, &mut runs, &packbot);
     }
+    if on(Group::Accuracy) {
+        accuracy::assemble(&mut report, &mut runs, &packbot);
+    }
+    report.setting = opts.setting.words();
     report.wall_time_s = wall.elapsed().as_secs_f64();
     report.interrupted = opts.stop.is_some_and(|s| s.load(Ordering::SeqCst));
     Ok(report)

@@ -24,6 +24,54 @@ pub struct ValidationOptions {
     /// member 0 is the asserted run, the others perturbed as `tracksim run --ensemble`; the
     /// row reports "S 8/8" or "marginal 5/8" (reported, the nominal run stays the asserted one).
     pub ensemble: usize,
+    /// The accuracy suite (issue 58): Table IV, slope, turning and the accuracy rows.
+    pub accuracy: bool,
+    /// The solver setting every case runs at (None in a field: each case's file's own value).
+    pub setting: SolverSetting,
+}
+
+/// A solver setting written into every validation case's `[simulation]` keys (`tracksim
+/// validate --dt S --iterations N --stabilization-iterations N`): the accuracy suite asks how
+/// accurate a setting is. A field left `None` keeps each case's own value (the Table IV cases
+/// run Quince at 8 solver iterations, the others at the default 4).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolverSetting {
+    /// Time step, s (`simulation.dt_s`).
+    pub dt_s: Option<f64>,
+    /// Solver iterations (`simulation.solver_iterations`).
+    pub iterations: Option<usize>,
+    /// Position-correction passes (`simulation.stabilization_iterations`).
+    pub stabilization: Option<usize>,
+}
+
+impl SolverSetting {
+    /// The setting as overrides of a scenario file's keys.
+    pub fn overrides(&self) -> crate::model::Overrides {
+        crate::model::Overrides {
+            dt_s: self.dt_s,
+            solver_iterations: self.iterations,
+            stabilization_iterations: self.stabilization,
+            ..Default::default()
+        }
+    }
+
+    /// The setting in words, e.g. "dt 4 ms, 8 iterations, each file's stabilization".
+    pub fn words(&self) -> String {
+        let dt = self
+            .dt_s
+            .map_or("each file's dt".into(), |d| format!("dt {} ms", d * 1e3));
+        let it = self
+            .iterations
+            .map_or("each file's iterations".into(), |n| {
+                format!("{n} iterations")
+            });
+        let st = self
+            .stabilization
+            .map_or("each file's stabilization passes".into(), |n| {
+                format!("{n} stabilization passes")
+            });
+        format!("{dt}, {it}, {st}")
+    }
 }
 
 /// A group of validation cases (`tracksim validate --only GROUP`).
@@ -39,11 +87,16 @@ pub enum Group {
     Figures,
     /// Deformable soil against terramechanics.
     Soil,
+    /// The accuracy rows of issue 58 (`accuracy.rs`): tether and drawbar at friction 0.3-1.0,
+    /// slope limits against atan(mu), the step-climb limit, long drives, invariances.
+    Accuracy,
 }
 
 impl Group {
     /// The names `--only` accepts.
-    pub const NAMES: [&'static str; 5] = ["table_iv", "slope", "turning", "figures", "soil"];
+    pub const NAMES: [&'static str; 6] = [
+        "table_iv", "slope", "turning", "figures", "soil", "accuracy",
+    ];
 
     /// The group named `name`.
     pub fn from_name(name: &str) -> Option<Group> {
@@ -53,6 +106,7 @@ impl Group {
             "turning" => Group::Turning,
             "figures" => Group::Figures,
             "soil" => Group::Soil,
+            "accuracy" => Group::Accuracy,
             _ => return None,
         })
     }
@@ -68,6 +122,8 @@ impl Default for ValidationOptions {
             stop: None,
             only: None,
             ensemble: 0,
+            accuracy: false,
+            setting: SolverSetting::default(),
         }
     }
 }

@@ -177,6 +177,9 @@ pub struct ValidationReport {
     pub cases: Vec<Case>,
     /// Wall-clock time of the whole validation, s.
     pub wall_time_s: f64,
+    /// The solver setting every case ran at, in words (`--dt`, `--iterations`,
+    /// `--stabilization-iterations`; "each file's" where not given).
+    pub setting: String,
     /// The rubber of the compliant Table IV column, if it was run.
     pub rubber: Option<RubberNote>,
     /// Stopped by Ctrl-C or SIGTERM: the runs then running ended early, the others did not
@@ -195,6 +198,7 @@ impl ValidationReport {
             slope_runs: Vec::new(),
             cases: Vec::new(),
             wall_time_s: 0.0,
+            setting: String::new(),
             interrupted: false,
             rubber: None,
             plots: Vec::new(),
@@ -213,8 +217,9 @@ impl ValidationReport {
     pub fn to_markdown(&self) -> String {
         let verdict = if self.passed() { "PASSED" } else { "FAILED" };
         let mut s = format!(
-            "# Validation report\n\nTrack method: `{}`. Overall: **{verdict}** ({} of {} asserted checks passed). Wall time {:.0} s.\n\n",
+            "# Validation report\n\nTrack method: `{}`. Setting: {}. Overall: **{verdict}** ({} of {} asserted checks passed). Wall time {:.0} s.\n\n",
             self.method,
+            self.setting,
             self.table_iv.iter().filter(|c| c.passed).count()
                 + self.cases.iter().filter(|c| c.passed).count(),
             self.table_iv.len() + self.cases.len(),
@@ -298,7 +303,8 @@ impl ValidationReport {
 
     /// The slope limit, turning and paper-figure section, with its notes.
     fn cases_markdown(&self) -> String {
-        let mut s = String::from("\n## Slope limit, skid steering, paper figures\n\n");
+        let mut s =
+            String::from("\n## Slope limit, skid steering, paper figures, soil, accuracy\n\n");
         s += "| group | case | outcome | measured | expected | pass | plot |\n";
         s += "|---|---|---|---|---|---|---|\n";
         for c in &self.cases {

@@ -4,6 +4,7 @@
 use super::compile::compile;
 use super::jobs::{Jobs, Ran, Runs, pose_at};
 use super::limits::{PACKBOT_SPEED_MPS, SLOPE_ANGLES_DEG, SLOPE_LIMIT_DEG, SLOPE_TOLERANCE_DEG};
+use super::options::SolverSetting;
 use super::report::{Case, PlotJob, SlopeRun, ValidationReport};
 use crate::error::Result;
 use crate::model::Method as TrackMethod;
@@ -26,9 +27,13 @@ pub(super) fn add_jobs(
     packbot: &VehicleModel,
     method: TrackMethod,
     root: &Path,
+    setting: SolverSetting,
 ) -> Result<()> {
     for &deg in &SLOPE_ANGLES_DEG {
-        jobs.add(case_name(deg), slope_scenario(packbot, deg, method, root)?)?;
+        jobs.add(
+            case_name(deg),
+            slope_scenario(packbot, deg, method, root, setting)?,
+        )?;
     }
     Ok(())
 }
@@ -153,9 +158,15 @@ fn slope_scenario(
     deg: f64,
     method: TrackMethod,
     root: &Path,
+    setting: SolverSetting,
 ) -> Result<Scenario> {
     let d = SLOPE_SETTLE_S + SLOPE_MEASURE_S;
-    compile(&plate_text(deg, method, d, ""), packbot.clone(), root)
+    compile(
+        &plate_text(deg, method, d, ""),
+        packbot.clone(),
+        root,
+        setting,
+    )
 }
 
 /// The scenario text of [`slope_scenario`] for `duration` s, with `plate` (e.g. a

@@ -18,6 +18,7 @@
 
 use super::compile::compile;
 use super::jobs::{Jobs, Runs, pose_at};
+use super::options::SolverSetting;
 use super::report::{Case, ValidationReport};
 use crate::error::Result;
 use crate::model::{Scenario, VehicleModel};
@@ -85,9 +86,14 @@ fn weight(packbot: &VehicleModel) -> f64 {
 }
 
 /// Adds every soil run.
-pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> Result<()> {
+pub(super) fn add_jobs(
+    jobs: &mut Jobs,
+    packbot: &VehicleModel,
+    root: &Path,
+    setting: SolverSetting,
+) -> Result<()> {
     let add = |jobs: &mut Jobs, name: String, t: String| -> Result<()> {
-        jobs.add(name, compile(&t, packbot.clone(), root)?)
+        jobs.add(name, compile(&t, packbot.clone(), root, setting)?)
     };
     let drive = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n";
     let slow = format!("[[commands]]\nt_s = 0.0\nbelt_speed_mps = {SINKAGE_SPEED_MPS}\n");
@@ -125,7 +131,7 @@ pub(super) fn add_jobs(jobs: &mut Jobs, packbot: &VehicleModel, root: &Path) -> 
     for deg in SLOPES_DEG {
         jobs.add(
             format!("soil/slope/{deg:.0}deg"),
-            slope_scenario(packbot, deg, root)?,
+            slope_scenario(packbot, deg, root, setting)?,
         )?;
     }
     let body = "[[commands]]\nt_s = 0.0\nbelt_speed_mps = 0.3\n[[commands]]\nt_s = 6.0\nbelt_speed_mps = -0.3\n";
@@ -144,7 +150,12 @@ fn smooth_pull(packbot: &VehicleModel, sand: &SoilModel) -> f64 {
 
 /// PackBot on a plate of lunar regolith inclined at `deg` (surface through the origin), the
 /// rigid slope case's plate with a soil.
-fn slope_scenario(packbot: &VehicleModel, deg: f64, root: &Path) -> Result<Scenario> {
+fn slope_scenario(
+    packbot: &VehicleModel,
+    deg: f64,
+    root: &Path,
+    setting: SolverSetting,
+) -> Result<Scenario> {
     let soil = "[terrain.boxes.soil]\npreset = \"lunar_regolith\"";
     let t = super::slope::plate_text(
         deg,
@@ -152,7 +163,7 @@ fn slope_scenario(packbot: &VehicleModel, deg: f64, root: &Path) -> Result<Scena
         SETTLE_S + MEASURE_S,
         soil,
     );
-    compile(&t, packbot.clone(), root)
+    compile(&t, packbot.clone(), root, setting)
 }
 
 /// Means over the samples in [t0, t1]: slip, pull, thrust, contact area, contact length (per

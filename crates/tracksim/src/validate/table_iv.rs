@@ -115,14 +115,14 @@ pub(super) fn add_jobs(
                 column.slop_m(),
                 method,
             );
-            let sc = compile(&text, v.clone(), root)?;
+            let sc = compile(&text, v.clone(), root, opts.setting)?;
             if column == Column::Grousers {
                 let p = crate::ensemble::Perturbations::default();
                 for k in 1..opts.ensemble {
                     let o = p.member(0, k).overrides(&sc);
                     jobs.add(
                         format!("{}/member-{k}", case_name(a, h, column)),
-                        compile_with(&text, v.clone(), root, &o)?,
+                        compile_with(&text, v.clone(), root, opts.setting, &o)?,
                     )?;
                 }
             }
@@ -308,7 +308,7 @@ pub fn quince_step_scenario(
     root: &Path,
 ) -> Result<Scenario> {
     let (text, v) = quince_step_text(quince, front_deg, h, grousers, contact_slop_m, method);
-    compile(&text, v, root)
+    compile(&text, v, root, Default::default())
 }
 
 /// The file text of [`quince_step_scenario`] and its vehicle (Quince with the front flippers

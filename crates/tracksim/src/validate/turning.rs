@@ -4,6 +4,7 @@
 use super::compile::compile;
 use super::jobs::{Jobs, Ran, Runs, pose_at};
 use super::limits::{PACKBOT_SPEED_MPS, STRAIGHT_SLIP_LIMIT, TURN_RATIO_BAND};
+use super::options::SolverSetting;
 use super::report::{Case, PlotJob, ValidationReport};
 use crate::error::Result;
 use crate::geometry::Segment;
@@ -26,15 +27,11 @@ pub(super) fn add_jobs(
     packbot: &VehicleModel,
     method: TrackMethod,
     root: &Path,
+    setting: SolverSetting,
 ) -> Result<()> {
-    jobs.add(
-        SPIN,
-        flat_scenario(packbot, method, root, TURN_DURATION_S, -PACKBOT_SPEED_MPS)?,
-    )?;
-    jobs.add(
-        STRAIGHT,
-        flat_scenario(packbot, method, root, TURN_DURATION_S, PACKBOT_SPEED_MPS)?,
-    )
+    let flat = |v| flat_scenario(packbot, method, root, TURN_DURATION_S, v, setting);
+    jobs.add(SPIN, flat(-PACKBOT_SPEED_MPS)?)?;
+    jobs.add(STRAIGHT, flat(PACKBOT_SPEED_MPS)?)
 }
 
 /// Adds the spin and straight-line cases (and their plots) to `report`.
@@ -134,6 +131,7 @@ fn flat_scenario(
     root: &Path,
     duration: f64,
     left: f64,
+    setting: SolverSetting,
 ) -> Result<Scenario> {
     let speeds: Vec<String> = packbot
         .tracks
@@ -164,7 +162,7 @@ belt_speed_mps = {{ {s} }}
         m = method.name(),
         s = speeds.join(", "),
     );
-    compile(&text, packbot.clone(), root)
+    compile(&text, packbot.clone(), root, setting)
 }
 
 /// Distance between the outermost left and right body tracks' mid-planes, m.

@@ -90,6 +90,11 @@ use std::sync::Arc;
 pub const START_CLEARANCE_M: f64 = 0.001;
 /// Linear speed above which a body is declared to have blown up, m/s.
 pub const MAX_SPEED_MPS: f32 = 50.0;
+/// Angular speed above which a chassis or flipper is declared to have blown up, rad/s
+/// (955 rpm). Issue 58: a tethered PackBot near the friction limit of friction 0.9 ground spun
+/// up to 447 rad/s and ran on to exit 0. A robot's own drive turns it at 2 v / B (a few rad/s);
+/// converting all of a 5 m fall into spin gives a chassis of 0.1 m radius of gyration 31 rad/s.
+pub const MAX_ANGULAR_SPEED_RAD_S: f32 = 100.0;
 
 /// Vehicles on a terrain in a Rapier world, advanced one step at a time: one robot, or several
 /// (`[[vehicles]]`, issue 40). The per-robot queries and controls (`sample`, `body_pose`,

@@ -3,7 +3,7 @@
 
 use super::at_rest::{REST_REANCHOR_M, STICK_RATE_RAD_S, STICK_SPEED_MPS};
 use super::contacts::ContactHooks;
-use super::{MAX_SPEED_MPS, Simulation};
+use super::{MAX_ANGULAR_SPEED_RAD_S, MAX_SPEED_MPS, Simulation};
 use crate::error::{Error, Result};
 
 impl Simulation {
@@ -168,6 +168,13 @@ impl Simulation {
                 Some(format!(
                     "moves at {:.1} m/s (limit {MAX_SPEED_MPS} m/s): it was flung off",
                     v.length()
+                ))
+            } else if b.angvel().length() > MAX_ANGULAR_SPEED_RAD_S {
+                Some(format!(
+                    "spins at {:.1} rad/s (limit {MAX_ANGULAR_SPEED_RAD_S} rad/s): the solver \
+                     made energy (a time step or solver iterations too coarse for this load: \
+                     `tracksim validate --accuracy` with the file's setting tells)",
+                    b.angvel().length()
                 ))
             } else if p.translation.z < -100.0 {
                 Some("fell below z = -100 m: it left the world".to_string())

@@ -66,6 +66,7 @@ mod issue_43_team_reset;
 mod issue_44_cull;
 mod issue_45_inputs;
 mod issue_45_servers;
+mod issue_58_accuracy;
 mod layers;
 mod live;
 mod methods;
