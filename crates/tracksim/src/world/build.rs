@@ -217,6 +217,7 @@ fn build_robot(
         odometry: Odometry::new(&[], 0.0, 0.0, 0.0, 0.0),
         drawbar: None,
         load_window: Default::default(),
+        momentum_before: Vector::ZERO,
         faults: super::fault_state::FaultState::new(
             v.tracks.len(),
             v.flippers.iter().map(|f| f.initial_angle).collect(),

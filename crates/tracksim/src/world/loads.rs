@@ -1,6 +1,7 @@
 //! Per-track contact loads on `Simulation`, from the solver's impulses.
 
 use super::Simulation;
+use super::contact_balance::manifold_impulse;
 use super::track_loads::{TrackLoad, TrackOwners};
 use crate::tracks::WORLD_GROUP;
 use crate::tracks::tagged_track;
@@ -105,6 +106,9 @@ impl Simulation {
         let forward = self.world.bodies[self.robots[self.focus].body].rotation() * Vector::X;
         let inv_dt = 1.0 / self.dt;
         let substeps = self.world.integration_parameters.num_solver_iterations as f32;
+        // What the friction estimates miss of the robot's exact contact impulse, shared by
+        // normal impulse (`contact_balance.rs`).
+        let correction = self.friction_correction(self.focus);
         for p in self.world.narrow_phase.contact_pairs() {
             // The track's collider and the sign turning "force on collider 1" into its force.
             let (track, sign) = match (track_of(p.collider1), track_of(p.collider2)) {
@@ -116,22 +120,13 @@ impl Simulation {
                 continue;
             };
             for m in p.solver_manifolds() {
-                let mut normal = 0.0f32;
-                let mut friction = None;
-                for sc in &m.data.solver_contacts {
-                    let id = (sc.contact_id[0] & !NEW_CONTACT_BIT) as usize;
-                    let Some(pt) = m.points.get(id) else { continue };
-                    normal += pt.data.impulse;
-                    friction.get_or_insert(pt.data.warmstart_tangent_world);
-                    load.contacts += 1;
-                }
-                // Impulses on collider 1: the normal one pushes it against the normal.
-                let n = -m.data.normal * normal;
-                let t = friction.unwrap_or(Vector::ZERO) * substeps;
-                load.normal_n += normal as f64 * inv_dt;
+                let i = manifold_impulse(m, substeps);
+                load.contacts += i.contacts;
+                let t = i.friction * sign + correction * i.normal;
+                load.normal_n += i.normal as f64 * inv_dt;
                 let (rn, ft) = (
-                    (sign * n).dot(forward) as f64 * inv_dt,
-                    (sign * t).dot(forward) as f64 * inv_dt,
+                    (sign * i.normal_vec).dot(forward) as f64 * inv_dt,
+                    t.dot(forward) as f64 * inv_dt,
                 );
                 load.reaction_n += rn;
                 load.friction_traction_n += ft;

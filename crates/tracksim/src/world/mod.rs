@@ -36,6 +36,7 @@ mod at_rest;
 mod build;
 mod compliance;
 mod contacts;
+mod contact_balance;
 mod conveyor;
 mod conveyor_queries;
 mod cull_check;

@@ -32,6 +32,9 @@ pub(crate) struct Robot {
     pub(crate) drawbar: Option<DrawbarState>,
     /// The per-step track loads of the last output interval.
     pub(crate) load_window: LoadWindow,
+    /// The robot's linear momentum before the last step, kg m/s (Rapier frame;
+    /// `contact_balance.rs`).
+    pub(crate) momentum_before: Vector,
     /// The faults in force (issue 43).
     pub(crate) faults: super::fault_state::FaultState,
 }

@@ -23,7 +23,7 @@ impl Simulation {
             held_on_motors |= held && self.robots[k].has_motors;
         }
         self.focus = focus;
-        self.soil_before_step();
+        self.keep_momenta();
         self.world.integration_parameters.friction_in_bias_pass =
             self.held_friction_in_bias_pass && held_all;
         let hooks = ContactHooks {

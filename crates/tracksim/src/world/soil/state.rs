@@ -38,9 +38,6 @@ pub(crate) struct SoilState {
     pub(super) recent: std::collections::VecDeque<(u64, usize, i64, i64)>,
     /// Sequence number of the next deepened cell.
     pub(super) seq: u64,
-    /// The vehicle's linear momentum before the step, N s (Rapier frame): the exact measure of
-    /// the friction impulses (see [`Simulation::soil_contact_impulses`]).
-    pub(super) momentum_before: Vector,
     /// Each parked track's anchor: its parent body, the parent's pose when it was parked
     /// (Rapier frame) and the floating origin then (see [`Simulation::update_anchors`]).
     pub(super) anchors: Vec<Option<Anchor>>,
@@ -146,7 +143,6 @@ pub(crate) fn build_soil(
         reset_steps: (SHEAR_RESET_S / dt).ceil() as u32,
         recent: std::collections::VecDeque::new(),
         seq: 0,
-        momentum_before: Vector::ZERO,
         anchors: vec![None; models.len()],
         buffers: Buffers::default(),
     })

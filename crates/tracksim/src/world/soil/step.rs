@@ -64,26 +64,6 @@ impl Simulation {
     }
 
     /// The vehicle's linear momentum, N s (Rapier frame).
-    pub(super) fn vehicle_momentum(&self) -> Vector {
-        self.vehicle_bodies()
-            .into_iter()
-            .map(|h| {
-                let b = &self.world.bodies[h];
-                b.linvel() * b.mass()
-            })
-            .sum()
-    }
-
-    /// Before a step on soil: keeps the vehicle's momentum for the after-step measure.
-    pub(crate) fn soil_before_step(&mut self) {
-        if self.soil.is_some() {
-            let p = self.vehicle_momentum();
-            if let Some(s) = self.soil.as_mut() {
-                s.momentum_before = p;
-            }
-        }
-    }
-
     /// The soil's contact impulses on each track over the last step, N s: normal (exact, the
     /// solver's total) and friction (Rapier frame), the friction measured by momentum.
     ///
@@ -127,13 +107,8 @@ impl Simulation {
                 }
             }
         }
-        // The exact sum of the external contact impulses.
-        let dt = self.dt as f32;
-        let mut external = self.vehicle_momentum() - state.momentum_before;
-        for h in self.vehicle_bodies() {
-            let b = &self.world.bodies[h];
-            external -= (self.world.gravity * b.mass() * b.gravity_scale() + b.user_force()) * dt;
-        }
+        // The exact sum of the external contact impulses (`world/contact_balance.rs`).
+        let external = self.robot_contact_impulse(self.focus);
         let missing = external - all_estimate;
         if all_normal > 0.0 {
             for t in per_track.iter_mut() {
