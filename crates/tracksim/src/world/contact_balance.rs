@@ -77,36 +77,4 @@ impl Simulation {
         }
         external
     }
-
-    /// What the friction estimates of every contact of robot `k` with anything else miss of
-    /// the exact sum ([`Self::robot_contact_impulse`]), per unit of normal impulse, s^0 (a
-    /// vector to multiply by a manifold's normal impulse); zero without contacts.
-    pub(crate) fn friction_correction(&self, k: usize) -> Vector {
-        let substeps = self.world.integration_parameters.num_solver_iterations as f32;
-        let cs = &self.world.colliders;
-        let bodies = self.robots[k].bodies();
-        let mine = |h: ColliderHandle| {
-            cs.get(h)
-                .and_then(|c| c.parent())
-                .is_some_and(|b| bodies.contains(&b))
-        };
-        let (mut all_normal, mut estimate) = (0.0f32, Vector::ZERO);
-        for p in self.world.narrow_phase.contact_pairs() {
-            let sign = match (mine(p.collider1), mine(p.collider2)) {
-                (true, false) => 1.0f32,
-                (false, true) => -1.0,
-                _ => continue,
-            };
-            for m in p.solver_manifolds() {
-                let i = manifold_impulse(m, substeps);
-                all_normal += i.normal;
-                estimate += (i.normal_vec + i.friction) * sign;
-            }
-        }
-        if all_normal > 0.0 {
-            (self.robot_contact_impulse(k) - estimate) / all_normal
-        } else {
-            Vector::ZERO
-        }
-    }
 }

@@ -103,34 +103,62 @@ impl Simulation {
             cs.get(h)
                 .is_some_and(|c| c.collision_groups().memberships.contains(WORLD_GROUP))
         };
-        let forward = self.world.bodies[self.robots[self.focus].body].rotation() * Vector::X;
+        let robot = &self.robots[self.focus];
+        // A collider of this robot's chassis or flippers (its tracks' are `track_of`'s).
+        let on_robot = |h: ColliderHandle| {
+            cs.get(h).and_then(|c| c.parent()).is_some_and(|b| {
+                b == robot.body || robot.flippers.iter().any(|f| f.body == b)
+            })
+        };
+        let forward = self.world.bodies[robot.body].rotation() * Vector::X;
         let inv_dt = 1.0 / self.dt;
         let substeps = self.world.integration_parameters.num_solver_iterations as f32;
-        // What the friction estimates miss of the robot's exact contact impulse, shared by
-        // normal impulse (`contact_balance.rs`).
-        let correction = self.friction_correction(self.focus);
+        // Every contact of the robot with anything else, for the exact sum
+        // (`contact_balance.rs`): normal impulses and the estimated contact impulses.
+        let (mut all_normal, mut estimate) = (0.0f32, Vector::ZERO);
         for p in self.world.narrow_phase.contact_pairs() {
-            // The track's collider and the sign turning "force on collider 1" into its force.
-            let (track, sign) = match (track_of(p.collider1), track_of(p.collider2)) {
-                (Some(t), None) if terrain(p.collider2) => (t, 1.0f32),
-                (None, Some(t)) if terrain(p.collider1) => (t, -1.0f32),
+            let (t1, t2) = (track_of(p.collider1), track_of(p.collider2));
+            let mine1 = t1.is_some() || on_robot(p.collider1);
+            let mine2 = t2.is_some() || on_robot(p.collider2);
+            // The sign turning "impulse on collider 1" into the robot's.
+            let sign = match (mine1, mine2) {
+                (true, false) => 1.0f32,
+                (false, true) => -1.0,
                 _ => continue,
             };
-            let Some(load) = loads.get_mut(track) else {
-                continue;
+            // The track whose belt touches the terrain here, if it does.
+            let track = match (t1, t2) {
+                (Some(t), None) if terrain(p.collider2) => loads.get_mut(t),
+                (None, Some(t)) if terrain(p.collider1) => loads.get_mut(t),
+                _ => None,
             };
+            let mut track = track;
             for m in p.solver_manifolds() {
                 let i = manifold_impulse(m, substeps);
+                all_normal += i.normal;
+                estimate += (i.normal_vec + i.friction) * sign;
+                let Some(load) = track.as_deref_mut() else {
+                    continue;
+                };
                 load.contacts += i.contacts;
-                let t = i.friction * sign + correction * i.normal;
                 load.normal_n += i.normal as f64 * inv_dt;
                 let (rn, ft) = (
                     (sign * i.normal_vec).dot(forward) as f64 * inv_dt,
-                    t.dot(forward) as f64 * inv_dt,
+                    (sign * i.friction).dot(forward) as f64 * inv_dt,
                 );
                 load.reaction_n += rn;
                 load.friction_traction_n += ft;
                 load.traction_n += rn + ft;
+            }
+        }
+        // What the friction estimates miss of the exact sum, shared by normal impulse.
+        if all_normal > 0.0 {
+            let missing = self.robot_contact_impulse(self.focus) - estimate;
+            let per_newton = (missing / all_normal).dot(forward) as f64;
+            for l in loads.iter_mut() {
+                let extra = per_newton * l.normal_n;
+                l.friction_traction_n += extra;
+                l.traction_n += extra;
             }
         }
     }
