@@ -273,6 +273,32 @@ fn bad_flags_are_refused_with_the_limit() {
         let arg = format!("--reconnect-grace={g}");
         refused(&arg, &run(&["drive", f, &arg]), "--reconnect-grace");
     }
+    // A solver setting (issue 58): refused with its flag, by `validate` before any case is
+    // built and by `run` as the file's key it overrides.
+    for d in ["0", "nan", "1", "-1e-3"] {
+        let arg = format!("--dt={d}");
+        refused(&arg, &run(&["validate", "--accuracy", &arg]), "--dt");
+        refused(
+            &arg,
+            &run(&["run", f, &arg]),
+            "simulation.dt_s (overridden: --dt)",
+        );
+    }
+    refused(
+        "--iterations 0",
+        &run(&["validate", "--accuracy", "--iterations", "0"]),
+        "--iterations",
+    );
+    refused(
+        "--stabilization-iterations 17",
+        &run(&["validate", "--stabilization-iterations", "17"]),
+        "--stabilization-iterations",
+    );
+    refused(
+        "--solver-iterations 0",
+        &run(&["run", f, "--solver-iterations", "0"]),
+        "simulation.solver_iterations (overridden: --solver-iterations)",
+    );
     let long = "x".repeat(101);
     for name in ["", "tab\there", long.as_str()] {
         refused(

@@ -72,21 +72,26 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
             )
         })?),
     };
+    // The limits of the files' own keys (`simulation.dt_s`, `solver_iterations`,
+    // `stabilization_iterations`), refused here with the flag before any case is built.
     if let Some(dt) = a.dt
-        && !(dt.is_finite() && dt > 0.0 && dt <= 0.01)
+        && !(dt.is_finite() && (1e-5..=0.01).contains(&dt))
     {
         return Err(bad_arg(
             "--dt",
-            format!("must be a time step in seconds, above 0 and at most 0.01, got {dt}"),
+            format!(
+                "must be a time step from 1e-5 to 0.01 s (tracks with grousers need 1-2 ms), got {dt}"
+            ),
         ));
     }
-    for (flag, n) in [
-        ("--iterations", a.iterations),
-        ("--stabilization-iterations", a.stabilization_iterations),
-    ] {
-        if n.is_some_and(|n| n == 0 || n > 100) {
-            return Err(bad_arg(flag, "must be between 1 and 100".to_string()));
-        }
+    if a.iterations.is_some_and(|n| n == 0 || n > 100) {
+        return Err(bad_arg("--iterations", "must be between 1 and 100".into()));
+    }
+    if a.stabilization_iterations.is_some_and(|n| n > 16) {
+        return Err(bad_arg(
+            "--stabilization-iterations",
+            "must be between 0 and 16".into(),
+        ));
     }
     let accuracy_only = a.accuracy && only.is_none();
     let opts = tracksim::validate::ValidationOptions {
@@ -104,7 +109,6 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
         only,
         ensemble: a.ensemble.unwrap_or(0) as usize,
         stop: Some(&super::STOP),
-        ..Default::default()
     };
     super::on_stop(|| {});
     let report = tracksim::validate::run_validation_with(&data_root()?, m, opts, |line| {

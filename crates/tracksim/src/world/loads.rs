@@ -106,9 +106,9 @@ impl Simulation {
         let robot = &self.robots[self.focus];
         // A collider of this robot's chassis or flippers (its tracks' are `track_of`'s).
         let on_robot = |h: ColliderHandle| {
-            cs.get(h).and_then(|c| c.parent()).is_some_and(|b| {
-                b == robot.body || robot.flippers.iter().any(|f| f.body == b)
-            })
+            cs.get(h)
+                .and_then(|c| c.parent())
+                .is_some_and(|b| b == robot.body || robot.flippers.iter().any(|f| f.body == b))
         };
         let forward = self.world.bodies[robot.body].rotation() * Vector::X;
         let inv_dt = 1.0 / self.dt;

@@ -84,7 +84,11 @@ fn at_eight_iterations_the_tether_holds_the_robot_at_coulombs_pull() {
     // iterations; corrected to the robot's momentum balance, 0.24 %. 1 %: the window mean of
     // the stick-slip's m a over 15 s.
     let newton = d.mean_traction_n / d.mean_pull_n - 1.0;
-    println!("mean traction {:.2} N ({:+.2} % of the pull)", d.mean_traction_n, 100.0 * newton);
+    println!(
+        "mean traction {:.2} N ({:+.2} % of the pull)",
+        d.mean_traction_n,
+        100.0 * newton
+    );
     assert!(newton.abs() < 0.01, "{newton}");
     assert_eq!(r.summary.outcome, "completed");
 }
