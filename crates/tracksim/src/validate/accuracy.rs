@@ -147,23 +147,6 @@ fn step_text(h: f64, method: TrackMethod) -> String {
     )
 }
 
-/// A plate of friction `mu` inclined at `deg`, the PackBot (belts of friction `mu`) driving up.
-fn slope_text(deg: f64, mu: f64, method: TrackMethod) -> String {
-    let th = deg.to_radians();
-    format!(
-        "[vehicle]\nfile = \"../vehicles/packbot510.toml\"\npitch_deg = {p}\n\
-         [[terrain.boxes]]\ncentre_m = [{cx}, 0.0, {cz}]\nsize_m = [20.0, 4.0, 1.0]\n\
-         pitch_deg = {p}\nfriction = {mu}\n\
-         [simulation]\nduration_s = 4.0\nmethod = \"{m}\"\n\
-         [outcome]\nfail_off_terrain = false\n\
-         [[commands]]\nt_s = 0.0\nbelt_speed_mps = {SPEED}\n",
-        p = -deg,
-        cx = 0.5 * th.sin(),
-        cz = -0.5 * th.cos(),
-        m = method.name()
-    )
-}
-
 /// The parked PackBot (belts held) on a 20 deg plate of friction 0.6, for `duration` s.
 fn parked_text(method: TrackMethod) -> String {
     format!(
@@ -196,7 +179,7 @@ pub(super) fn add_jobs(
     }
     for mu in SLOPE_MU {
         for deg in slope_angles(mu) {
-            let text = slope_text(deg, mu, method);
+            let text = super::slope::plate_text(deg, mu, method, 4.0, "");
             jobs.add(
                 slope_name(mu, deg),
                 compile(&text, with_friction(packbot, mu), root, setting)?,
@@ -304,6 +287,12 @@ fn row(name: String, runs: Vec<String>, passed: bool, texts: [String; 4]) -> Cas
         note,
         plot: String::new(),
     }
+}
+
+/// The run of `ran`, or the error row `name` of run `run` if it gave none.
+fn run_or_row(name: &str, run: &str, ran: Ran) -> std::result::Result<RunResult, Case> {
+    ran.result
+        .map_err(|e| error_row(name.to_string(), run.to_string(), &e))
 }
 
 /// The error row of a run that gave none.
@@ -482,11 +471,10 @@ fn step_row(grousers: bool, tested: Vec<(f64, Ran)>, reference: Vec<(f64, Ran)>)
 }
 
 fn straight_row(ran: Ran) -> Case {
-    let name = "ten minutes straight".to_string();
-    let run = "accuracy/straight_600s".to_string();
-    let r = match ran.result {
+    let (name, run) = ("ten minutes straight", "accuracy/straight_600s");
+    let r = match run_or_row(name, run, ran) {
         Ok(r) => r,
-        Err(e) => return error_row(name, run, &e),
+        Err(row) => return row,
     };
     let p = &r.summary.final_pose;
     let speed = p.x / LONG_S;
@@ -497,8 +485,8 @@ fn straight_row(ran: Ran) -> Case {
         && drift <= 0.005
         && yaw.abs() <= 1.0;
     row(
-        name,
-        vec![run],
+        name.into(),
+        vec![run.into()],
         passed,
         [
             r.summary.outcome.clone(),
@@ -514,11 +502,10 @@ fn straight_row(ran: Ran) -> Case {
 }
 
 fn parked_row(ran: Ran) -> Case {
-    let name = "ten minutes parked on 20 deg".to_string();
-    let run = "accuracy/parked_600s".to_string();
-    let r = match ran.result {
+    let (name, run) = ("ten minutes parked on 20 deg", "accuracy/parked_600s");
+    let r = match run_or_row(name, run, ran) {
         Ok(r) => r,
-        Err(e) => return error_row(name, run, &e),
+        Err(row) => return row,
     };
     let a = r.summary.initial_pose;
     let b = r.summary.final_pose;
@@ -526,8 +513,8 @@ fn parked_row(ran: Ran) -> Case {
     let yaw = (b.yaw - a.yaw).to_degrees();
     let passed = r.summary.outcome == "completed" && moved <= 0.01 && yaw.abs() <= 0.5;
     row(
-        name,
-        vec![run],
+        name.into(),
+        vec![run.into()],
         passed,
         [
             r.summary.outcome.clone(),

@@ -162,20 +162,27 @@ fn slope_scenario(
 ) -> Result<Scenario> {
     let d = SLOPE_SETTLE_S + SLOPE_MEASURE_S;
     compile(
-        &plate_text(deg, method, d, ""),
+        &plate_text(deg, 0.6, method, d, ""),
         packbot.clone(),
         root,
         setting,
     )
 }
 
-/// The scenario text of [`slope_scenario`] for `duration` s, with `plate` (e.g. a
-/// `[terrain.boxes.soil]` table) after the plate's keys.
-pub(super) fn plate_text(deg: f64, method: TrackMethod, duration: f64, plate: &str) -> String {
+/// The scenario text of [`slope_scenario`] for `duration` s, plate and belts of friction `mu`
+/// (the vehicle's belts are the caller's), with `plate` (e.g. a `[terrain.boxes.soil]` table)
+/// after the plate's keys.
+pub(super) fn plate_text(
+    deg: f64,
+    mu: f64,
+    method: TrackMethod,
+    duration: f64,
+    plate: &str,
+) -> String {
     let th = deg.to_radians();
     format!(
         r#"
-description = "PackBot 510 on a {deg:.0} deg slope, friction 0.6"
+description = "PackBot 510 on a {deg:.0} deg slope, friction {mu}"
 [vehicle]
 file = "../vehicles/packbot510.toml"
 pitch_deg = {p}
@@ -183,7 +190,7 @@ pitch_deg = {p}
 centre_m = [{cx}, 0.0, {cz}]
 size_m = [20.0, 4.0, 1.0]
 pitch_deg = {p}
-friction = 0.6
+friction = {mu}
 {plate}
 [simulation]
 duration_s = {duration}

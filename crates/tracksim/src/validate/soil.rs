@@ -159,6 +159,7 @@ fn slope_scenario(
     let soil = "[terrain.boxes.soil]\npreset = \"lunar_regolith\"";
     let t = super::slope::plate_text(
         deg,
+        0.6,
         crate::model::Method::Okada2020,
         SETTLE_S + MEASURE_S,
         soil,
