@@ -351,6 +351,27 @@ fn compare_with_every_method_unstable_exits_3() {
 }
 
 #[test]
+fn a_run_that_blows_up_keeps_what_was_simulated_and_exits_3() {
+    let tmp = tempfile::tempdir().unwrap();
+    // 500 m/s belts throw the PackBot off within milliseconds.
+    let s = flat_scenario(tmp.path(), "belt_speed_mps = 0.3", "belt_speed_mps = 500.0");
+    let out = tmp.path().join("run");
+    let r = run(&["run", s.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(!r.text.contains("panicked"), "{}", r.text);
+    assert_eq!(r.code, Some(3), "{}", r.text);
+    assert!(r.text.contains("unstable"), "{}", r.text);
+    // Written up to the blow-up, and complete: not an INCOMPLETE folder.
+    assert!(!out.join("INCOMPLETE").exists());
+    let traj = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    assert!(traj.lines().count() >= 2, "{traj}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["outcome"], "failure");
+    let why = summary["outcome_reason"].as_str().unwrap();
+    assert!(why.contains("simulation unstable"), "{why}");
+}
+
+#[test]
 fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     let tmp = tempfile::tempdir().unwrap();
     let s = flat_scenario(tmp.path(), "duration_s = 0.2", "duration_s = 3600.0");

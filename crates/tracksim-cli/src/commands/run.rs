@@ -147,7 +147,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         realtime: a.realtime,
         stop: Some(&super::STOP),
     };
-    let result = tracksim::run_scenario_with(&sc, opts, |t, total| {
+    let kept = tracksim::run::run_scenario_kept(&sc, opts, |t, total| {
         if let Some(b) = &bar {
             b.set_position((1000.0 * t / total) as u64);
             b.set_message(format!(
@@ -159,7 +159,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let mut result = result?;
+    let (mut result, blew_up) = kept?;
     result.summary.trainee = trainee;
     let which = tracksim::output::Outputs {
         replay: true,
@@ -186,6 +186,14 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
             a.out.display()
         );
         return Err(Failure::Interrupted);
+    }
+    if let Some(e) = blew_up {
+        // What was simulated up to the blow-up is written; the run still fails (exit 3).
+        eprintln!(
+            "wrote what was simulated up to the blow-up into {}",
+            a.out.display()
+        );
+        return Err(Failure::Sim(e));
     }
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
         return Err(Failure::Outcome);

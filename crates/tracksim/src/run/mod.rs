@@ -123,6 +123,27 @@ pub fn run_scenario(sc: &Scenario, progress: impl FnMut(f64, f64)) -> Result<Run
     run_scenario_with(sc, RunOptions::default(), progress)
 }
 
+/// [`run_scenario_with`], keeping what was simulated when the simulation blows up: the run ends
+/// there ([`End::Unstable`], its outcome a failure that says so) and the error comes back
+/// beside the result, for the caller to write the outputs and then report it.
+pub fn run_scenario_kept(
+    sc: &Scenario,
+    opts: RunOptions,
+    progress: impl FnMut(f64, f64),
+) -> Result<(RunResult, Option<crate::error::Error>)> {
+    let mut runner = Runner::new(sc)?;
+    if opts.realtime {
+        runner = runner.paced(1.0);
+    }
+    match runner.run_to_end(progress, || opts.stop_asked()) {
+        Ok(end) => Ok((runner.finish(end), None)),
+        Err(e @ crate::error::Error::Unstable { .. }) => {
+            Ok((runner.finish(End::Unstable(e.to_string())), Some(e)))
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// [`run_scenario`] with options: a [`Runner`] stepped to its end.
 pub fn run_scenario_with(
     sc: &Scenario,

@@ -57,6 +57,9 @@ pub enum End {
     /// The driver's page of a live session left and did not come back within the grace
     /// period, s, with no other page connected.
     Abandoned(f64),
+    /// The simulation blew up (the stability check's message): the run stops there and keeps
+    /// what was simulated; its outcome is a failure that says so.
+    Unstable(String),
 }
 
 /// A scenario being run: the simulation, its command timeline, the samples so far and the
@@ -329,6 +332,7 @@ impl Runner {
                 )),
                 t,
             ),
+            End::Unstable(why) => (Outcome::Failure(why.clone()), t),
             End::Reached => self.decided.clone().unwrap_or_else(|| match &self.course {
                 Some(c) => (c.unfinished(t), t),
                 None => (outcome::at_end(&self.sc.outcome, t), t),

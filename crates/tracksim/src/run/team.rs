@@ -454,6 +454,7 @@ fn robot_outcome(r: &RobotRun, end: &End, t: f64) -> (Outcome, f64) {
         _ if operator(end).is_some() => (operator_outcome(end, t, r.decided.as_ref()), t),
         (Some(d), _) => d.clone(),
         (None, End::Reached) => (at_end(&r.view.outcome, t), t),
+        (None, End::Unstable(why)) => (Outcome::Failure(why.clone()), t),
         (None, _) => (
             Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
             t,
