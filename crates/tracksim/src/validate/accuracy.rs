@@ -290,9 +290,9 @@ fn row(name: String, runs: Vec<String>, passed: bool, texts: [String; 4]) -> Cas
 }
 
 /// The run of `ran`, or the error row `name` of run `run` if it gave none.
-fn run_or_row(name: &str, run: &str, ran: Ran) -> std::result::Result<RunResult, Case> {
+fn run_or_row(name: &str, run: &str, ran: Ran) -> std::result::Result<RunResult, Box<Case>> {
     ran.result
-        .map_err(|e| error_row(name.to_string(), run.to_string(), &e))
+        .map_err(|e| Box::new(error_row(name.to_string(), run.to_string(), &e)))
 }
 
 /// The error row of a run that gave none.
@@ -474,7 +474,7 @@ fn straight_row(ran: Ran) -> Case {
     let (name, run) = ("ten minutes straight", "accuracy/straight_600s");
     let r = match run_or_row(name, run, ran) {
         Ok(r) => r,
-        Err(row) => return row,
+        Err(row) => return *row,
     };
     let p = &r.summary.final_pose;
     let speed = p.x / LONG_S;
@@ -505,7 +505,7 @@ fn parked_row(ran: Ran) -> Case {
     let (name, run) = ("ten minutes parked on 20 deg", "accuracy/parked_600s");
     let r = match run_or_row(name, run, ran) {
         Ok(r) => r,
-        Err(row) => return row,
+        Err(row) => return *row,
     };
     let a = r.summary.initial_pose;
     let b = r.summary.final_pose;
