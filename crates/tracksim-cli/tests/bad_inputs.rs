@@ -287,7 +287,7 @@ fn bad_flags_are_refused_with_the_limit() {
     refused(
         "--iterations 0",
         &run(&["validate", "--accuracy", "--iterations", "0"]),
-        "--iterations",
+        "--solver-iterations",
     );
     refused(
         "--stabilization-iterations 17",

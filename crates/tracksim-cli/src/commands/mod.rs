@@ -14,6 +14,7 @@ pub mod merge;
 pub mod ros;
 pub mod run;
 pub mod sessions;
+pub mod setting;
 pub mod sweep;
 pub mod validate;
 pub mod video;

@@ -31,16 +31,9 @@ pub struct RunArgs {
     /// Override the simulated duration, s.
     #[arg(long)]
     pub duration: Option<f64>,
-    /// Override the time step, s (`simulation.dt_s`; changes physics: `tracksim validate
-    /// --accuracy --dt S` says how accurate a step is).
-    #[arg(long, value_name = "S")]
-    pub dt: Option<f64>,
-    /// Override the solver iterations (`simulation.solver_iterations`; changes physics).
-    #[arg(long, value_name = "N")]
-    pub solver_iterations: Option<usize>,
-    /// Override the position-correction passes (`simulation.stabilization_iterations`).
-    #[arg(long, value_name = "N")]
-    pub stabilization_iterations: Option<usize>,
+    /// The solver setting (overrides the file's; the file's `[expect]` is then not checked).
+    #[command(flatten)]
+    pub setting: super::setting::SettingArgs,
     /// Do not write the plot files.
     #[arg(long)]
     pub no_plot: bool,
@@ -113,9 +106,7 @@ fn progress_bar(show: bool) -> Option<indicatif::ProgressBar> {
 pub fn run(a: RunArgs) -> Result<(), Failure> {
     let file = scenario_file(&a.file)?;
     let mut o = overrides(a.method.as_deref(), a.duration, a.commands.as_deref())?;
-    o.dt_s = a.dt;
-    o.solver_iterations = a.solver_iterations;
-    o.stabilization_iterations = a.stabilization_iterations;
+    a.setting.apply(&mut o);
     if a.keep_running {
         o.stop_at_outcome = Some(false);
     }

@@ -31,16 +31,10 @@ pub struct ValidateArgs {
     /// `--iterations`, `--stabilization-iterations`: how accurate that setting is.
     #[arg(long)]
     pub accuracy: bool,
-    /// Time step of every case, s (default: each case's file's, 0.001 for most).
-    #[arg(long, value_name = "S")]
-    pub dt: Option<f64>,
-    /// Solver iterations of every case (default: each case's file's; Quince's Table IV 8,
-    /// the others 4).
-    #[arg(long, value_name = "N")]
-    pub iterations: Option<usize>,
-    /// Position-correction passes of every case (default: each case's file's, 2).
-    #[arg(long, value_name = "N")]
-    pub stabilization_iterations: Option<usize>,
+    /// The solver setting of every case (default: each case's file's: 1 ms, 4 iterations,
+    /// Quince's Table IV 8).
+    #[command(flatten)]
+    pub setting: super::setting::SettingArgs,
     /// Also run each Table IV row (with grousers) as an ensemble of N members (member 0 the
     /// asserted run, the others perturbed as `run --ensemble`; docs/ENSEMBLE.md): each row
     /// reports "S 8/8" or "marginal 5/8".
@@ -74,7 +68,8 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
     };
     // The limits of the files' own keys (`simulation.dt_s`, `solver_iterations`,
     // `stabilization_iterations`), refused here with the flag before any case is built.
-    if let Some(dt) = a.dt
+    let s = a.setting;
+    if let Some(dt) = s.dt
         && !(dt.is_finite() && (1e-5..=0.01).contains(&dt))
     {
         return Err(bad_arg(
@@ -84,10 +79,13 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
             ),
         ));
     }
-    if a.iterations.is_some_and(|n| n == 0 || n > 100) {
-        return Err(bad_arg("--iterations", "must be between 1 and 100".into()));
+    if s.solver_iterations.is_some_and(|n| n == 0 || n > 100) {
+        return Err(bad_arg(
+            "--solver-iterations",
+            "must be between 1 and 100".into(),
+        ));
     }
-    if a.stabilization_iterations.is_some_and(|n| n > 16) {
+    if s.stabilization_iterations.is_some_and(|n| n > 16) {
         return Err(bad_arg(
             "--stabilization-iterations",
             "must be between 0 and 16".into(),
@@ -97,11 +95,7 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
     let opts = tracksim::validate::ValidationOptions {
         rubber_youngs_modulus_pa: mpa * 1e6,
         accuracy: a.accuracy,
-        setting: tracksim::validate::SolverSetting {
-            dt_s: a.dt,
-            iterations: a.iterations,
-            stabilization: a.stabilization_iterations,
-        },
+        setting: s.setting(),
         // The suite asserts the Table IV column with grousers; the others are reports.
         without_grousers: !accuracy_only,
         rigid_contact: !accuracy_only,
