@@ -14,6 +14,10 @@ pub struct SettingArgs {
     /// Position-correction passes (`simulation.stabilization_iterations`).
     #[arg(long, value_name = "N")]
     pub stabilization_iterations: Option<usize>,
+    /// Share of the last step's impulses the solver starts from, (0, 1]
+    /// (`simulation.warmstart_coefficient`; default Rapier's 1; 0.8 holds a tether at the friction limit).
+    #[arg(long, value_name = "W")]
+    pub warmstart: Option<f64>,
 }
 
 impl SettingArgs {
@@ -23,6 +27,7 @@ impl SettingArgs {
             dt_s: self.dt,
             iterations: self.solver_iterations,
             stabilization: self.stabilization_iterations,
+            warmstart: self.warmstart,
         }
     }
 
@@ -31,5 +36,6 @@ impl SettingArgs {
         o.dt_s = self.dt.or(o.dt_s);
         o.solver_iterations = self.solver_iterations.or(o.solver_iterations);
         o.stabilization_iterations = self.stabilization_iterations.or(o.stabilization_iterations);
+        o.warmstart_coefficient = self.warmstart.or(o.warmstart_coefficient);
     }
 }

@@ -85,6 +85,11 @@ pub fn validate(a: ValidateArgs) -> Result<(), Failure> {
             "must be between 1 and 100".into(),
         ));
     }
+    if s.warmstart
+        .is_some_and(|w| !(w.is_finite() && w > 0.0 && w <= 1.0))
+    {
+        return Err(bad_arg("--warmstart", "must be in (0, 1]".into()));
+    }
     if s.stabilization_iterations.is_some_and(|n| n > 16) {
         return Err(bad_arg(
             "--stabilization-iterations",

@@ -338,6 +338,18 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
             ),
         );
     }
+    if !(s.warmstart_coefficient.is_finite()
+        && s.warmstart_coefficient > 0.0
+        && s.warmstart_coefficient <= 1.0)
+    {
+        c.push(
+            "simulation.warmstart_coefficient",
+            format!(
+                "must be in (0, 1] (the share of the last step's impulses the solver starts from; default Rapier's 1), got {}",
+                s.warmstart_coefficient
+            ),
+        );
+    }
     if s.order_salt > MAX_ORDER_SALT {
         c.push(
             "simulation.order_salt",
@@ -365,6 +377,7 @@ fn simulation(c: &mut Checker, s: &SimulationSpec) -> SolverSettings {
         dt: s.dt_s,
         iterations: s.solver_iterations,
         stabilization_iterations: s.stabilization_iterations,
+        warmstart: s.warmstart_coefficient,
         contact_clustering: s.contact_clustering,
         min_link_mass: s.min_link_mass_kg,
         prediction_distance: s.prediction_distance_m,

@@ -24,6 +24,9 @@ pub struct Overrides {
     /// Position-correction passes per solver iteration
     /// (`simulation.stabilization_iterations`).
     pub stabilization_iterations: Option<usize>,
+    /// Share of the last step's impulses the solver starts from
+    /// (`simulation.warmstart_coefficient`).
+    pub warmstart_coefficient: Option<f64>,
     /// A file of `[[commands]]` replacing the scenario's (e.g. the `commands.toml` of a
     /// `tracksim drive` session).
     pub commands: Option<PathBuf>,
@@ -197,6 +200,11 @@ impl Overrides {
                 "simulation.stabilization_iterations",
                 "--stabilization-iterations",
             ),
+            (
+                self.warmstart_coefficient.is_some(),
+                "simulation.warmstart_coefficient",
+                "--warmstart",
+            ),
             (self.commands.is_some(), "commands", "--commands"),
             (
                 self.stop_at_outcome.is_some(),
@@ -241,6 +249,7 @@ impl Overrides {
             stabilization_iterations: extra
                 .stabilization_iterations
                 .or(self.stabilization_iterations),
+            warmstart_coefficient: extra.warmstart_coefficient.or(self.warmstart_coefficient),
             commands: extra.commands.clone().or_else(|| self.commands.clone()),
             stop_at_outcome: extra.stop_at_outcome.or(self.stop_at_outcome),
             order_salt: extra.order_salt.or(self.order_salt),
@@ -305,6 +314,9 @@ impl Overrides {
             if let Some(n) = self.stabilization_iterations {
                 let n = i64::try_from(n).unwrap_or(i64::MAX);
                 sim.insert("stabilization_iterations".into(), toml::Value::Integer(n));
+            }
+            if let Some(w) = self.warmstart_coefficient {
+                sim.insert("warmstart_coefficient".into(), toml::Value::Float(w));
             }
         }
         if self.commands.is_some() {

@@ -16,6 +16,9 @@ pub struct SolverSettings {
     pub iterations: usize,
     /// Position-correction passes per solver iteration (Rapier's default 1).
     pub stabilization_iterations: usize,
+    /// Share of the last step's impulses the solver starts from, (0, 1] (Rapier's
+    /// `warmstart_coefficient`).
+    pub warmstart: f64,
     /// Contact clustering on or off.
     pub contact_clustering: bool,
     /// Smallest segment link mass, kg.
@@ -49,6 +52,7 @@ impl Default for SolverSettings {
             dt: 0.001,
             iterations: 4,
             stabilization_iterations: 2,
+            warmstart: 1.0,
             contact_clustering: false,
             min_link_mass: MIN_LINK_MASS_KG,
             prediction_distance: 0.02,

@@ -190,6 +190,7 @@ pub(super) fn add_jobs(
         dt_s: Some(REFERENCE_DT_S),
         iterations: Some(REFERENCE_ITERATIONS),
         stabilization: None,
+        warmstart: None,
     };
     for grousers in [true, false] {
         for h in step_heights(grousers) {

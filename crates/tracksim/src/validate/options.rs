@@ -42,6 +42,9 @@ pub struct SolverSetting {
     pub iterations: Option<usize>,
     /// Position-correction passes (`simulation.stabilization_iterations`).
     pub stabilization: Option<usize>,
+    /// Share of the last step's impulses the solver starts from
+    /// (`simulation.warmstart_coefficient`).
+    pub warmstart: Option<f64>,
 }
 
 impl SolverSetting {
@@ -51,6 +54,7 @@ impl SolverSetting {
             dt_s: self.dt_s,
             solver_iterations: self.iterations,
             stabilization_iterations: self.stabilization,
+            warmstart_coefficient: self.warmstart,
             ..Default::default()
         }
     }
@@ -70,7 +74,10 @@ impl SolverSetting {
             .map_or("each file's stabilization passes".into(), |n| {
                 format!("{n} stabilization passes")
             });
-        format!("{dt}, {it}, {st}")
+        let ws = self.warmstart.map_or("each file's warm start".into(), |w| {
+            format!("warm start {w}")
+        });
+        format!("{dt}, {it}, {st}, {ws}")
     }
 }
 

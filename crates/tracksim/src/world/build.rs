@@ -277,6 +277,7 @@ fn new_world(solver: &SolverSettings) -> PhysicsWorld {
     ip.dt = solver.dt as f32;
     ip.num_solver_iterations = solver.iterations;
     ip.num_internal_stabilization_iterations = solver.stabilization_iterations;
+    ip.warmstart_coefficient = solver.warmstart as f32;
     ip.contact_clustering = solver.contact_clustering;
     ip.contact_recycling = solver.contact_recycling;
     ip.normalized_prediction_distance = solver.prediction_distance as f32;
