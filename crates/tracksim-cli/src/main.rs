@@ -87,6 +87,10 @@ fn main() -> ExitCode {
         Err(Failure::Outcome) => ExitCode::from(1),
         Err(Failure::Interrupted) => ExitCode::from(EXIT_INTERRUPTED),
         Err(Failure::Reported) => ExitCode::from(2),
+        Err(Failure::Stopped(why)) => {
+            eprintln!("error: {why}");
+            ExitCode::from(3)
+        }
         Err(Failure::Sim(e)) => {
             eprintln!("error: {e}");
             ExitCode::from(match e {

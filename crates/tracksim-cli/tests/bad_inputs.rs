@@ -371,6 +371,53 @@ fn a_run_that_blows_up_keeps_what_was_simulated_and_exits_3() {
     assert!(why.contains("simulation unstable"), "{why}");
 }
 
+/// Issue 59: a world whose two robots part further than it holds stops, writes every robot's
+/// run up to there with the reason, and exits 3; never a folder holding only `INCOMPLETE`.
+#[test]
+fn a_team_run_whose_robots_part_keeps_every_robot_and_exits_3() {
+    let tmp = tempfile::tempdir().unwrap();
+    let v = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../vehicles/packbot510.toml");
+    let robot = |name: &str, x: f64, belts: f64| {
+        format!(
+            "[[vehicles]]\nname = \"{name}\"\n[vehicles.vehicle]\nfile = \"{}\"\nx_m = {x}\n\
+             [[vehicles.commands]]\nt_s = 0.0\nbelt_speed_mps = {belts}\n",
+            v.display()
+        )
+    };
+    let s = tmp.path().join("part.toml");
+    std::fs::write(
+        &s,
+        format!(
+            "[terrain.ground]\nfriction = 0.8\n[simulation]\nduration_s = 30.0\n{}{}",
+            robot("a", -4.7, -0.3),
+            robot("b", 4.7, 0.3)
+        ),
+    )
+    .unwrap();
+    let out = tmp.path().join("run");
+    let r = run(&[
+        "run",
+        s.to_str().unwrap(),
+        "--no-plot",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!r.text.contains("panicked"), "{}", r.text);
+    assert_eq!(r.code, Some(3), "{}", r.text);
+    assert!(r.text.contains("m apart"), "{}", r.text);
+    assert!(r.text.contains("every robot's"), "{}", r.text);
+    assert!(!out.join("INCOMPLETE").exists());
+    let team: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("team.json")).unwrap()).unwrap();
+    let why = team["stopped"].as_str().expect("team.json says why");
+    assert!(why.contains("m apart"), "{why}");
+    for name in ["a", "b"] {
+        let traj = std::fs::read_to_string(out.join(name).join("trajectory.csv")).unwrap();
+        // 0.6 m/s of parting from 9.4 m to 10 m: about 1 s of samples.
+        assert!(traj.lines().count() > 10, "{name}: {traj}");
+    }
+}
+
 #[test]
 fn ctrl_c_during_run_writes_what_was_simulated_as_interrupted() {
     let tmp = tempfile::tempdir().unwrap();

@@ -1031,7 +1031,7 @@ function liveFrame() {
   const o = s.outcome ? `${s.outcome.name}: ${s.outcome.reason} (t = ${fmt(s.outcome.t)} s)` : 'undecided';
   if (watchSession) { hud(watchHud(s, o, roll, pitch, yaw, x, y, z)); return; }
   hud([
-    `${ended ? 'SESSION ENDED (outputs written)' : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : api.role === 'instructor' ? 'INSTRUCTOR (sees everything)' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
+    `${ended ? (api.state?.stopped ? `SESSION STOPPED: ${api.state.stopped} (every robot's run written)` : 'SESSION ENDED (outputs written)') : !api.connected ? 'RECONNECTING ...' : api.role === 'driver' ? 'DRIVING' : api.role === 'instructor' ? 'INSTRUCTOR (sees everything)' : 'WATCHING (another page drives)'}${api.robots.length > 1 ? ` robot ${api.robot}` : ''}`,
     ...(s.team?.outcome ? [`team       ${s.team.rule}: ${s.team.outcome.name}: ${s.team.outcome.reason}`] : []),
     ...(s.paused ? ['PAUSED by the instructor (simulated time stands still)'] : []),
     ...(isNum(s.attempt) && s.attempt > 1 ? [`attempt    ${s.attempt} (each reset keeps the one before)`] : []),

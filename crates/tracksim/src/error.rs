@@ -126,6 +126,13 @@ pub enum Error {
 }
 
 impl Error {
+    /// Whether this error of a step stops the world but leaves what was simulated sound (a
+    /// blow-up the stability check caught, robots spread further apart than one world holds):
+    /// the front ends write every robot's run up to it and exit 3 (issue 59).
+    pub fn stops_world(&self) -> bool {
+        matches!(self, Error::Unstable { .. } | Error::Limit { .. })
+    }
+
     /// An [`Error::Settings`] of one problem at `key`.
     pub fn setting(
         what: impl Into<String>,

@@ -2,16 +2,21 @@
 //! score, date), sortable, as aligned text grouped by course or as CSV, and a leaderboard per
 //! course ([`leaderboard`]). A run folder is a folder holding `summary.json` (any front end's:
 //! `run`, `drive`, `ros`); folders are searched to [`MAX_DEPTH`] levels below DIR and named
-//! relative to it. A `summary.json` that cannot be read or parsed gives a warning naming it,
-//! never an error.
+//! relative to it, so that a class folder of team sessions (`CLASS/SESSION/ROBOT/attempts/N`)
+//! counts every attempt whichever level it is pointed at (issue 59). A folder still marked
+//! `INCOMPLETE` (its run killed, or being written) is listed as such (status `incomplete`),
+//! never skipped without a word. A `summary.json` that cannot be read or parsed gives a
+//! warning naming it, never an error.
 
 use crate::error::{Error, Result, SpecIssue};
 use serde_json::Value;
 use std::cmp::Ordering;
 use std::path::{Path, PathBuf};
 
-/// Levels of subfolders below DIR searched for run folders (DIR itself is level 0).
-pub const MAX_DEPTH: usize = 3;
+/// Levels of subfolders below DIR searched for run folders (DIR itself is level 0): a class
+/// folder of team sessions holds attempts 4 levels down (`SESSION/ROBOT/attempts/N`); 12
+/// leaves room for folders of classes. Symbolic links are not followed (no loops).
+pub const MAX_DEPTH: usize = 12;
 /// Largest `summary.json` read, bytes (a run's is a few kB; more is not a summary).
 pub const MAX_SUMMARY_BYTES: u64 = 16 << 20;
 /// Most run folders tabulated (a bound on a folder of millions of runs); more give a warning.
@@ -57,7 +62,8 @@ pub struct SessionRow {
 ///   not met in its time;
 /// - `failed`: another failure;
 /// - `ended`: the operator ended the session first; `interrupted`: Ctrl-C or a signal;
-/// - `ran to the end`: a scenario without success conditions ran its duration.
+/// - `ran to the end`: a scenario without success conditions ran its duration;
+/// - `incomplete`: the folder is marked `INCOMPLETE` (set by the scan, not from a summary).
 pub fn status_of(outcome: &str, reason: &str, course_status: Option<&str>) -> &'static str {
     if reason.contains("tipped over") {
         return "tipped over";
@@ -193,7 +199,7 @@ fn walk(dir: &Path, depth: usize, found: &mut Vec<PathBuf>, t: &mut SessionTable
         return;
     }
     let summary = dir.join("summary.json");
-    if summary.is_file() {
+    if summary.is_file() || crate::output::incomplete::is_incomplete(dir) {
         found.push(summary);
     }
     if depth >= MAX_DEPTH {
@@ -245,19 +251,28 @@ pub fn scan_sessions(dir: &Path) -> Result<SessionTable> {
     }
     for f in found {
         let folder = f.parent().unwrap_or(dir);
-        if crate::output::incomplete::is_incomplete(folder) {
-            t.warnings.push(format!(
-                "warning: {}: skipped: marked {} (still being written, or its run was killed)",
-                folder.display(),
-                crate::output::incomplete::INCOMPLETE_MARKER
-            ));
-            continue;
-        }
-        let folder = match folder.strip_prefix(dir) {
+        let incomplete = crate::output::incomplete::is_incomplete(folder);
+        let shown = match folder.strip_prefix(dir) {
             Ok(p) if p.as_os_str().is_empty() => PathBuf::from("."),
             Ok(p) => p.to_path_buf(),
             Err(_) => folder.to_path_buf(),
         };
+        if incomplete {
+            t.warnings.push(format!(
+                "warning: {}: marked {}: its run was killed or lost before its outputs were \
+                 written (or is still being written); listed as incomplete",
+                folder.display(),
+                crate::output::incomplete::INCOMPLETE_MARKER
+            ));
+            t.rows.push(SessionRow {
+                outcome: "incomplete".into(),
+                status: "incomplete".into(),
+                folder: shown,
+                ..SessionRow::default()
+            });
+            continue;
+        }
+        let folder = shown;
         let text = crate::files::read_text_bounded(&f, MAX_SUMMARY_BYTES);
         match text
             .map_err(|e| e.to_string())
@@ -560,6 +575,47 @@ mod tests {
             score_s: score,
             ..Default::default()
         }
+    }
+
+    /// A class folder of two team sessions: in the first, blue was reset once (two attempts,
+    /// `s1/blue/attempts/1` and `s1/blue`), red drove once; the second was lost (killed:
+    /// only `INCOMPLETE`). Pointed at the class or at the session, blue has two attempts, and
+    /// the lost session is a row of its own.
+    #[test]
+    fn attempts_are_found_at_any_depth_and_a_lost_session_is_listed() {
+        let tmp = tempfile::tempdir().unwrap();
+        let class = tmp.path();
+        let summary = |dir: &Path, trainee: &str, score: f64| {
+            std::fs::create_dir_all(dir).unwrap();
+            let v = serde_json::json!({
+                "outcome": "success", "outcome_reason": "", "trainee": trainee,
+                "course": {"name": "race", "status": "completed",
+                           "score": {"score_s": score, "time_s": score}},
+            });
+            std::fs::write(dir.join("summary.json"), v.to_string()).unwrap();
+        };
+        summary(&class.join("s1/blue/attempts/1"), "Ada", 30.0);
+        summary(&class.join("s1/blue"), "Ada", 25.0);
+        summary(&class.join("s1/red"), "Bob", 28.0);
+        std::fs::create_dir_all(class.join("s2")).unwrap();
+        std::fs::write(class.join("s2/INCOMPLETE"), "").unwrap();
+        for (at, rows) in [(class.to_path_buf(), 4), (class.join("s1"), 3)] {
+            let t = scan_sessions(&at).unwrap();
+            assert_eq!(t.rows.len(), rows, "{}: {:?}", at.display(), t.rows);
+            let board = leaderboard(&t.rows);
+            let ada = board.iter().find(|s| s.trainee == "Ada").unwrap();
+            assert_eq!((ada.attempts, ada.completed), (2, 2), "{}", at.display());
+            assert_eq!(ada.best_s, Some(25.0));
+        }
+        let t = scan_sessions(class).unwrap();
+        let lost: Vec<_> = t.rows.iter().filter(|r| r.status == "incomplete").collect();
+        assert_eq!(lost.len(), 1);
+        assert_eq!(lost[0].folder, PathBuf::from("s2"));
+        assert!(
+            t.warnings
+                .iter()
+                .any(|w| w.contains("s2") && w.contains("incomplete"))
+        );
     }
 
     #[test]

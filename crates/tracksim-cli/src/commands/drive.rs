@@ -141,7 +141,8 @@ pub fn drive(a: DriveArgs) -> Result<(), Failure> {
         &written,
         session.duration(),
         &session.result.outcome,
-    )
+    )?;
+    super::world_stopped(session.result.summary.stopped.as_deref(), &a.out)
 }
 
 /// Prints the session's token: what a client other than the page (which reads it itself)
@@ -229,8 +230,8 @@ fn drive_team(
     hub.request_stop();
     server.shutdown();
     let mut session = session?;
-    for (name, run) in &mut session.result.robots {
-        run.summary.trainee = trainees.get(name).cloned();
+    for name in &names {
+        session.set_trainee(name, trainees.get(name).cloned());
     }
     let written = session.write(sc, file, &a.out, !a.no_plot)?;
     tracksim::output::incomplete::mark_complete(&a.out)?;
@@ -251,7 +252,8 @@ fn drive_team(
     }
     let o = session.outcome();
     out!("outcome    {}: {}", o.name(), o.reason());
-    finish(a, file, &written, session.duration(), o)
+    finish(a, file, &written, session.duration(), o)?;
+    super::world_stopped(session.result.stopped.as_deref(), &a.out)
 }
 
 /// The trainee of each seat from `--trainee ROBOT=NAME` (each robot at most once, every name

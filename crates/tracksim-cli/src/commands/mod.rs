@@ -34,6 +34,22 @@ pub enum Failure {
     Reported,
     /// An error of the library.
     Sim(Error),
+    /// The world stopped (a blow-up, robots too far apart) and what was simulated up to there
+    /// is written; exit 3 (the message says why and where).
+    Stopped(String),
+}
+
+/// A run or session whose world stopped before its end (`why`: `Summary::stopped`, or a team
+/// result's `stopped`): said on standard error with where its outputs are, exit 3; `Ok`
+/// otherwise (issue 59).
+pub fn world_stopped(why: Option<&str>, out: &std::path::Path) -> Result<(), Failure> {
+    match why {
+        Some(why) => Err(Failure::Stopped(format!(
+            "{why}\nwrote what was simulated up to there, every robot's, into {}",
+            out.display()
+        ))),
+        None => Ok(()),
+    }
 }
 
 impl From<Error> for Failure {

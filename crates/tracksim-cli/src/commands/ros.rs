@@ -167,7 +167,7 @@ pub fn ros(a: RosArgs) -> Result<(), Failure> {
     if matches!(session.result.outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
-    Ok(())
+    super::world_stopped(session.result.summary.stopped.as_deref(), &a.out)
 }
 
 /// `tracksim ros` of a file with several robots: each robot's topics under its name.
@@ -211,5 +211,5 @@ fn ros_team(
     if matches!(session.result.outcome, tracksim::Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
-    Ok(())
+    super::world_stopped(session.result.stopped.as_deref(), &a.out)
 }

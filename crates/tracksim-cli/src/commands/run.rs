@@ -150,7 +150,7 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let (mut result, blew_up) = kept?;
+    let (mut result, _) = kept?;
     result.summary.trainee = trainee;
     let which = tracksim::output::Outputs {
         replay: true,
@@ -178,14 +178,8 @@ pub fn run(a: RunArgs) -> Result<(), Failure> {
         );
         return Err(Failure::Interrupted);
     }
-    if let Some(e) = blew_up {
-        // What was simulated up to the blow-up is written; the run still fails (exit 3).
-        eprintln!(
-            "wrote what was simulated up to the blow-up into {}",
-            a.out.display()
-        );
-        return Err(Failure::Sim(e));
-    }
+    // What was simulated up to a blow-up is written; the run still fails (exit 3).
+    super::world_stopped(result.summary.stopped.as_deref(), &a.out)?;
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
         return Err(Failure::Outcome);
     }
@@ -207,7 +201,7 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
         stop: Some(&super::STOP),
     };
     tracksim::output::incomplete::mark_incomplete(&a.out)?;
-    let result = tracksim::run::run_team(sc, opts)?;
+    let (result, _) = tracksim::run::run_team_kept(sc, opts)?;
     // With --mcap each robot's folder holds its run.mcap (its own topics and frames).
     let which = tracksim::output::Outputs {
         replay: true,
@@ -232,6 +226,7 @@ fn run_team(a: &RunArgs, file: &std::path::Path, sc: &tracksim::Scenario) -> Res
     if matches!(result.outcome, Outcome::Interrupted(_)) {
         return Err(Failure::Interrupted);
     }
+    super::world_stopped(result.stopped.as_deref(), &a.out)?;
     if a.strict && matches!(result.outcome, Outcome::Failure(_)) {
         return Err(Failure::Outcome);
     }

@@ -196,6 +196,10 @@ impl Seats<'_> {
             if let Value::Object(m) = &mut state {
                 m.extend(self.desk.fields(k, v.sim));
                 m.insert("robot".into(), json!(names[k]));
+                // Why the world stopped, when it did (issue 59): the pages say so.
+                if let Some(why) = ended.and_then(End::stopped) {
+                    m.insert("stopped".into(), json!(why));
+                }
                 let others: Vec<&Value> = (0..n).filter(|&j| j != k).map(|j| &bodies[j]).collect();
                 m.insert("others".into(), json!(others));
                 m.insert("team".into(), team.clone());
@@ -295,6 +299,21 @@ pub fn run_team_session(sc: &Scenario, hub: &Hub, opts: DriveOptions) -> Result<
 }
 
 impl TeamSession {
+    /// Robot `name`'s trainee (`--trainee ROBOT=NAME`) in every attempt of it: the last and
+    /// each a reset ended, so that every attempt counts for its trainee (issue 59).
+    pub fn set_trainee(&mut self, name: &str, trainee: Option<String>) {
+        let r = &mut self.result;
+        for (k, (n, run)) in r.robots.iter_mut().enumerate() {
+            if n != name {
+                continue;
+            }
+            for a in r.attempts.get_mut(k).into_iter().flatten() {
+                a.summary.trainee.clone_from(&trainee);
+            }
+            run.summary.trainee.clone_from(&trainee);
+        }
+    }
+
     /// The session's duration, s (the last sample's time).
     pub fn duration(&self) -> f64 {
         self.result

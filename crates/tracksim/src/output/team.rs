@@ -34,6 +34,10 @@ pub struct TeamSummary {
     /// The race or team score on the course, best first (absent without `[course]`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub standings: Option<crate::run::Standings>,
+    /// Why the world stopped before its end, when it did (a blow-up, robots further apart
+    /// than one world holds; issue 59); absent when it ended as it should.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<String>,
 }
 
 /// A robot's line in `team.json`.
@@ -92,6 +96,7 @@ impl TeamSummary {
                 })
                 .collect(),
             standings: r.standings.clone(),
+            stopped: r.stopped.clone(),
         }
     }
 }
@@ -220,6 +225,9 @@ pub fn team_report_of(
         r.outcome.reason(),
         r.outcome_time
     ));
+    if let Some(why) = &r.stopped {
+        l.push(format!("stopped    {why}"));
+    }
     let has_expect = sc
         .team
         .as_ref()

@@ -65,7 +65,7 @@ pub use session::{
 pub use soil_summary::{SoilSummary, TrackSoilSummary, soil_summary};
 pub use standings::{Standing, Standings};
 pub use summary::{SensorSummary, SolverSummary, Summary, WallTimes, iso8601_utc};
-pub use team::{TeamResult, TeamRunner, run_team};
+pub use team::{TeamResult, TeamRunner, run_team, run_team_kept};
 pub use timeline::Timeline;
 pub use track_summary::{
     DriveSummary, OdometrySummary, TrackSummary, odometry_summary, track_summaries,
@@ -123,8 +123,8 @@ pub fn run_scenario(sc: &Scenario, progress: impl FnMut(f64, f64)) -> Result<Run
     run_scenario_with(sc, RunOptions::default(), progress)
 }
 
-/// [`run_scenario_with`], keeping what was simulated when the simulation blows up: the run ends
-/// there ([`End::Unstable`], its outcome a failure that says so) and the error comes back
+/// [`run_scenario_with`], keeping what was simulated when the world stops (it blows up): the run ends
+/// there ([`End::Stopped`], its outcome a failure that says so) and the error comes back
 /// beside the result, for the caller to write the outputs and then report it.
 pub fn run_scenario_kept(
     sc: &Scenario,
@@ -137,9 +137,7 @@ pub fn run_scenario_kept(
     }
     match runner.run_to_end(progress, || opts.stop_asked()) {
         Ok(end) => Ok((runner.finish(end), None)),
-        Err(e @ crate::error::Error::Unstable { .. }) => {
-            Ok((runner.finish(End::Unstable(e.to_string())), Some(e)))
-        }
+        Err(e) if e.stops_world() => Ok((runner.finish(End::Stopped(e.to_string())), Some(e))),
         Err(e) => Err(e),
     }
 }

@@ -57,9 +57,32 @@ pub enum End {
     /// The driver's page of a live session left and did not come back within the grace
     /// period, s, with no other page connected.
     Abandoned(f64),
-    /// The simulation blew up (the stability check's message): the run stops there and keeps
-    /// what was simulated; its outcome is a failure that says so.
-    Unstable(String),
+    /// The world stopped (its message): it blew up (the stability check), or its robots
+    /// spread further apart than one world holds (`model::MAX_ROBOT_SPREAD_M`). The run stops
+    /// there and keeps what was simulated, every robot's (issue 59); its outcome is a failure
+    /// that says so, and `Summary::stopped` says why.
+    Stopped(String),
+}
+
+impl End {
+    /// The world's stop message, when the run ended with [`End::Stopped`].
+    pub fn stopped(&self) -> Option<&str> {
+        match self {
+            End::Stopped(why) => Some(why),
+            _ => None,
+        }
+    }
+
+    /// How a run ends when its step returned `e`: `Ok(End::Stopped)` for an error that stops
+    /// the world but keeps what was simulated (a blow-up, robots spread too far apart), else
+    /// the error itself.
+    pub fn from_step_error(e: crate::error::Error) -> crate::error::Result<End> {
+        if e.stops_world() {
+            Ok(End::Stopped(e.to_string()))
+        } else {
+            Err(e)
+        }
+    }
 }
 
 /// A scenario being run: the simulation, its command timeline, the samples so far and the
@@ -332,7 +355,7 @@ impl Runner {
                 )),
                 t,
             ),
-            End::Unstable(why) => (Outcome::Failure(why.clone()), t),
+            End::Stopped(why) => (Outcome::Failure(why.clone()), t),
             End::Reached => self.decided.clone().unwrap_or_else(|| match &self.course {
                 Some(c) => (c.unfinished(t), t),
                 None => (outcome::at_end(&self.sc.outcome, t), t),
@@ -430,6 +453,7 @@ impl Runner {
         let sensors = std::mem::replace(&mut self.sensors, SensorSet::none()).into_streams();
         summary.sensors = sensors.iter().map(super::SensorSummary::of).collect();
         summary.course = self.course.as_ref().map(CourseTracker::score);
+        summary.stopped = end.stopped().map(str::to_string);
         RunResult {
             samples: std::mem::take(&mut self.samples),
             track_names: self.sim.track_names().to_vec(),

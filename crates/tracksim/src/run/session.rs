@@ -11,7 +11,8 @@
 //! ([`ControlSource::reset`]: the attempt so far is kept, [`SessionWorld::end_attempt`]); then its new controls, if any, are compiled as a scenario's
 //! command and applied before the next step, and logged. The world then steps to the next
 //! sample ([`ControlSource::after_step`] after every step, [`ControlSource::after_sample`] at
-//! the sample).
+//! the sample). A step that stops the world (a blow-up, robots further apart than one world
+//! holds) ends the session there as [`End::Stopped`], every robot's run kept (issue 59).
 //!
 //! Determinism: a control is applied exactly as a `[[commands]]` entry at that time is (the
 //! same compilation, at the same step), so the log's `commands.toml` replays the session.
@@ -297,7 +298,7 @@ pub fn run_world_session<W: SessionWorld>(
     let mut attempts = Vec::new();
     let mut paused_since: Option<Instant> = None;
     let dt = world.dt();
-    let end = loop {
+    let end = 'session: loop {
         if limits.interrupted() {
             break End::Interrupted;
         }
@@ -329,7 +330,11 @@ pub fn run_world_session<W: SessionWorld>(
             }
         }
         loop {
-            world.step()?;
+            // A world that stops (a blow-up, robots too far apart) ends the session with
+            // every robot's run kept up to there (issue 59); any other error is returned.
+            if let Err(e) = world.step() {
+                break 'session End::from_step_error(e)?;
+            }
             source.after_step(&mut world);
             if world.at_sample() {
                 break;

@@ -100,6 +100,11 @@ pub struct Summary {
     /// a run without resets.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub attempts: Vec<super::AttemptRecord>,
+    /// Why the world stopped before its end, when it did (a blow-up, or robots further apart
+    /// than one world holds; issue 59): the run holds what was simulated up to there. Left
+    /// out of `summary.json` when the run ended as it should.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stopped: Option<String>,
 }
 
 /// `t` as an ISO 8601 UTC date and time to the second (`2026-12-03T12:27:37Z`); a time before
@@ -321,6 +326,7 @@ impl Summary {
             started_utc: iso8601_utc(wall.started.unwrap_or_else(std::time::SystemTime::now)),
             course: None,
             attempts: Vec::new(),
+            stopped: None,
         }
     }
 }

@@ -69,6 +69,10 @@ pub struct TeamResult {
     /// whose summary lists them all (`attempts`). Times are the world's: an attempt after a
     /// reset at t s starts at t.
     pub attempts: Vec<Vec<RunResult>>,
+    /// Why the world stopped before its end, when it did ([`End::Stopped`]: a blow-up, or
+    /// robots further apart than one world holds): every robot's run holds what was
+    /// simulated up to there (issue 59).
+    pub stopped: Option<String>,
 }
 
 impl TeamRunner {
@@ -365,6 +369,10 @@ impl TeamRunner {
         self.sim.select(0);
         let (outcome, outcome_time) = match (self.decided.take(), reached) {
             (d, _) if operator(&end).is_some() => (operator_outcome(&end, t, d.as_ref()), t),
+            (None, _) if end.stopped().is_some() => (
+                Outcome::Failure(end.stopped().unwrap_or_default().into()),
+                t,
+            ),
             (Some(d), _) => d,
             (None, true) => {
                 decide(self.rule, &names, &finals, true).unwrap_or((Outcome::Completed, t))
@@ -385,6 +393,7 @@ impl TeamRunner {
             outcome,
             outcome_time,
             rule: self.rule,
+            stopped: end.stopped().map(str::to_string),
         }
     }
 }
@@ -411,6 +420,7 @@ fn take_robot_result(
     let sensors = std::mem::replace(&mut r.sensors, SensorSet::none()).into_streams();
     summary.sensors = sensors.iter().map(SensorSummary::of).collect();
     summary.course = r.course.as_ref().map(CourseTracker::score);
+    summary.stopped = end.stopped().map(str::to_string);
     RunResult {
         samples,
         track_names: sim.track_names().to_vec(),
@@ -454,7 +464,7 @@ fn robot_outcome(r: &RobotRun, end: &End, t: f64) -> (Outcome, f64) {
         _ if operator(end).is_some() => (operator_outcome(end, t, r.decided.as_ref()), t),
         (Some(d), _) => d.clone(),
         (None, End::Reached) => (at_end(&r.view.outcome, t), t),
-        (None, End::Unstable(why)) => (Outcome::Failure(why.clone()), t),
+        (None, End::Stopped(why)) => (Outcome::Failure(why.clone()), t),
         (None, _) => (
             Outcome::Interrupted(format!("interrupted at t = {t:.3} s")),
             t,
@@ -583,18 +593,33 @@ pub fn decide(
     }
 }
 
-/// Runs a scenario with several robots to its end ([`TeamRunner`]).
+/// Runs a scenario with several robots to its end ([`TeamRunner`]); a world that stops (a
+/// blow-up, robots too far apart) is an error ([`run_team_kept`] keeps its runs).
 pub fn run_team(sc: &Scenario, opts: RunOptions) -> Result<TeamResult> {
+    match run_team_kept(sc, opts)? {
+        (_, Some(e)) => Err(e),
+        (result, None) => Ok(result),
+    }
+}
+
+/// [`run_team`], keeping what was simulated when the world stops (a blow-up, robots spread
+/// further apart than one world holds): every robot's run ends there ([`End::Stopped`]) and
+/// the error comes back beside the result, for the caller to write the outputs and then
+/// report it (issue 59).
+pub fn run_team_kept(
+    sc: &Scenario,
+    opts: RunOptions,
+) -> Result<(TeamResult, Option<crate::error::Error>)> {
     let mut runner = TeamRunner::new(sc)?;
     if opts.realtime {
         runner = runner.paced(1.0);
     }
-    let reached = runner.run_to_end(|| opts.stop_asked())?;
-    Ok(runner.finish(if reached {
-        End::Reached
-    } else {
-        End::Interrupted
-    }))
+    match runner.run_to_end(|| opts.stop_asked()) {
+        Ok(true) => Ok((runner.finish(End::Reached), None)),
+        Ok(false) => Ok((runner.finish(End::Interrupted), None)),
+        Err(e) if e.stops_world() => Ok((runner.finish(End::Stopped(e.to_string())), Some(e))),
+        Err(e) => Err(e),
+    }
 }
 
 /// Every way a team run misses its file's expectations, one line each (empty: met): the

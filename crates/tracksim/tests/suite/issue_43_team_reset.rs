@@ -330,15 +330,27 @@ fn live_reset_of_blue(by_driver: bool) {
         m["t"].as_f64().unwrap() > t_reset + 0.5 && m["pose"][0].as_f64().unwrap() > 0.03
     });
     send(&mut ins, serde_json::json!({"type": "end"}));
-    let s = session.join().unwrap().unwrap();
+    let mut s = session.join().unwrap().unwrap();
     assert_eq!(s.result.attempts[0].len(), 0, "red was not reset");
     assert_eq!(s.result.attempts[1].len(), 1, "blue's first attempt");
+    // `drive --trainee blue=Ada --trainee red=Bob` (issue 59: a kept attempt keeps its trainee).
+    s.set_trainee("blue", Some("Ada".into()));
+    s.set_trainee("red", Some("Bob".into()));
     let dir = std::env::temp_dir().join(format!(
         "tracksim-43-team-reset-{by_driver}-{}",
         std::process::id()
     ));
     let _ = std::fs::remove_dir_all(&dir);
     s.write(&sc, &file, &dir, false).unwrap();
+    let table = tracksim::sessions::scan_sessions(&dir).unwrap();
+    let board = tracksim::sessions::leaderboard(&table.rows);
+    let attempts = |who: &str| board.iter().find(|b| b.trainee == who).map(|b| b.attempts);
+    assert_eq!(
+        (attempts("Ada"), attempts("Bob"), attempts("")),
+        (Some(2), Some(1), None),
+        "every attempt under its trainee: {:?}",
+        table.rows
+    );
     let commands = std::fs::read_to_string(dir.join("commands.toml")).unwrap();
     assert_eq!(commands.matches("reset = true").count(), 1, "{commands}");
     let first = dir.join("blue/attempts/1");

@@ -67,6 +67,7 @@ mod issue_44_cull;
 mod issue_45_inputs;
 mod issue_45_servers;
 mod issue_58_accuracy;
+mod issue_59_no_stop_loses;
 mod layers;
 mod live;
 mod methods;
