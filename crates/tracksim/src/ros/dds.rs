@@ -16,7 +16,7 @@ use super::topics;
 use crate::output::ros_names::Namespace;
 use crate::rosmsg::{
     Clock, CourseEvent, CourseStatus, Float64, JointState, Odometry, RosString, TFMessage,
-    TrackStates, Twist,
+    TrackStates, Twist, TwistStamped,
 };
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::log::LogLevel;
@@ -165,7 +165,14 @@ impl DdsNode {
         &mut self,
         name: &str,
     ) -> Result<Sub<T>, DdsError> {
-        let q = qos(10, false);
+        self.subscription_with::<T>(name, qos(10, false))
+    }
+
+    fn subscription_with<T: crate::rosmsg::RosMessage + 'static>(
+        &mut self,
+        name: &str,
+        q: QosProfile,
+    ) -> Result<Sub<T>, DdsError> {
         let topic = self.topic::<T>(name, &q)?;
         let inner = self
             .node
@@ -176,6 +183,20 @@ impl DdsNode {
             topic: name.to_string(),
             dropped: std::cell::Cell::new(0),
         })
+    }
+
+    /// A subscription of `name` that matches reliable and best-effort publishers alike (a
+    /// best-effort reader; issue 61: a best-effort `/cmd_vel` publisher, as many teleop and
+    /// Nav2 setups have, never matched the reliable reader).
+    pub fn command_subscription<T: crate::rosmsg::RosMessage + 'static>(
+        &mut self,
+        name: &str,
+    ) -> Result<Sub<T>, DdsError> {
+        let q = QosProfile {
+            reliability: Reliability::BestEffort,
+            ..qos(10, false)
+        };
+        self.subscription_with::<T>(name, q)
     }
 
     /// The ros2-client node (for its services).
@@ -263,8 +284,14 @@ impl Publishers {
 
 /// A robot's subscriptions (in its namespace).
 pub struct Subscriptions {
-    /// `/cmd_vel`.
+    /// `/cmd_vel` as `geometry_msgs/Twist`.
     pub cmd_vel: Sub<Twist>,
+    /// `/cmd_vel` as `geometry_msgs/TwistStamped` (Nav2 from Jazzy, `diff_drive_controller`:
+    /// issue 61), on the same topic.
+    pub cmd_vel_stamped: Sub<TwistStamped>,
+    /// The plain reader's undecodable samples less the stamped reader's decoded ones, not yet
+    /// reported (`session.rs`, `cmd_vel_undecodable`).
+    pub cmd_vel_balance: std::cell::Cell<i64>,
     /// Per track (by index): its belt speed command, if its name makes a ROS name.
     pub track_speed: Vec<Option<Sub<Float64>>>,
     /// Per flipper (by index): its target command, if its name makes a ROS name.
@@ -302,7 +329,9 @@ impl Subscriptions {
             .collect();
         Ok((
             Subscriptions {
-                cmd_vel: node.subscription(&ns.topic(topics::CMD_VEL))?,
+                cmd_vel: node.command_subscription(&ns.topic(topics::CMD_VEL))?,
+                cmd_vel_stamped: node.command_subscription(&ns.topic(topics::CMD_VEL))?,
+                cmd_vel_balance: std::cell::Cell::new(0),
                 track_speed,
                 flipper_position,
                 flipper_positions: node.subscription(&ns.topic(topics::FLIPPER_POSITIONS))?,

@@ -11,7 +11,7 @@
 //! frame at most [`MAX_NAME_BYTES`] bytes; a longer one is refused while it is read, so a
 //! peer's 50,000 names never become 50,000 strings.
 
-use crate::rosmsg::{Float64, Header, JointState, Time, Twist};
+use crate::rosmsg::{Float64, Header, JointState, Time, Twist, TwistStamped};
 use serde::Deserializer;
 use serde::de::{DeserializeSeed, Error, SeqAccess, Visitor};
 use std::marker::PhantomData;
@@ -33,6 +33,11 @@ pub trait Bounded: Sized + 'static {
 impl Bounded for Twist {
     const VARIABLE: bool = false;
     type Seed = PhantomData<Twist>;
+}
+
+impl Bounded for TwistStamped {
+    const VARIABLE: bool = true;
+    type Seed = BoundedTwistStamped;
 }
 
 impl Bounded for Float64 {
@@ -207,6 +212,38 @@ impl<'de> Visitor<'de> for BoundedJointState {
     }
 }
 
+/// A `geometry_msgs/TwistStamped` command within bounds: its frame of at most
+/// [`MAX_NAME_BYTES`] bytes.
+#[derive(Clone, Copy, Default)]
+pub struct BoundedTwistStamped;
+
+impl<'de> DeserializeSeed<'de> for BoundedTwistStamped {
+    type Value = TwistStamped;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<TwistStamped, D::Error> {
+        // The fields in order: header (stamp, frame_id), twist.
+        d.deserialize_tuple(3, self)
+    }
+}
+
+impl<'de> Visitor<'de> for BoundedTwistStamped {
+    type Value = TwistStamped;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a geometry_msgs/TwistStamped")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<TwistStamped, A::Error> {
+        let missing = || A::Error::custom("a TwistStamped cut short");
+        let stamp: Time = seq.next_element()?.ok_or_else(missing)?;
+        let frame_id = seq.next_element_seed(BoundedString)?.ok_or_else(missing)?;
+        Ok(TwistStamped {
+            header: Header { stamp, frame_id },
+            twist: seq.next_element()?.ok_or_else(missing)?,
+        })
+    }
+}
+
 /// Reads CDR bytes `data` (header first) as a whole `M` within bounds ([`Whole`]): what the
 /// node's subscriptions do with each sample, for tests and tools.
 pub fn decode<M: Bounded>(data: &[u8]) -> Result<M, String> {
@@ -233,6 +270,33 @@ mod tests {
             },
             angular: Vector3::default(),
         }
+    }
+
+    /// Issue 61: the stamped and the plain `cmd_vel` never read as each other, so that the
+    /// node can subscribe to both on one topic and count what is neither.
+    #[test]
+    fn a_stamped_twist_is_not_a_twist_nor_a_twist_stamped() {
+        for frame in ["", "base_link", &"f".repeat(MAX_NAME_BYTES)] {
+            let st = TwistStamped {
+                header: Header {
+                    stamp: Time::from_secs(12.5),
+                    frame_id: frame.into(),
+                },
+                twist: twist(),
+            };
+            let bytes = encode(&st).unwrap();
+            assert_eq!(decode::<TwistStamped>(&bytes).unwrap(), st, "{frame}");
+            assert!(decode::<Twist>(&bytes).is_err(), "{frame}");
+        }
+        assert!(decode::<TwistStamped>(&encode(&twist()).unwrap()).is_err());
+        let long = TwistStamped {
+            header: Header {
+                stamp: Time::default(),
+                frame_id: "f".repeat(MAX_NAME_BYTES + 1),
+            },
+            twist: twist(),
+        };
+        assert!(decode::<TwistStamped>(&encode(&long).unwrap()).is_err());
     }
 
     #[test]

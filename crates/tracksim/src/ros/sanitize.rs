@@ -60,6 +60,14 @@ pub enum Problem {
         /// How many since the last check.
         count: u64,
     },
+    /// A stamped command older than the `cmd_vel` timeout at the simulated time (issue 61;
+    /// `diff_drive_controller` drops these too): the message was dropped.
+    Stale {
+        /// The ROS topic.
+        topic: String,
+        /// How long before the simulated time it was stamped, s.
+        age_s: f64,
+    },
     /// A joint command's arrays disagree in length: the message was dropped.
     Malformed {
         /// The ROS topic.
@@ -78,6 +86,7 @@ impl Problem {
             Problem::UnknownFlipper { .. } => "unknown flipper name",
             Problem::Malformed { .. } => "malformed joint command",
             Problem::Undecodable { .. } => "sample not of the topic's type",
+            Problem::Stale { .. } => "stale stamp",
         }
     }
 
@@ -88,6 +97,7 @@ impl Problem {
             | Problem::Clamped { topic, .. }
             | Problem::UnknownFlipper { topic, .. }
             | Problem::Malformed { topic, .. }
+            | Problem::Stale { topic, .. }
             | Problem::Undecodable { topic, .. } => topic,
         }
     }
@@ -131,6 +141,13 @@ impl std::fmt::Display for Problem {
                  of the message; those entries dropped"
             ),
             Problem::Malformed { topic, what } => write!(f, "{topic}: {what}; message dropped"),
+            Problem::Stale { topic, age_s } => write!(
+                f,
+                "{topic}: a TwistStamped stamped {age_s:.3} s before the simulated time (older \
+                 than the {} s cmd_vel timeout); message dropped: stamp it with the simulation's \
+                 /clock (use_sim_time) or leave the stamp 0 (now)",
+                super::commands::WATCHDOG_TIMEOUT_S
+            ),
             Problem::Undecodable { topic, count } => write!(
                 f,
                 "{topic}: {count} sample(s) that do not decode as the topic's type (another \
@@ -165,6 +182,30 @@ pub fn clamp_field(
         });
     }
     Ok(used)
+}
+
+/// The twist of a stamped `/cmd_vel` received at simulated time `t` s, if it is not stale: a
+/// zero stamp means now; a stamp more than [`super::commands::WATCHDOG_TIMEOUT_S`] before `t`
+/// is a [`Problem::Stale`] (issue 61). A stamp after `t` (a peer on the wall clock) is taken.
+pub fn fresh_twist<'a>(
+    topic: &str,
+    m: &'a crate::rosmsg::TwistStamped,
+    t: f64,
+    problems: &mut Vec<Problem>,
+) -> Option<&'a Twist> {
+    let stamp = &m.header.stamp;
+    if stamp.sec == 0 && stamp.nanosec == 0 {
+        return Some(&m.twist);
+    }
+    let age_s = t - f64::from(stamp.sec) - 1e-9 * f64::from(stamp.nanosec);
+    if age_s > super::commands::WATCHDOG_TIMEOUT_S {
+        problems.push(Problem::Stale {
+            topic: topic.into(),
+            age_s,
+        });
+        return None;
+    }
+    Some(&m.twist)
 }
 
 /// The forward speed (m/s) and yaw rate (rad/s) of a `/cmd_vel` twist: `linear.x` and

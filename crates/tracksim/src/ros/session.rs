@@ -117,25 +117,33 @@ impl Reporter<'_> {
     }
 }
 
-/// Every command received since the last call on robot namespace `ns`'s topics, sanitised
-/// (problems into `problems`).
+/// Every command received since the last call on robot namespace `ns`'s topics at simulated
+/// time `t` s, sanitised (problems into `problems`).
 fn receive(
     subs: &Subscriptions,
     ns: &Namespace,
     v: &VehicleModel,
+    t: f64,
     problems: &mut Vec<Problem>,
 ) -> Vec<Command> {
     let mut out = Vec::new();
     let cmd_vel = ns.topic(topics::CMD_VEL);
-    for tw in subs.cmd_vel.drain() {
-        if let Some((f, w)) = sanitize::twist(&cmd_vel, &tw, problems) {
+    let plain = subs.cmd_vel.drain();
+    let stamped = subs.cmd_vel_stamped.drain();
+    let twists = plain.iter().chain(
+        stamped
+            .iter()
+            .filter_map(|m| sanitize::fresh_twist(&cmd_vel, m, t, problems)),
+    );
+    for tw in twists.collect::<Vec<_>>() {
+        if let Some((f, w)) = sanitize::twist(&cmd_vel, tw, problems) {
             out.push(Command::Twist {
                 forward_mps: f,
                 yaw_rate_rad_s: w,
             });
         }
     }
-    undecodable(&subs.cmd_vel, problems);
+    cmd_vel_undecodable(subs, plain.len(), stamped.len(), problems);
     for (track, sub) in subs.track_speed.iter().enumerate() {
         for m in sub.iter().flat_map(|s| s.drain()) {
             let topic = &sub.as_ref().expect("drained").topic;
@@ -165,6 +173,32 @@ fn receive(
     }
     undecodable(&subs.flipper_positions, problems);
     out
+}
+
+/// The `/cmd_vel` samples that decoded as neither form since the last call, as a problem.
+/// RustDDS keeps one sample cache per topic name, so both readers see every sample: a stamped
+/// one is an undecodable sample to the plain reader, and a plain one to the stamped reader.
+/// What neither decoded is what the plain reader dropped less what the stamped one took; a
+/// sample that arrives between the two readers' turns is counted by one of them in the next
+/// call, so the difference is kept as a running balance (`Subscriptions::cmd_vel_balance`)
+/// and only what is left over is reported.
+fn cmd_vel_undecodable(
+    subs: &Subscriptions,
+    _plain: usize,
+    stamped: usize,
+    problems: &mut Vec<Problem>,
+) {
+    let _ = subs.cmd_vel_stamped.take_dropped();
+    let dropped = subs.cmd_vel.take_dropped() as i64;
+    let balance = subs.cmd_vel_balance.get() + dropped - stamped as i64;
+    let count = balance.max(0) as u64;
+    subs.cmd_vel_balance.set(balance.min(0));
+    if count > 0 {
+        problems.push(Problem::Undecodable {
+            topic: subs.cmd_vel.topic.clone(),
+            count,
+        });
+    }
 }
 
 /// The samples of `sub` that did not decode since the last call, as a problem.
@@ -422,7 +456,7 @@ impl RobotTopics {
     /// The robot's controls at `t` s (see [`RobotControl::controls`]).
     fn controls(&mut self, v: &VehicleModel, t: f64, rep: &mut Reporter) -> Option<CommandSpec> {
         let mut problems = Vec::new();
-        let received = receive(&self.subs, &self.ns, v, &mut problems);
+        let received = receive(&self.subs, &self.ns, v, t, &mut problems);
         self.control.counts.problems += problems.len() as u64;
         self.control.counts.undecodable += problems
             .iter()

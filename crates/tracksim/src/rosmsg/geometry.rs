@@ -91,6 +91,17 @@ pub struct Twist {
     pub angular: Vector3,
 }
 
+/// `geometry_msgs/TwistStamped`: a twist with a time and frame: what Nav2 (with
+/// `enable_stamped_cmd_vel`, the default from Jazzy), `diff_drive_controller` and the
+/// Clearpath and TurtleBot 4 simulations send on `cmd_vel` (issue 61).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TwistStamped {
+    /// Time (zero: now) and frame (the robot's base frame, or empty).
+    pub header: Header,
+    /// The twist.
+    pub twist: Twist,
+}
+
 /// `geometry_msgs/TwistWithCovariance`: a twist and its 6 x 6 covariance (row-major).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TwistWithCovariance {
@@ -174,6 +185,12 @@ pub const TWIST: MsgDef = MsgDef {
     text: "geometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular\n",
     deps: &[&VECTOR3],
 };
+/// `geometry_msgs/TwistStamped`.
+pub const TWIST_STAMPED: MsgDef = MsgDef {
+    name: "geometry_msgs/TwistStamped",
+    text: "std_msgs/Header header\ngeometry_msgs/Twist twist\n",
+    deps: &[&HEADER, &TWIST],
+};
 /// `geometry_msgs/TwistWithCovariance`.
 pub const TWIST_WITH_COVARIANCE: MsgDef = MsgDef {
     name: "geometry_msgs/TwistWithCovariance",
@@ -216,6 +233,9 @@ impl RosMessage for PoseWithCovariance {
 }
 impl RosMessage for Twist {
     const DEF: &'static MsgDef = &TWIST;
+}
+impl RosMessage for TwistStamped {
+    const DEF: &'static MsgDef = &TWIST_STAMPED;
 }
 impl RosMessage for TwistWithCovariance {
     const DEF: &'static MsgDef = &TWIST_WITH_COVARIANCE;

@@ -38,7 +38,7 @@ pub use cdr::{CdrError, decode, encode};
 pub use course::{CourseEvent, CourseStatus};
 pub use geometry::{
     Point, Pose, PoseWithCovariance, Quaternion, TFMessage, Transform, TransformStamped, Twist,
-    TwistWithCovariance, Vector3,
+    TwistStamped, TwistWithCovariance, Vector3,
 };
 pub use nav::Odometry;
 pub use schema::{MsgDef, RosMessage};

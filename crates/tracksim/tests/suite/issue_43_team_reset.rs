@@ -282,6 +282,20 @@ fn reset_event_says(summary: &serde_json::Value, by_driver: bool) {
     );
 }
 
+/// `tracksim sessions` of the team folder `dir` (blue reset once, blue's trainee Ada, red's
+/// Bob): Ada has both of blue's attempts, Bob red's one, and no attempt is nameless (issue 59).
+fn every_attempt_keeps_its_trainee(dir: &std::path::Path) {
+    let table = tracksim::sessions::scan_sessions(dir).unwrap();
+    let board = tracksim::sessions::leaderboard(&table.rows);
+    let attempts = |who: &str| board.iter().find(|b| b.trainee == who).map(|b| b.attempts);
+    assert_eq!(
+        (attempts("Ada"), attempts("Bob"), attempts("")),
+        (Some(2), Some(1), None),
+        "every attempt under its trainee: {:?}",
+        table.rows
+    );
+}
+
 /// Blue reset in a live session of two trainees, by its driver (`by_driver`) or the
 /// instructor; what the two tests above check.
 fn live_reset_of_blue(by_driver: bool) {
@@ -342,15 +356,7 @@ fn live_reset_of_blue(by_driver: bool) {
     ));
     let _ = std::fs::remove_dir_all(&dir);
     s.write(&sc, &file, &dir, false).unwrap();
-    let table = tracksim::sessions::scan_sessions(&dir).unwrap();
-    let board = tracksim::sessions::leaderboard(&table.rows);
-    let attempts = |who: &str| board.iter().find(|b| b.trainee == who).map(|b| b.attempts);
-    assert_eq!(
-        (attempts("Ada"), attempts("Bob"), attempts("")),
-        (Some(2), Some(1), None),
-        "every attempt under its trainee: {:?}",
-        table.rows
-    );
+    every_attempt_keeps_its_trainee(&dir);
     let commands = std::fs::read_to_string(dir.join("commands.toml")).unwrap();
     assert_eq!(commands.matches("reset = true").count(), 1, "{commands}");
     let first = dir.join("blue/attempts/1");
