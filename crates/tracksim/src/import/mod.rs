@@ -77,12 +77,15 @@ pub fn propose_model(model: &Path, sdf_model: Option<&str>) -> Result<ImportRepo
     let xml = crate::files::read_text_bounded(model, MAX_MODEL_BYTES)?;
     let sel = select::select(&robot, &xml).map_err(|m| invalid(model, "tracks", m))?;
     let geometry = select::geometry(&robot, &sel.tracks, &xml);
+    let (flippers, rigid) = select::flippers(&robot, &sel.tracks);
     Ok(ImportReport {
         model: model.to_path_buf(),
         robot: robot.name.clone(),
         source: sel.source,
         tracks: sel.tracks,
-        flippers: robot.arms.iter().map(|a| a.joint.clone()).collect(),
+        flippers,
+        rigid,
+        model_warnings: robot.warnings.clone(),
         skipped: sel.skipped,
         geometry,
         sdf_model: sdf_model.map(String::from),

@@ -80,6 +80,12 @@ pub struct ImportReport {
     pub tracks: Vec<ProposedTrack>,
     /// Revolute joints written as `[joints.NAME]` (the flippers).
     pub flippers: Vec<String>,
+    /// Revolute joints kept rigid (`rigid_joints`) with why: they carry no track and turn
+    /// about an axis other than y (a sensor's gimbal, a steering joint; issue 60).
+    pub rigid: Vec<(String, String)>,
+    /// What the model reader assumed or dropped (merged links, arms found, ...), one line
+    /// each: shown with the warnings.
+    pub model_warnings: Vec<String>,
     /// Links that looked like tracks but gave none, with why.
     pub skipped: Vec<String>,
     /// Separation and height found against the plugin's.
@@ -111,9 +117,17 @@ fn path_line(t: &ProposedTrack) -> String {
 }
 
 impl ImportReport {
-    /// Warnings (the plugin's separation or height against the geometry).
+    /// Warnings: the plugin's separation or height against the geometry, joints kept rigid,
+    /// and what the model reader assumed.
     pub fn warnings(&self) -> Vec<String> {
-        self.geometry.warnings()
+        let mut w = self.geometry.warnings();
+        w.extend(
+            self.rigid
+                .iter()
+                .map(|(j, why)| format!("joint \"{j}\": {why}")),
+        );
+        w.extend(self.model_warnings.iter().cloned());
+        w
     }
 
     /// The report as lines of text.

@@ -80,6 +80,7 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
         return done(TrackSource::TrackedVehicle, tracks, skipped);
     }
     let mut tracks = Vec::new();
+    let mut track_links = Vec::new();
     for l in &robot.links {
         // A wheel turning inside a track (continuous joint) is part of its track, not one.
         let wheels = wheels_of(robot, &l.name);
@@ -93,11 +94,65 @@ pub(super) fn select(robot: &UrdfRobot, xml: &str) -> Result<Selected, String> {
                    the file)"
             .to_string();
         match from_shapes(&l.name, l, &wheels, why) {
+            Ok(t) => {
+                track_links.push(l.name.clone());
+                tracks.push(t);
+            }
+            Err(m) => skipped.push(m),
+        }
+    }
+    // A flipper arm hung on a track link (its joint's parent), turning about y, carries a
+    // track of its own round its pulley cylinders (issue 60: Absolem's four flippers).
+    for a in robot.arms.iter().filter(|a| a.axis.y.abs() > Y_AXIS_COS) {
+        let on_track = robot
+            .joint_frames()
+            .iter()
+            .any(|j| j.child == a.link && track_links.contains(&j.parent));
+        let Some(link) = robot.link(&a.link).filter(|_| on_track) else {
+            continue;
+        };
+        let why = format!(
+            "a flipper arm (revolute joint {}) hung on a track link, with collision shapes",
+            a.joint
+        );
+        match from_shapes(&a.link, link, &wheels_of(robot, &a.link), why) {
             Ok(t) => tracks.push(t),
             Err(m) => skipped.push(m),
         }
     }
     done(TrackSource::LinkNames, tracks, skipped)
+}
+
+/// |cos| of the angle between an arm's axis and y above which it turns about y (8 deg).
+const Y_AXIS_COS: f64 = 0.99;
+
+/// The robot's arms as the vehicle file's flippers, and those kept rigid with why: an arm
+/// that turns about an axis other than y and carries none of `tracks` is a sensor's gimbal
+/// or a steering joint, not a flipper (issue 60: Absolem's lidar gimbal about x became a
+/// "flipper" with 2,000 N m/rad gains).
+pub(super) fn flippers(
+    robot: &UrdfRobot,
+    tracks: &[ProposedTrack],
+) -> (Vec<String>, Vec<(String, String)>) {
+    let mut flippers = Vec::new();
+    let mut rigid = Vec::new();
+    for a in &robot.arms {
+        let carries = tracks.iter().any(|t| t.link == a.link);
+        if a.axis.y.abs() > Y_AXIS_COS || carries {
+            flippers.push(a.joint.clone());
+        } else {
+            rigid.push((
+                a.joint.clone(),
+                format!(
+                    "turns about ({:.2}, {:.2}, {:.2}), not y, and carries no track: kept rigid \
+                     at angle 0 (`rigid_joints`), not a flipper; remove it from `rigid_joints` \
+                     and give it a [joints.{}] table to make it an arm",
+                    a.axis.x, a.axis.y, a.axis.z, a.joint
+                ),
+            ));
+        }
+    }
+    (flippers, rigid)
 }
 
 fn done(

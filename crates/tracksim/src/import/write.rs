@@ -80,7 +80,7 @@ pub fn vehicle_spec(r: &ImportReport, urdf: &str) -> VehicleSpec {
         sensors: Vec::new(),
         colors: None,
         steering: None,
-        rigid_joints: Vec::new(),
+        rigid_joints: r.rigid.iter().map(|(j, _)| j.clone()).collect(),
         flipper_joints: None,
         sdf_model: r.sdf_model.clone(),
     }

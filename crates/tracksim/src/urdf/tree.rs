@@ -146,11 +146,30 @@ fn check_roles(src: &UrdfSource, roles: &JointRoles, issues: &mut Vec<SpecIssue>
 /// `parent_owner`: its kind, whether it is an arm, and the child frame (a locked or rigid
 /// revolute joint turns it to its angle).
 fn role(
+    src: &UrdfSource,
     j: &urdf_rs::Joint,
     roles: &JointRoles,
     frame: &mut DAffine3,
+    warnings: &mut Vec<String>,
 ) -> Result<(LinkJoint, bool), ()> {
     let named = roles.named_flipper(&j.name);
+    // A continuous joint (or SDF's revolute without limits) whose link reaches off its axis is
+    // an arm that turns freely, never a wheel merged into its parent (issue 60: Absolem's four
+    // flippers, on SDF's +-1e16 "no limit", were merged into the main tracks as one rigid loop).
+    if j.joint_type == JointType::Continuous
+        && named.is_none()
+        && !roles.is_rigid(&j.name)
+        && let Some(off) = off_axis(src, j)
+    {
+        warnings.push(format!(
+            "joint \"{}\" turns without limits (continuous, or an SDF revolute joint with \
+                 no limit) and its link \"{}\" has collision shapes {off:.3} m off its axis: an \
+                 arm that turns freely (a flipper), not a wheel merged into its parent; list it \
+                 in `rigid_joints` to keep it rigid",
+            j.name, j.child.link
+        ));
+        return Ok((LinkJoint::Revolute, true));
+    }
     Ok(match j.joint_type {
         JointType::Fixed => (LinkJoint::Fixed, false),
         // A revolute joint locked at one angle (gz-sim's `<limit lower="a" upper="a">`) is
@@ -229,7 +248,7 @@ pub(super) fn walk(
                 issues.push(SpecIssue::new(&at, m));
                 continue;
             }
-            let (kind, owner) = match role(j, roles, &mut frame) {
+            let (kind, owner) = match role(src, j, roles, &mut frame, warnings) {
                 Ok((kind, false)) => (kind, parent_owner),
                 Ok((kind, true)) => {
                     if let Owner::Arm(i) = parent_owner {
@@ -354,6 +373,33 @@ fn arm(
         limits,
         effort: l.effort,
     })
+}
+
+/// How far the collision shapes of joint `j`'s child link sit off the joint's axis, m, when one
+/// does: a shape whose centre is more than 1 mm from the axis line, or a cylinder centred on it
+/// whose own axis is not the joint's. A wheel's, sprocket's or idler's shapes (a coaxial
+/// cylinder, a sphere, a box or mesh centred on the axis) spin in place: `None`.
+fn off_axis(src: &UrdfSource, j: &urdf_rs::Joint) -> Option<f64> {
+    const ON_AXIS_M: f64 = 1e-3;
+    let axis = DVec3::from_array(j.axis.xyz.0).try_normalize()?;
+    let link = src.robot.links.iter().find(|l| l.name == j.child.link)?;
+    let mut worst: Option<f64> = None;
+    for c in &link.collision {
+        let p = pose(&c.origin);
+        let centre = p.translation;
+        // Distance of the shape's centre from the axis line through the link's origin.
+        let d = (centre - axis * centre.dot(axis)).length();
+        let tilted = match &c.geometry {
+            urdf_rs::Geometry::Cylinder { .. } | urdf_rs::Geometry::Capsule { .. } => {
+                (p.matrix3 * DVec3::Z).cross(axis).length() > 1e-3
+            }
+            _ => false,
+        };
+        if d > ON_AXIS_M || tilted {
+            worst = Some(worst.map_or(d, |w: f64| w.max(d)));
+        }
+    }
+    worst
 }
 
 /// A revolute joint whose limits are one finite angle: locked there.

@@ -68,6 +68,7 @@ mod issue_45_inputs;
 mod issue_45_servers;
 mod issue_58_accuracy;
 mod issue_59_no_stop_loses;
+mod issue_60_absolem;
 mod layers;
 mod live;
 mod methods;
