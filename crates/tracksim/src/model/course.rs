@@ -87,7 +87,14 @@ pub struct CourseModel {
 
 fn check_name(c: &mut Checker, key: &str, name: &str) {
     let n = name.chars().count();
-    if n == 0 || n > MAX_COURSE_NAME_CHARS || name.chars().any(char::is_control) {
+    // A blank name (only spaces) is no name: the leaderboard groups by it (issue 65).
+    if name.trim().is_empty() && n > 0 {
+        c.push(
+            key,
+            "is blank: give the course a name (it groups attempts on the leaderboard), or leave \
+             the key out for \"course\"",
+        );
+    } else if n == 0 || n > MAX_COURSE_NAME_CHARS || name.chars().any(char::is_control) {
         c.push(
             key,
             format!(

@@ -33,7 +33,9 @@ fn outline(s: &GrouserShape) -> Vec<DVec2> {
 /// over 2 pi, which is the mean of its support function over all directions (Cauchy's
 /// formula). Without lugs it is the rim radius.
 pub fn rolling_radius(rim: f64, g: Option<&GrouserModel>) -> f64 {
-    let Some(g) = g else {
+    // No lugs, or none to lay out (`grousers.shapes = []`, `count = 0`: refused by the
+    // track's checks with their keys, which run beside this; issue 65: it divided by zero).
+    let Some(g) = g.filter(|g| !g.shapes.is_empty() && g.layout.count > 0) else {
         return rim;
     };
     let pitch = TAU / g.layout.count as f64;

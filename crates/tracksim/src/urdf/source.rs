@@ -108,6 +108,33 @@ impl UrdfSource {
                 _ => {}
             }
         }
+        // URDF 1.1's `quat_xyzw`: urdf-rs turns a NaN or zero quaternion into no rotation
+        // without a word (issue 65); refused here, with its line.
+        for n in root.descendants().filter(|n| n.has_tag_name("origin")) {
+            let Some(q) = n.attribute("quat_xyzw") else {
+                continue;
+            };
+            let v: Vec<f64> = q
+                .split_whitespace()
+                .filter_map(|s| s.parse::<f64>().ok())
+                .collect();
+            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            let ok = v.len() == 4 && v.iter().all(|x| x.is_finite()) && norm > 1e-9;
+            if !ok {
+                return Err(vec![SpecIssue::new(
+                    key(&format!(
+                        "<origin quat_xyzw=\"{}\"> ({} line {})",
+                        crate::check::echoed(q),
+                        path.file_name()
+                            .map(|f| f.to_string_lossy().into_owned())
+                            .unwrap_or_default(),
+                        line(n)
+                    )),
+                    "must be four finite numbers x y z w of a non-zero quaternion (0 0 0 1: no \
+                     rotation)",
+                )]);
+            }
+        }
         let mut gazebo = super::gazebo::GazeboExtensions::read(root, &line);
         if let Some(p) = &mut gazebo.plugin {
             p.file = path
