@@ -255,12 +255,21 @@ pub fn vehicle_urdf(v: &VehicleModel) -> String {
 
 /// The robot description of `sc`'s vehicle: the URDF file's own text for a vehicle read from
 /// one (if it can still be read), else the URDF generated from the model ([`vehicle_urdf`]).
+/// `/robot_description` is always URDF (issue 61): a vehicle read from an SDF file (its root
+/// element `<sdf>`, which RViz's RobotModel, `robot_state_publisher` and Foxglove's URDF layer
+/// cannot draw) and a xacro file (not a URDF yet) are described by the generated URDF.
 pub fn robot_description(sc: &Scenario) -> String {
     sc.vehicle
         .urdf
         .as_ref()
         .and_then(|u| std::fs::read_to_string(&u.file).ok())
-        // A xacro file is not a URDF yet: describe the model instead.
-        .filter(|t| !t.contains("xmlns:xacro"))
+        .filter(|t| is_urdf(t))
         .unwrap_or_else(|| vehicle_urdf(&sc.vehicle))
+}
+
+/// Whether `text` is a URDF a ROS tool reads as it is: its root element is `<robot>` and it
+/// uses no xacro.
+fn is_urdf(text: &str) -> bool {
+    !text.contains("xmlns:xacro")
+        && roxmltree::Document::parse(text).is_ok_and(|d| d.root_element().has_tag_name("robot"))
 }

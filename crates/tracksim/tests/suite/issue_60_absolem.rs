@@ -134,5 +134,16 @@ fn absolem_imports_with_its_four_flippers_as_tracked_arms_and_its_gimbal_rigid()
         "pitch {}",
         s.final_pose.pitch
     );
+    // Issue 61: its `/robot_description` is a URDF (it was the 50 kB SDF text, which RViz and
+    // Foxglove cannot draw), with every flipper a revolute joint.
+    let description = tracksim::output::urdf_export::robot_description(&sc);
+    let urdf = urdf_rs::read_from_string(&description).expect("a URDF");
+    let revolute = urdf
+        .joints
+        .iter()
+        .filter(|u| u.joint_type != urdf_rs::JointType::Fixed)
+        .count();
+    assert_eq!(revolute, 4, "{description}");
+    assert!(!description.contains("<sdf"));
     let _ = std::fs::remove_dir_all(&out);
 }
