@@ -727,6 +727,7 @@ mod tests {
                 started_utc: "2026-01-01T00:00:00Z".into(),
                 course: None,
                 attempts: Vec::new(),
+                margins: Default::default(),
                 stopped: None,
             },
             samples: samples.into(),

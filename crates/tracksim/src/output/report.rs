@@ -46,6 +46,7 @@ pub fn run_report(file: &Path, sc: &Scenario, result: &RunResult, written: &[Pat
         s.max_penetration_m * 1000.0,
         s.solver.contact_slop_m * 1000.0
     ));
+    l.push(margins_line(&s.margins));
     l.push(format!(
         "outcome    {}: {} (t = {:.3} s)",
         s.outcome, s.outcome_reason, s.outcome_time_s
@@ -62,6 +63,35 @@ pub fn run_report(file: &Path, sc: &Scenario, result: &RunResult, written: &[Pat
             .map(|w| format!("wrote      {}", w.display())),
     );
     l.join("\n")
+}
+
+/// The margins line of a report: the peak tilt against the tip limit, and the track that came
+/// nearest to leaving the ground (issue 62).
+pub fn margins_line(m: &crate::run::Margins) -> String {
+    let at = |p: Option<crate::run::Peak>| {
+        p.map_or("-".to_string(), |p| {
+            format!("{:.1} deg at {:.2} s", p.value, p.t_s)
+        })
+    };
+    let mut line = format!(
+        "margins    pitch {}, roll {}: {:.1} deg below the {:.0} deg tip limit",
+        at(m.peak_abs_pitch_deg),
+        at(m.peak_abs_roll_deg),
+        m.tilt_margin_deg,
+        m.tip_limit_deg
+    );
+    let lightest = m
+        .tracks
+        .iter()
+        .filter_map(|t| t.min_normal_load_n.map(|p| (t, p)))
+        .min_by(|a, b| a.1.value.total_cmp(&b.1.value));
+    if let Some((t, p)) = lightest {
+        line.push_str(&format!(
+            "; lightest track {} {:.1} N at {:.2} s",
+            t.name, p.value, p.t_s
+        ));
+    }
+    line
 }
 
 /// The course line of a report: repetitions, times, faults, penalties, the score.

@@ -33,6 +33,7 @@ pub mod course;
 pub mod drawbar_summary;
 pub mod events;
 pub mod expect;
+pub mod margins;
 pub mod outcome;
 pub mod runner;
 pub mod sample_log;
@@ -54,6 +55,7 @@ pub use course::{
 };
 pub use drawbar_summary::{DrawbarSummary, drawbar_summary};
 pub use expect::{check_expectations, expect_verdict};
+pub use margins::{Margins, Peak, TrackMargin};
 pub use outcome::{Outcome, check_outcome};
 pub use runner::{End, Runner, one_robot};
 pub use sample_log::{SPILL_CHUNK, SampleIter, SampleLog, SpillLog};

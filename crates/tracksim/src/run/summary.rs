@@ -100,6 +100,9 @@ pub struct Summary {
     /// a run without resets.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub attempts: Vec<super::AttemptRecord>,
+    /// How close the run came to its limits: peak pitch and roll against the tip limit, each
+    /// track's smallest normal load, largest slip and motor load (issue 62).
+    pub margins: super::Margins,
     /// Why the world stopped before its end, when it did (a blow-up, or robots further apart
     /// than one world holds; issue 59): the run holds what was simulated up to there. Left
     /// out of `summary.json` when the run ended as it should.
@@ -326,6 +329,7 @@ impl Summary {
             started_utc: iso8601_utc(wall.started.unwrap_or_else(std::time::SystemTime::now)),
             course: None,
             attempts: Vec::new(),
+            margins: super::Margins::of(samples, sim.track_names(), sc.outcome.max_tilt),
             stopped: None,
         }
     }

@@ -69,6 +69,7 @@ mod issue_45_servers;
 mod issue_58_accuracy;
 mod issue_59_no_stop_loses;
 mod issue_60_absolem;
+mod issue_62_margins;
 mod layers;
 mod live;
 mod methods;
