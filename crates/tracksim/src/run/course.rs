@@ -149,6 +149,8 @@ pub struct CourseTracker {
     /// The simulated time the attempt started at, s (0; a reset of one robot in a world that
     /// goes on: the reset's time, [`CourseTracker::reset_at`]).
     start: f64,
+    /// The time of the last sample scored, s (also once the course is decided).
+    last_t: f64,
     status: &'static str,
     events: Vec<CourseEvent>,
 }
@@ -170,6 +172,7 @@ impl CourseTracker {
             faults: FaultCounts::default(),
             elapsed: 0.0,
             start: 0.0,
+            last_t: 0.0,
             status: "running",
             events: Vec::new(),
         }
@@ -220,6 +223,7 @@ impl CourseTracker {
 
     /// Scores the state of `sim` at its sample time `t` s.
     pub fn update(&mut self, sim: &Simulation, t: f64) {
+        self.last_t = t;
         if self.finished() {
             return;
         }
@@ -338,7 +342,11 @@ impl CourseTracker {
     /// and repetitions count from `t0`; its events keep the world's times.
     pub fn reset_at(&mut self, t0: f64) {
         let resets = self.faults.reset + 1;
-        let before = self.elapsed;
+        // The world's time of the reset and the attempt's own time then: its course clock
+        // stops once the course is decided (a time limit), so it is counted to the last sample
+        // here (issue 63: a reset at 56.26 s of a session was reported "at t = 30.01 s").
+        let at = self.last_t.max(t0);
+        let before = at - self.start;
         *self = CourseTracker::new(&self.model, self.max_tilt);
         self.faults.reset = resets;
         self.start = t0;
@@ -347,7 +355,8 @@ impl CourseTracker {
             t0,
             "reset",
             format!(
-                "reset {resets} (at t = {before:.2} s of the previous attempt): the course restarts"
+                "reset {resets} at t = {at:.2} s ({before:.2} s into the previous attempt): the \
+                 course restarts"
             ),
         );
     }

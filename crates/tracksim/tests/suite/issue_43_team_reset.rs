@@ -398,6 +398,13 @@ fn live_reset_of_blue(by_driver: bool) {
     assert_eq!(course.faults.reset, 1);
     assert!((course.elapsed_s - (s.duration() - t_reset)).abs() < 1e-9);
     assert_eq!(course.events[0].t_s, t_reset);
+    // Issue 63: the reset is said at the world's time it happened.
+    let said = format!("at t = {t_reset:.2} s");
+    assert!(
+        course.events[0].detail.contains(&said),
+        "{}",
+        course.events[0].detail
+    );
     let red_course = &s.result.robots[0].1.summary.course.as_ref().unwrap();
     assert_eq!(red_course.faults.reset, 0);
     assert!((red_course.elapsed_s - s.duration()).abs() < 1e-9);
