@@ -1,4 +1,4 @@
-//! Issue 61: `/cmd_vel` as ROS 2 stacks send it, every packet on loopback (DDS domains 161-163,
+//! Issue 61: `/cmd_vel` as ROS 2 stacks send it, every packet on loopback (DDS domains 161-164,
 //! loopback only), each test bounded in time (< 40 s):
 //! - `geometry_msgs/TwistStamped` (Nav2 from Jazzy with `enable_stamped_cmd_vel`,
 //!   `diff_drive_controller`), best effort at 20 Hz, drives the robot as `Twist` does;
@@ -166,4 +166,28 @@ fn a_stale_stamped_cmd_vel_is_dropped_and_said() {
     let d = moved(out.path());
     eprintln!("stale: moved {d:.3} m");
     assert!(d < 0.33, "moved {d} m: {stderr:?}");
+}
+
+/// A publisher of another type on `/cmd_vel` (here `geometry_msgs/Vector3`) never matches the
+/// node's readers, so no sample arrives: the node says so once, naming the topic, the type
+/// found and the types it reads.
+#[test]
+fn a_publisher_of_another_type_is_named_once() {
+    let out = tempfile::tempdir().unwrap();
+    let (code, stdout, stderr) = publish_for_2_s(164, out.path(), "Vector3", || Vector3 {
+        x: 0.3,
+        ..Vector3::default()
+    });
+    assert_eq!(code, 0, "{stdout:?} {stderr:?}");
+    let said: Vec<&String> = stderr
+        .iter()
+        .filter(|l| l.contains("geometry_msgs/msg/Vector3"))
+        .collect();
+    assert_eq!(said.len(), 1, "{stderr:?}");
+    assert!(
+        said[0].contains("/cmd_vel") && said[0].contains("geometry_msgs/msg/TwistStamped"),
+        "{said:?}"
+    );
+    let d = moved(out.path());
+    assert!(d < 0.01, "moved {d} m");
 }

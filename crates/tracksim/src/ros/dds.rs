@@ -199,6 +199,29 @@ impl DdsNode {
         self.subscription_with::<T>(name, q)
     }
 
+    /// Every remote publisher DDS discovery knows of: its ROS topic (`rt/cmd_vel` ->
+    /// `/cmd_vel`) and ROS type (`geometry_msgs::msg::dds_::Twist_` -> `geometry_msgs/Twist`);
+    /// endpoints that are not ROS topics are left out.
+    pub fn discovered_publishers(&self) -> Vec<(String, String)> {
+        self._context
+            .domain_participant()
+            .discovered_writers()
+            .iter()
+            .filter_map(|w| {
+                let d = &w.publication_topic_data;
+                let topic = d.topic_name.strip_prefix("rt")?.to_string();
+                let parts: Vec<&str> = d.type_name.split("::").collect();
+                let ty = match parts.as_slice() {
+                    [pkg, "msg", "dds_", name] => {
+                        format!("{pkg}/{}", name.strip_suffix('_').unwrap_or(name))
+                    }
+                    _ => d.type_name.clone(),
+                };
+                Some((topic, ty))
+            })
+            .collect()
+    }
+
     /// The ros2-client node (for its services).
     pub fn node_mut(&mut self) -> &mut Node {
         &mut self.node
@@ -301,6 +324,30 @@ pub struct Subscriptions {
 }
 
 impl Subscriptions {
+    /// Each command topic read and the message types it is read as (`pkg/Type`), for the
+    /// report of a publisher of another type (issue 61: such a publisher never matches, and
+    /// nothing arrives to say so).
+    pub fn read_types(&self) -> Vec<(String, Vec<&'static str>)> {
+        use crate::rosmsg::RosMessage;
+        let mut out = vec![(
+            self.cmd_vel.topic.clone(),
+            vec![Twist::DEF.name, TwistStamped::DEF.name],
+        )];
+        for s in self
+            .track_speed
+            .iter()
+            .chain(&self.flipper_position)
+            .flatten()
+        {
+            out.push((s.topic.clone(), vec![Float64::DEF.name]));
+        }
+        out.push((
+            self.flipper_positions.topic.clone(),
+            vec![JointState::DEF.name],
+        ));
+        out
+    }
+
     /// Creates them on `node` in namespace `ns` for tracks `tracks` and flippers `flippers`
     /// (names); a name that makes no valid ROS topic is skipped and reported in the second
     /// value.

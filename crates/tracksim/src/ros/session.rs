@@ -519,13 +519,50 @@ struct World<'w> {
     rep: Reporter<'w>,
     pubs: WorldPublishers,
     map_tf: bool,
+    /// Every robot's command topics and the types each is read as.
+    read_types: Vec<(String, Vec<&'static str>)>,
+    /// The (topic, type) of each foreign publisher already reported.
+    foreign_said: std::collections::HashSet<(String, String)>,
+    /// The simulated time of the next look at the discovered publishers, s.
+    next_foreign_check: f64,
 }
 
+/// Simulated time between two looks at the discovered publishers, s.
+const FOREIGN_CHECK_S: f64 = 1.0;
+
 impl World<'_> {
-    /// `/clock` at `t` s, then `/tf` with `transforms` (every robot's).
-    fn publish(&self, t: f64, transforms: Vec<TransformStamped>) {
+    /// `/clock` at `t` s, then `/tf` with `transforms` (every robot's); once a simulated
+    /// second, a publisher of another type on a command topic is reported.
+    fn publish(&mut self, t: f64, transforms: Vec<TransformStamped>) {
         self.pubs.clock.publish(messages::clock(t));
         self.pubs.tf.publish(TFMessage { transforms });
+        if t >= self.next_foreign_check {
+            self.next_foreign_check = t + FOREIGN_CHECK_S;
+            self.report_foreign_types(t);
+        }
+    }
+
+    /// Reports, once each, the discovered publishers on a command topic whose type the node
+    /// does not read (issue 61: DDS never matches them, so nothing arrives and nothing said).
+    fn report_foreign_types(&mut self, t: f64) {
+        let ros = |ty: &str| ty.replacen('/', "/msg/", 1);
+        for (topic, ty) in self.rep.node.discovered_publishers() {
+            let Some((_, read)) = self.read_types.iter().find(|(x, _)| *x == topic) else {
+                continue;
+            };
+            if read.contains(&ty.as_str()) || !self.foreign_said.insert((topic.clone(), ty.clone()))
+            {
+                continue;
+            }
+            let wanted: Vec<String> = read.iter().map(|r| ros(r)).collect();
+            let m = format!(
+                "{topic}: a publisher of {} is not read (DDS matches it to no reader): tracksim \
+                 reads {topic} as {}",
+                ros(&ty),
+                wanted.join(" or ")
+            );
+            self.rep.say(LogLevel::Warn, t, &m);
+        }
     }
 }
 
@@ -689,6 +726,7 @@ fn start<'w>(
     let mut skipped = Vec::new();
     let mut notes = Vec::new();
     let mut statics = Vec::new();
+    let mut read_types = Vec::new();
     for (sc, ns) in robots {
         let (t, s) = RobotTopics::new(node, sc, ns.clone(), opts.raw_images, opts.play_commands)?;
         t.pubs.description.publish(crate::rosmsg::RosString {
@@ -709,6 +747,7 @@ fn start<'w>(
                 )
             });
         }
+        read_types.extend(t.subs.read_types());
         topics.push(t);
         skipped.extend(s);
         statics.extend(ns.tf(messages::tf_static(sc)).transforms);
@@ -724,6 +763,9 @@ fn start<'w>(
         },
         pubs,
         map_tf: opts.map_tf,
+        read_types,
+        foreign_said: Default::default(),
+        next_foreign_check: 0.0,
     };
     for s in skipped {
         world
