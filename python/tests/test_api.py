@@ -90,3 +90,13 @@ def test_terrain_heights_by_ray_casts():
     sim = tracksim.Simulation(SCENARIOS / "packbot_step.toml")
     h = sim.terrain_heights([0.0, 1.0, 1.5], [0.0, 0.0, 0.0])
     np.testing.assert_allclose(h, [0.0, 0.10, 0.10], atol=1e-4)
+
+
+def test_submodules_are_reachable_after_import_tracksim():
+    """Issue 64: `import tracksim; tracksim.dataset` was an AttributeError (it needed `import
+    tracksim.dataset`); the submodules load on first use, and a name that is none stays an
+    AttributeError."""
+    assert tracksim.dataset.__name__ == "tracksim.dataset"
+    assert callable(tracksim.dataset.ensemble)
+    with pytest.raises(AttributeError):
+        tracksim.no_such_module

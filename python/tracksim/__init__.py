@@ -69,3 +69,17 @@ __all__ = [
     "bundled_path",
     "write_video",
 ]
+
+
+#: Submodules loaded on first use (``tracksim.dataset`` after ``import tracksim``, issue 64):
+#: each needs packages of its own (pyarrow, Ray, PettingZoo) that ``import tracksim`` does not.
+_LAZY_SUBMODULES = ("dataset", "baselines", "ray_vector", "ray_sweep", "ray_ensemble", "team_env")
+
+
+def __getattr__(name):
+    if name in _LAZY_SUBMODULES:
+        import importlib
+
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+

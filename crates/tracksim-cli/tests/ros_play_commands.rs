@@ -96,6 +96,7 @@ fn the_files_commands_drive_until_the_first_ros_command_and_replay() {
     let header = LogHeader {
         what: "test",
         notes: &[],
+        seed: None,
     };
     let path = log.write(header, &file, &dir, 2.0).unwrap();
     let o = tracksim::Overrides {

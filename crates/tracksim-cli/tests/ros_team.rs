@@ -181,6 +181,7 @@ fn a_silent_peer_stops_its_robot_only_and_the_commands_replay_the_session() {
     let header = LogHeader {
         what: "test",
         notes: &[],
+        seed: None,
     };
     tracksim::run::write_team_log(&pairs, header, &file, &dir, 2.0).unwrap();
     let o = tracksim::Overrides {

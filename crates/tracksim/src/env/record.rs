@@ -128,14 +128,15 @@ impl EpisodeRecord {
                     crate::model::sampled_text(&sc.randomized)
                 ),
                 format!(
-                    "They are drawn again with --seed {seed} added to the command above \
-                     (without it the run draws from the file's simulation.seed)."
+                    "They are drawn again from --seed {seed} in the command above (without it \
+                     the run draws from the file's simulation.seed)."
                 ),
             ]
         };
         let header = LogHeader {
             what: &what,
             notes: &notes,
+            seed: Some(seed),
         };
         // Marked while it is written (issue 45): an episode folder a killed process left half
         // written is never read as a result.

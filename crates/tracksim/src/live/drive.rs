@@ -564,6 +564,7 @@ impl Session {
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,
             notes: &[],
+            seed: None,
         };
         let mut written = crate::output::write_session(
             sc,

@@ -347,6 +347,7 @@ impl TeamSession {
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,
             notes: &[],
+            seed: None,
         };
         let which = crate::output::Outputs {
             plots,

@@ -906,6 +906,7 @@ impl RosTeamSession {
         let header = LogHeader {
             what: RosSession::COMMANDS_HEADER,
             notes: &[],
+            seed: None,
         };
         let logs: Vec<(&str, &CommandLog)> = self
             .robots
@@ -951,6 +952,7 @@ impl RosSession {
         let header = LogHeader {
             what: Self::COMMANDS_HEADER,
             notes: &[],
+            seed: None,
         };
         crate::output::write_session(
             sc,

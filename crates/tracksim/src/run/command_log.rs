@@ -27,6 +27,10 @@ pub struct LogHeader<'a> {
     pub what: &'a str,
     /// Further comment lines.
     pub notes: &'a [String],
+    /// The seed the run was instantiated with (`tracksim run --seed`), when it was: the
+    /// reproducing command then says `--seed N` (issue 64: an episode of a learning
+    /// environment, randomised or not, replays byte for byte only with its seed).
+    pub seed: Option<u64>,
 }
 
 impl CommandLog {
@@ -139,10 +143,11 @@ impl LogHeader<'_> {
         duration_s: f64,
         what_replays: &str,
     ) -> String {
+        let seed = self.seed.map_or(String::new(), |s| format!(" --seed {s}"));
         let mut text = format!(
             "# {}, applied at these simulated times.\n\
              # This run reproduces its {what_replays}:\n\
-             #   {}\n",
+             #   {}{seed}\n",
             self.what,
             reproduce_command(scenario_file, commands_file, duration_s),
         );
@@ -267,6 +272,7 @@ mod tests {
             LogHeader {
                 what: "Test controls",
                 notes: &notes,
+                seed: None,
             },
             Path::new("s.toml"),
             Path::new("d/commands.toml"),

@@ -352,6 +352,9 @@ fn record_and_replay(name: &str, settings: &[(&str, EnvValue)], actions: &[Vec<f
     }
     let commands = std::fs::read_to_string(folder.join("commands.toml")).unwrap();
     assert!(commands.contains("--duration"), "{commands}");
+    // Issue 64: the printed command carries the episode's seed (every episode's scenario is
+    // instantiated with it).
+    assert!(commands.contains("--keep-running --seed 5\n"), "{commands}");
     // The replay.
     let o = tracksim::Overrides {
         commands: Some(folder.join("commands.toml")),

@@ -147,6 +147,7 @@ fn a_session_log_replays_byte_for_byte_after_a_reset() {
     let header = LogHeader {
         what: "A scripted session",
         notes: &[],
+        seed: None,
     };
     let path = run.log.write(header, &file, &dir, end_t).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
