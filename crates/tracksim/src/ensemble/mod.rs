@@ -11,7 +11,9 @@ mod perturb;
 mod report;
 
 pub use perturb::{MAX_MEMBERS, Member, Perturbations, RobotOffset};
-pub use report::{EnsembleReport, MemberResult, RobotResult, check_ensemble};
+pub use report::{
+    EnsembleReport, MarginSpreads, MemberMargins, MemberResult, RobotResult, check_ensemble,
+};
 
 use crate::error::{Error, Result};
 use crate::model::{Scenario, ScenarioTemplate};

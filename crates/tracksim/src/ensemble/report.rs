@@ -41,6 +41,42 @@ pub struct MemberResult {
     /// robot 0's). Empty for one robot.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub robots: Vec<RobotResult>,
+    /// How close it came to its limits (robot 0's in a world of several; none for a member
+    /// that blew up): issue 62, from its `summary.json` `margins`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margins: Option<MemberMargins>,
+}
+
+/// A member's margins (`summary.json` `margins` in short).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MemberMargins {
+    /// The largest |pitch|, deg.
+    pub peak_abs_pitch_deg: f64,
+    /// The largest |roll|, deg.
+    pub peak_abs_roll_deg: f64,
+    /// The tip limit less the larger of the two, deg.
+    pub tilt_margin_deg: f64,
+    /// The smallest normal load any track carried from 1 s on, N (NaN, null in JSON, when
+    /// the run was shorter).
+    #[serde(deserialize_with = "nan_if_null")]
+    pub min_track_load_n: f64,
+}
+
+impl MemberMargins {
+    /// A run's margins in short.
+    pub fn of(m: &crate::run::Margins) -> Self {
+        let peak = |p: Option<crate::run::Peak>| p.map_or(0.0, |p| p.value);
+        MemberMargins {
+            peak_abs_pitch_deg: peak(m.peak_abs_pitch_deg),
+            peak_abs_roll_deg: peak(m.peak_abs_roll_deg),
+            tilt_margin_deg: m.tilt_margin_deg,
+            min_track_load_n: m
+                .tracks
+                .iter()
+                .filter_map(|t| t.min_normal_load_n.map(|p| p.value))
+                .fold(f64::NAN, f64::min),
+        }
+    }
 }
 
 /// One robot's result in a member of an ensemble of several robots.
@@ -75,6 +111,7 @@ impl MemberResult {
             dir,
             winner: None,
             robots: Vec::new(),
+            margins: Some(MemberMargins::of(&s.margins)),
         }
     }
 
@@ -109,6 +146,10 @@ impl MemberResult {
             dir,
             winner: r.standings.as_ref().and_then(|s| s.winner.clone()),
             robots,
+            margins: r
+                .robots
+                .first()
+                .map(|(_, run)| MemberMargins::of(&run.summary.margins)),
         }
     }
 
@@ -129,8 +170,22 @@ impl MemberResult {
             dir,
             winner: None,
             robots: Vec::new(),
+            margins: None,
         }
     }
+}
+
+/// The spread of each margin over an ensemble's members (`ensemble.json` `margins`).
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct MarginSpreads {
+    /// Peak |pitch|, deg.
+    pub peak_abs_pitch_deg: Option<Spread>,
+    /// Peak |roll|, deg.
+    pub peak_abs_roll_deg: Option<Spread>,
+    /// Tilt margin, deg.
+    pub tilt_margin_deg: Option<Spread>,
+    /// Smallest track load, N.
+    pub min_track_load_n: Option<Spread>,
 }
 
 /// Smallest, median and largest of some values (None: no value).
@@ -321,6 +376,26 @@ impl EnsembleReport {
         Spread::of(&v)
     }
 
+    /// Spread of one margin over the members that have margins (issue 62).
+    pub fn margin_spread(&self, pick: impl Fn(&MemberMargins) -> f64) -> Option<Spread> {
+        let v: Vec<f64> = self
+            .members
+            .iter()
+            .filter_map(|m| m.margins.as_ref().map(&pick))
+            .collect();
+        Spread::of(&v)
+    }
+
+    /// The margins' spreads: peak |pitch|, peak |roll|, tilt margin, smallest track load.
+    pub fn margin_spreads(&self) -> MarginSpreads {
+        MarginSpreads {
+            peak_abs_pitch_deg: self.margin_spread(|m| m.peak_abs_pitch_deg),
+            peak_abs_roll_deg: self.margin_spread(|m| m.peak_abs_roll_deg),
+            tilt_margin_deg: self.margin_spread(|m| m.tilt_margin_deg),
+            min_track_load_n: self.margin_spread(|m| m.min_track_load_n),
+        }
+    }
+
     /// The report in words: verdict, counts, outcome times, final pose spread, perturbations.
     pub fn text(&self) -> String {
         let p = &self.perturbations;
@@ -364,6 +439,16 @@ impl EnsembleReport {
             .collect();
         if !parts.is_empty() {
             s += &format!("  final pose: {}\n", parts.join(", "));
+        }
+        let ms = self.margin_spreads();
+        if let (Some(p), Some(m)) = (ms.peak_abs_pitch_deg, ms.tilt_margin_deg) {
+            let load = ms.min_track_load_n.map_or(String::new(), |l| {
+                format!(", lightest track {:.1}..{:.1} N", l.min, l.max)
+            });
+            s += &format!(
+                "  margins: peak pitch {:.1}..{:.1} deg, tilt margin {:.1}..{:.1} deg{load}\n",
+                p.min, p.max, m.min, m.max
+            );
         }
         if let Some(w) = self.winner_verdict() {
             s += &format!("  winner: {w}\n");
@@ -414,6 +499,7 @@ impl EnsembleReport {
             winners: Vec<(String, usize)>,
             #[serde(skip_serializing_if = "Vec::is_empty")]
             robot_verdicts: Vec<RobotVerdict>,
+            margins: MarginSpreads,
             #[serde(flatten)]
             report: &'a EnsembleReport,
         }
@@ -438,6 +524,7 @@ impl EnsembleReport {
                     success_time_s,
                 })
                 .collect(),
+            margins: self.margin_spreads(),
             report: self,
         })
         .map_err(|e| Error::Build(format!("ensemble.json: {e}")))
@@ -534,6 +621,10 @@ impl EnsembleReport {
             "final_yaw_rad",
             "progress_m",
             "reason",
+            "peak_abs_pitch_deg",
+            "peak_abs_roll_deg",
+            "tilt_margin_deg",
+            "min_track_load_n",
         ]
         .map(String::from)
         .to_vec();
@@ -569,6 +660,18 @@ impl EnsembleReport {
                 m.progress_m.to_string(),
                 m.reason.clone(),
             ];
+            match &m.margins {
+                Some(g) => row.extend(
+                    [
+                        g.peak_abs_pitch_deg,
+                        g.peak_abs_roll_deg,
+                        g.tilt_margin_deg,
+                        g.min_track_load_n,
+                    ]
+                    .map(|v| v.to_string()),
+                ),
+                None => row.extend(std::iter::repeat_n(String::new(), 4)),
+            }
             if !names.is_empty() {
                 row.push(m.winner.clone().unwrap_or_default());
                 for k in 0..names.len() {

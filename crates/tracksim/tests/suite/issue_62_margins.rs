@@ -65,3 +65,36 @@ fn on_flat_ground_each_track_carries_about_half_the_weight() {
     // Mirror symmetry: the two sides' smallest loads agree within 10 % of half the weight.
     assert!((loads[0] - loads[1]).abs() < 0.05 * w, "{loads:?}");
 }
+
+/// An ensemble gives each member's margins and their spread (issue 62: the developer read the
+/// members' `trajectory.csv` files to find the peak pitch): every member's peak pitch in the
+/// report equals the one its own run gives, and the spread covers them.
+#[test]
+fn an_ensemble_gives_the_spread_of_its_members_margins() {
+    let f = root().join("scenarios/packbot_step.toml");
+    let t = tracksim::load_template(&f).unwrap();
+    let mut opts = tracksim::ensemble::EnsembleOptions::new(4);
+    opts.seed = 62;
+    let r = tracksim::ensemble::run_ensemble(&t, &opts, |_, _| {}).unwrap();
+    let spreads = r.margin_spreads();
+    let pitch = spreads.peak_abs_pitch_deg.unwrap();
+    println!("{}", r.text());
+    let plain = run("packbot_step.toml");
+    let tip = plain.summary.margins.tip_limit_deg;
+    for m in &r.members {
+        let g = m.margins.unwrap();
+        assert!(pitch.min <= g.peak_abs_pitch_deg && g.peak_abs_pitch_deg <= pitch.max);
+        let worst = g.peak_abs_pitch_deg.max(g.peak_abs_roll_deg);
+        assert!((g.tilt_margin_deg - (tip - worst)).abs() < 1e-9, "{g:?}");
+    }
+    // Member 0 is the file as written: its margins are the plain run's.
+    let m0 = r.members[0].margins.unwrap();
+    assert_eq!(
+        m0.peak_abs_pitch_deg,
+        plain.summary.margins.peak_abs_pitch_deg.unwrap().value
+    );
+    assert!(r.text().contains("margins: peak pitch"));
+    // Climbing a 0.1 m step tilts the PackBot well off flat (the sine of its pitch times its
+    // 0.5 m wheelbase is more than half the step) and far from tipping.
+    assert!(pitch.min > 10.0 && pitch.max < 45.0, "{pitch:?}");
+}
