@@ -10,9 +10,8 @@
 //! Each publishes 0.3 m/s for 2 s of wall time into a paced session; the robot must cover at
 //! least 0.3 m (the discovery latency and the belts' spin-up take some of the 0.6 m).
 
-use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::qos::{History, Reliability};
-use ros2_client::{Context, MessageTypeName, Name, NodeName, NodeOptions, QosProfile};
+use ros2_client::{MessageTypeName, Name, QosProfile};
 use std::path::Path;
 use std::time::{Duration, Instant};
 use tracksim::rosmsg::{Header, Time, Twist, TwistStamped, Vector3};
@@ -21,21 +20,8 @@ use tracksim::rosmsg::{Header, Time, Twist, TwistStamped, Vector3};
 mod proc;
 use proc::{Proc, spawn};
 
-/// A ROS 2 node of the test in DDS domain `domain`, on loopback only.
-fn peer(domain: u16) -> (Context, ros2_client::Node) {
-    let dp = DomainParticipantBuilder::new(domain)
-        .with_only_networks(vec![std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST)])
-        .build()
-        .unwrap();
-    let ctx = Context::from_domain_participant(dp).unwrap();
-    let node = ctx
-        .new_node(
-            NodeName::new("/", "cmd_vel_test").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    (ctx, node)
-}
+#[path = "support/dds.rs"]
+mod dds;
 
 /// `tracksim ros` of packbot_flat for 6 s, paced, in DDS domain `domain`.
 fn ros(domain: u16, out: &Path) -> Proc {
@@ -87,7 +73,7 @@ fn publish_for_2_s<T: tracksim::rosmsg::RosMessage + 'static>(
     msg: impl Fn() -> T,
 ) -> (i32, Vec<String>, Vec<String>) {
     let mut p = ros(domain, out);
-    let (_ctx, mut node) = peer(domain);
+    let (_ctx, mut node) = dds::peer(domain, "cmd_vel_test");
     let q = best_effort();
     let topic = node
         .create_topic(

@@ -9,8 +9,7 @@
 //!   characters published under the Twist type on `/cmd_vel` is dropped and counted, the
 //!   robot not moved.
 
-use ros2_client::dds::rustdds::DomainParticipantBuilder;
-use ros2_client::{Context, MessageTypeName, Name, NodeName, NodeOptions};
+use ros2_client::{MessageTypeName, Name};
 use std::io::{Read, Write};
 use std::net::{SocketAddr, TcpStream};
 use std::path::Path;
@@ -156,20 +155,11 @@ fn a_pages_huge_flipper_table_leaves_the_servers_memory_flat() {
     assert_eq!(code, 0, "{stdout:?} {stderr:?}");
 }
 
-/// A ROS 2 node of the test in DDS domain `domain`, on loopback only.
-fn peer(domain: u16) -> (Context, ros2_client::Node) {
-    let dp = DomainParticipantBuilder::new(domain)
-        .with_only_networks(vec![std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST)])
-        .build()
-        .unwrap();
-    let ctx = Context::from_domain_participant(dp).unwrap();
-    let node = ctx
-        .new_node(
-            NodeName::new("/", "servers_test").unwrap(),
-            NodeOptions::new().enable_rosout(false),
-        )
-        .unwrap();
-    (ctx, node)
+#[path = "support/dds.rs"]
+mod dds;
+
+fn peer(domain: u16) -> (ros2_client::Context, ros2_client::Node) {
+    dds::peer(domain, "servers_test")
 }
 
 /// `tracksim ros` of packbot_flat for `duration` s, paced, in DDS domain `domain`.

@@ -143,7 +143,7 @@ fn receive(
             });
         }
     }
-    cmd_vel_undecodable(subs, plain.len(), stamped.len(), problems);
+    cmd_vel_undecodable(subs, stamped.len(), problems);
     for (track, sub) in subs.track_speed.iter().enumerate() {
         for m in sub.iter().flat_map(|s| s.drain()) {
             let topic = &sub.as_ref().expect("drained").topic;
@@ -182,12 +182,7 @@ fn receive(
 /// sample that arrives between the two readers' turns is counted by one of them in the next
 /// call, so the difference is kept as a running balance (`Subscriptions::cmd_vel_balance`)
 /// and only what is left over is reported.
-fn cmd_vel_undecodable(
-    subs: &Subscriptions,
-    _plain: usize,
-    stamped: usize,
-    problems: &mut Vec<Problem>,
-) {
+fn cmd_vel_undecodable(subs: &Subscriptions, stamped: usize, problems: &mut Vec<Problem>) {
     let _ = subs.cmd_vel_stamped.take_dropped();
     let dropped = subs.cmd_vel.take_dropped() as i64;
     let balance = subs.cmd_vel_balance.get() + dropped - stamped as i64;

@@ -17,17 +17,12 @@ pub struct Peak {
     pub t_s: f64,
 }
 
-impl Peak {
-    fn of(samples: &SampleLog, f: impl Fn(&crate::world::Sample) -> Option<f64>) -> Option<Peak> {
-        let mut best: Option<Peak> = None;
-        for s in samples.iter() {
-            if let Some(v) = f(&s).filter(|v| v.is_finite())
-                && best.is_none_or(|b| v > b.value)
-            {
-                best = Some(Peak { value: v, t_s: s.t });
-            }
-        }
-        best
+/// The largest of the values offered so far (non-finite ones and `None` are passed over).
+fn keep_max(best: &mut Option<Peak>, v: Option<f64>, t: f64) {
+    if let Some(v) = v.filter(|v| v.is_finite())
+        && best.is_none_or(|b| v > b.value)
+    {
+        *best = Some(Peak { value: v, t_s: t });
     }
 }
 
@@ -76,32 +71,41 @@ impl Margins {
     /// The margins of `samples` of a robot with tracks `track_names` and tip-over limit
     /// `max_tilt` rad.
     pub fn of(samples: &SampleLog, track_names: &[String], max_tilt: f64) -> Margins {
-        let pitch = Peak::of(samples, |s| Some(s.pose.pitch.abs().to_degrees()));
-        let roll = Peak::of(samples, |s| Some(s.pose.roll.abs().to_degrees()));
+        // One pass: a long session's samples are read back from disk (`SampleLog`).
+        let (mut pitch, mut roll) = (None, None);
+        let n = track_names.len();
+        // Per track: the peak of the negative load (its smallest load), of |slip|, of the
+        // motor's load share.
+        let mut per_track = vec![[None; 3]; n];
+        for s in samples.iter() {
+            keep_max(&mut pitch, Some(s.pose.pitch.abs().to_degrees()), s.t);
+            keep_max(&mut roll, Some(s.pose.roll.abs().to_degrees()), s.t);
+            for (i, [load, slip, motor]) in per_track.iter_mut().enumerate() {
+                if s.t >= SETTLE_S {
+                    keep_max(load, s.loads.get(i).map(|l| -l.normal_n), s.t);
+                    keep_max(slip, s.slip.get(i).map(|x| x.abs()), s.t);
+                }
+                let share = s.drive.get(i).copied().flatten().and_then(|d| {
+                    (d.max_belt_force_n > 0.0).then(|| d.belt_force_n.abs() / d.max_belt_force_n)
+                });
+                keep_max(motor, share, s.t);
+            }
+        }
         let tip = max_tilt.to_degrees();
         let worst = pitch
-            .map_or(0.0, |p| p.value)
-            .max(roll.map_or(0.0, |p| p.value));
+            .map_or(0.0, |p: Peak| p.value)
+            .max(roll.map_or(0.0, |p: Peak| p.value));
         let tracks = track_names
             .iter()
-            .enumerate()
-            .map(|(i, name)| TrackMargin {
+            .zip(per_track)
+            .map(|(name, [load, slip, motor])| TrackMargin {
                 name: name.clone(),
-                // The smallest load is the peak of its negative.
-                min_normal_load_n: Peak::of(samples, |s| {
-                    (s.t >= SETTLE_S).then(|| s.loads.get(i).map(|l| -l.normal_n))?
-                })
-                .map(|p| Peak {
+                min_normal_load_n: load.map(|p: Peak| Peak {
                     value: -p.value,
                     t_s: p.t_s,
                 }),
-                peak_abs_slip: Peak::of(samples, |s| {
-                    (s.t >= SETTLE_S).then(|| s.slip.get(i).map(|x| x.abs()))?
-                }),
-                peak_motor_load_fraction: Peak::of(samples, |s| {
-                    let d = s.drive.get(i).copied().flatten()?;
-                    (d.max_belt_force_n > 0.0).then(|| d.belt_force_n.abs() / d.max_belt_force_n)
-                }),
+                peak_abs_slip: slip,
+                peak_motor_load_fraction: motor,
             })
             .collect();
         Margins {

@@ -4,9 +4,8 @@
 //! give up after a number of messages.
 
 use crate::common::root;
-use crate::live::{Ws, next_json};
+use crate::live::{TeamDrive, Ws, next_json, team_drive};
 use std::path::PathBuf;
-use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tungstenite::Message;
 
 /// Reads messages until one of `kind` satisfies `pred`; panics after `max` messages.
@@ -94,28 +93,12 @@ fn two_trainees_drive_at_once_and_the_session_replays_byte_for_byte() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = two_robot_file(&dir);
     let sc = tracksim::load_scenario(&file).unwrap();
-    let hub = Hub::team(sc.robot_names(), 0.0);
-    let scenes = (0..2)
-        .map(|k| tracksim::output::Scene::new(&sc.robot_view(k)).to_json())
-        .collect();
-    let mode = Mode::Drive {
-        hub: hub.clone(),
-        scene_json: scenes,
-    };
-    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap();
-    let (sc2, hub2) = (sc.clone(), hub.clone());
-    let session = std::thread::spawn(move || {
-        let opts = DriveOptions {
-            speed: 4.0,
-            ..DriveOptions::default()
-        };
-        tracksim::live::run_team_session(&sc2, &hub2, opts)
-    });
-    let url = format!(
-        "ws://{}/ws?session={}",
-        server.addr(),
-        hub.session_token().unwrap()
-    );
+    let TeamDrive {
+        server: _server,
+        session,
+        url,
+        ..
+    } = team_drive(&sc, 4.0);
     // Seat b asked by name, seat a taken as the first free one; a third page watches.
     let (mut b, _) = tungstenite::connect(format!("{url}&robot=b")).unwrap();
     let hb = next_json(&mut b);

@@ -5,9 +5,8 @@
 //! are told. No assertion is on wall-clock time: loops give up after a number of messages.
 
 use crate::common::root;
-use crate::live::{Ws, next_json};
+use crate::live::{TeamDrive, Ws, next_json, team_drive};
 use std::path::PathBuf;
-use tracksim::live::{DriveOptions, Hub, Mode, Server};
 use tungstenite::Message;
 
 /// Two PackBots 9.2 m apart along x on flat ground (within the 10 m one world holds), `a`
@@ -122,28 +121,12 @@ fn a_class_session_whose_trainees_part_is_kept_and_its_pages_told_why() {
     let dir = temp_dir("drive");
     let file = spread_file(&dir, false);
     let sc = tracksim::load_scenario(&file).unwrap();
-    let hub = Hub::team(sc.robot_names(), 0.0);
-    let scenes = (0..2)
-        .map(|k| tracksim::output::Scene::new(&sc.robot_view(k)).to_json())
-        .collect();
-    let mode = Mode::Drive {
-        hub: hub.clone(),
-        scene_json: scenes,
-    };
-    let mut server = Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap();
-    let (sc2, hub2) = (sc.clone(), hub.clone());
-    let session = std::thread::spawn(move || {
-        let opts = DriveOptions {
-            speed: 8.0,
-            ..DriveOptions::default()
-        };
-        tracksim::live::run_team_session(&sc2, &hub2, opts)
-    });
-    let url = format!(
-        "ws://{}/ws?session={}",
-        server.addr(),
-        hub.session_token().unwrap()
-    );
+    let TeamDrive {
+        mut server,
+        session,
+        url,
+        ..
+    } = team_drive(&sc, 8.0);
     let (mut a, _) = tungstenite::connect(format!("{url}&robot=a")).unwrap();
     assert_eq!(next_json(&mut a)["robot"], "a");
     let (mut b, _) = tungstenite::connect(format!("{url}&robot=b")).unwrap();

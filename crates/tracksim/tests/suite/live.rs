@@ -45,6 +45,45 @@ pub(crate) fn until(
     panic!("no state with {what} in {max} messages");
 }
 
+/// A live `drive` session of the team scenario `sc` at `speed` times real time: its loopback
+/// server (any free port), the thread running the session, and the WebSocket URL
+/// with the session's token (append `&robot=NAME` for a seat).
+pub(crate) struct TeamDrive {
+    pub server: Server,
+    pub session: std::thread::JoinHandle<tracksim::Result<tracksim::live::TeamSession>>,
+    pub url: String,
+}
+
+pub(crate) fn team_drive(sc: &tracksim::Scenario, speed: f64) -> TeamDrive {
+    let hub = Hub::team(sc.robot_names(), 0.0);
+    let scene_json = (0..sc.robot_count())
+        .map(|k| tracksim::output::Scene::new(&sc.robot_view(k)).to_json())
+        .collect();
+    let mode = Mode::Drive {
+        hub: hub.clone(),
+        scene_json,
+    };
+    let server = Server::start(tracksim::live::DEFAULT_BIND, 0, mode).unwrap();
+    let (sc2, hub2) = (sc.clone(), hub.clone());
+    let session = std::thread::spawn(move || {
+        let opts = DriveOptions {
+            speed,
+            ..DriveOptions::default()
+        };
+        tracksim::live::run_team_session(&sc2, &hub2, opts)
+    });
+    let url = format!(
+        "ws://{}/ws?session={}",
+        server.addr(),
+        hub.session_token().unwrap()
+    );
+    TeamDrive {
+        server,
+        session,
+        url,
+    }
+}
+
 /// A drive server on loopback (any free port) for `hub`, serving `scene_json`.
 fn drive_server(hub: Arc<Hub>, scene_json: impl Into<String>) -> Server {
     let mode = Mode::Drive {
